@@ -1,0 +1,4 @@
+//! placeholder during development
+pub mod geom;
+pub mod quadrature;
+pub mod solid_angle;

@@ -1,0 +1,147 @@
+//! Bidirectional scattering distribution functions.
+//!
+//! A BSDF f(x, ωi → ωo) = dLo(ωo) / (Li(ωi) dσ⊥(ωi)) says how much of the radiance
+//! arriving from ωi leaves towards ωo. All models here work in a local shading frame
+//! with the normal along +z; both directions point away from the surface, `wo` towards
+//! the viewer and `wi` towards the light.
+//!
+//! - `eval(wo, wi)` is f (zero for delta lobes),
+//! - `sample(wo, u)` draws wi and returns the weight f·|cos θi|/pdf, the pdf (solid
+//!   angle, or the discrete probability of a delta lobe) and the lobe it came from,
+//! - `pdf(wo, wi)` is the density `sample` draws wi with.
+//!
+//! Hot paths use the closed enum [`Bsdf`]; [`BsdfModel`] is the public trait a user
+//! implements to put their own BSDF through the same proof (`tests/bsdf_contract.rs`).
+//!
+//! Radiance convention for transmission: see the dielectric models' docs.
+
+pub mod lambertian;
+
+pub use lambertian::Lambertian;
+
+use bitflags::bitflags;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+bitflags! {
+    /// Which kind of lobe a sample came from, or a model has.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    pub struct LobeFlags: u8 {
+        /// Scattering into the hemisphere of incidence.
+        const REFLECTION = 1;
+        /// Scattering through the surface.
+        const TRANSMISSION = 2;
+        /// A smooth (non-delta) lobe.
+        const DIFFUSE = 4;
+        /// A glossy (rough specular) lobe.
+        const GLOSSY = 8;
+        /// A Dirac delta lobe (perfect specular).
+        const SPECULAR = 16;
+    }
+}
+
+impl LobeFlags {
+    /// Whether the lobe is a Dirac delta.
+    pub fn is_delta(&self) -> bool {
+        self.contains(LobeFlags::SPECULAR)
+    }
+}
+
+/// A direction drawn from a BSDF.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// The sampled incident direction (local frame).
+    pub wi: Vec3,
+    /// f·|cos θi| / pdf.
+    pub weight: f32,
+    /// Density of `wi` in solid angle (or the lobe's discrete probability if delta).
+    pub pdf: f32,
+    /// The lobe that produced the sample.
+    pub lobe: LobeFlags,
+    /// Relative index of refraction crossed (1 for reflection).
+    pub eta: f32,
+}
+
+/// The contract every BSDF satisfies; implement it to verify your own model.
+pub trait BsdfModel: Send + Sync {
+    /// f(wi → wo).
+    fn eval(&self, wo: Vec3, wi: Vec3) -> f32;
+    /// Draw wi given wo and three uniform numbers.
+    fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample>;
+    /// Density of `sample` drawing wi given wo.
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+    /// The lobes the model has.
+    fn flags(&self) -> LobeFlags;
+}
+
+/// The closed set of built-in models (the engine's hot path dispatches on it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Bsdf {
+    /// Ideal diffuse reflection.
+    Lambertian(Lambertian),
+}
+
+macro_rules! dispatch {
+    ($self:ident, $b:ident => $e:expr) => {
+        match $self {
+            Bsdf::Lambertian($b) => $e,
+        }
+    };
+}
+
+impl Bsdf {
+    /// Check parameters: a message naming the field and the reason.
+    pub fn validate(&self) -> Result<(), String> {
+        dispatch!(self, b => b.validate())
+    }
+
+    /// Short model name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Bsdf::Lambertian(_) => "lambertian",
+        }
+    }
+}
+
+impl BsdfModel for Bsdf {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+        dispatch!(self, b => b.eval(wo, wi))
+    }
+    #[inline]
+    fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        dispatch!(self, b => b.sample(wo, u))
+    }
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        dispatch!(self, b => b.pdf(wo, wi))
+    }
+    #[inline]
+    fn flags(&self) -> LobeFlags {
+        dispatch!(self, b => b.flags())
+    }
+}
+
+/// Check that a parameter is finite and within `[lo, hi]`.
+pub fn check_range(field: &str, value: f32, lo: f32, hi: f32) -> Result<(), String> {
+    if !value.is_finite() {
+        return Err(format!("`{field}` must be a finite number, got {value}"));
+    }
+    if value < lo || value > hi {
+        return Err(format!("`{field}` must lie in [{lo}, {hi}], got {value}"));
+    }
+    Ok(())
+}
+
+/// cos θ of a local direction.
+#[inline]
+pub fn cos_theta(w: Vec3) -> f32 {
+    w.z
+}
+
+/// Whether two local directions lie in the same hemisphere.
+#[inline]
+pub fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
+    a.z * b.z > 0.0
+}

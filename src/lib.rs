@@ -1,0 +1,19 @@
+//! # lightproof
+//!
+//! A physically based light-transport verification suite: a minimal Monte Carlo
+//! estimator engine run against cases whose answer is known in closed form, with
+//! statistics deciding pass or fail.
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`math`] | frames, spherical coordinates, robust float helpers, ray-origin offsetting |
+//! | [`sampling`] | warps with their densities, and the samplers (independent, stratified, Sobol) |
+//! | [`stats`] | mergeable accumulators, mean tests with power, slope fits, chi-square |
+//! | [`bsdf`] | BSDF models (enum for the hot path, trait for users) |
+//! | [`io`] | atomic file writing |
+
+pub mod bsdf;
+pub mod io;
+pub mod math;
+pub mod sampling;
+pub mod stats;

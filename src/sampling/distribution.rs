@@ -1,0 +1,183 @@
+//! Piecewise-constant densities on [0, 1) and [0, 1)², sampled by inverting their
+//! cumulative distribution (pbrt-v4 §A.4.2 and §A.5.6). The 2-D form (a marginal over
+//! rows and one conditional per row) samples environment maps.
+//!
+//! For a function with values fᵢ on n equal cells, the density at x in cell i is
+//! fᵢ / (Σ f / n); sampling finds i with cdf[i] ≤ u < cdf[i+1] and places x linearly
+//! within the cell, so the warp is continuous and invertible. Cumulative sums are in `f64`.
+
+use glam::Vec2;
+
+/// A 1-D piecewise-constant density over [0, 1).
+#[derive(Clone, Debug)]
+pub struct Distribution1D {
+    func: Vec<f32>,
+    cdf: Vec<f64>,
+    integral: f64,
+}
+
+impl Distribution1D {
+    /// From non-negative cell values; negative or non-finite values are treated as 0.
+    /// An all-zero function becomes uniform (its integral stays 0 for the caller to see).
+    pub fn new(values: &[f32]) -> Self {
+        let n = values.len().max(1);
+        let func: Vec<f32> = (0..n)
+            .map(|i| values.get(i).copied().filter(|v| v.is_finite() && *v > 0.0).unwrap_or(0.0))
+            .collect();
+        let mut cdf = Vec::with_capacity(n + 1);
+        cdf.push(0.0);
+        for (i, f) in func.iter().enumerate() {
+            cdf.push(cdf[i] + *f as f64 / n as f64);
+        }
+        let integral = cdf[n];
+        if integral > 0.0 {
+            for c in cdf.iter_mut() {
+                *c /= integral;
+            }
+        } else {
+            for (i, c) in cdf.iter_mut().enumerate() {
+                *c = i as f64 / n as f64;
+            }
+        }
+        cdf[n] = 1.0;
+        Distribution1D { func, cdf, integral }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    /// Whether there are no cells (never: a distribution has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    /// ∫ f over [0, 1).
+    pub fn integral(&self) -> f64 {
+        self.integral
+    }
+
+    /// Sample: (x ∈ [0, 1), density at x, cell index).
+    pub fn sample(&self, u: f32) -> (f32, f32, usize) {
+        let n = self.func.len();
+        let u = (u as f64).clamp(0.0, 1.0);
+        // Largest i with cdf[i] <= u, restricted to cells of positive mass.
+        let mut i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        while i > 0 && self.cdf[i + 1] <= self.cdf[i] {
+            i -= 1;
+        }
+        while i + 1 < n && self.cdf[i + 1] <= self.cdf[i] {
+            i += 1;
+        }
+        let width = self.cdf[i + 1] - self.cdf[i];
+        let du = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.5 };
+        let x = ((i as f64 + du) / n as f64).min(1.0 - f64::EPSILON) as f32;
+        (x, self.pdf_cell(i), i)
+    }
+
+    fn pdf_cell(&self, i: usize) -> f32 {
+        if self.integral > 0.0 { (self.func[i] as f64 / self.integral) as f32 } else { 1.0 }
+    }
+
+    /// Density at x ∈ [0, 1).
+    pub fn pdf(&self, x: f32) -> f32 {
+        if !(0.0..1.0).contains(&x) {
+            return 0.0;
+        }
+        let i = ((x * self.func.len() as f32) as usize).min(self.func.len() - 1);
+        self.pdf_cell(i)
+    }
+
+    /// Inverse of [`Distribution1D::sample`].
+    pub fn invert(&self, x: f32) -> f32 {
+        let n = self.func.len();
+        let xs = (x as f64).clamp(0.0, 1.0) * n as f64;
+        let i = (xs as usize).min(n - 1);
+        let t = xs - i as f64;
+        (self.cdf[i] + t * (self.cdf[i + 1] - self.cdf[i])) as f32
+    }
+}
+
+/// A 2-D piecewise-constant density over [0, 1)², stored row-major (`nu` × `nv`):
+/// p(u, v) = p(v) p(u | v).
+#[derive(Clone, Debug)]
+pub struct Distribution2D {
+    conditional: Vec<Distribution1D>,
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// From `values[v * nu + u]`.
+    pub fn new(values: &[f32], nu: usize, nv: usize) -> Self {
+        let nu = nu.max(1);
+        let nv = nv.max(1);
+        let conditional: Vec<Distribution1D> = (0..nv)
+            .map(|v| {
+                let start = (v * nu).min(values.len());
+                let end = ((v + 1) * nu).min(values.len());
+                let mut row = values[start..end].to_vec();
+                row.resize(nu, 0.0);
+                Distribution1D::new(&row)
+            })
+            .collect();
+        let marginal_values: Vec<f32> = conditional.iter().map(|c| c.integral() as f32).collect();
+        Distribution2D { marginal: Distribution1D::new(&marginal_values), conditional }
+    }
+
+    /// ∫∫ f.
+    pub fn integral(&self) -> f64 {
+        self.marginal.integral()
+    }
+
+    /// Sample a point in [0, 1)² and its density.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (y, pdf_v, v) = self.marginal.sample(u.y);
+        let (x, pdf_u, _) = self.conditional[v].sample(u.x);
+        (Vec2::new(x, y), pdf_u * pdf_v)
+    }
+
+    /// Density at a point of [0, 1)².
+    pub fn pdf(&self, p: Vec2) -> f32 {
+        if !(0.0..1.0).contains(&p.y) || !(0.0..1.0).contains(&p.x) {
+            return 0.0;
+        }
+        let nv = self.conditional.len();
+        let v = ((p.y * nv as f32) as usize).min(nv - 1);
+        self.marginal.pdf(p.y) * self.conditional[v].pdf(p.x)
+    }
+
+    /// Inverse of [`Distribution2D::sample`].
+    pub fn invert(&self, p: Vec2) -> Vec2 {
+        let nv = self.conditional.len();
+        let v = ((p.y * nv as f32) as usize).min(nv - 1);
+        Vec2::new(self.conditional[v].invert(p.x), self.marginal.invert(p.y))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn sample_pdf_invert_agree(u in 0.0f32..1.0, v in 0.0f32..1.0) {
+            let d = Distribution2D::new(&[1.0, 0.0, 3.0, 2.0, 5.0, 0.5], 3, 2);
+            let (p, pdf) = d.sample(Vec2::new(u, v));
+            prop_assert!(pdf > 0.0);
+            prop_assert!((pdf - d.pdf(p)).abs() <= 1e-4 * pdf);
+            let back = d.invert(p);
+            prop_assert!((back - Vec2::new(u, v)).abs().max_element() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn zero_function_is_uniform() {
+        let d = Distribution1D::new(&[0.0, 0.0]);
+        assert_eq!(d.integral(), 0.0);
+        assert_eq!(d.pdf(0.3), 1.0);
+        let (x, p, _) = d.sample(0.7);
+        assert!((x - 0.7).abs() < 1e-6 && p == 1.0);
+    }
+}
