@@ -181,7 +181,7 @@ mod tests {
     #[test]
     fn offset_moves_to_the_right_side() {
         let p = Vec3::new(1e5, 1e5, 0.0);
-        let err = Vec3::splat(gamma(7)) * p.abs();
+        let err = Vec3::splat(gamma(7) * p.abs().max_element());
         let n = Vec3::Z;
         let up = offset_ray_origin(p, err, n, Vec3::Z);
         let down = offset_ray_origin(p, err, n, -Vec3::Z);
