@@ -11,9 +11,15 @@
 //! | [`stats`] | mergeable accumulators, mean tests with power, slope fits, chi-square |
 //! | [`bsdf`] | BSDF models (enum for the hot path, trait for users) |
 //! | [`io`] | atomic file writing |
+//! | [`error`] | located input errors (file, field, reason) |
+//! | [`scene`] | shapes, emitters, materials, BVH, JSON scenes |
+//! | [`transport`] | effects analysis, path tracer, measurements, the parallel engine |
 
 pub mod bsdf;
+pub mod error;
 pub mod io;
 pub mod math;
 pub mod sampling;
+pub mod scene;
 pub mod stats;
+pub mod transport;

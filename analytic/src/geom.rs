@@ -135,6 +135,9 @@ mod tests {
     fn angle_is_robust() {
         let a = Vec3::new(1.0, 0.0, 0.0);
         assert!((a.angle_between(Vec3::new(1.0, 1e-12, 0.0)) - 1e-12).abs() < 1e-27);
-        assert!((a.angle_between(Vec3::new(-1.0, 1e-12, 0.0)) - (std::f64::consts::PI - 1e-12)).abs() < 1e-15);
+        assert!(
+            (a.angle_between(Vec3::new(-1.0, 1e-12, 0.0)) - (std::f64::consts::PI - 1e-12)).abs()
+                < 1e-15
+        );
     }
 }

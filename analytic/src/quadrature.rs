@@ -107,46 +107,67 @@ pub fn adaptive(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> 
     }
     let rule = rule12();
     // A first coarse pass over 8 pieces sets the scale of the absolute tolerance.
-    let pieces = 8;
-    let mut coarse = 0.0;
-    let mut scale = 0.0;
-    for i in 0..pieces {
-        let x0 = a + (b - a) * i as f64 / pieces as f64;
-        let x1 = a + (b - a) * (i + 1) as f64 / pieces as f64;
-        let v = rule.integrate(&mut f, x0, x1);
-        coarse += v;
-        scale += v.abs();
-    }
-    let _ = coarse;
+    const PIECES: usize = 8;
+    let edge = |i: usize| a + (b - a) * i as f64 / PIECES as f64;
+    let coarse: Vec<f64> = (0..PIECES)
+        .map(|i| rule.integrate(&mut f, edge(i), edge(i + 1)))
+        .collect();
+    let scale: f64 = coarse.iter().map(|v| v.abs()).sum();
     let tol = (rel_tol * scale).max(1e-300);
-    let mut total = 0.0;
-    for i in 0..pieces {
-        let x0 = a + (b - a) * i as f64 / pieces as f64;
-        let x1 = a + (b - a) * (i + 1) as f64 / pieces as f64;
-        let whole = rule.integrate(&mut f, x0, x1);
-        total += recurse(&mut f, rule, x0, x1, whole, tol / pieces as f64, 0);
-    }
-    total
+    let mut evals = 0usize;
+    (0..PIECES)
+        .map(|i| {
+            let ctx = Ctx {
+                rule,
+                tol_floor: 4.0 * f64::EPSILON * scale,
+            };
+            recurse(
+                &mut f,
+                &ctx,
+                edge(i),
+                edge(i + 1),
+                coarse[i],
+                tol / PIECES as f64,
+                0,
+                &mut evals,
+            )
+        })
+        .sum()
 }
 
+/// Hard cap on sub-interval evaluations per top-level piece, so an unattainable
+/// tolerance degrades accuracy instead of running away.
+const MAX_EVALS: usize = 20_000;
+
+struct Ctx<'r> {
+    rule: &'r GaussLegendre,
+    /// Below this the difference between the two estimates is rounding noise.
+    tol_floor: f64,
+}
+
+#[allow(clippy::too_many_arguments)]
 fn recurse(
     f: &mut impl FnMut(f64) -> f64,
-    rule: &GaussLegendre,
+    ctx: &Ctx<'_>,
     a: f64,
     b: f64,
     whole: f64,
     tol: f64,
     depth: u32,
+    evals: &mut usize,
 ) -> f64 {
     let m = 0.5 * (a + b);
-    let left = rule.integrate(f, a, m);
-    let right = rule.integrate(f, m, b);
+    let left = ctx.rule.integrate(f, a, m);
+    let right = ctx.rule.integrate(f, m, b);
+    *evals += 2;
     let sum = left + right;
-    if (sum - whole).abs() <= tol || depth >= MAX_DEPTH || m <= a || m >= b {
+    let err = (sum - whole).abs();
+    if err <= tol.max(ctx.tol_floor) || depth >= MAX_DEPTH || *evals > MAX_EVALS || m <= a || m >= b
+    {
         return sum;
     }
-    recurse(f, rule, a, m, left, 0.5 * tol, depth + 1)
-        + recurse(f, rule, m, b, right, 0.5 * tol, depth + 1)
+    recurse(f, ctx, a, m, left, 0.5 * tol, depth + 1, evals)
+        + recurse(f, ctx, m, b, right, 0.5 * tol, depth + 1, evals)
 }
 
 /// ∫_a^b ∫_{lo(x)}^{hi(x)} f(x, y) dy dx, nested [`adaptive`] with relative tolerance
@@ -177,7 +198,11 @@ mod tests {
             let r = GaussLegendre::new(n);
             assert!((r.weights().iter().sum::<f64>() - 2.0).abs() < 1e-14);
             for k in 0..(2 * n) {
-                let exact = if k % 2 == 1 { 0.0 } else { 2.0 / (k as f64 + 1.0) };
+                let exact = if k % 2 == 1 {
+                    0.0
+                } else {
+                    2.0 / (k as f64 + 1.0)
+                };
                 let got = r.integrate(&mut |x: f64| x.powi(k as i32), -1.0, 1.0);
                 assert!((got - exact).abs() < 1e-13, "n={n} k={k} got={got}");
             }

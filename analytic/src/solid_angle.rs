@@ -108,7 +108,7 @@ pub fn polygon(p: Vec3, vertices: &[Vec3]) -> f64 {
 /// Ω = G(x₁,y₁) − G(x₀,y₁) − G(x₁,y₀) + G(x₀,y₀),
 /// G(x, y) = atan2(x y, |d| √(x² + y² + d²)).
 ///
-/// **Derivation.** G(x, y) is the solid angle of the rectangle [0,x]×[0,y] seen from a
+/// **Derivation.** G(x, y) is the solid angle of the rectangle \[0, x\] × \[0, y\] seen from a
 /// point at height d above its corner (integrate d/(x²+y²+d²)^{3/2} over the rectangle,
 /// first in y then in x). G is odd in x and in y, so inclusion–exclusion of four corner
 /// rectangles covers any placement of the foot of `p`, inside or outside the rectangle.
@@ -146,17 +146,19 @@ mod tests {
         }
     }
 
-    /// Ω = ∫ over the visible sphere surface of cos θ' / r² dA (independent of the cone).
+    /// Ω = ∫ over the visible sphere surface of cos θ' / s² dA (independent of the cone).
+    /// Zones of the surface are parameterised by their distance s to the observer
+    /// (s dr-substitution: sin β dβ = s ds /(dR)), giving π (d²−R²−s²)/(d s²) ds, and
+    /// then s = eˣ so the near-surface peak is resolved.
     fn sphere_by_surface(d: f64, r: f64) -> f64 {
-        let beta_max = (r / d).acos();
+        let (s0, s1) = (d - r, ((d - r) * (d + r)).sqrt());
         adaptive(
-            |b: f64| {
-                let dist2 = d * d + r * r - 2.0 * d * r * b.cos();
-                let cos_t = (d * b.cos() - r) / dist2.sqrt();
-                2.0 * PI * r * r * b.sin() * cos_t / dist2
+            |x: f64| {
+                let s = x.exp();
+                PI * ((d - r) * (d + r) - s * s) / (d * s)
             },
-            0.0,
-            beta_max,
+            s0.ln(),
+            s1.ln(),
             1e-14,
         )
     }
@@ -166,7 +168,11 @@ mod tests {
         // From ~1e-6 sr to nearly a hemisphere.
         for (d, r) in [(1.0e3, 0.5), (10.0, 1.0), (2.0, 1.0), (1.0 + 1e-6, 1.0)] {
             let q = sphere_by_surface(d, r);
-            assert!(rel(sphere(d, r), q) < 1e-9, "d={d} r={r}: {} vs {q}", sphere(d, r));
+            assert!(
+                rel(sphere(d, r), q) < 1e-9,
+                "d={d} r={r}: {} vs {q}",
+                sphere(d, r)
+            );
         }
         assert!(rel(sphere(2.0e6, 1.0), PI / 4.0e12) < 1e-9);
         assert_eq!(sphere(0.5, 1.0), 4.0 * PI);
@@ -198,11 +204,26 @@ mod tests {
         let o = Vec3::new(0.0, 0.0, 0.0);
         let cases = [
             // ordinary
-            (o, Vec3::new(0.2, -0.3, 1.0), Vec3::new(1.0, 0.1, 1.2), Vec3::new(-0.3, 0.9, 0.8)),
+            (
+                o,
+                Vec3::new(0.2, -0.3, 1.0),
+                Vec3::new(1.0, 0.1, 1.2),
+                Vec3::new(-0.3, 0.9, 0.8),
+            ),
             // sliver (aspect ~1e4)
-            (o, Vec3::new(-1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 2e-4, 1.0)),
+            (
+                o,
+                Vec3::new(-1.0, 0.0, 1.0),
+                Vec3::new(1.0, 0.0, 1.0),
+                Vec3::new(0.0, 2e-4, 1.0),
+            ),
             // tiny, far: ~1e-6 sr
-            (o, Vec3::new(1e3, 0.0, 0.0), Vec3::new(1e3, 1.0, 0.0), Vec3::new(1e3, 0.0, 1.0)),
+            (
+                o,
+                Vec3::new(1e3, 0.0, 0.0),
+                Vec3::new(1e3, 1.0, 0.0),
+                Vec3::new(1e3, 0.0, 1.0),
+            ),
             // close to the plane, large solid angle (~2π·0.9)
             (
                 Vec3::new(0.1, 0.1, 0.05),
@@ -241,7 +262,10 @@ mod tests {
         let cases = [
             (Vec3::new(0.3, 0.4, 1.0), Vec3::new(0.0, 0.0, 0.0)),
             (Vec3::new(5.0, -2.0, 0.3), Vec3::new(0.0, 0.0, 0.0)),
-            (Vec3::new(1e5 + 0.5, 1e5 + 0.5, 1e5 + 1e-3), Vec3::new(1e5, 1e5, 1e5)),
+            (
+                Vec3::new(1e5 + 0.5, 1e5 + 0.5, 1e5 + 1e-3),
+                Vec3::new(1e5, 1e5, 1e5),
+            ),
         ];
         for (p, corner) in cases {
             let (u, v) = (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
@@ -273,8 +297,18 @@ mod tests {
             Vec3::new(0.0, 2.0, z),
         ];
         let p = Vec3::new(0.4, 1.3, 0.0);
-        let big = rectangle(p, Vec3::new(0.0, 0.0, z), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
-        let hole = rectangle(p, Vec3::new(1.0, 1.0, z), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        let big = rectangle(
+            p,
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        );
+        let hole = rectangle(
+            p,
+            Vec3::new(1.0, 1.0, z),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
         assert!(rel(polygon(p, &l), big - hole) < 1e-12);
     }
 }

@@ -15,9 +15,25 @@
 //!
 //! Radiance convention for transmission: see the dielectric models' docs.
 
+pub mod conductor;
+pub mod contract;
+pub mod dielectric;
+pub mod fresnel;
 pub mod lambertian;
+pub mod microfacet;
+pub mod oren_nayar;
+pub mod plastic;
+pub mod rough_conductor;
+pub mod rough_dielectric;
 
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
 pub use lambertian::Lambertian;
+pub use microfacet::{Distribution, Masking, Microfacet};
+pub use oren_nayar::OrenNayar;
+pub use plastic::Plastic;
+pub use rough_conductor::RoughConductor;
+pub use rough_dielectric::RoughDielectric;
 
 use bitflags::bitflags;
 use glam::Vec3;
@@ -78,14 +94,32 @@ pub trait BsdfModel: Send + Sync {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Bsdf {
-    /// Ideal diffuse reflection.
+    /// Ideal diffuse reflection: `{"type": "lambertian", "albedo": 0.5}`.
     Lambertian(Lambertian),
+    /// Rough diffuse reflection: `{"type": "oren_nayar", "albedo": 0.8, "sigma": 0.35}`.
+    OrenNayar(OrenNayar),
+    /// Smooth conductor: `{"type": "conductor", "eta": 0.2, "k": 3.9}`.
+    Conductor(Conductor),
+    /// Smooth dielectric: `{"type": "dielectric", "eta": 1.5}`.
+    Dielectric(Dielectric),
+    /// Microfacet conductor: `{"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9}`.
+    RoughConductor(RoughConductor),
+    /// Microfacet dielectric: `{"type": "rough_dielectric", "alpha": 0.3, "eta": 1.5}`.
+    RoughDielectric(RoughDielectric),
+    /// Diffuse base under a smooth coat: `{"type": "plastic", "albedo": 0.5, "eta": 1.5}`.
+    Plastic(Plastic),
 }
 
 macro_rules! dispatch {
     ($self:ident, $b:ident => $e:expr) => {
         match $self {
             Bsdf::Lambertian($b) => $e,
+            Bsdf::OrenNayar($b) => $e,
+            Bsdf::Conductor($b) => $e,
+            Bsdf::Dielectric($b) => $e,
+            Bsdf::RoughConductor($b) => $e,
+            Bsdf::RoughDielectric($b) => $e,
+            Bsdf::Plastic($b) => $e,
         }
     };
 }
@@ -100,6 +134,31 @@ impl Bsdf {
     pub fn name(&self) -> &'static str {
         match self {
             Bsdf::Lambertian(_) => "lambertian",
+            Bsdf::OrenNayar(_) => "oren_nayar",
+            Bsdf::Conductor(_) => "conductor",
+            Bsdf::Dielectric(_) => "dielectric",
+            Bsdf::RoughConductor(_) => "rough_conductor",
+            Bsdf::RoughDielectric(_) => "rough_dielectric",
+            Bsdf::Plastic(_) => "plastic",
+        }
+    }
+
+    /// Parse a model from its JSON text and validate it; the error names the problem
+    /// (a JSON syntax error with its line and column, an unknown `type` or field, or the
+    /// parameter `validate` rejects).
+    pub fn from_json(text: &str) -> Result<Bsdf, String> {
+        let b: Bsdf = serde_json::from_str(text).map_err(|e| format!("invalid BSDF JSON: {e}"))?;
+        b.validate().map_err(|e| format!("invalid {} BSDF: {e}", b.name()))?;
+        Ok(b)
+    }
+
+    /// The refractive index below the surface relative to above (1 for models that do
+    /// not transmit): what the reciprocity rule of [`contract::check_reciprocity`] needs.
+    pub fn eta_inside(&self) -> f32 {
+        match self {
+            Bsdf::Dielectric(d) => d.eta,
+            Bsdf::RoughDielectric(d) => d.eta,
+            _ => 1.0,
         }
     }
 }

@@ -6,12 +6,16 @@
 //! bit-identical results.
 //!
 //! - **Independent**: PCG32 (O'Neill 2014) seeded by a SplitMix64 hash of (seed, index).
-//! - **Stratified**: Latin hypercube over the run's N samples: in every dimension each
-//!   of the N strata [k/N, (k+1)/N) holds exactly one sample (a hashed permutation,
-//!   Kensler 2013 "Correlated Multi-Jittered Sampling", picks which), jittered inside it.
+//! - **Stratified**: Latin hypercube within each batch of `batch` samples: in every
+//!   dimension each of the strata [k/B, (k+1)/B) holds exactly one sample of the batch (a
+//!   hashed permutation, Kensler 2013 "Correlated Multi-Jittered Sampling", picks
+//!   which), jittered inside it.
 //! - **Sobol**: Owen-scrambled Sobol (Burley 2020, "Practical Hash-based Owen
-//!   Scrambling", via `sobol_burley`), 256 dimensions; each block of 2¹⁶ indices uses
-//!   its own scramble seed, and dimensions past 256 fall back to independent numbers.
+//!   Scrambling", via `sobol_burley`), 256 dimensions; each batch (at most 2¹⁶ samples)
+//!   has its own scramble seed, and dimensions past 256 fall back to independent numbers.
+//!
+//! Batches are independent randomisations, so the spread of batch means gives an
+//! honest standard error for the quasi-random samplers (randomised QMC; Owen 1997).
 
 use crate::math::{ONE_MINUS_EPSILON, unit_float_from_bits};
 use glam::Vec2;
@@ -102,7 +106,7 @@ pub struct Sampler {
     pub kind: SamplerKind,
     /// The seed (recorded in every report).
     pub seed: u64,
-    /// Number of samples in the run (used by stratification).
+    /// Samples per independent batch (stratification and scrambling work per batch).
     pub count: u64,
 }
 
@@ -152,13 +156,14 @@ impl SampleStream {
         let u = match self.kind {
             SamplerKind::Independent => unit_float_from_bits(self.rng.next_u32()),
             SamplerKind::Sobol if d < 256 => {
-                let block = self.index >> 16;
+                let batch = self.count.min(1 << 16);
+                let block = self.index / batch;
                 let scramble = hash_words(&[self.seed, block]) as u32;
-                sobol_burley::sample((self.index & 0xffff) as u32, d, scramble)
+                sobol_burley::sample((self.index % batch) as u32, d, scramble)
             }
             SamplerKind::Sobol => unit_float_from_bits(self.rng.next_u32()),
             SamplerKind::Stratified => {
-                let dim_seed = hash_words(&[self.seed, d as u64, 0x57a7]);
+                let dim_seed = hash_words(&[self.seed, d as u64, self.index / self.count]);
                 let stratum = permute(self.index % self.count, self.count, dim_seed);
                 let jitter = unit_float_from_bits(self.rng.next_u32()) as f64;
                 ((stratum as f64 + jitter) / self.count as f64) as f32

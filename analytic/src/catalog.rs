@@ -1,0 +1,1024 @@
+//! The dispatcher the case files use: a closed form by name, with named parameters.
+//!
+//! A case file's reference reads
+//! `{"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1}`;
+//! the loader passes the object (with or without the `closed_form` key) to [`evaluate`].
+//! Parameters are numbers, points `[x, y, z]`, or lists of points `[[x, y, z], ...]`.
+//! Every parameter is required; unknown, missing, ill-typed, non-finite or out-of-range
+//! parameters are errors naming the closed form, the parameter and the reason.
+//! [`names`] lists every closed form with its parameters and a description with units.
+
+use crate::geom::Vec3;
+use crate::{fresnel, furnace, irradiance, radiometry, solid_angle, spectrum, time, view_factor};
+use serde_json::{Map, Value};
+use std::f64::consts::PI;
+
+/// Why a closed form could not be evaluated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CatalogError {
+    /// No closed form of that name is registered.
+    #[error("unknown closed form `{name}`; registered: {known}")]
+    UnknownClosedForm {
+        /// The name asked for.
+        name: String,
+        /// Comma-separated registered names.
+        known: String,
+    },
+    /// A required parameter is absent.
+    #[error("closed form `{form}`: missing parameter `{param}` (expects: {expected})")]
+    MissingParameter {
+        /// The closed form.
+        form: &'static str,
+        /// The parameter.
+        param: &'static str,
+        /// All parameters the form expects.
+        expected: String,
+    },
+    /// A parameter the closed form does not take.
+    #[error("closed form `{form}`: unknown parameter `{param}` (expects: {expected})")]
+    UnknownParameter {
+        /// The closed form.
+        form: &'static str,
+        /// The offending key.
+        param: String,
+        /// All parameters the form expects.
+        expected: String,
+    },
+    /// A parameter of the wrong type, non-finite, or out of range.
+    #[error("closed form `{form}`: parameter `{param}` {reason}")]
+    InvalidParameter {
+        /// The closed form.
+        form: &'static str,
+        /// The parameter.
+        param: &'static str,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The parameters are individually valid but together outside the formula's domain.
+    #[error("closed form `{form}`: {reason}")]
+    Domain {
+        /// The closed form.
+        form: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// A registered closed form: its name, parameter names (as a case file spells them) and
+/// a one-line description with units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ClosedFormInfo {
+    /// The `closed_form` value a case file uses.
+    pub name: &'static str,
+    /// Parameter keys, all required.
+    pub params: &'static [&'static str],
+    /// What it computes, with units.
+    pub description: &'static str,
+}
+
+type Result<T> = std::result::Result<T, CatalogError>;
+
+/// Parameter access for one evaluation.
+struct Params<'a> {
+    form: &'static str,
+    map: &'a Map<String, Value>,
+}
+
+impl Params<'_> {
+    fn invalid(&self, param: &'static str, reason: impl Into<String>) -> CatalogError {
+        CatalogError::InvalidParameter {
+            form: self.form,
+            param,
+            reason: reason.into(),
+        }
+    }
+
+    fn domain(&self, reason: impl Into<String>) -> CatalogError {
+        CatalogError::Domain {
+            form: self.form,
+            reason: reason.into(),
+        }
+    }
+
+    fn get(&self, name: &'static str) -> Result<&Value> {
+        self.map
+            .get(name)
+            .ok_or_else(|| CatalogError::MissingParameter {
+                form: self.form,
+                param: name,
+                expected: expected(self.form),
+            })
+    }
+
+    fn number_of(&self, name: &'static str, v: &Value) -> Result<f64> {
+        let x = v
+            .as_f64()
+            .ok_or_else(|| self.invalid(name, format!("must be a number, got {v}")))?;
+        if !x.is_finite() {
+            return Err(self.invalid(name, format!("must be finite, got {x}")));
+        }
+        Ok(x)
+    }
+
+    /// Any finite number.
+    fn num(&self, name: &'static str) -> Result<f64> {
+        let v = self.get(name)?;
+        // serde_json has no NaN; a string "NaN"/"inf" is reported as such.
+        if let Some(s) = v.as_str() {
+            return Err(self.invalid(
+                name,
+                format!("must be a finite number, got the string {s:?}"),
+            ));
+        }
+        self.number_of(name, v)
+    }
+
+    fn positive(&self, name: &'static str) -> Result<f64> {
+        let x = self.num(name)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.invalid(name, format!("must be > 0, got {x}")))
+        }
+    }
+
+    fn non_negative(&self, name: &'static str) -> Result<f64> {
+        let x = self.num(name)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.invalid(name, format!("must be ≥ 0, got {x}")))
+        }
+    }
+
+    /// A number in [lo, hi] (or [lo, hi) when `open_hi`).
+    fn range(&self, name: &'static str, lo: f64, hi: f64, open_hi: bool) -> Result<f64> {
+        let x = self.num(name)?;
+        let ok = x >= lo && if open_hi { x < hi } else { x <= hi };
+        if ok {
+            Ok(x)
+        } else {
+            let b = if open_hi { ")" } else { "]" };
+            Err(self.invalid(name, format!("must lie in [{lo}, {hi}{b}, got {x}")))
+        }
+    }
+
+    fn vec_of(&self, name: &'static str, v: &Value) -> Result<Vec3> {
+        let arr = v
+            .as_array()
+            .filter(|a| a.len() == 3)
+            .ok_or_else(|| self.invalid(name, format!("must be a point [x, y, z], got {v}")))?;
+        let mut c = [0.0; 3];
+        for (ci, x) in c.iter_mut().zip(arr) {
+            *ci = self.number_of(name, x)?;
+        }
+        Ok(Vec3::from_array(c))
+    }
+
+    fn point(&self, name: &'static str) -> Result<Vec3> {
+        let v = self.get(name)?;
+        self.vec_of(name, v)
+    }
+
+    fn direction(&self, name: &'static str) -> Result<Vec3> {
+        self.point(name)?
+            .normalized()
+            .ok_or_else(|| self.invalid(name, "must be a non-zero direction"))
+    }
+
+    fn points(&self, name: &'static str, min: usize) -> Result<Vec<Vec3>> {
+        let v = self.get(name)?;
+        let arr = v
+            .as_array()
+            .ok_or_else(|| self.invalid(name, "must be a list of points [[x, y, z], ...]"))?;
+        if arr.len() < min {
+            return Err(self.invalid(
+                name,
+                format!("needs at least {min} points, got {}", arr.len()),
+            ));
+        }
+        arr.iter().map(|p| self.vec_of(name, p)).collect()
+    }
+
+    fn triple(&self, name: &'static str) -> Result<[f64; 3]> {
+        let p = self.point(name)?;
+        Ok([p.x, p.y, p.z])
+    }
+}
+
+/// A planar polygon's unit normal (Newell's method) or a domain error.
+fn check_planar(p: &Params<'_>, name: &'static str, v: &[Vec3]) -> Result<()> {
+    let o = v[0];
+    let mut nrm = Vec3::default();
+    for i in 0..v.len() {
+        nrm = nrm + (v[i] - o).cross(v[(i + 1) % v.len()] - o);
+    }
+    let Some(n) = nrm.normalized() else {
+        return Err(p.invalid(name, "is degenerate (zero area)"));
+    };
+    let size = v.iter().map(|&x| (x - o).length()).fold(0.0, f64::max);
+    for &x in v {
+        if n.dot(x - o).abs() > 1e-9 * size {
+            return Err(p.invalid(name, "must be planar"));
+        }
+    }
+    Ok(())
+}
+
+struct Entry {
+    info: ClosedFormInfo,
+    eval: fn(&Params<'_>) -> Result<f64>,
+}
+
+macro_rules! entry {
+    ($name:literal, [$($p:literal),*], $desc:literal, $eval:expr) => {
+        Entry {
+            info: ClosedFormInfo { name: $name, params: &[$($p),*], description: $desc },
+            eval: $eval,
+        }
+    };
+}
+
+fn outside_sphere(p: &Params<'_>, point: Vec3, center: Vec3, radius: f64) -> Result<()> {
+    if (center - point).length() <= radius {
+        Err(p.domain("the point must lie outside the sphere"))
+    } else {
+        Ok(())
+    }
+}
+
+static ENTRIES: &[Entry] = &[
+    // ---- solid angles ----
+    entry!(
+        "solid_angle_cap",
+        ["half_angle"],
+        "solid angle (sr) of a cone of half-angle half_angle (rad, in [0, π])",
+        |p| { Ok(solid_angle::cap(p.range("half_angle", 0.0, PI, false)?)) }
+    ),
+    entry!(
+        "solid_angle_sphere",
+        ["point", "center", "radius"],
+        "solid angle (sr) of a sphere seen from an outside point",
+        |p| {
+            let (x, c, r) = (p.point("point")?, p.point("center")?, p.positive("radius")?);
+            outside_sphere(p, x, c, r)?;
+            Ok(solid_angle::sphere_from_point(x, c, r))
+        }
+    ),
+    entry!(
+        "solid_angle_triangle",
+        ["point", "vertices"],
+        "solid angle (sr) of a triangle (3 vertices) seen from a point (Van Oosterom–Strackee)",
+        |p| {
+            let (x, v) = (p.point("point")?, p.points("vertices", 3)?);
+            if v.len() != 3 {
+                return Err(p.invalid(
+                    "vertices",
+                    format!("must be exactly 3 points, got {}", v.len()),
+                ));
+            }
+            check_planar(p, "vertices", &v)?;
+            Ok(solid_angle::triangle(x, v[0], v[1], v[2]))
+        }
+    ),
+    entry!(
+        "solid_angle_polygon",
+        ["point", "vertices"],
+        "solid angle (sr) of a planar simple polygon seen from a point",
+        |p| {
+            let (x, v) = (p.point("point")?, p.points("vertices", 3)?);
+            check_planar(p, "vertices", &v)?;
+            Ok(solid_angle::polygon(x, &v))
+        }
+    ),
+    entry!(
+        "solid_angle_rectangle",
+        ["point", "corner", "edge_u", "edge_v"],
+        "solid angle (sr) of the rectangle corner + s·edge_u + t·edge_v (s, t ∈ [0,1], edges perpendicular) seen from a point",
+        |p| {
+            let (x, c, u, v) = (
+                p.point("point")?,
+                p.point("corner")?,
+                p.point("edge_u")?,
+                p.point("edge_v")?,
+            );
+            if u.length() == 0.0
+                || v.length() == 0.0
+                || u.dot(v).abs() > 1e-9 * u.length() * v.length()
+            {
+                return Err(p.domain("edge_u and edge_v must be non-zero and perpendicular"));
+            }
+            Ok(solid_angle::rectangle(x, c, u, v))
+        }
+    ),
+    // ---- irradiance ----
+    entry!(
+        "polygon_irradiance",
+        ["point", "normal", "vertices", "radiance"],
+        "irradiance (W/m²) at point/normal from a uniform Lambertian planar polygon of radiance (W/(m²·sr)), clipped to the receiver's hemisphere (Lambert)",
+        |p| {
+            let (x, n, v, l) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.points("vertices", 3)?,
+                p.non_negative("radiance")?,
+            );
+            check_planar(p, "vertices", &v)?;
+            Ok(irradiance::polygon(x, n, &v, l))
+        }
+    ),
+    entry!(
+        "polygon_projected_solid_angle",
+        ["point", "normal", "vertices"],
+        "projected solid angle (sr) ∫max(0, n·ω)dω of a planar polygon seen from point/normal",
+        |p| {
+            let (x, n, v) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.points("vertices", 3)?,
+            );
+            check_planar(p, "vertices", &v)?;
+            Ok(irradiance::polygon_projected_solid_angle(x, n, &v))
+        }
+    ),
+    entry!(
+        "disk_irradiance_on_axis",
+        ["radius", "height", "radiance"],
+        "irradiance (W/m²) on the axis of a uniform disk facing the receiver: π L R²/(R²+h²)",
+        |p| {
+            Ok(irradiance::disk_on_axis(
+                p.positive("radius")?,
+                p.positive("height")?,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "disk_irradiance_parallel_offset",
+        ["radius", "height", "offset", "radiance"],
+        "irradiance (W/m²) from a uniform disk on a receiver parallel to it, at height above its plane and offset (m) from its axis",
+        |p| {
+            Ok(irradiance::disk_parallel_offset(
+                p.positive("radius")?,
+                p.positive("height")?,
+                p.non_negative("offset")?,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "disk_irradiance",
+        ["point", "normal", "center", "axis", "radius", "radiance"],
+        "irradiance (W/m²) at point/normal (any tilt, horizon clipping included) from a uniform two-sided disk (center, axis, radius)",
+        |p| {
+            let (x, n, c, m) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.point("center")?,
+                p.direction("axis")?,
+            );
+            let (r, l) = (p.positive("radius")?, p.non_negative("radiance")?);
+            let w = x - c;
+            let h = w.dot(m);
+            if h.abs() <= 1e-12 * r && (w - m * h).length() <= r {
+                return Err(p.domain("the point lies on the disk"));
+            }
+            Ok(irradiance::disk(x, n, c, m, r, l))
+        }
+    ),
+    entry!(
+        "sphere_irradiance",
+        ["point", "normal", "center", "radius", "radiance"],
+        "irradiance (W/m²) at point/normal (any tilt, horizon clipping included) from a uniform sphere (Snyder 1996)",
+        |p| {
+            let (x, n, c) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.point("center")?,
+            );
+            let (r, l) = (p.positive("radius")?, p.non_negative("radiance")?);
+            outside_sphere(p, x, c, r)?;
+            Ok(irradiance::sphere(x, n, c, r, l))
+        }
+    ),
+    entry!(
+        "point_light_irradiance",
+        ["point", "normal", "light", "intensity"],
+        "irradiance (W/m²) from an isotropic point light of intensity (W/sr): I cos θ / r²",
+        |p| {
+            let (x, n, s, i) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.point("light")?,
+                p.non_negative("intensity")?,
+            );
+            if s == x {
+                return Err(p.domain("the light coincides with the receiver"));
+            }
+            Ok(irradiance::point(x, n, s, i))
+        }
+    ),
+    entry!(
+        "constant_environment_irradiance",
+        ["radiance"],
+        "irradiance (W/m²) from a constant environment of radiance L: π L",
+        |p| {
+            Ok(irradiance::constant_environment(
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    // ---- view factors ----
+    entry!(
+        "view_factor_element_to_coaxial_disk",
+        ["radius", "height"],
+        "view factor (1) from a differential element to a parallel coaxial disk: R²/(R²+h²)",
+        |p| {
+            Ok(view_factor::element_to_coaxial_disk(
+                p.positive("radius")?,
+                p.positive("height")?,
+            ))
+        }
+    ),
+    entry!(
+        "view_factor_disk_to_coaxial_disk",
+        ["radius1", "radius2", "height"],
+        "view factor (1) from disk 1 to a parallel coaxial disk 2 at distance height (Howell C-41)",
+        |p| {
+            Ok(view_factor::disk_to_coaxial_disk(
+                p.positive("radius1")?,
+                p.positive("radius2")?,
+                p.positive("height")?,
+            ))
+        }
+    ),
+    entry!(
+        "view_factor_parallel_rectangles",
+        ["width", "length", "separation"],
+        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11)",
+        |p| {
+            Ok(view_factor::parallel_rectangles(
+                p.positive("width")?,
+                p.positive("length")?,
+                p.positive("separation")?,
+            ))
+        }
+    ),
+    entry!(
+        "view_factor_perpendicular_rectangles",
+        ["common_edge", "width", "height"],
+        "view factor (1) from rectangle common_edge × width to perpendicular rectangle common_edge × height sharing the edge (Howell C-14)",
+        |p| {
+            Ok(view_factor::perpendicular_rectangles(
+                p.positive("common_edge")?,
+                p.positive("width")?,
+                p.positive("height")?,
+            ))
+        }
+    ),
+    entry!(
+        "view_factor_element_to_sphere",
+        ["distance", "radius"],
+        "view factor (1) from an element facing a sphere's centre at distance: (R/d)²",
+        |p| {
+            let (d, r) = (p.positive("distance")?, p.positive("radius")?);
+            if d <= r {
+                return Err(p.domain("distance must exceed radius"));
+            }
+            Ok(view_factor::element_to_sphere(d, r))
+        }
+    ),
+    entry!(
+        "view_factor_element_to_sphere_tilted",
+        ["distance", "radius", "tilt"],
+        "view factor (1) from an element whose normal is tilted (rad, [0, π]) from the direction to a sphere's centre",
+        |p| {
+            let (d, r, t) = (
+                p.positive("distance")?,
+                p.positive("radius")?,
+                p.range("tilt", 0.0, PI, false)?,
+            );
+            if d <= r {
+                return Err(p.domain("distance must exceed radius"));
+            }
+            Ok(view_factor::element_to_sphere_tilted(d, r, t))
+        }
+    ),
+    // ---- furnace ----
+    entry!(
+        "furnace_closed_enclosure",
+        ["emitted_radiance", "albedo"],
+        "radiance (W/(m²·sr)) inside a closed diffuse enclosure: Le/(1−ρ), albedo in [0, 1)",
+        |p| {
+            Ok(furnace::closed_enclosure(
+                p.non_negative("emitted_radiance")?,
+                p.range("albedo", 0.0, 1.0, true)?,
+            ))
+        }
+    ),
+    entry!(
+        "furnace_convex_object",
+        ["albedo", "radiance"],
+        "radiance (W/(m²·sr)) reflected by a convex Lambertian object under a constant environment: ρ L",
+        |p| {
+            Ok(furnace::convex_object(
+                p.range("albedo", 0.0, 1.0, false)?,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "furnace_integrating_sphere",
+        ["emitted_radiance", "albedo", "port_fraction"],
+        "wall radiance (W/(m²·sr)) of an emitting integrating sphere with a black port: Le/(1−ρ(1−f))",
+        |p| {
+            let (le, rho, f) = (
+                p.non_negative("emitted_radiance")?,
+                p.range("albedo", 0.0, 1.0, false)?,
+                p.range("port_fraction", 0.0, 1.0, false)?,
+            );
+            if rho * (1.0 - f) >= 1.0 {
+                return Err(p.domain("albedo = 1 with no port never reaches equilibrium"));
+            }
+            Ok(furnace::integrating_sphere(le, rho, f))
+        }
+    ),
+    // ---- Fresnel ----
+    entry!(
+        "fresnel_dielectric",
+        ["cos_theta", "eta"],
+        "unpolarised dielectric reflectance (1), TIR included; cos_theta in [−1, 1] (negative: from the other side), eta = n_t/n_i",
+        |p| {
+            Ok(fresnel::dielectric(
+                p.range("cos_theta", -1.0, 1.0, false)?,
+                p.positive("eta")?,
+            ))
+        }
+    ),
+    entry!(
+        "fresnel_conductor",
+        ["cos_theta", "eta", "k"],
+        "unpolarised conductor reflectance (1) for complex index eta + i·k, cos_theta in [0, 1]",
+        |p| {
+            Ok(fresnel::conductor(
+                p.range("cos_theta", 0.0, 1.0, false)?,
+                p.positive("eta")?,
+                p.non_negative("k")?,
+            ))
+        }
+    ),
+    entry!(
+        "fresnel_dielectric_average",
+        ["eta"],
+        "cosine-weighted hemispherical average of the dielectric reflectance (1), light from index 1 into eta (eta < 1: from the denser side)",
+        |p| { Ok(fresnel::dielectric_average(p.positive("eta")?)) }
+    ),
+    entry!(
+        "fresnel_dielectric_average_inside",
+        ["eta"],
+        "cosine-weighted hemispherical average reflectance (1) from inside a medium of relative index eta ≥ 1: 1 − (1 − F̄_out)/η²",
+        |p| {
+            let eta = p.num("eta")?;
+            if eta < 1.0 {
+                return Err(p.invalid(
+                    "eta",
+                    format!("must be ≥ 1 (the inside is the denser medium), got {eta}"),
+                ));
+            }
+            Ok(fresnel::dielectric_average_inside(eta))
+        }
+    ),
+    // ---- radiometry ----
+    entry!(
+        "lambertian_power",
+        ["radiance", "area"],
+        "power (W) leaving one side of a uniform Lambertian emitter: π L A",
+        |p| {
+            Ok(radiometry::lambertian_power(
+                p.non_negative("radiance")?,
+                p.positive("area")?,
+            ))
+        }
+    ),
+    entry!(
+        "lambertian_intensity",
+        ["radiance", "area", "theta"],
+        "intensity (W/sr) of a flat Lambertian emitter at angle theta (rad) from its normal: L A cos θ",
+        |p| {
+            Ok(radiometry::lambertian_intensity(
+                p.non_negative("radiance")?,
+                p.positive("area")?,
+                p.range("theta", 0.0, PI, false)?,
+            ))
+        }
+    ),
+    entry!(
+        "photon_energy",
+        ["wavelength"],
+        "energy (J) of a photon of vacuum wavelength (m): hc/λ",
+        |p| { Ok(radiometry::photon_energy(p.positive("wavelength")?)) }
+    ),
+    entry!(
+        "radiance_across_interface",
+        ["radiance", "n1", "n2"],
+        "radiance (W/(m²·sr)) after a lossless crossing from index n1 to n2: L (n2/n1)²",
+        |p| {
+            Ok(radiometry::radiance_across_interface(
+                p.non_negative("radiance")?,
+                p.positive("n1")?,
+                p.positive("n2")?,
+            ))
+        }
+    ),
+    // ---- spectrum ----
+    entry!(
+        "planck_radiance",
+        ["wavelength", "temperature"],
+        "blackbody spectral radiance (W·sr⁻¹·m⁻³) at wavelength (m) and temperature (K)",
+        |p| {
+            Ok(spectrum::planck(
+                p.positive("wavelength")?,
+                p.positive("temperature")?,
+            ))
+        }
+    ),
+    entry!(
+        "blackbody_total_radiance",
+        ["temperature"],
+        "total blackbody radiance (W/(m²·sr)): σT⁴/π",
+        |p| { Ok(spectrum::total_radiance(p.positive("temperature")?)) }
+    ),
+    entry!(
+        "blackbody_band_fraction",
+        ["wavelength_min", "wavelength_max", "temperature"],
+        "fraction (1) of blackbody emission between two wavelengths (m) at temperature (K)",
+        |p| {
+            let (a, b, t) = (
+                p.positive("wavelength_min")?,
+                p.positive("wavelength_max")?,
+                p.positive("temperature")?,
+            );
+            if b < a {
+                return Err(p.domain("wavelength_max must be ≥ wavelength_min"));
+            }
+            Ok(spectrum::band_fraction(a, b, t))
+        }
+    ),
+    entry!(
+        "wien_peak_wavelength",
+        ["temperature"],
+        "wavelength (m) of maximum blackbody spectral radiance: b/T",
+        |p| { Ok(spectrum::wien_peak(p.positive("temperature")?)) }
+    ),
+    entry!(
+        "blackbody_photon_radiance",
+        ["temperature"],
+        "total blackbody photon radiance (photons·s⁻¹·m⁻²·sr⁻¹): 4ζ(3)k³T³/(h³c²)",
+        |p| { Ok(spectrum::photon_radiance(p.positive("temperature")?)) }
+    ),
+    entry!(
+        "cauchy_index",
+        ["a", "b", "wavelength_um"],
+        "refractive index (1) by Cauchy's formula a + b/λ² (λ in µm, b in µm²)",
+        |p| {
+            Ok(spectrum::cauchy(
+                p.num("a")?,
+                p.num("b")?,
+                p.positive("wavelength_um")?,
+            ))
+        }
+    ),
+    entry!(
+        "sellmeier_index",
+        ["b", "c", "wavelength_um"],
+        "refractive index (1) by the 3-term Sellmeier formula, b = [B1,B2,B3], c = [C1,C2,C3] (µm²), λ in µm",
+        |p| {
+            let (b, c, l) = (p.triple("b")?, p.triple("c")?, p.positive("wavelength_um")?);
+            let n = spectrum::sellmeier(&b, &c, l);
+            if n.is_finite() {
+                Ok(n)
+            } else {
+                Err(p.domain("wavelength lies on or inside an absorption pole (n² ≤ 0)"))
+            }
+        }
+    ),
+    entry!(
+        "bk7_index",
+        ["wavelength_um"],
+        "refractive index (1) of Schott N-BK7 by its Sellmeier coefficients, λ in µm",
+        |p| {
+            Ok(spectrum::sellmeier(
+                &spectrum::BK7_B,
+                &spectrum::BK7_C,
+                p.range("wavelength_um", 0.3, 2.5, false)?,
+            ))
+        }
+    ),
+    entry!(
+        "slab_transmittance",
+        ["index"],
+        "normal-incidence transmittance (1) of a non-absorbing slab with incoherent inter-reflections: (1−R)/(1+R)",
+        |p| { Ok(spectrum::slab_transmittance(p.positive("index")?)) }
+    ),
+    // ---- time ----
+    entry!(
+        "pulsed_disk_on_axis",
+        ["radius", "height", "radiance", "t1", "t2", "speed"],
+        "irradiance (W/m²) on a uniform disk's axis carried by paths of travel time in [t1, t2] (s) at speed (m/s): π L h²(1/r1² − 1/r2²)",
+        |p| {
+            let (r, h, l) = (
+                p.positive("radius")?,
+                p.positive("height")?,
+                p.non_negative("radiance")?,
+            );
+            let (t1, t2, v) = (
+                p.non_negative("t1")?,
+                p.non_negative("t2")?,
+                p.positive("speed")?,
+            );
+            if t2 < t1 {
+                return Err(p.domain("t2 must be ≥ t1"));
+            }
+            Ok(time::pulsed_disk_on_axis(r, h, l, t1, t2, v))
+        }
+    ),
+    entry!(
+        "mean_chord_length",
+        ["volume", "surface_area"],
+        "mean isotropic chord length (m) of a convex body: 4V/S",
+        |p| {
+            Ok(time::mean_chord_length(
+                p.positive("volume")?,
+                p.positive("surface_area")?,
+            ))
+        }
+    ),
+    entry!(
+        "mean_chord_sphere",
+        ["radius"],
+        "mean isotropic chord length (m) of a sphere: 4R/3",
+        |p| { Ok(time::mean_chord_sphere(p.positive("radius")?)) }
+    ),
+    entry!(
+        "mean_chord_box",
+        ["a", "b", "c"],
+        "mean isotropic chord length (m) of an a × b × c box: 2abc/(ab+bc+ca)",
+        |p| {
+            Ok(time::mean_chord_box(
+                p.positive("a")?,
+                p.positive("b")?,
+                p.positive("c")?,
+            ))
+        }
+    ),
+    entry!(
+        "moving_point_light_average",
+        ["intensity", "distance", "speed", "t0", "t1"],
+        "shutter-averaged irradiance (W/m²) over [t0, t1] (s) from a point light (W/sr) passing at closest distance (m) with speed (m/s), t = 0 at closest approach, receiver facing the line",
+        |p| {
+            let (i, d, v) = (
+                p.non_negative("intensity")?,
+                p.positive("distance")?,
+                p.non_negative("speed")?,
+            );
+            let (t0, t1) = (p.num("t0")?, p.num("t1")?);
+            if t1 < t0 {
+                return Err(p.domain("t1 must be ≥ t0"));
+            }
+            Ok(time::moving_point_light_average(i, d, v, t0, t1))
+        }
+    ),
+];
+
+fn find(name: &str) -> Option<&'static Entry> {
+    ENTRIES.iter().find(|e| e.info.name == name)
+}
+
+fn expected(form: &str) -> String {
+    find(form)
+        .map(|e| e.info.params.join(", "))
+        .unwrap_or_default()
+}
+
+/// Every registered closed form, in catalog order.
+pub fn names() -> Vec<ClosedFormInfo> {
+    ENTRIES.iter().map(|e| e.info).collect()
+}
+
+/// Evaluates the closed form `name` with parameters `params` (a `closed_form` key, if
+/// present, is ignored).
+pub fn evaluate(name: &str, params: &Map<String, Value>) -> std::result::Result<f64, CatalogError> {
+    let entry = find(name).ok_or_else(|| CatalogError::UnknownClosedForm {
+        name: name.to_string(),
+        known: ENTRIES
+            .iter()
+            .map(|e| e.info.name)
+            .collect::<Vec<_>>()
+            .join(", "),
+    })?;
+    let form = entry.info.name;
+    for key in params.keys() {
+        if key != "closed_form" && !entry.info.params.contains(&key.as_str()) {
+            return Err(CatalogError::UnknownParameter {
+                form,
+                param: key.clone(),
+                expected: entry.info.params.join(", "),
+            });
+        }
+    }
+    let p = Params { form, map: params };
+    let v = (entry.eval)(&p)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(p.domain(format!("the parameters give a non-finite result ({v})")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn obj(v: Value) -> Map<String, Value> {
+        v.as_object().unwrap().clone()
+    }
+
+    #[test]
+    fn design_example_evaluates() {
+        let m = obj(
+            json!({"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1}),
+        );
+        let v = evaluate("disk_irradiance_on_axis", &m).unwrap();
+        assert!((v - PI / 5.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn errors_are_clear() {
+        let e = evaluate("disk_irradiance_on_axe", &Map::new()).unwrap_err();
+        assert!(matches!(e, CatalogError::UnknownClosedForm { .. }));
+        assert!(e.to_string().contains("disk_irradiance_on_axe"));
+
+        let e = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": 1, "radiance": 1})),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "closed form `disk_irradiance_on_axis`: missing parameter `height` (expects: radius, height, radiance)"
+        );
+
+        // JSON has no NaN: a case writing "NaN" gets a clear message.
+        let e = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": "NaN", "height": 1, "radiance": 1})),
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("`radius`") && e.to_string().contains("finite"),
+            "{e}"
+        );
+        // A NaN smuggled in programmatically.
+        let mut m = obj(json!({"height": 1, "radiance": 1}));
+        m.insert("radius".into(), Value::from(f64::NAN)); // serde_json turns NaN into null
+        let e = evaluate("disk_irradiance_on_axis", &m).unwrap_err();
+        assert!(e.to_string().contains("`radius`"), "{e}");
+
+        let e = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": -1, "height": 1, "radiance": 1})),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("must be > 0"), "{e}");
+
+        let e = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": 1, "height": 1, "radiance": 1, "hieght": 2})),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, CatalogError::UnknownParameter { .. }) && e.to_string().contains("hieght")
+        );
+
+        let e = evaluate(
+            "solid_angle_sphere",
+            &obj(json!({"point": [0, 0], "center": [0, 0, 5], "radius": 1})),
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("`point`") && e.to_string().contains("[x, y, z]"),
+            "{e}"
+        );
+
+        let e = evaluate(
+            "solid_angle_sphere",
+            &obj(json!({"point": [0, 0, 0], "center": [0, 0, 0.5], "radius": 1})),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
+
+        let e = evaluate(
+            "furnace_closed_enclosure",
+            &obj(json!({"emitted_radiance": 1, "albedo": 1})),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("`albedo`"), "{e}");
+    }
+
+    #[test]
+    fn every_form_has_unique_name_and_evaluates_on_sample_input() {
+        let infos = names();
+        let mut seen = std::collections::HashSet::new();
+        for i in &infos {
+            assert!(seen.insert(i.name), "duplicate {}", i.name);
+            assert!(!i.description.is_empty());
+        }
+        let samples: Value = serde_json::from_str(
+            r#"{
+            "solid_angle_cap": {"half_angle": 0.5},
+            "solid_angle_sphere": {"point": [1e5, 1e5, 1e5], "center": [1e5, 1e5, 100003.0], "radius": 1},
+            "solid_angle_triangle": {"point": [0, 0, 0], "vertices": [[0, 0, 1], [1, 0, 1], [0, 1, 1]]},
+            "solid_angle_polygon": {"point": [0, 0, 0], "vertices": [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]},
+            "solid_angle_rectangle": {"point": [0, 0, 0], "corner": [0, 0, 1], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]},
+            "polygon_irradiance": {"point": [0, 0, 0], "normal": [0, 0, 1], "vertices": [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], "radiance": 1},
+            "polygon_projected_solid_angle": {"point": [0, 0, 0], "normal": [0, 0, 1], "vertices": [[0, 0, 1], [1, 0, 1], [1, 1, 1]]},
+            "disk_irradiance_on_axis": {"radius": 1, "height": 2, "radiance": 1},
+            "disk_irradiance_parallel_offset": {"radius": 1, "height": 2, "offset": 0.5, "radiance": 1},
+            "disk_irradiance": {"point": [0, 0, 0], "normal": [1, 0, 0.2], "center": [0, 0, 1], "axis": [0, 0, 1], "radius": 1, "radiance": 1},
+            "sphere_irradiance": {"point": [0, 0, 0], "normal": [0, 1, 0], "center": [0, 0, 3], "radius": 1, "radiance": 1},
+            "point_light_irradiance": {"point": [0, 0, 0], "normal": [0, 0, 1], "light": [0, 0, 2], "intensity": 4},
+            "constant_environment_irradiance": {"radiance": 1},
+            "view_factor_element_to_coaxial_disk": {"radius": 1, "height": 1},
+            "view_factor_disk_to_coaxial_disk": {"radius1": 1, "radius2": 1, "height": 1},
+            "view_factor_parallel_rectangles": {"width": 1, "length": 1, "separation": 1},
+            "view_factor_perpendicular_rectangles": {"common_edge": 1, "width": 1, "height": 1},
+            "view_factor_element_to_sphere": {"distance": 2, "radius": 1},
+            "view_factor_element_to_sphere_tilted": {"distance": 2, "radius": 1, "tilt": 1.5},
+            "furnace_closed_enclosure": {"emitted_radiance": 1, "albedo": 0.5},
+            "furnace_convex_object": {"albedo": 0.5, "radiance": 1},
+            "furnace_integrating_sphere": {"emitted_radiance": 1, "albedo": 0.9, "port_fraction": 0.05},
+            "fresnel_dielectric": {"cos_theta": 0.5, "eta": 1.5},
+            "fresnel_conductor": {"cos_theta": 0.5, "eta": 0.2, "k": 3},
+            "fresnel_dielectric_average": {"eta": 1.5},
+            "fresnel_dielectric_average_inside": {"eta": 1.5},
+            "lambertian_power": {"radiance": 1, "area": 2},
+            "lambertian_intensity": {"radiance": 1, "area": 2, "theta": 0.5},
+            "photon_energy": {"wavelength": 5.5e-7},
+            "radiance_across_interface": {"radiance": 1, "n1": 1, "n2": 1.5},
+            "planck_radiance": {"wavelength": 5e-7, "temperature": 5778},
+            "blackbody_total_radiance": {"temperature": 5778},
+            "blackbody_band_fraction": {"wavelength_min": 3.8e-7, "wavelength_max": 7.8e-7, "temperature": 5778},
+            "wien_peak_wavelength": {"temperature": 5778},
+            "blackbody_photon_radiance": {"temperature": 5778},
+            "cauchy_index": {"a": 1.5046, "b": 0.0042, "wavelength_um": 0.55},
+            "sellmeier_index": {"b": [1.03961212, 0.231792344, 1.01046945], "c": [0.00600069867, 0.0200179144, 103.560653], "wavelength_um": 0.58756},
+            "bk7_index": {"wavelength_um": 0.58756},
+            "slab_transmittance": {"index": 1.5},
+            "pulsed_disk_on_axis": {"radius": 1, "height": 2, "radiance": 1, "t1": 0, "t2": 1, "speed": 1},
+            "mean_chord_length": {"volume": 1, "surface_area": 6},
+            "mean_chord_sphere": {"radius": 1},
+            "mean_chord_box": {"a": 1, "b": 2, "c": 3},
+            "moving_point_light_average": {"intensity": 1, "distance": 1, "speed": 1, "t0": -1, "t1": 1}
+        }"#,
+        )
+        .unwrap();
+        let samples = samples.as_object().unwrap();
+        for i in &infos {
+            let m = samples
+                .get(i.name)
+                .unwrap_or_else(|| panic!("no sample for {}", i.name));
+            let m = m.as_object().unwrap();
+            let keys: Vec<&str> = m.keys().map(String::as_str).collect();
+            for k in i.params {
+                assert!(keys.contains(k), "{}: sample lacks {k}", i.name);
+            }
+            let v = evaluate(i.name, m).unwrap_or_else(|e| panic!("{e}"));
+            assert!(v.is_finite() && v >= 0.0, "{}: {v}", i.name);
+            // Dropping any one parameter is a MissingParameter naming it.
+            for k in i.params {
+                let mut less = m.clone();
+                less.remove(*k);
+                match evaluate(i.name, &less) {
+                    Err(CatalogError::MissingParameter { param, .. }) => assert_eq!(param, *k),
+                    other => panic!("{}: dropping {k} gave {other:?}", i.name),
+                }
+            }
+        }
+        assert_eq!(samples.len(), infos.len());
+        // Spot values.
+        let v = evaluate(
+            "solid_angle_rectangle",
+            samples["solid_angle_rectangle"].as_object().unwrap(),
+        )
+        .unwrap();
+        assert!((v - (1.0f64 / 3.0f64.sqrt()).atan()).abs() < 1e-15);
+        let v = evaluate("bk7_index", samples["bk7_index"].as_object().unwrap()).unwrap();
+        let w = evaluate(
+            "sellmeier_index",
+            samples["sellmeier_index"].as_object().unwrap(),
+        )
+        .unwrap();
+        assert_eq!(v, w);
+    }
+}

@@ -1,0 +1,252 @@
+//! Blackbody radiation and dispersion (SI units: wavelengths in metres unless stated).
+
+use crate::radiometry::{BOLTZMANN, PLANCK, SPEED_OF_LIGHT};
+use std::f64::consts::PI;
+
+/// Stefan–Boltzmann constant σ = 2π⁵k⁴/(15h³c²) (W·m⁻²·K⁻⁴), from the exact SI constants.
+pub fn stefan_boltzmann() -> f64 {
+    2.0 * PI.powi(5) * BOLTZMANN.powi(4) / (15.0 * PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2))
+}
+
+/// Second radiation constant c₂ = hc/k_B (m·K).
+fn c2() -> f64 {
+    PLANCK * SPEED_OF_LIGHT / BOLTZMANN
+}
+
+/// Planck's law: spectral radiance of a blackbody per unit wavelength (W·sr⁻¹·m⁻³).
+///
+/// **Formula.** B_λ(λ, T) = 2hc²/λ⁵ · 1/(exp(hc/(λ k_B T)) − 1), with `expm1` for the
+/// long-wavelength (Rayleigh–Jeans) end.
+///
+/// **Derivation.** Bose–Einstein occupancy of the electromagnetic modes of a cavity,
+/// times the mode density and photon energy, converted from frequency to wavelength.
+///
+/// **Source.** M. Planck, 1901; Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1.
+pub fn planck(wavelength: f64, temperature: f64) -> f64 {
+    let l = wavelength;
+    2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT / l.powi(5) / (c2() / (l * temperature)).exp_m1()
+}
+
+/// Total (all-wavelength) radiance of a blackbody (W·sr⁻¹·m⁻²).
+///
+/// **Formula.** L = σ T⁴ / π. **Derivation.** ∫₀^∞ B_λ dλ = 2k⁴T⁴/(h³c²) · π⁴/15.
+/// **Source.** Stefan 1879, Boltzmann 1884; Siegel & Howell ch. 1.
+pub fn total_radiance(temperature: f64) -> f64 {
+    stefan_boltzmann() * temperature.powi(4) / PI
+}
+
+/// Fraction of blackbody emission between 0 and λ at temperature T.
+///
+/// **Formula.** With ζ = hc/(λ k_B T):
+/// F(0→λT) = 15/π⁴ Σ_{n≥1} e^{−nζ}/n · (ζ³ + 3ζ²/n + 6ζ/n² + 6/n³);
+/// for ζ < 1 the complementary small-ζ series
+/// F = 1 − 15/π⁴ ζ³ (1/3 − ζ/8 + ζ²/60 − ζ⁴/5040 + ζ⁶/272160 − ζ⁸/13305600 + …)
+/// (Bernoulli-number expansion of ∫₀^ζ x³/(eˣ−1) dx) converges faster.
+///
+/// **Derivation.** F = (15/π⁴)∫_ζ^∞ x³/(eˣ−1) dx; expand 1/(eˣ−1) = Σ e^{−nx} and
+/// integrate x³e^{−nx} by parts.
+///
+/// **Source.** Siegel & Howell, *Thermal Radiation Heat Transfer*, §2 (blackbody
+/// fractions; Chang & Rhee 1984 series).
+pub fn band_fraction_below(wavelength: f64, temperature: f64) -> f64 {
+    let z = c2() / (wavelength * temperature);
+    let k = 15.0 / PI.powi(4);
+    if z >= 1.0 {
+        let mut sum = 0.0;
+        for n in 1..200 {
+            let nf = n as f64;
+            let term = (-nf * z).exp() / nf
+                * (z.powi(3) + 3.0 * z * z / nf + 6.0 * z / (nf * nf) + 6.0 / nf.powi(3));
+            sum += term;
+            if term < 1e-18 * sum {
+                break;
+            }
+        }
+        k * sum
+    } else {
+        // ∫₀^ζ x³/(eˣ−1) dx = Σ B_m ζ^{m+3}/(m!(m+3)), B the Bernoulli numbers.
+        const B: [(i32, f64); 9] = [
+            (0, 1.0),
+            (1, -0.5),
+            (2, 1.0 / 6.0),
+            (4, -1.0 / 30.0),
+            (6, 1.0 / 42.0),
+            (8, -1.0 / 30.0),
+            (10, 5.0 / 66.0),
+            (12, -691.0 / 2730.0),
+            (14, 7.0 / 6.0),
+        ];
+        let mut fact = 1.0;
+        let mut last = 0;
+        let mut s = 0.0;
+        for (m, b) in B {
+            for j in (last + 1)..=m {
+                fact *= j as f64;
+            }
+            last = m;
+            s += b * z.powi(m + 3) / (fact * (m + 3) as f64);
+        }
+        // The first omitted term, |B₁₆| ζ¹⁹/(16!·19) ≈ 1.8e-14 ζ¹⁹, is < 2e-14 for ζ < 1.
+        1.0 - k * s
+    }
+}
+
+/// Fraction of blackbody emission in the band [λ₁, λ₂] at temperature T.
+/// **Formula.** F(0→λ₂T) − F(0→λ₁T), see [`band_fraction_below`].
+pub fn band_fraction(l1: f64, l2: f64, temperature: f64) -> f64 {
+    band_fraction_below(l2, temperature) - band_fraction_below(l1, temperature)
+}
+
+/// Wien's displacement law: wavelength of maximum B_λ (m).
+///
+/// **Formula.** λ_max = b/T, b = hc/(k_B x), x the root of x = 5(1 − e^{−x})
+/// (x = 4.965114231744276…), b = 2.897771955… × 10⁻³ m·K.
+///
+/// **Derivation.** ∂B_λ/∂λ = 0. **Source.** Wien 1893; CODATA 2018.
+pub fn wien_peak(temperature: f64) -> f64 {
+    let mut x = 5.0f64;
+    for _ in 0..50 {
+        // Newton on g(x) = x − 5 + 5e^{−x}.
+        let g = x - 5.0 + 5.0 * (-x).exp();
+        let dg = 1.0 - 5.0 * (-x).exp();
+        x -= g / dg;
+    }
+    c2() / x / temperature
+}
+
+/// Total photon radiance of a blackbody (photons·s⁻¹·m⁻²·sr⁻¹).
+///
+/// **Formula.** N = 4 ζ(3) k_B³ T³ / (h³ c²), ζ(3) = 1.2020569031595942 (Apéry).
+///
+/// **Derivation.** ∫ B_ν/(hν) dν = (2/c²)(kT/h)³ ∫₀^∞ x²/(eˣ−1) dx = (2/c²)(kT/h)³ · 2ζ(3).
+///
+/// **Source.** Siegel & Howell ch. 1; any statistical-mechanics text (photon gas).
+pub fn photon_radiance(temperature: f64) -> f64 {
+    const ZETA3: f64 = 1.202_056_903_159_594_2;
+    let kt_h = BOLTZMANN * temperature / PLANCK;
+    4.0 * ZETA3 * kt_h.powi(3) / (SPEED_OF_LIGHT * SPEED_OF_LIGHT)
+}
+
+/// Cauchy's dispersion formula n(λ) = A + B/λ², with λ in micrometres and B in µm².
+/// **Source.** A.-L. Cauchy 1836; Born & Wolf §2.3.
+pub fn cauchy(a: f64, b: f64, wavelength_um: f64) -> f64 {
+    a + b / (wavelength_um * wavelength_um)
+}
+
+/// Sellmeier's dispersion formula n²(λ) = 1 + Σᵢ Bᵢ λ²/(λ² − Cᵢ), λ in µm, Cᵢ in µm².
+/// **Source.** W. Sellmeier 1872; Born & Wolf §2.3; coefficients of glasses from the
+/// Schott catalogue (see [`BK7_B`], [`BK7_C`]).
+pub fn sellmeier(b: &[f64; 3], c: &[f64; 3], wavelength_um: f64) -> f64 {
+    let l2 = wavelength_um * wavelength_um;
+    (1.0 + (0..3).map(|i| b[i] * l2 / (l2 - c[i])).sum::<f64>()).sqrt()
+}
+
+/// Schott N-BK7 Sellmeier B coefficients.
+pub const BK7_B: [f64; 3] = [1.039_612_12, 0.231_792_344, 1.010_469_45];
+/// Schott N-BK7 Sellmeier C coefficients (µm²).
+pub const BK7_C: [f64; 3] = [6.000_698_67e-3, 2.001_791_44e-2, 103.560_653];
+
+/// Transmittance of a non-absorbing slab at normal incidence, summing all incoherent
+/// inter-reflections.
+///
+/// **Formula.** T = (1 − R)/(1 + R), R = ((n−1)/(n+1))².
+///
+/// **Derivation.** T = (1−R)² Σₖ R²ᵏ = (1−R)²/(1−R²).
+///
+/// **Source.** Born & Wolf §1.6 / §7.6 (incoherent limit); Siegel & Howell (slab).
+pub fn slab_transmittance(index: f64) -> f64 {
+    let r = crate::fresnel::normal_reflectance(index);
+    (1.0 - r) / (1.0 + r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quadrature::adaptive;
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(1e-300)
+    }
+
+    /// ∫ B_λ dλ over [l1, l2] by quadrature in log λ.
+    fn planck_integral(l1: f64, l2: f64, t: f64) -> f64 {
+        adaptive(
+            |x: f64| planck(x.exp(), t) * x.exp(),
+            l1.ln(),
+            l2.ln(),
+            1e-14,
+        )
+    }
+
+    #[test]
+    fn planck_integrates_to_stefan_boltzmann() {
+        assert!(rel(stefan_boltzmann(), 5.670_374_419e-8) < 1e-9);
+        for t in [300.0, 5778.0] {
+            let q = planck_integral(1e-9, 1.0, t)
+                + adaptive(|x: f64| planck(1.0 / x, t) / (x * x), 1e-12, 1.0, 1e-14);
+            assert!(rel(total_radiance(t), q) < 1e-9, "T={t}");
+        }
+    }
+
+    #[test]
+    fn band_fractions_by_quadrature() {
+        let t = 5778.0;
+        for (l1, l2) in [
+            (380e-9, 780e-9),
+            (1e-7, 2e-7),
+            (2e-6, 5e-5),
+            (500e-9, 500.5e-9),
+        ] {
+            let q = planck_integral(l1, l2, t) / total_radiance(t);
+            assert!(rel(band_fraction(l1, l2, t), q) < 1e-9, "{l1} {l2}");
+        }
+        // Both branches of the series agree at the switch ζ = 1.
+        let l = c2() / t;
+        let (a, b) = (
+            band_fraction_below(l * (1.0 - 1e-12), t),
+            band_fraction_below(l * (1.0 + 1e-12), t),
+        );
+        assert!((a - b).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wien_and_photons() {
+        assert!(rel(wien_peak(1.0), 2.897_771_955e-3) < 1e-9);
+        // Maximum of B_λ by golden-section search.
+        let t = 3000.0;
+        let (mut a, mut b) = (0.5e-6, 2e-6);
+        for _ in 0..200 {
+            let m1 = b - (b - a) * 0.618_033_988_75;
+            let m2 = a + (b - a) * 0.618_033_988_75;
+            if planck(m1, t) < planck(m2, t) {
+                a = m1
+            } else {
+                b = m2
+            }
+        }
+        assert!(rel(wien_peak(t), 0.5 * (a + b)) < 1e-7);
+        let q = adaptive(
+            |x: f64| {
+                let l = x.exp();
+                planck(l, t) / crate::radiometry::photon_energy(l) * l
+            },
+            (1e-8f64).ln(),
+            (1.0f64).ln(),
+            1e-14,
+        );
+        assert!(rel(photon_radiance(t), q) < 1e-7);
+    }
+
+    #[test]
+    fn dispersion_and_slab() {
+        // N-BK7 at the d line (587.56 nm): n_d = 1.5168.
+        assert!((sellmeier(&BK7_B, &BK7_C, 0.587_56) - 1.5168).abs() < 1e-4);
+        assert!(rel(cauchy(1.5046, 0.00420, 0.5), 1.5046 + 0.0168) < 1e-15);
+        let n = 1.5;
+        let r = crate::fresnel::normal_reflectance(n);
+        let series: f64 = (0..100)
+            .map(|k| (1.0 - r) * (1.0 - r) * r.powi(2 * k))
+            .sum();
+        assert!(rel(slab_transmittance(n), series) < 1e-14);
+    }
+}

@@ -1,0 +1,264 @@
+//! Configuration (view) factors between diffuse surfaces: the fraction of the power
+//! leaving surface 1 (Lambertian) that arrives at surface 2,
+//! F₁₂ = (1/A₁) ∫_{A₁}∫_{A₂} cos θ₁ cos θ₂ / (π s²) dA₂ dA₁.
+//! A differential element's factor is its irradiance from a unit-radiance emitter / π.
+
+use crate::irradiance::cap_projected_solid_angle;
+use std::f64::consts::PI;
+
+/// Differential element to a parallel coaxial disk of radius r at distance h.
+///
+/// **Formula.** F = r² / (r² + h²).
+///
+/// **Derivation.** F = (1/π)∫₀^r h²/(h²+ρ²)² 2πρ dρ = r²/(r²+h²).
+///
+/// **Source.** Howell, *A Catalog of Radiation Heat Transfer Configuration Factors*,
+/// section B (plane element to parallel coaxial disk); Siegel & Howell App. C.
+pub fn element_to_coaxial_disk(radius: f64, height: f64) -> f64 {
+    radius * radius / (radius * radius + height * height)
+}
+
+/// Disk of radius r₁ to a parallel coaxial disk of radius r₂ at distance h.
+///
+/// **Formula.** With R₁ = r₁/h, R₂ = r₂/h, X = 1 + (1 + R₂²)/R₁²:
+/// F₁₂ = ½ [X − √(X² − 4 (R₂/R₁)²)], evaluated as 2(R₂/R₁)² / (X + √(X² − 4(R₂/R₁)²))
+/// (no cancellation for small or distant disks).
+///
+/// **Derivation.** Average over disk 1 of the offset element-to-disk factor
+/// ([`crate::irradiance::disk_parallel_offset`]):
+/// F₁₂ = (2/r₁²)∫₀^{r₁} F(a) a da, elementary after the substitution u = a².
+///
+/// **Source.** Howell's catalog, case C-41 (parallel coaxial disks of unequal radii);
+/// Siegel & Howell App. C.
+pub fn disk_to_coaxial_disk(r1: f64, r2: f64, height: f64) -> f64 {
+    let (big_r1, big_r2) = (r1 / height, r2 / height);
+    let ratio2 = (big_r2 / big_r1) * (big_r2 / big_r1);
+    let x = 1.0 + (1.0 + big_r2 * big_r2) / (big_r1 * big_r1);
+    2.0 * ratio2 / (x + (x * x - 4.0 * ratio2).sqrt())
+}
+
+/// Identical, parallel, directly opposed rectangles a × b at separation c.
+///
+/// **Formula.** With X = a/c, Y = b/c:
+/// F₁₂ = 2/(π X Y) { ½ ln[(1+X²)(1+Y²)/(1+X²+Y²)] + X√(1+Y²) atan(X/√(1+Y²))
+///        + Y√(1+X²) atan(Y/√(1+X²)) − X atan X − Y atan Y }.
+///
+/// **Derivation.** Integrate the differential factor to a rectangle (itself from the
+/// contour form) over the emitting rectangle; the four-fold integral is elementary.
+///
+/// **Source.** Howell's catalog, case C-11; Siegel & Howell App. C.
+/// Loses ~2 log₁₀(c/√(ab)) digits to cancellation for widely separated plates.
+pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
+    let (x, y) = (a / c, b / c);
+    let (x2, y2) = (x * x, y * y);
+    let sx = (1.0 + x2).sqrt();
+    let sy = (1.0 + y2).sqrt();
+    let t = 0.5 * ((1.0 + x2).ln() + (1.0 + y2).ln() - (1.0 + x2 + y2).ln())
+        + x * sy * (x / sy).atan()
+        + y * sx * (y / sx).atan()
+        - x * x.atan()
+        - y * y.atan();
+    2.0 * t / (PI * x * y)
+}
+
+/// Perpendicular rectangles sharing an edge of length l: from A₁ = l × w to A₂ = l × h.
+///
+/// **Formula.** With H = h/l, W = w/l:
+/// ```text
+/// F₁₂ = 1/(πW) { W atan(1/W) + H atan(1/H) − √(H²+W²) atan(1/√(H²+W²))
+///   + ¼ ln( (1+W²)(1+H²)/(1+W²+H²) · [W²(1+W²+H²)/((1+W²)(W²+H²))]^{W²}
+///                                 · [H²(1+H²+W²)/((1+H²)(H²+W²))]^{H²} ) },
+/// ```
+/// the logarithm expanded into a sum of logarithms (no overflow of the powers).
+///
+/// **Derivation.** Contour-integral (Stokes) reduction of the double area integral; the
+/// resulting line integrals along the edges are elementary.
+///
+/// **Source.** Howell's catalog, case C-14; Siegel & Howell App. C.
+pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> f64 {
+    let (hh, ww) = (h / l, w / l);
+    let (h2, w2) = (hh * hh, ww * ww);
+    let s = (h2 + w2).sqrt();
+    let ln = |v: f64| v.ln();
+    let log_term = ln(1.0 + w2) + ln(1.0 + h2) - ln(1.0 + w2 + h2)
+        + w2 * (ln(w2) + ln(1.0 + w2 + h2) - ln(1.0 + w2) - ln(w2 + h2))
+        + h2 * (ln(h2) + ln(1.0 + h2 + w2) - ln(1.0 + h2) - ln(h2 + w2));
+    (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan() - s * (1.0 / s).atan() + 0.25 * log_term)
+        / (PI * ww)
+}
+
+/// Differential element to a sphere of radius R whose centre is at distance d, the
+/// element's normal pointing at the centre.
+///
+/// **Formula.** F = (R/d)².
+///
+/// **Derivation.** The sphere is a cap of sin σ = R/d around the normal; the projected
+/// solid angle of a cap centred on the normal is π sin²σ.
+///
+/// **Source.** Howell's catalog, section B (element to sphere); Siegel & Howell App. C.
+pub fn element_to_sphere(distance: f64, radius: f64) -> f64 {
+    (radius / distance) * (radius / distance)
+}
+
+/// Differential element to a sphere, the element's normal at angle `tilt` (radians) from
+/// the direction to the centre, including the partly-below-the-horizon range.
+///
+/// **Formula.** F = Ω⊥/π with Ω⊥ the horizon-clipped projected solid angle of a cap,
+/// [`crate::irradiance::sphere`] (Snyder 1996): F = (R/d)² cos tilt while
+/// cos tilt ≥ R/d, zero once cos tilt ≤ −R/d, and the clipped expression between.
+///
+/// **Source.** Howell's catalog, section B (element to sphere, tilted; element plane
+/// intersecting the sphere); Snyder 1996.
+pub fn element_to_sphere_tilted(distance: f64, radius: f64, tilt: f64) -> f64 {
+    let s = radius / distance;
+    cap_projected_solid_angle(tilt.cos(), s * s) / PI
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use crate::irradiance::{disk_parallel_offset, polygon_projected_solid_angle, sphere};
+    use crate::quadrature::{adaptive, adaptive_2d};
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(1e-300)
+    }
+
+    #[test]
+    fn element_to_disk_by_area() {
+        for (r, h) in [(1.0, 2.0), (1e-3, 10.0), (10.0, 1e-2)] {
+            let q = adaptive(
+                |rho| h * h / (h * h + rho * rho).powi(2) * 2.0 * rho,
+                0.0,
+                r,
+                1e-14,
+            );
+            assert!(rel(element_to_coaxial_disk(r, h), q) < 1e-11);
+        }
+    }
+
+    #[test]
+    fn disk_to_disk_by_averaging_offset_factor() {
+        for (r1, r2, h) in [
+            (1.0, 1.0, 1.0),
+            (0.5, 2.0, 1.0),
+            (2.0, 0.1, 3.0),
+            (1e-2, 1e-2, 10.0),
+        ] {
+            let q = 2.0 / (r1 * r1)
+                * adaptive(
+                    |a| disk_parallel_offset(r2, h, a, 1.0) / PI * a,
+                    0.0,
+                    r1,
+                    1e-13,
+                );
+            assert!(
+                rel(disk_to_coaxial_disk(r1, r2, h), q) < 1e-9,
+                "{r1} {r2} {h}"
+            );
+        }
+        // Reciprocity A1 F12 = A2 F21.
+        let (r1, r2, h) = (0.5, 2.0, 1.3);
+        assert!(
+            rel(
+                r1 * r1 * disk_to_coaxial_disk(r1, r2, h),
+                r2 * r2 * disk_to_coaxial_disk(r2, r1, h)
+            ) < 1e-13
+        );
+    }
+
+    /// Area average over A₁ of Lambert's point-to-polygon factor.
+    fn average_over(
+        origin: Vec3,
+        u: Vec3,
+        v: Vec3,
+        normal: Vec3,
+        target: &[Vec3],
+        tol: f64,
+    ) -> f64 {
+        adaptive_2d(
+            |s, t| polygon_projected_solid_angle(origin + u * s + v * t, normal, target) / PI,
+            0.0,
+            1.0,
+            |_| 0.0,
+            |_| 1.0,
+            tol,
+        )
+    }
+
+    #[test]
+    fn parallel_rectangles_by_averaging_lambert() {
+        for (a, b, c) in [(1.0, 1.0, 1.0), (2.0, 0.5, 0.3), (1.0, 3.0, 5.0)] {
+            let target = [
+                Vec3::new(0.0, 0.0, c),
+                Vec3::new(a, 0.0, c),
+                Vec3::new(a, b, c),
+                Vec3::new(0.0, b, c),
+            ];
+            let q = average_over(
+                Vec3::default(),
+                Vec3::new(a, 0.0, 0.0),
+                Vec3::new(0.0, b, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+                &target,
+                1e-11,
+            );
+            assert!(rel(parallel_rectangles(a, b, c), q) < 1e-9, "{a} {b} {c}");
+        }
+    }
+
+    #[test]
+    fn perpendicular_rectangles_by_averaging_lambert() {
+        // Common edge along x (length l); A1 in the z = 0 plane spanning y ∈ [0, w];
+        // A2 in the y = 0 plane spanning z ∈ [0, h].
+        for (l, w, h) in [(1.0, 1.0, 1.0), (2.0, 0.5, 1.5), (0.5, 2.0, 0.2)] {
+            let target = [
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(l, 0.0, 0.0),
+                Vec3::new(l, 0.0, h),
+                Vec3::new(0.0, 0.0, h),
+            ];
+            let q = average_over(
+                Vec3::default(),
+                Vec3::new(l, 0.0, 0.0),
+                Vec3::new(0.0, w, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+                &target,
+                1e-11,
+            );
+            assert!(
+                rel(perpendicular_rectangles(l, w, h), q) < 1e-8,
+                "{l} {w} {h}: {q}"
+            );
+        }
+    }
+
+    #[test]
+    fn element_to_sphere_matches_irradiance_and_quadrature() {
+        for (d, r) in [(2.0f64, 1.0f64), (1e3, 1.0), (1.0 + 1e-6, 1.0)] {
+            // Facing: independent area quadrature over the visible sphere surface,
+            // zones parameterised by distance s: cos θ₁ cos θ₂/(π s²) dA.
+            let (s0, s1) = (d - r, ((d - r) * (d + r)).sqrt());
+            let q = adaptive(
+                |x: f64| {
+                    let s = x.exp();
+                    // cos θ₁ = (d² + s² − R²)/(2ds), cos θ₂ = (d² − R² − s²)/(2Rs),
+                    // dA = 2π R s ds / d (zone area), and ds = s dx.
+                    let c1 = (d * d + s * s - r * r) / (2.0 * d * s);
+                    let c2 = ((d - r) * (d + r) - s * s) / (2.0 * r * s);
+                    c1 * c2 / (PI * s * s) * 2.0 * PI * r * s / d * s
+                },
+                s0.ln(),
+                s1.ln(),
+                1e-14,
+            );
+            assert!(rel(element_to_sphere(d, r), q) < 1e-9, "{d} {r}: {q}");
+            for tilt in [0.0f64, 0.7, 1.5, 1.6, 2.0] {
+                let n = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+                let e = sphere(Vec3::default(), n, Vec3::new(0.0, 0.0, d), r, 1.0) / PI;
+                assert!((element_to_sphere_tilted(d, r, tilt) - e).abs() <= 1e-14 * e.max(1e-300));
+            }
+        }
+    }
+}

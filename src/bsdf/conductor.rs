@@ -1,0 +1,72 @@
+//! Smooth conductor: a perfect mirror whose reflectance is the conductor Fresnel
+//! factor F(cos θo; η + ik) ([`fr_conductor`], Born & Wolf §14.2; pbrt-v4 §9.4).
+//!
+//! f(ωi → ωo) = F(cos θo) δ(ωi − R(ωo)) / |cos θi| with R the mirror direction about
+//! the normal, so `sample` returns the mirror direction with pdf 1 (the discrete
+//! probability of the single delta lobe) and weight F(cos θo); `eval` and `pdf` are 0.
+//! Two-sided: a viewer below the surface sees the same mirror. The directional
+//! albedo is exactly F(cos θo) (tested against an independent `f64` complex-number
+//! Fresnel in `tests/bsdf_contract.rs`).
+
+use super::fresnel::fr_conductor;
+use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A smooth conductor of complex relative index η + ik.
+///
+/// JSON: `{"type": "conductor", "eta": 0.2, "k": 3.9}`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Conductor {
+    /// Real part η of the relative index (> 0).
+    pub eta: f32,
+    /// Extinction coefficient k (≥ 0).
+    pub k: f32,
+}
+
+/// Check a complex index of refraction (shared by the conductor models).
+pub(crate) fn validate_complex_ior(eta: f32, k: f32) -> Result<(), String> {
+    check_range("eta", eta, 1e-3, 100.0)?;
+    check_range("k", k, 0.0, 100.0)
+}
+
+impl Conductor {
+    /// A smooth conductor.
+    pub fn new(eta: f32, k: f32) -> Self {
+        Conductor { eta, k }
+    }
+
+    /// Parameter check: η ∈ [1e-3, 100], k ∈ [0, 100].
+    pub fn validate(&self) -> Result<(), String> {
+        validate_complex_ior(self.eta, self.k)
+    }
+
+    /// The promised reflectance F(cos θo).
+    pub fn reflectance(&self, cos_o: f32) -> f32 {
+        fr_conductor(cos_o, self.eta, self.k)
+    }
+}
+
+impl BsdfModel for Conductor {
+    fn eval(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    fn sample(&self, wo: Vec3, _u: Vec3) -> Option<BsdfSample> {
+        if !(wo.z != 0.0) || !wo.is_finite() {
+            return None;
+        }
+        let wi = Vec3::new(-wo.x, -wo.y, wo.z);
+        let weight = fr_conductor(wo.z, self.eta, self.k);
+        Some(BsdfSample { wi, weight, pdf: 1.0, lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR, eta: 1.0 })
+    }
+
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    fn flags(&self) -> LobeFlags {
+        LobeFlags::REFLECTION | LobeFlags::SPECULAR
+    }
+}

@@ -1,0 +1,522 @@
+//! The BSDF contract: the proof every model must pass, as functions a user can call on
+//! their own [`BsdfModel`] (see the example on [`BsdfModel`]).
+//!
+//! | check | function | what it catches |
+//! |---|---|---|
+//! | sampling distribution | [`chi2_bsdf`] | `sample` not drawing from `pdf` (shape and normalisation) |
+//! | consistency | [`check_consistency`] | a weight ≠ eval·\|cos\|/pdf, a returned pdf ≠ `pdf(wo, wi)`, wrong lobe flags: a wrong `eval` with a right `pdf`, which chi-square cannot see |
+//! | reciprocity | [`check_reciprocity`] | f(ωi→ωo)/η_o² ≠ f(ωo→ωi)/η_i² |
+//! | energy | [`albedo`] + [`judge_at_most`] / [`judge_equal`] | albedo > 1, or ≠ the reflectance a model promises |
+//! | microfacet identities | [`microfacet_integrals`], [`chi2_microfacet`] | D not normalised, G1 inconsistent with D, visible-normal sampler wrong |
+//!
+//! **Delta lobes** are excluded from the chi-square histogram (a Dirac lobe has no
+//! density): only non-delta samples are binned, and the test's normalisation check
+//! compares ∫ pdf with the fraction of draws that gave a non-delta sample. Delta lobes
+//! are proven by [`albedo`] (their weight and selection probability) and by the
+//! consistency check's structural tests.
+//!
+//! **Near-delta lobes** (α ≲ 0.05, or a rough dielectric's transmission at η → 1) put
+//! their mass into a few cells of a 64 × 128 sphere grid, where a chi-square test has
+//! almost no degrees of freedom and the quadrature cannot resolve the lobe within a
+//! cell; the suite tests those by consistency, albedo and stability only.
+//!
+//! **Radiance convention**: weights are radiance weights, f(ωi→ωo)|cos θi|/pdf; the
+//! energy carried by a transmitted sample is weight·η′² with η′ = [`BsdfSample::eta`]
+//! = η_i/η_o (see [`super::dielectric`]).
+
+use super::{BsdfModel, BsdfSample};
+use crate::math::Frame;
+use crate::sampling::Sampler;
+use crate::sampling::sphere::uniform_sphere;
+use crate::stats::chi2::{Chi2Outcome, Chi2Test, Domain};
+use crate::stats::{Accumulator, MeanTest, Verdict};
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use super::microfacet::Microfacet;
+
+/// The outgoing direction with polar angle θ and azimuth φ (radians).
+pub fn direction(theta: f32, phi: f32) -> Vec3 {
+    crate::math::spherical_direction(theta.sin(), theta.cos(), phi)
+}
+
+fn uniforms(s: &Sampler, i: u64) -> Vec3 {
+    let mut st = s.stream(i);
+    Vec3::new(st.next_1d(), st.next_1d(), st.next_1d())
+}
+
+// ---------------------------------------------------------------------------------
+// 1. Chi-square
+// ---------------------------------------------------------------------------------
+
+/// Chi-square test of `model.sample(wo, ·)` against `model.pdf(wo, ·)` over the whole
+/// sphere of ωi (64 × 128 equal-area cells, adaptive quadrature of the pdf, cells with
+/// expected count < 5 pooled, normalisation checked; see [`Chi2Test`]). `alpha` is the
+/// per-test level (Šidák-corrected by the caller). On failure the observed, expected
+/// and residual tables are written under `target/chi2-failures/`.
+pub fn chi2_bsdf(model: &dyn BsdfModel, name: &str, wo: Vec3, samples: u64, seed: u64, alpha: f64) -> Chi2Outcome {
+    chi2_bsdf_with(&Chi2Test::new(Domain::Sphere, samples, seed, alpha), model, name, wo)
+}
+
+/// [`chi2_bsdf`] with a caller-configured test (resolution, domain must be `Sphere`).
+pub fn chi2_bsdf_with(test: &Chi2Test, model: &dyn BsdfModel, name: &str, wo: Vec3) -> Chi2Outcome {
+    test.run(
+        name,
+        |u| model.sample(wo, u).filter(|s| !s.lobe.is_delta()).map(|s| s.wi),
+        |wi| model.pdf(wo, wi) as f64,
+    )
+}
+
+/// Observed and expected counts of a chi-square run, for looking at a lobe.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Chi2Tables {
+    /// Rows (cos θ from −1 to 1).
+    pub rows: usize,
+    /// Columns (φ from 0 to 2π).
+    pub cols: usize,
+    /// Samples drawn.
+    pub samples: u64,
+    /// Observed counts, row-major.
+    pub observed: Vec<u64>,
+    /// Expected counts N ∫_cell pdf, row-major.
+    pub expected: Vec<f64>,
+}
+
+impl Chi2Tables {
+    /// (O − E)/√E per cell (0 where both vanish, ±large where E = 0 < O).
+    pub fn residual(&self) -> Vec<f64> {
+        self.observed
+            .iter()
+            .zip(&self.expected)
+            .map(|(&o, &e)| if e > 0.0 { (o as f64 - e) / e.sqrt() } else if o > 0 { 1e6 } else { 0.0 })
+            .collect()
+    }
+}
+
+/// The tables of [`chi2_bsdf`] (same sample stream for the same seed and resolution).
+pub fn chi2_tables(test: &Chi2Test, model: &dyn BsdfModel, wo: Vec3) -> Chi2Tables {
+    let (observed, _, _) = test.histogram(&|u| model.sample(wo, u).filter(|s| !s.lobe.is_delta()).map(|s| s.wi));
+    let expected =
+        test.integrate_pdf(&|wi| model.pdf(wo, wi) as f64).iter().map(|(v, _)| v * test.samples as f64).collect();
+    Chi2Tables { rows: test.rows, cols: test.cols, samples: test.samples, observed, expected }
+}
+
+/// Write `STEM-observed.exr`, `STEM-expected.exr` (counts scaled by the largest),
+/// `STEM-residual.exr` (red: more samples than expected, blue: fewer, in units of √E)
+/// and `STEM.json` into `dir`. Row 0 of the images is cos θ = 1 (the top of the sphere).
+pub fn write_chi2_images(tables: &Chi2Tables, dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let residual = tables.residual();
+    let max = tables.expected.iter().cloned().fold(1.0, f64::max).max(tables.observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
+    let (w, h) = (tables.cols, tables.rows);
+    let json_path = dir.join(format!("{stem}.json"));
+    let json = serde_json::json!({ "tables": tables, "residual": residual });
+    crate::io::write_atomic(&json_path, serde_json::to_string(&json).map_err(std::io::Error::other)?.as_bytes())?;
+    let mut files = vec![json_path];
+    let images: [(&str, Box<dyn Fn(usize) -> (f32, f32, f32) + Sync>); 3] = [
+        (
+            "observed",
+            Box::new(|i| {
+                let v = (tables.observed[i] as f64 / max) as f32;
+                (v, v, v)
+            }),
+        ),
+        (
+            "expected",
+            Box::new(|i| {
+                let v = (tables.expected[i] / max) as f32;
+                (v, v, v)
+            }),
+        ),
+        (
+            "residual",
+            Box::new(|i| {
+                let r = residual[i] as f32;
+                if r > 0.0 { (r, 0.0, 0.0) } else { (0.0, 0.0, -r) }
+            }),
+        ),
+    ];
+    for (label, f) in images.iter() {
+        let path = dir.join(format!("{stem}-{label}.exr"));
+        exr::prelude::write_rgb_file(&path, w, h, |x, y| f((h - 1 - y) * w + x)).map_err(|e| std::io::Error::other(e.to_string()))?;
+        files.push(path);
+    }
+    Ok(files)
+}
+
+// ---------------------------------------------------------------------------------
+// 2. Consistency
+// ---------------------------------------------------------------------------------
+
+/// Relative tolerance floor of the consistency and reciprocity checks.
+///
+/// The compared quantities are the same physical value computed along two `f32` paths
+/// of at most ~100 operations: rounding contributes at most γ₁₀₀ ≈ 6e-6 relative.
+/// 1e-4 leaves a margin of ~16 while still catching any modelling error (a wrong
+/// Jacobian, a missing cos, a wrong Fresnel argument) by orders of magnitude.
+pub const REL_TOL: f64 = 1e-4;
+
+/// Outcome of [`check_consistency`] or [`check_reciprocity`].
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct CheckReport {
+    /// Draws (or direction pairs) examined.
+    pub trials: u64,
+    /// Non-delta samples compared against eval/pdf (or pairs with non-zero f).
+    pub compared: u64,
+    /// Delta samples (checked structurally only).
+    pub delta: u64,
+    /// Number of violations.
+    pub failures: u64,
+    /// Largest relative error divided by the allowed tolerance (≤ 1 passes).
+    pub worst: f64,
+    /// The first violation, described.
+    pub first_failure: Option<String>,
+    /// Whether no violation was found.
+    pub passed: bool,
+}
+
+impl CheckReport {
+    fn fail(&mut self, msg: impl FnOnce() -> String) {
+        self.failures += 1;
+        if self.first_failure.is_none() {
+            self.first_failure = Some(msg());
+        }
+    }
+    fn merge(mut self, o: CheckReport) -> CheckReport {
+        self.trials += o.trials;
+        self.compared += o.compared;
+        self.delta += o.delta;
+        self.failures += o.failures;
+        self.worst = self.worst.max(o.worst);
+        if self.first_failure.is_none() {
+            self.first_failure = o.first_failure;
+        }
+        self
+    }
+    fn finish(mut self) -> CheckReport {
+        self.passed = self.failures == 0;
+        self
+    }
+}
+
+fn rel_err(a: f64, b: f64) -> f64 {
+    let m = a.abs().max(b.abs());
+    if m == 0.0 { 0.0 } else { (a - b).abs() / m }
+}
+
+/// Relative change of `f` when `w` moves by a few ulps across its tangent plane: the
+/// conditioning of `f` at `w`, the accuracy any comparison at a rounded `w` can expect.
+fn sensitivity(w: Vec3, f: impl Fn(Vec3) -> f64) -> f64 {
+    let f0 = f(w);
+    let fr = Frame::from_z(w.normalize_or(Vec3::Z));
+    let step = 4.0 * f32::EPSILON;
+    let mut worst: f64 = 0.0;
+    for t in [fr.s, fr.t, -fr.s, -fr.t] {
+        let v = f((w + step * t).normalize_or(w));
+        worst = worst.max(rel_err(f0, v));
+    }
+    worst
+}
+
+/// Check `samples` draws of `model.sample(wo, ·)`:
+///
+/// - every returned value is finite, pdf > 0, weight ≥ 0, wi is a unit vector
+///   (to 1e-3), and the lobe flags say REFLECTION exactly when wi is on ωo's side;
+/// - for non-delta samples, `pdf(wo, wi)` > 0, the returned pdf equals it and the
+///   weight equals eval(wo, wi)·|cos θi|/pdf(wo, wi), each to a relative tolerance of
+///   [`REL_TOL`] + 8 × the conditioning of the quantity at wi (its relative change when
+///   wi moves by 4 ulps; a near-delta lobe evaluated at a rounded direction cannot agree
+///   better than that);
+/// - for delta samples, pdf ≤ 1 (a discrete lobe probability).
+pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> CheckReport {
+    let sampler = Sampler::independent(seed);
+    const BLOCK: u64 = 4096;
+    (0..samples.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let mut r = CheckReport::default();
+            for i in b * BLOCK..((b + 1) * BLOCK).min(samples) {
+                r.trials += 1;
+                let u = uniforms(&sampler, i);
+                if let Some(s) = model.sample(wo, u) {
+                    consistency_of(model, wo, u, &s, &mut r);
+                }
+            }
+            r
+        })
+        .reduce(CheckReport::default, CheckReport::merge)
+        .finish()
+}
+
+fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &mut CheckReport) {
+    let wi = s.wi;
+    if !(wi.is_finite() && s.weight.is_finite() && s.pdf.is_finite() && s.eta.is_finite()) {
+        return r.fail(|| format!("non-finite sample {s:?} for wo = {wo}, u = {u}"));
+    }
+    if !(s.pdf > 0.0 && s.weight >= 0.0 && s.eta > 0.0) {
+        return r.fail(|| format!("pdf ≤ 0, weight < 0 or eta ≤ 0 in {s:?} for wo = {wo}, u = {u}"));
+    }
+    if (wi.length() - 1.0).abs() > 1e-3 {
+        return r.fail(|| format!("|wi| = {} in {s:?} for wo = {wo}", wi.length()));
+    }
+    let reflected = wi.z * wo.z > 0.0;
+    if reflected != s.lobe.contains(super::LobeFlags::REFLECTION)
+        || reflected == s.lobe.contains(super::LobeFlags::TRANSMISSION)
+    {
+        return r.fail(|| format!("lobe flags {:?} disagree with wi = {wi} for wo = {wo}", s.lobe));
+    }
+    if s.lobe.is_delta() {
+        r.delta += 1;
+        if s.pdf > 1.0 + 1e-6 {
+            r.fail(|| format!("delta lobe probability {} > 1 for wo = {wo}", s.pdf));
+        }
+        return;
+    }
+    r.compared += 1;
+    let pdf = model.pdf(wo, wi) as f64;
+    let f = model.eval(wo, wi) as f64;
+    if !(pdf > 0.0) || !pdf.is_finite() || !f.is_finite() || f < 0.0 {
+        return r.fail(|| format!("pdf(wo, wi) = {pdf}, eval = {f} at a sampled wi = {wi} (wo = {wo}, {s:?})"));
+    }
+    let expected_weight = f * (wi.z as f64).abs() / pdf;
+    let e_pdf = rel_err(s.pdf as f64, pdf);
+    let e_w = rel_err(s.weight as f64, expected_weight);
+    // Only pay for the conditioning estimate when the plain tolerance is exceeded.
+    let (mut tol_pdf, mut tol_w) = (REL_TOL, REL_TOL);
+    if e_pdf > REL_TOL || e_w > REL_TOL {
+        tol_pdf += 8.0 * sensitivity(wi, |w| model.pdf(wo, w) as f64);
+        tol_w += 8.0
+            * sensitivity(wi, |w| {
+                let p = model.pdf(wo, w) as f64;
+                if p > 0.0 { model.eval(wo, w) as f64 * (w.z as f64).abs() / p } else { 0.0 }
+            });
+    }
+    r.worst = r.worst.max(e_pdf / tol_pdf).max(e_w / tol_w);
+    if e_pdf > tol_pdf {
+        r.fail(|| format!("sample pdf {} ≠ pdf(wo, wi) {pdf} (rel. {e_pdf:.2e} > {tol_pdf:.2e}) at wo = {wo}, wi = {wi}", s.pdf));
+    } else if e_w > tol_w {
+        r.fail(|| {
+            format!(
+                "sample weight {} ≠ eval·|cos|/pdf = {expected_weight} (rel. {e_w:.2e} > {tol_w:.2e}) at wo = {wo}, wi = {wi}",
+                s.weight
+            )
+        });
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// 3. Reciprocity
+// ---------------------------------------------------------------------------------
+
+/// Check the reciprocity rule f(ωi→ωo)/η_o² = f(ωo→ωi)/η_i² (Veach 1997, eq. 5.14;
+/// radiance convention; for reflection η_o = η_i and it is plain symmetry) on `pairs`
+/// direction pairs, η being 1 above the surface and `eta_inside` below. Half the pairs
+/// are independent uniform directions; in the other half ωi is drawn from the model
+/// itself, so that sharp lobes are probed where f is large. Tolerance: [`REL_TOL`]
+/// relative (the two evaluations see the same exact directions, so only arithmetic
+/// rounding separates them).
+pub fn check_reciprocity(model: &dyn BsdfModel, eta_inside: f32, pairs: u64, seed: u64) -> CheckReport {
+    let sampler = Sampler::independent(seed);
+    let n2 = |w: Vec3| if w.z < 0.0 { (eta_inside as f64).powi(2) } else { 1.0 };
+    const BLOCK: u64 = 4096;
+    (0..pairs.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let mut r = CheckReport::default();
+            for i in b * BLOCK..((b + 1) * BLOCK).min(pairs) {
+                r.trials += 1;
+                let mut st = sampler.stream(i);
+                let wo = uniform_sphere(st.next_2d());
+                let wi = if i % 2 == 0 {
+                    uniform_sphere(st.next_2d())
+                } else {
+                    let u = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d());
+                    match model.sample(wo, u) {
+                        Some(s) if !s.lobe.is_delta() => s.wi,
+                        _ => continue,
+                    }
+                };
+                let a = model.eval(wo, wi) as f64 / n2(wo);
+                let b = model.eval(wi, wo) as f64 / n2(wi);
+                if !(a.is_finite() && b.is_finite() && a >= 0.0 && b >= 0.0) {
+                    r.fail(|| format!("eval not finite and non-negative: f(wi→wo) = {a}, f(wo→wi) = {b}, wo = {wo}, wi = {wi}"));
+                    continue;
+                }
+                if a == 0.0 && b == 0.0 {
+                    continue;
+                }
+                r.compared += 1;
+                let e = rel_err(a, b);
+                r.worst = r.worst.max(e / REL_TOL);
+                if e > REL_TOL {
+                    r.fail(|| {
+                        format!("f(wi→wo)/η_o² = {a} but f(wo→wi)/η_i² = {b} (rel. {e:.2e}) at wo = {wo}, wi = {wi}")
+                    });
+                }
+            }
+            r
+        })
+        .reduce(CheckReport::default, CheckReport::merge)
+        .finish()
+}
+
+// ---------------------------------------------------------------------------------
+// 4. Energy
+// ---------------------------------------------------------------------------------
+
+/// Monte Carlo estimates of a model's directional albedo at ωo.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+pub struct Albedo {
+    /// Radiance weights f|cos θi|/pdf (0 for a failed draw): ∫ f(ωi→ωo)|cos θi| dωi.
+    pub radiance: Accumulator,
+    /// Energy weights weight·η′² (η′ = `BsdfSample::eta`): the fraction of the power
+    /// arriving from ωo that leaves (reflected or transmitted); ≤ 1 for a passive surface.
+    pub energy: Accumulator,
+    /// Energy weights of the reflected samples only (0 for the others).
+    pub reflected: Accumulator,
+    /// Indicator of a reflected sample (its mean is the reflection probability).
+    pub reflect_fraction: Accumulator,
+}
+
+/// Estimate [`Albedo`] from `samples` draws.
+pub fn albedo(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> Albedo {
+    let sampler = Sampler::independent(seed);
+    const BLOCK: u64 = 1 << 14;
+    let blocks: Vec<Albedo> = (0..samples.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let mut a = Albedo::default();
+            for i in b * BLOCK..((b + 1) * BLOCK).min(samples) {
+                let (w, e, refl) = match model.sample(wo, uniforms(&sampler, i)) {
+                    Some(s) => {
+                        let e = s.weight as f64 * (s.eta as f64).powi(2);
+                        (s.weight as f64, e, s.wi.z * wo.z > 0.0)
+                    }
+                    None => (0.0, 0.0, false),
+                };
+                a.radiance.push(w);
+                a.energy.push(e);
+                a.reflected.push(if refl { e } else { 0.0 });
+                a.reflect_fraction.push(if refl { 1.0 } else { 0.0 });
+            }
+            a
+        })
+        .collect();
+    // Merge in block order: bit-identical whatever the thread count.
+    blocks.iter().fold(Albedo::default(), |mut t, a| {
+        t.radiance.merge(&a.radiance);
+        t.energy.merge(&a.energy);
+        t.reflected.merge(&a.reflected);
+        t.reflect_fraction.merge(&a.reflect_fraction);
+        t
+    })
+}
+
+/// Relative floor on the standard error standing for the `f32` rounding of a weight
+/// (about 10 ulps): zero-variance estimators (delta lobes, Lambertian) are then judged
+/// to rounding instead of bit-exactly. It adds ~7e-6 to the detectable relative bias.
+pub const FLOAT_REL: f64 = 1e-6;
+
+fn with_float_floor(acc: &Accumulator, scale: f64) -> Accumulator {
+    let mut a = *acc;
+    if a.count > 1 {
+        let n = a.count as f64;
+        let floor = FLOAT_REL * scale.abs().max(f64::MIN_POSITIVE);
+        a.m2 += floor * floor * n * (n - 1.0);
+    }
+    a
+}
+
+/// One-sided test that an albedo estimate is not above `bound` (usually 1).
+pub fn judge_at_most(test: &MeanTest, acc: &Accumulator, bound: f64) -> Verdict {
+    test.judge_at_most(&with_float_floor(acc, bound), bound)
+}
+
+/// Two-sided test that an estimate equals `reference` (a promised reflectance).
+pub fn judge_equal(test: &MeanTest, acc: &Accumulator, reference: f64) -> Verdict {
+    test.judge(&with_float_floor(acc, reference), reference)
+}
+
+// ---------------------------------------------------------------------------------
+// 5. Microfacet identities
+// ---------------------------------------------------------------------------------
+
+/// The three microfacet integrals, by deterministic quadrature (ideal value 1 each).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct MicrofacetIntegrals {
+    /// ∫ D(m) cos θm dm (projected microfacet area).
+    pub projected_area: f64,
+    /// ∫ D_ωo(m) dm with the model's visible-normal density (`pdf_m`).
+    pub visible: f64,
+    /// Weak white furnace ∫ G1(ωo) D(m) ⟨ωo, m⟩⁺ / cos θo dm, from D and Λ directly.
+    pub weak_furnace: f64,
+}
+
+/// Integrate over microfacet normals m = (sin θ cos φ, sin θ sin φ, cos θ) in stretched
+/// slope coordinates x = tan θ/α, mapped to s = x/(1 + x) ∈ [0, 1):
+/// dm = sin θ · α cos²θ dx dφ, dx = ds/(1 − s)². This puts the lobe of every α at the
+/// same place, so α = 1e-4 is integrated as well as α = 1. Nested adaptive
+/// Gauss–Legendre (`lightproof_analytic::quadrature`, relative tolerance 1e-8), in
+/// `f64` around the model's `f32` functions.
+pub fn integrate_microfacet(alpha: f32, f: impl Fn(Vec3) -> f64) -> f64 {
+    use lightproof_analytic::quadrature::adaptive;
+    let a = alpha as f64;
+    let tau = std::f64::consts::TAU;
+    adaptive(
+        |s| {
+            if s >= 1.0 {
+                return 0.0;
+            }
+            let x = s / (1.0 - s);
+            let cos_t = 1.0 / (1.0 + a * a * x * x).sqrt();
+            let sin_t = a * x * cos_t;
+            let jac = sin_t * a * cos_t * cos_t / ((1.0 - s) * (1.0 - s));
+            if jac == 0.0 {
+                return 0.0;
+            }
+            jac * adaptive(
+                |phi| {
+                    let m = Vec3::new((sin_t * phi.cos()) as f32, (sin_t * phi.sin()) as f32, cos_t as f32);
+                    f(m)
+                },
+                0.0,
+                tau,
+                1e-9,
+            )
+        },
+        0.0,
+        1.0,
+        1e-8,
+    )
+}
+
+/// [`MicrofacetIntegrals`] of a distribution seen from ωo (z > 0).
+pub fn microfacet_integrals(mf: &Microfacet, wo: Vec3) -> MicrofacetIntegrals {
+    let g1 = mf.g1(wo) as f64;
+    MicrofacetIntegrals {
+        projected_area: integrate_microfacet(mf.alpha, |m| mf.d(m) as f64 * m.z as f64),
+        visible: integrate_microfacet(mf.alpha, |m| mf.pdf_m(wo, m) as f64),
+        weak_furnace: integrate_microfacet(mf.alpha, |m| {
+            g1 * mf.d(m) as f64 * (wo.dot(m) as f64).max(0.0) / wo.z as f64
+        }),
+    }
+}
+
+/// Chi-square test of a visible-normal sampler against D_ωo over the hemisphere of m.
+pub fn chi2_microfacet(
+    name: &str,
+    wo: Vec3,
+    sample: impl Fn(Vec3, Vec2) -> Vec3 + Sync,
+    pdf: impl Fn(Vec3, Vec3) -> f32 + Sync,
+    samples: u64,
+    seed: u64,
+    alpha: f64,
+) -> Chi2Outcome {
+    Chi2Test::new(Domain::Hemisphere, samples, seed, alpha).run(
+        name,
+        |u| Some(sample(wo, Vec2::new(u.x, u.y))),
+        |m| pdf(wo, m) as f64,
+    )
+}

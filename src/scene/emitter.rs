@@ -1,0 +1,378 @@
+//! Emitters: diffuse area lights on shapes, point, spot and directional lights, a
+//! constant environment and an environment map.
+//!
+//! Light sampling returns a direction from a reference point with the incident
+//! radiance and its density in solid angle, choosing the best strategy the geometry
+//! allows (pbrt-v4 §12): the cone of a sphere seen from outside, the spherical
+//! rectangle (Ureña et al. 2013) or triangle (Arvo 1995) where they subtend a usable
+//! solid angle, and area sampling otherwise, converted by dω = |cos θl| dA / r².
+
+use crate::math::{Frame, INV_FOUR_PI, PI, TWO_PI, safe_sqrt};
+use crate::sampling::distribution::{Distribution1D, Distribution2D};
+use crate::sampling::sphere::uniform_sphere;
+use crate::sampling::sphere_cone::SphereCone;
+use crate::sampling::spherical_rectangle::SphericalRectangle;
+use crate::sampling::spherical_triangle::SphericalTriangle;
+use crate::scene::shape::Primitive;
+use glam::{Vec2, Vec3};
+
+/// A lat-long (equirectangular) environment map of grey radiance, +z up:
+/// row v ↔ θ = π (v + ½)/H, column u ↔ φ = 2π (u + ½)/W.
+#[derive(Clone, Debug)]
+pub struct EnvMap {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Radiance per pixel (row-major, scale applied).
+    pub radiance: Vec<f32>,
+    /// Sampling density ∝ radiance · sin θ.
+    pub distribution: Distribution2D,
+}
+
+impl EnvMap {
+    /// From grey radiance values.
+    pub fn new(width: usize, height: usize, radiance: Vec<f32>) -> Self {
+        let weights: Vec<f32> = (0..width * height)
+            .map(|i| {
+                let v = i / width;
+                let theta = PI * (v as f32 + 0.5) / height as f32;
+                radiance[i] * theta.sin()
+            })
+            .collect();
+        let distribution = Distribution2D::new(&weights, width, height);
+        EnvMap { width, height, radiance, distribution }
+    }
+
+    fn uv(&self, w: Vec3) -> Vec2 {
+        let theta = crate::math::safe_acos(w.z);
+        let phi = crate::math::azimuth(w);
+        Vec2::new((phi / TWO_PI).min(crate::math::ONE_MINUS_EPSILON), (theta / PI).min(crate::math::ONE_MINUS_EPSILON))
+    }
+
+    /// Radiance arriving from direction `w` (pointing away from the scene).
+    pub fn eval(&self, w: Vec3) -> f32 {
+        let uv = self.uv(w);
+        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+        self.radiance[y * self.width + x]
+    }
+
+    /// Density in solid angle of [`EnvMap::sample`]: p(u, v) / (2π² sin θ).
+    pub fn pdf(&self, w: Vec3) -> f32 {
+        let sin_theta = safe_sqrt(1.0 - w.z * w.z);
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        self.distribution.pdf(self.uv(w)) / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// Sample a direction.
+    pub fn sample(&self, u: Vec2) -> Option<(Vec3, f32)> {
+        let (uv, pdf_uv) = self.distribution.sample(u);
+        let theta = uv.y * PI;
+        let phi = uv.x * TWO_PI;
+        let (st, ct) = theta.sin_cos();
+        if st <= 0.0 || pdf_uv <= 0.0 {
+            return None;
+        }
+        let w = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
+        Some((w, pdf_uv / (2.0 * PI * PI * st)))
+    }
+}
+
+/// One emitter of the scene.
+#[derive(Clone, Debug)]
+pub enum Emitter {
+    /// Uniform Lambertian emission from a shape's surface.
+    Area {
+        /// Index of the shape.
+        shape: usize,
+        /// Radiance L.
+        radiance: f32,
+        /// Whether both sides emit.
+        two_sided: bool,
+    },
+    /// Isotropic point light of intensity I (W/sr).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Intensity.
+        intensity: f32,
+    },
+    /// Spot light: intensity I inside a cone with pbrt's smooth falloff.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Frame with +z along the spot's axis.
+        frame: Frame,
+        /// Intensity on the axis.
+        intensity: f32,
+        /// cos of the total half-angle.
+        cos_total: f32,
+        /// cos of the half-angle where the falloff starts.
+        cos_falloff_start: f32,
+    },
+    /// Distant light travelling along `direction`, irradiance E on a perpendicular plane.
+    Directional {
+        /// Unit travel direction.
+        direction: Vec3,
+        /// Irradiance.
+        irradiance: f32,
+    },
+    /// Constant radiance from every direction at infinity.
+    Constant {
+        /// Radiance.
+        radiance: f32,
+    },
+    /// Environment map at infinity.
+    Map(Box<EnvMap>),
+}
+
+/// A light sample seen from a reference point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction towards the light.
+    pub wi: Vec3,
+    /// Incident radiance (for delta lights: the contribution I/r² or E).
+    pub li: f32,
+    /// Density in solid angle (1 for delta lights).
+    pub pdf: f32,
+    /// Point on the light (for shadow rays); unused for lights at infinity.
+    pub p: Vec3,
+    /// Error bound of `p`.
+    pub p_error: Vec3,
+    /// Normal at `p`.
+    pub n: Vec3,
+    /// Whether the light is at infinity.
+    pub infinite: bool,
+    /// Whether it is a delta light.
+    pub delta: bool,
+}
+
+/// Smooth falloff of a spot light (pbrt-v4 §12.1.2): smoothstep in cos θ.
+pub fn spot_falloff(cos_theta: f32, cos_total: f32, cos_start: f32) -> f32 {
+    if cos_start <= cos_total {
+        return if cos_theta >= cos_total { 1.0 } else { 0.0 };
+    }
+    let t = ((cos_theta - cos_total) / (cos_start - cos_total)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// How light sampling treats one primitive of an area emitter from a point.
+pub enum PrimSampling {
+    /// Uniform in the cone of a sphere.
+    Cone(SphereCone),
+    /// Uniform in a spherical rectangle.
+    Rectangle(SphericalRectangle),
+    /// Uniform in a spherical triangle.
+    Triangle(SphericalTriangle),
+    /// By area.
+    Area,
+}
+
+/// Choose the sampling strategy for primitive `prim` seen from `p`. Deterministic in
+/// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
+pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
+    match *prim {
+        Primitive::Sphere { center, radius } => SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone),
+        Primitive::Rectangle { corner, u, v } if u.dot(v).abs() <= 1e-6 * u.length() * v.length() => {
+            match SphericalRectangle::new(p, corner, u, v) {
+                Some(r) if r.solid_angle() > 1e-9 => PrimSampling::Rectangle(r),
+                _ => PrimSampling::Area,
+            }
+        }
+        Primitive::Triangle { p: v } => match SphericalTriangle::new(p, v) {
+            Some(t) if t.solid_angle() > 1e-9 && t.solid_angle() < 6.22 => PrimSampling::Triangle(t),
+            _ => PrimSampling::Area,
+        },
+        _ => PrimSampling::Area,
+    }
+}
+
+/// Intersection of the line p + t w with the plane of a planar primitive.
+fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
+    let (origin, n) = match *prim {
+        Primitive::Rectangle { corner, u, v } => (corner, u.cross(v).normalize()),
+        Primitive::Triangle { p: v } => (v[0], (v[1] - v[0]).cross(v[2] - v[0]).normalize()),
+        Primitive::Disk { center, normal, .. } => (center, normal),
+        Primitive::Sphere { .. } => return None,
+    };
+    let denom = w.dot(n);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = (origin - p).dot(n) / denom;
+    (t > 0.0 && t.is_finite()).then(|| (p + w * t, n))
+}
+
+/// Sample a point of `prim` as seen from `p`: (point, normal, error, density in solid angle).
+pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Vec3, f32)> {
+    match prim_strategy(prim, p) {
+        PrimSampling::Cone(c) => {
+            let q = c.sample_point(u);
+            let Primitive::Sphere { center, radius } = *prim else { return None };
+            let n = (q - center) / radius;
+            Some((q, n, crate::math::gamma(5) * (q - center).abs() + crate::math::gamma(1) * center.abs(), c.pdf()))
+        }
+        PrimSampling::Rectangle(r) => {
+            let q = r.sample_point(u);
+            let Primitive::Rectangle { corner, u: eu, v: ev } = *prim else { return None };
+            Some((q, eu.cross(ev).normalize(), crate::math::gamma(6) * (corner.abs() + eu.abs() + ev.abs()), r.pdf()))
+        }
+        PrimSampling::Triangle(t) => {
+            let w = t.sample(u);
+            let (q, n) = plane_point(prim, p, w)?;
+            let Primitive::Triangle { p: v } = *prim else { return None };
+            Some((q, n, crate::math::gamma(7) * (v[0].abs() + v[1].abs() + v[2].abs()), t.pdf()))
+        }
+        PrimSampling::Area => {
+            let s = prim.sample_area(u);
+            let d = s.p - p;
+            let r2 = d.length_squared();
+            let cos = (d.normalize_or_zero().dot(s.n)).abs();
+            if cos <= 0.0 || r2 <= 0.0 {
+                return None;
+            }
+            Some((s.p, s.n, s.p_error, s.pdf * r2 / cos))
+        }
+    }
+}
+
+/// Density in solid angle with which [`sample_prim`] picks the point `q` (normal `n`) from `p`.
+pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+    match prim_strategy(prim, p) {
+        PrimSampling::Cone(c) => c.pdf(),
+        PrimSampling::Rectangle(r) => r.pdf(),
+        PrimSampling::Triangle(t) => t.pdf(),
+        PrimSampling::Area => {
+            let d = q - p;
+            let r2 = d.length_squared();
+            let cos = (d.normalize_or_zero().dot(n)).abs();
+            if cos <= 0.0 { 0.0 } else { r2 / (prim.area() * cos) }
+        }
+    }
+}
+
+impl Emitter {
+    /// Whether the emitter is a Dirac delta in position or direction.
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Emitter::Point { .. } | Emitter::Spot { .. } | Emitter::Directional { .. })
+    }
+
+    /// Whether the emitter sits at infinity.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_))
+    }
+
+    /// Radiance arriving along a ray that escapes the scene in direction `w`.
+    pub fn eval_infinite(&self, w: Vec3) -> f32 {
+        match self {
+            Emitter::Constant { radiance } => *radiance,
+            Emitter::Map(m) => m.eval(w),
+            _ => 0.0,
+        }
+    }
+
+    /// Density in solid angle of sampling the escaping direction `w` (infinite lights).
+    pub fn pdf_infinite(&self, w: Vec3) -> f32 {
+        match self {
+            Emitter::Constant { .. } => INV_FOUR_PI,
+            Emitter::Map(m) => m.pdf(w),
+            _ => 0.0,
+        }
+    }
+
+    /// Sample incident light at `p` for emitters not attached to shapes
+    /// (area emitters are sampled by the scene, which owns the shapes).
+    pub fn sample_non_area(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+        let at_infinity = |wi: Vec3, li: f32, pdf: f32, delta: bool| LightSample {
+            wi,
+            li,
+            pdf,
+            p: Vec3::ZERO,
+            p_error: Vec3::ZERO,
+            n: -wi,
+            infinite: true,
+            delta,
+        };
+        match self {
+            Emitter::Point { position, intensity } => {
+                let d = *position - p;
+                let r2 = d.length_squared();
+                if r2 <= 0.0 {
+                    return None;
+                }
+                let wi = d / r2.sqrt();
+                Some(LightSample { wi, li: intensity / r2, pdf: 1.0, p: *position, p_error: Vec3::ZERO, n: -wi, infinite: false, delta: true })
+            }
+            Emitter::Spot { position, frame, intensity, cos_total, cos_falloff_start } => {
+                let d = *position - p;
+                let r2 = d.length_squared();
+                if r2 <= 0.0 {
+                    return None;
+                }
+                let wi = d / r2.sqrt();
+                let cos = (-wi).dot(frame.n);
+                let li = intensity * spot_falloff(cos, *cos_total, *cos_falloff_start) / r2;
+                Some(LightSample { wi, li, pdf: 1.0, p: *position, p_error: Vec3::ZERO, n: -wi, infinite: false, delta: true })
+            }
+            Emitter::Directional { direction, irradiance } => Some(at_infinity(-*direction, *irradiance, 1.0, true)),
+            Emitter::Constant { radiance } => Some(at_infinity(uniform_sphere(u), *radiance, INV_FOUR_PI, false)),
+            Emitter::Map(m) => {
+                let (w, pdf) = m.sample(u)?;
+                Some(at_infinity(w, m.eval(w), pdf, false))
+            }
+            Emitter::Area { .. } => None,
+        }
+    }
+
+    /// Total emitted power where it is finite and known: π L A per emitting side for area
+    /// lights (given the shape's area), 4π I for a point light, and for a spot light
+    /// 2π I [(1 − cos θs) + (cos θs − cos θt)/2] (pbrt-v4 eq. 12.3).
+    pub fn power(&self, shape_area: f32) -> Option<f64> {
+        match self {
+            Emitter::Area { radiance, two_sided, .. } => {
+                Some(std::f64::consts::PI * *radiance as f64 * shape_area as f64 * if *two_sided { 2.0 } else { 1.0 })
+            }
+            Emitter::Point { intensity, .. } => Some(4.0 * std::f64::consts::PI * *intensity as f64),
+            Emitter::Spot { intensity, cos_total, cos_falloff_start, .. } => Some(
+                2.0 * std::f64::consts::PI
+                    * *intensity as f64
+                    * ((1.0 - *cos_falloff_start as f64) + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
+            ),
+            _ => None,
+        }
+    }
+}
+
+/// A 1-D distribution over a shape's primitives by area.
+pub fn area_distribution(prims: &[Primitive]) -> Distribution1D {
+    let areas: Vec<f32> = prims.iter().map(|p| p.area()).collect();
+    Distribution1D::new(&areas)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spot_falloff_is_smooth_and_bounded() {
+        assert_eq!(spot_falloff(1.0, 0.8, 0.9), 1.0);
+        assert_eq!(spot_falloff(0.7, 0.8, 0.9), 0.0);
+        let mid = spot_falloff(0.85, 0.8, 0.9);
+        assert!((mid - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn envmap_pdf_matches_sample() {
+        let vals: Vec<f32> = (0..32).map(|i| 1.0 + (i % 5) as f32).collect();
+        let m = EnvMap::new(8, 4, vals);
+        for k in 0..50 {
+            let u = Vec2::new((k as f32 * 0.137) % 1.0, (k as f32 * 0.311) % 1.0);
+            if let Some((w, pdf)) = m.sample(u) {
+                assert!((m.pdf(w) - pdf).abs() <= 1e-3 * pdf, "{} vs {}", m.pdf(w), pdf);
+            }
+        }
+    }
+}

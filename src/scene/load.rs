@@ -1,0 +1,493 @@
+//! Scene description (JSON) and its validation.
+//!
+//! ```json
+//! {
+//!   "materials": { "white": { "type": "lambertian", "albedo": 0.5 } },
+//!   "shapes": [
+//!     { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+//!       "material": "white", "flip_normals": true,
+//!       "emission": { "radiance": 1.0, "two_sided": false } }
+//!   ],
+//!   "emitters": [ { "type": "point", "position": [0, 0, 2], "intensity": 1 } ]
+//! }
+//! ```
+//! Geometry types: `sphere` (center, radius), `rectangle` (corner, edge_u, edge_v),
+//! `disk` (center, normal, radius), `triangle` (vertices), `mesh` (vertices, indices),
+//! `obj` (path, relative to the scene file). Emitter types: `point` (position,
+//! intensity), `spot` (position, direction, intensity, cone_angle, falloff_start in
+//! degrees), `directional` (direction of travel, irradiance), `constant` (radiance),
+//! `envmap` (path to a lat-long EXR, scale). A shape may carry a `transform`
+//! (`scale`, then `rotate` {axis, degrees}, then `translate`). Unknown fields are errors.
+
+use super::emitter::{EnvMap, area_distribution};
+use super::shape::Primitive;
+use super::{Scene, Shape, ShapeKind};
+use crate::bsdf::Bsdf;
+use crate::error::{InputError, check_number};
+use crate::math::Frame;
+use glam::{DQuat, DVec3, Vec3};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A scene as written in JSON.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// Named materials.
+    #[serde(default)]
+    pub materials: BTreeMap<String, Bsdf>,
+    /// Shapes.
+    #[serde(default)]
+    pub shapes: Vec<ShapeDesc>,
+    /// Emitters not attached to shapes.
+    #[serde(default)]
+    pub emitters: Vec<EmitterDesc>,
+}
+
+/// A shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeDesc {
+    /// Optional name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Geometry.
+    pub geometry: GeometryDesc,
+    /// Material name (none: a black absorber).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// Emission, making the shape an area light.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emission: Option<EmissionDesc>,
+    /// Flip the normals (a sphere lit or seen from inside).
+    #[serde(default)]
+    pub flip_normals: bool,
+    /// Transform applied to the geometry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+}
+
+/// Geometry of a shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GeometryDesc {
+    /// Sphere.
+    Sphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+    /// Parallelogram corner + a·edge_u + b·edge_v.
+    Rectangle {
+        /// Corner.
+        corner: [f64; 3],
+        /// First edge.
+        edge_u: [f64; 3],
+        /// Second edge.
+        edge_v: [f64; 3],
+    },
+    /// Disk.
+    Disk {
+        /// Centre.
+        center: [f64; 3],
+        /// Normal (normalised on load).
+        normal: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+    /// One triangle.
+    Triangle {
+        /// Vertices.
+        vertices: [[f64; 3]; 3],
+    },
+    /// Inline triangle mesh.
+    Mesh {
+        /// Vertex positions.
+        vertices: Vec<[f64; 3]>,
+        /// Triangles as vertex index triples.
+        indices: Vec<[u32; 3]>,
+    },
+    /// A Wavefront OBJ file (triangulated on load).
+    Obj {
+        /// Path relative to the scene file.
+        path: String,
+    },
+}
+
+/// Diffuse emission of a shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmissionDesc {
+    /// Radiance L (W·sr⁻¹·m⁻²), uniform and Lambertian.
+    pub radiance: f64,
+    /// Emit from both sides.
+    #[serde(default)]
+    pub two_sided: bool,
+}
+
+/// Scale, then rotate, then translate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    /// Uniform scale.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    /// Rotation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<RotateDesc>,
+    /// Translation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translate: Option<[f64; 3]>,
+}
+
+/// Rotation about an axis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateDesc {
+    /// Axis (normalised on load).
+    pub axis: [f64; 3],
+    /// Angle in degrees.
+    pub degrees: f64,
+}
+
+/// Emitters not attached to shapes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum EmitterDesc {
+    /// Isotropic point light.
+    Point {
+        /// Position.
+        position: [f64; 3],
+        /// Intensity I (W/sr).
+        intensity: f64,
+    },
+    /// Spot light.
+    Spot {
+        /// Position.
+        position: [f64; 3],
+        /// Axis direction.
+        direction: [f64; 3],
+        /// Intensity on the axis.
+        intensity: f64,
+        /// Total half-angle in degrees.
+        cone_angle: f64,
+        /// Half-angle where the falloff starts, in degrees.
+        falloff_start: f64,
+    },
+    /// Distant light.
+    Directional {
+        /// Direction of travel.
+        direction: [f64; 3],
+        /// Irradiance on a perpendicular surface.
+        irradiance: f64,
+    },
+    /// Constant environment.
+    Constant {
+        /// Radiance.
+        radiance: f64,
+    },
+    /// Lat-long environment map (grey: the mean of R, G, B).
+    Envmap {
+        /// EXR file, relative to the scene file.
+        path: String,
+        /// Radiance scale.
+        #[serde(default = "one")]
+        scale: f64,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+fn finite3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
+    if a.iter().all(|x| x.is_finite()) {
+        Ok(v3(a))
+    } else {
+        Err(InputError::new(file, field, format!("must be three finite numbers, got {a:?}")))
+    }
+}
+
+fn unit3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
+    let v = finite3(file, field, a)?;
+    let l = v.length();
+    if !(l > 0.0) {
+        return Err(InputError::new(file, field, "must be a non-zero vector"));
+    }
+    Ok(v / l)
+}
+
+/// Everything needed to turn the f64 description into f32 geometry.
+struct Builder<'a> {
+    file: &'a str,
+    base: PathBuf,
+    origin: DVec3,
+}
+
+impl Builder<'_> {
+    fn to_f32(&self, p: DVec3) -> Vec3 {
+        (p - self.origin).as_vec3()
+    }
+}
+
+impl SceneDesc {
+    /// The first coordinate found in the scene (used as a default origin).
+    pub fn any_point(&self) -> DVec3 {
+        for s in &self.shapes {
+            let p = match &s.geometry {
+                GeometryDesc::Sphere { center, .. } | GeometryDesc::Disk { center, .. } => *center,
+                GeometryDesc::Rectangle { corner, .. } => *corner,
+                GeometryDesc::Triangle { vertices } => vertices[0],
+                GeometryDesc::Mesh { vertices, .. } => vertices.first().copied().unwrap_or_default(),
+                GeometryDesc::Obj { .. } => [0.0; 3],
+            };
+            if p.iter().all(|x| x.is_finite()) {
+                return v3(p);
+            }
+        }
+        DVec3::ZERO
+    }
+
+    /// Validate and build, with every position rebased on `origin` (in f64) before it
+    /// becomes f32. `file` names the file in errors; relative paths resolve against `base`.
+    pub fn build(&self, file: &str, field: &str, base: &Path, origin: DVec3) -> Result<Scene, InputError> {
+        let b = Builder { file, base: base.to_path_buf(), origin };
+        let mut materials = Vec::new();
+        let mut material_index = BTreeMap::new();
+        for (name, m) in &self.materials {
+            m.validate().map_err(|r| InputError::new(file, format!("{field}.materials.{name}"), r))?;
+            material_index.insert(name.clone(), materials.len());
+            materials.push(m.clone());
+        }
+        let mut prims = Vec::new();
+        let mut shapes = Vec::new();
+        let mut emitters = Vec::new();
+        for (i, s) in self.shapes.iter().enumerate() {
+            let f = format!("{field}.shapes[{i}]");
+            let start = prims.len();
+            let kind = b.geometry(&s.geometry, s.transform.as_ref(), &f, &mut prims)?;
+            let range = start..prims.len();
+            let material = match &s.material {
+                None => None,
+                Some(name) => Some(*material_index.get(name).ok_or_else(|| {
+                    InputError::new(file, format!("{f}.material"), format!("no material named `{name}` in `materials`"))
+                })?),
+            };
+            let emitter = match &s.emission {
+                None => None,
+                Some(e) => {
+                    check_number(file, &format!("{f}.emission.radiance"), e.radiance, |x| x >= 0.0, "a non-negative radiance")?;
+                    emitters.push(super::Emitter::Area { shape: shapes.len(), radiance: e.radiance as f32, two_sided: e.two_sided });
+                    Some(emitters.len() - 1)
+                }
+            };
+            let area_dist = area_distribution(&prims[range.clone()]);
+            let area = prims[range.clone()].iter().map(|p| p.area()).sum::<f32>();
+            if !(area > 0.0) || !area.is_finite() {
+                return Err(InputError::new(file, format!("{f}.geometry"), "is degenerate: its area is zero"));
+            }
+            shapes.push(Shape { name: s.name.clone(), prims: range, area, area_dist, material, emitter, flip_normals: s.flip_normals, kind });
+        }
+        for (i, e) in self.emitters.iter().enumerate() {
+            let f = format!("{field}.emitters[{i}]");
+            emitters.push(b.emitter(e, &f)?);
+        }
+        Ok(Scene::new(shapes, prims, materials, emitters))
+    }
+}
+
+impl Builder<'_> {
+    fn transform(&self, t: Option<&TransformDesc>, f: &str) -> Result<impl Fn(DVec3) -> DVec3 + use<>, InputError> {
+        let mut scale = 1.0;
+        let mut rot = DQuat::IDENTITY;
+        let mut tr = DVec3::ZERO;
+        if let Some(t) = t {
+            if let Some(s) = t.scale {
+                check_number(self.file, &format!("{f}.transform.scale"), s, |x| x > 0.0, "a positive scale")?;
+                scale = s;
+            }
+            if let Some(r) = &t.rotate {
+                let axis = unit3(self.file, &format!("{f}.transform.rotate.axis"), r.axis)?;
+                check_number(self.file, &format!("{f}.transform.rotate.degrees"), r.degrees, |_| true, "finite")?;
+                rot = DQuat::from_axis_angle(axis, r.degrees.to_radians());
+            }
+            if let Some(t) = t.translate {
+                tr = finite3(self.file, &format!("{f}.transform.translate"), t)?;
+            }
+        }
+        Ok(move |p: DVec3| rot * (p * scale) + tr)
+    }
+
+    fn geometry(&self, g: &GeometryDesc, t: Option<&TransformDesc>, f: &str, prims: &mut Vec<Primitive>) -> Result<ShapeKind, InputError> {
+        let xf = self.transform(t, f)?;
+        let file = self.file;
+        let scale = t.and_then(|t| t.scale).unwrap_or(1.0);
+        let gf = format!("{f}.geometry");
+        match g {
+            GeometryDesc::Sphere { center, radius } => {
+                let c = finite3(file, &format!("{gf}.center"), *center)?;
+                check_number(file, &format!("{gf}.radius"), *radius, |r| r > 0.0, "a positive radius")?;
+                prims.push(Primitive::Sphere { center: self.to_f32(xf(c)), radius: (radius * scale) as f32 });
+                Ok(ShapeKind::Sphere)
+            }
+            GeometryDesc::Rectangle { corner, edge_u, edge_v } => {
+                let c = finite3(file, &format!("{gf}.corner"), *corner)?;
+                let u = finite3(file, &format!("{gf}.edge_u"), *edge_u)?;
+                let v = finite3(file, &format!("{gf}.edge_v"), *edge_v)?;
+                if !(u.cross(v).length() > 0.0) {
+                    return Err(InputError::new(file, gf, "is degenerate: edge_u and edge_v are parallel or zero"));
+                }
+                let (c2, u2, v2) = (xf(c), xf(c + u), xf(c + v));
+                prims.push(Primitive::Rectangle { corner: self.to_f32(c2), u: (u2 - c2).as_vec3(), v: (v2 - c2).as_vec3() });
+                Ok(ShapeKind::Planar)
+            }
+            GeometryDesc::Disk { center, normal, radius } => {
+                let c = finite3(file, &format!("{gf}.center"), *center)?;
+                let n = unit3(file, &format!("{gf}.normal"), *normal)?;
+                check_number(file, &format!("{gf}.radius"), *radius, |r| r > 0.0, "a positive radius")?;
+                let c2 = xf(c);
+                let n2 = (xf(c + n) - c2).normalize();
+                prims.push(Primitive::Disk { center: self.to_f32(c2), normal: n2.as_vec3(), radius: (radius * scale) as f32 });
+                Ok(ShapeKind::Planar)
+            }
+            GeometryDesc::Triangle { vertices } => {
+                let mut p = [Vec3::ZERO; 3];
+                for (k, v) in vertices.iter().enumerate() {
+                    p[k] = self.to_f32(xf(finite3(file, &format!("{gf}.vertices[{k}]"), *v)?));
+                }
+                if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
+                    return Err(InputError::new(file, gf, "is degenerate: the triangle has zero area"));
+                }
+                prims.push(Primitive::Triangle { p });
+                Ok(ShapeKind::Planar)
+            }
+            GeometryDesc::Mesh { vertices, indices } => {
+                let vs: Vec<DVec3> = vertices
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| finite3(file, &format!("{gf}.vertices[{k}]"), *v).map(&xf))
+                    .collect::<Result<_, _>>()?;
+                self.mesh(&vs, indices, &gf, prims)
+            }
+            GeometryDesc::Obj { path } => {
+                let full = self.base.join(path);
+                let opts = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+                let (models, _) = tobj::load_obj(&full, &opts)
+                    .map_err(|e| InputError::new(file, format!("{gf}.path"), format!("cannot read OBJ `{}`: {e}", full.display())))?;
+                let mut all = Vec::new();
+                let mut idx = Vec::new();
+                for m in models {
+                    let base = all.len() as u32;
+                    for c in m.mesh.positions.chunks(3) {
+                        all.push(xf(DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)));
+                    }
+                    for t in m.mesh.indices.chunks(3) {
+                        idx.push([base + t[0], base + t[1], base + t[2]]);
+                    }
+                }
+                self.mesh(&all, &idx, &gf, prims)
+            }
+        }
+    }
+
+    fn mesh(&self, vs: &[DVec3], indices: &[[u32; 3]], gf: &str, prims: &mut Vec<Primitive>) -> Result<ShapeKind, InputError> {
+        if indices.is_empty() {
+            return Err(InputError::new(self.file, format!("{gf}.indices"), "a mesh needs at least one triangle"));
+        }
+        let mut normal: Option<DVec3> = None;
+        let mut planar = true;
+        for (k, t) in indices.iter().enumerate() {
+            let mut p = [Vec3::ZERO; 3];
+            let mut pd = [DVec3::ZERO; 3];
+            for j in 0..3 {
+                let i = t[j] as usize;
+                let v = vs.get(i).ok_or_else(|| {
+                    InputError::new(self.file, format!("{gf}.indices[{k}]"), format!("vertex index {i} is out of range (the mesh has {} vertices)", vs.len()))
+                })?;
+                pd[j] = *v;
+                p[j] = self.to_f32(*v);
+            }
+            let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
+            if !(n.length() > 0.0) || !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
+                return Err(InputError::new(self.file, format!("{gf}.indices[{k}]"), "is a degenerate triangle (zero area)"));
+            }
+            let n = n.normalize();
+            match normal {
+                None => normal = Some(n),
+                Some(m) => {
+                    if m.dot(n) < 1.0 - 1e-9 || (pd[0] - vs[indices[0][0] as usize]).dot(m).abs() > 1e-9 * (1.0 + pd[0].length()) {
+                        planar = false;
+                    }
+                }
+            }
+            prims.push(Primitive::Triangle { p });
+        }
+        Ok(if planar { ShapeKind::Planar } else { ShapeKind::Mesh })
+    }
+
+    fn emitter(&self, e: &EmitterDesc, f: &str) -> Result<super::Emitter, InputError> {
+        use super::Emitter;
+        let file = self.file;
+        let nonneg = |name: &str, v: f64| check_number(file, &format!("{f}.{name}"), v, |x| x >= 0.0, "non-negative");
+        Ok(match e {
+            EmitterDesc::Point { position, intensity } => {
+                nonneg("intensity", *intensity)?;
+                Emitter::Point { position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?), intensity: *intensity as f32 }
+            }
+            EmitterDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
+                nonneg("intensity", *intensity)?;
+                check_number(file, &format!("{f}.cone_angle"), *cone_angle, |x| x > 0.0 && x <= 180.0, "in (0, 180] degrees")?;
+                check_number(file, &format!("{f}.falloff_start"), *falloff_start, |x| x >= 0.0 && x <= *cone_angle, "in [0, cone_angle] degrees")?;
+                let d = unit3(file, &format!("{f}.direction"), *direction)?;
+                Emitter::Spot {
+                    position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                    frame: Frame::from_z(d.as_vec3()),
+                    intensity: *intensity as f32,
+                    cos_total: cone_angle.to_radians().cos() as f32,
+                    cos_falloff_start: falloff_start.to_radians().cos() as f32,
+                }
+            }
+            EmitterDesc::Directional { direction, irradiance } => {
+                nonneg("irradiance", *irradiance)?;
+                Emitter::Directional { direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(), irradiance: *irradiance as f32 }
+            }
+            EmitterDesc::Constant { radiance } => {
+                nonneg("radiance", *radiance)?;
+                Emitter::Constant { radiance: *radiance as f32 }
+            }
+            EmitterDesc::Envmap { path, scale } => {
+                nonneg("scale", *scale)?;
+                let full = self.base.join(path);
+                let (w, h, data) = read_exr_grey(&full).map_err(|r| InputError::new(file, format!("{f}.path"), r))?;
+                if let Some(bad) = data.iter().find(|v| !v.is_finite() || **v < 0.0) {
+                    return Err(InputError::new(file, format!("{f}.path"), format!("holds a negative or non-finite radiance ({bad})")));
+                }
+                Emitter::Map(Box::new(EnvMap::new(w, h, data.into_iter().map(|v| v * *scale as f32).collect())))
+            }
+        })
+    }
+}
+
+/// Read an EXR's first RGBA layer as grey values (mean of R, G, B).
+pub fn read_exr_grey(path: &Path) -> Result<(usize, usize, Vec<f32>), String> {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |res, _| (res.width(), res.height(), vec![0.0f32; res.width() * res.height()]),
+        |(w, _, data), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            data[pos.y() * *w + pos.x()] = (r + g + b) / 3.0;
+        },
+    )
+    .map_err(|e| format!("cannot read EXR `{}`: {e}", path.display()))?;
+    let (w, h, data) = image.layer_data.channel_data.pixels;
+    if w == 0 || h == 0 {
+        return Err(format!("EXR `{}` is empty", path.display()));
+    }
+    Ok((w, h, data))
+}

@@ -1,0 +1,207 @@
+//! The scene: shapes made of primitives, their materials and emission, other emitters,
+//! and ray queries over them.
+//!
+//! Scenes are described in JSON ([`load`]); coordinates are read in `f64` and rebased
+//! on a scene origin (the measurement's point) before they become `f32`, as engines with
+//! large worlds do, so a scene 1e5 units from the origin keeps every digit that matters.
+
+pub mod accel;
+pub mod emitter;
+pub mod load;
+pub mod shape;
+
+use crate::bsdf::Bsdf;
+use crate::math::offset_ray_origin;
+use crate::sampling::distribution::Distribution1D;
+use accel::Accel;
+use emitter::{Emitter, LightSample, prim_pdf, sample_prim};
+use glam::{Vec2, Vec3};
+use shape::{Hit, Primitive};
+use std::ops::Range;
+
+/// What kind of surface a shape is (for the effects analysis).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeKind {
+    /// A sphere: closed and convex.
+    Sphere,
+    /// A planar shape (rectangle, disk, single triangle or coplanar mesh).
+    Planar,
+    /// A general triangle mesh.
+    Mesh,
+}
+
+/// A shape: primitives sharing a material and an emission.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    /// Optional name from the scene file.
+    pub name: Option<String>,
+    /// Its primitives in [`Scene::prims`].
+    pub prims: Range<usize>,
+    /// Total area.
+    pub area: f32,
+    /// Choice of primitive by area.
+    pub area_dist: Distribution1D,
+    /// Index into [`Scene::materials`], or `None` for a black absorber.
+    pub material: Option<usize>,
+    /// Index into [`Scene::emitters`] when the shape emits.
+    pub emitter: Option<usize>,
+    /// Whether normals are flipped (e.g. a sphere seen from inside).
+    pub flip_normals: bool,
+    /// Geometric kind.
+    pub kind: ShapeKind,
+}
+
+/// A ray's first hit on a shape.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    /// Geometry of the hit (normal already flipped if the shape says so).
+    pub hit: Hit,
+    /// The shape.
+    pub shape: usize,
+    /// The primitive.
+    pub prim: usize,
+}
+
+/// A built scene.
+pub struct Scene {
+    /// Shapes.
+    pub shapes: Vec<Shape>,
+    /// For each primitive, its shape.
+    pub prim_shape: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Bsdf>,
+    /// Emitters (area emitters point at their shape).
+    pub emitters: Vec<Emitter>,
+    accel: Accel,
+}
+
+/// Relative length of a shadow ray short of its target (pbrt-v4's ShadowEpsilon).
+pub const SHADOW_EPSILON: f32 = 1e-4;
+
+impl Scene {
+    /// Assemble a scene; primitives are given per shape, in order.
+    pub fn new(shapes: Vec<Shape>, prims: Vec<Primitive>, materials: Vec<Bsdf>, emitters: Vec<Emitter>) -> Self {
+        let mut prim_shape = vec![0u32; prims.len()];
+        for (i, s) in shapes.iter().enumerate() {
+            for p in s.prims.clone() {
+                prim_shape[p] = i as u32;
+            }
+        }
+        Scene { shapes, prim_shape, materials, emitters, accel: Accel::new(prims) }
+    }
+
+    /// All primitives.
+    pub fn prims(&self) -> &[Primitive] {
+        self.accel.prims()
+    }
+
+    /// Closest surface along the unit direction `d` from `o`.
+    pub fn intersect(&self, o: Vec3, d: Vec3, tmax: f32) -> Option<SurfaceHit> {
+        let (prim, mut hit) = self.accel.intersect(o, d, 0.0, tmax)?;
+        let shape = self.prim_shape[prim] as usize;
+        if self.shapes[shape].flip_normals {
+            hit.n = -hit.n;
+        }
+        Some(SurfaceHit { hit, shape, prim })
+    }
+
+    /// Spawn a ray from a surface point: origin offset past its error bound.
+    pub fn spawn(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+        offset_ray_origin(p, p_error, n, w)
+    }
+
+    /// Whether the segment from `from` (a surface point with error `from_error` and normal
+    /// `from_n`, or a free point with zero error) to the light sample is clear.
+    pub fn visible(&self, from: Vec3, from_error: Vec3, from_n: Vec3, ls: &LightSample) -> bool {
+        let o = if from_error == Vec3::ZERO { from } else { offset_ray_origin(from, from_error, from_n, ls.wi) };
+        if ls.infinite {
+            return self.accel.unoccluded(o, ls.wi, 0.0, f32::INFINITY);
+        }
+        let target = if ls.p_error == Vec3::ZERO { ls.p } else { offset_ray_origin(ls.p, ls.p_error, ls.n, -ls.wi) };
+        let d = target - o;
+        let dist = d.length();
+        if dist <= 0.0 {
+            return true;
+        }
+        self.accel.unoccluded(o, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+    }
+
+    /// Radiance emitted by the surface hit towards `wo` (pointing away from it).
+    pub fn emitted(&self, sh: &SurfaceHit, wo: Vec3) -> f32 {
+        match self.shapes[sh.shape].emitter.map(|e| &self.emitters[e]) {
+            Some(Emitter::Area { radiance, two_sided, .. }) => {
+                if *two_sided || sh.hit.n.dot(wo) > 0.0 { *radiance } else { 0.0 }
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Radiance from the lights at infinity along an escaping direction.
+    pub fn escaped(&self, d: Vec3) -> f32 {
+        self.emitters.iter().map(|e| e.eval_infinite(d)).sum()
+    }
+
+    /// Probability of choosing one emitter (uniform selection).
+    pub fn emitter_choice_pdf(&self) -> f32 {
+        if self.emitters.is_empty() { 0.0 } else { 1.0 / self.emitters.len() as f32 }
+    }
+
+    /// Sample incident light at `p` (uniform choice of emitter, then the emitter's best
+    /// strategy). The returned density includes the choice.
+    pub fn sample_light(&self, p: Vec3, u_choice: f32, u: Vec2) -> Option<LightSample> {
+        let n = self.emitters.len();
+        if n == 0 {
+            return None;
+        }
+        let k = ((u_choice * n as f32) as usize).min(n - 1);
+        let choice = 1.0 / n as f32;
+        let mut ls = match &self.emitters[k] {
+            Emitter::Area { shape, radiance, two_sided } => {
+                let s = &self.shapes[*shape];
+                // The position within the chosen cell is a fresh uniform number.
+                let (x, _, local) = s.area_dist.sample(u.x);
+                let ux = (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, 1.0);
+                let prim_index = s.prims.start + local;
+                let prim = &self.prims()[prim_index];
+                let (q, mut nq, q_err, pdf_w) = sample_prim(prim, p, Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y))?;
+                if s.flip_normals {
+                    nq = -nq;
+                }
+                let d = q - p;
+                let dist = d.length();
+                if !(dist > 0.0) {
+                    return None;
+                }
+                let wi = d / dist;
+                let li = if *two_sided || nq.dot(-wi) > 0.0 { *radiance } else { 0.0 };
+                let p_choice_prim = prim.area() / s.area;
+                LightSample { wi, li, pdf: pdf_w * p_choice_prim, p: q, p_error: q_err, n: nq, infinite: false, delta: false }
+            }
+            e => e.sample_non_area(p, u)?,
+        };
+        ls.pdf *= choice;
+        (ls.pdf > 0.0 && ls.pdf.is_finite() && ls.li.is_finite()).then_some(ls)
+    }
+
+    /// Density (solid angle, including the emitter choice) with which
+    /// [`Scene::sample_light`] would pick the surface point `sh` from `p`.
+    pub fn light_pdf_surface(&self, p: Vec3, sh: &SurfaceHit) -> f32 {
+        let s = &self.shapes[sh.shape];
+        if s.emitter.is_none() {
+            return 0.0;
+        }
+        let prim = &self.prims()[sh.prim];
+        let n = if s.flip_normals { -sh.hit.n } else { sh.hit.n };
+        prim_pdf(prim, p, sh.hit.p, n) * (prim.area() / s.area) * self.emitter_choice_pdf()
+    }
+
+    /// Density (including the emitter choice) of sampling the escaping direction `d`.
+    pub fn light_pdf_infinite(&self, d: Vec3) -> f32 {
+        self.emitters.iter().map(|e| e.pdf_infinite(d)).sum::<f32>() * self.emitter_choice_pdf()
+    }
+
+    /// Whether any emitter exists.
+    pub fn has_emitters(&self) -> bool {
+        !self.emitters.is_empty()
+    }
+}

@@ -1,0 +1,355 @@
+//! Shapes: analytic spheres, parallelograms ("rectangles"), disks, and triangles.
+//!
+//! Each primitive intersects rays in `f32` and reports a conservative bound on the
+//! floating-point error of the hit point, so spawned rays can be offset past it
+//! (pbrt-v4 §6.8). The sphere uses the numerically robust quadratic of Haines et al.
+//! ("Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems 2019,
+//! ch. 7) relative to its centre; triangles use the watertight test of Woop, Benthin &
+//! Wald (JCGT 2(1), 2013), so no ray slips between two triangles sharing an edge (obvhs's
+//! own triangle test is not watertight, see STACK.md).
+
+use crate::math::{Frame, gamma};
+use crate::sampling::disk::concentric_disk;
+use crate::sampling::sphere::uniform_sphere;
+use crate::sampling::triangle::sample_triangle;
+use glam::{Vec2, Vec3};
+
+/// One intersectable primitive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Primitive {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// The parallelogram `corner + a·u + b·v`, a, b ∈ [0, 1]; normal ∝ u × v.
+    Rectangle {
+        /// A corner.
+        corner: Vec3,
+        /// First edge.
+        u: Vec3,
+        /// Second edge.
+        v: Vec3,
+    },
+    /// A disk of `radius` about `center` facing `normal`.
+    Disk {
+        /// Centre.
+        center: Vec3,
+        /// Unit normal.
+        normal: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// A triangle; normal ∝ (p₁ − p₀) × (p₂ − p₀).
+    Triangle {
+        /// Vertices.
+        p: [Vec3; 3],
+    },
+}
+
+/// A ray–primitive hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the (unit) ray direction.
+    pub t: f32,
+    /// The hit point.
+    pub p: Vec3,
+    /// Conservative absolute error bound of `p`, per axis.
+    pub p_error: Vec3,
+    /// Geometric normal (outward for spheres; before any flip).
+    pub n: Vec3,
+}
+
+/// A point sampled on a primitive by area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaSample {
+    /// The point.
+    pub p: Vec3,
+    /// Its error bound.
+    pub p_error: Vec3,
+    /// The normal there.
+    pub n: Vec3,
+    /// Density per unit area (1/A).
+    pub pdf: f32,
+}
+
+impl Primitive {
+    /// Surface area.
+    pub fn area(&self) -> f32 {
+        match *self {
+            Primitive::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
+            Primitive::Rectangle { u, v, .. } => u.cross(v).length(),
+            Primitive::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
+            Primitive::Triangle { p } => 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length(),
+        }
+    }
+
+    /// Axis-aligned bounds (padded by the error of their own arithmetic).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let (lo, hi) = match *self {
+            Primitive::Sphere { center, radius } => (center - Vec3::splat(radius), center + Vec3::splat(radius)),
+            Primitive::Rectangle { corner, u, v } => {
+                let pts = [corner, corner + u, corner + v, corner + u + v];
+                (pts.iter().fold(Vec3::INFINITY, |a, &b| a.min(b)), pts.iter().fold(Vec3::NEG_INFINITY, |a, &b| a.max(b)))
+            }
+            Primitive::Disk { center, normal, radius } => {
+                // Extent of a disk along axis i is r·√(1 − nᵢ²).
+                let e = radius * Vec3::from((Vec3::ONE - normal * normal).max(Vec3::ZERO).to_array().map(f32::sqrt));
+                (center - e, center + e)
+            }
+            Primitive::Triangle { p } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
+        };
+        let pad = (lo.abs().max(hi.abs())) * gamma(3) + Vec3::splat(f32::MIN_POSITIVE);
+        (lo - pad, hi + pad)
+    }
+
+    /// Whether the primitive is flat (cannot see itself).
+    pub fn is_planar(&self) -> bool {
+        !matches!(self, Primitive::Sphere { .. })
+    }
+
+    /// Closest hit with t in (tmin, tmax), for a unit direction `d`.
+    pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+        match *self {
+            Primitive::Sphere { center, radius } => intersect_sphere(center, radius, o, d, tmin, tmax),
+            Primitive::Rectangle { corner, u, v } => {
+                let n = u.cross(v);
+                let (t, p) = plane_hit(corner, n, o, d, tmin, tmax)?;
+                let rel = p - corner;
+                let (uu, vv) = (u.length_squared(), v.length_squared());
+                let a = rel.dot(u) / uu;
+                let b = rel.dot(v) / vv;
+                if !(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b) {
+                    return None;
+                }
+                let p = corner + u * a + v * b;
+                let p_error = gamma(6) * (corner.abs() + (u * a).abs() + (v * b).abs());
+                Some(Hit { t, p, p_error, n: n.normalize() })
+            }
+            Primitive::Disk { center, normal, radius } => {
+                let (t, p) = plane_hit(center, normal, o, d, tmin, tmax)?;
+                let rel = p - center;
+                let rel = rel - normal * rel.dot(normal);
+                if rel.length_squared() > radius * radius {
+                    return None;
+                }
+                let p = center + rel;
+                let p_error = gamma(6) * (center.abs() + rel.abs());
+                Some(Hit { t, p, p_error, n: normal })
+            }
+            Primitive::Triangle { p } => intersect_triangle(p, o, d, tmin, tmax),
+        }
+    }
+
+    /// A point uniformly distributed by area.
+    pub fn sample_area(&self, u: Vec2) -> AreaSample {
+        let pdf = 1.0 / self.area();
+        match *self {
+            Primitive::Sphere { center, radius } => {
+                let n = uniform_sphere(u);
+                let p = center + n * radius;
+                AreaSample { p, p_error: gamma(5) * (center.abs() + (n * radius).abs()), n, pdf }
+            }
+            Primitive::Rectangle { corner, u: eu, v: ev } => {
+                let p = corner + eu * u.x + ev * u.y;
+                let p_error = gamma(6) * (corner.abs() + (eu * u.x).abs() + (ev * u.y).abs());
+                AreaSample { p, p_error, n: eu.cross(ev).normalize(), pdf }
+            }
+            Primitive::Disk { center, normal, radius } => {
+                let d = concentric_disk(u) * radius;
+                let f = Frame::from_z(normal);
+                let rel = f.s * d.x + f.t * d.y;
+                AreaSample { p: center + rel, p_error: gamma(6) * (center.abs() + rel.abs()), n: normal, pdf }
+            }
+            Primitive::Triangle { p } => {
+                let q = sample_triangle(p, u);
+                let p_error = gamma(6) * (p[0].abs() + p[1].abs() + p[2].abs());
+                AreaSample { p: q, p_error, n: (p[1] - p[0]).cross(p[2] - p[0]).normalize(), pdf }
+            }
+        }
+    }
+}
+
+fn plane_hit(origin: Vec3, n: Vec3, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(f32, Vec3)> {
+    let denom = d.dot(n);
+    if denom == 0.0 || !denom.is_finite() {
+        return None;
+    }
+    let t = (origin - o).dot(n) / denom;
+    if !(t > tmin && t < tmax) {
+        return None;
+    }
+    Some((t, o + d * t))
+}
+
+/// Robust ray–sphere intersection (Haines et al. 2019): with f = o − c and b = −f·d,
+/// the discriminant r² − |f + b d|² avoids the cancellation of b² − (|f|² − r²).
+fn intersect_sphere(center: Vec3, radius: f32, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+    let f = o - center;
+    let b = -f.dot(d);
+    let l = f + d * b;
+    let disc = radius * radius - l.length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let c = f.length_squared() - radius * radius;
+    let q = b + disc.sqrt().copysign(b);
+    let (mut t0, mut t1) = (c / q, q);
+    if q == 0.0 {
+        t0 = 0.0;
+        t1 = 0.0;
+    }
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    let t = if t0 > tmin && t0 < tmax {
+        t0
+    } else if t1 > tmin && t1 < tmax {
+        t1
+    } else {
+        return None;
+    };
+    // Re-project the hit onto the surface (pbrt-v4 §6.8.5): error γ₅ |p − c| about c.
+    let rel = f + d * t;
+    let rel = rel * (radius / rel.length());
+    let n = rel / radius;
+    let p = center + rel;
+    let p_error = gamma(5) * rel.abs() + gamma(1) * center.abs();
+    Some(Hit { t, p, p_error, n })
+}
+
+/// Watertight ray–triangle intersection (Woop, Benthin & Wald 2013; pbrt-v4 §6.5.3).
+fn intersect_triangle(p: [Vec3; 3], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    if n.length_squared() == 0.0 {
+        return None;
+    }
+    // Translate to the ray origin, permute so that z is the largest direction component.
+    let mut p0t = p[0] - o;
+    let mut p1t = p[1] - o;
+    let mut p2t = p[2] - o;
+    let kz = d.abs().max_position();
+    let kx = (kz + 1) % 3;
+    let ky = (kx + 1) % 3;
+    let perm = |v: Vec3| Vec3::new(v[kx], v[ky], v[kz]);
+    let dp = perm(d);
+    p0t = perm(p0t);
+    p1t = perm(p1t);
+    p2t = perm(p2t);
+    let sx = -dp.x / dp.z;
+    let sy = -dp.y / dp.z;
+    let sz = 1.0 / dp.z;
+    p0t.x += sx * p0t.z;
+    p0t.y += sy * p0t.z;
+    p1t.x += sx * p1t.z;
+    p1t.y += sy * p1t.z;
+    p2t.x += sx * p2t.z;
+    p2t.y += sy * p2t.z;
+    let mut e0 = crate::math::difference_of_products(p1t.x, p2t.y, p1t.y, p2t.x);
+    let mut e1 = crate::math::difference_of_products(p2t.x, p0t.y, p2t.y, p0t.x);
+    let mut e2 = crate::math::difference_of_products(p0t.x, p1t.y, p0t.y, p1t.x);
+    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        // Fall back to f64 on exact zeros (edge hits), as pbrt-v4 does.
+        let (a, b, c) = (p0t.as_dvec3(), p1t.as_dvec3(), p2t.as_dvec3());
+        e0 = (b.x * c.y - b.y * c.x) as f32;
+        e1 = (c.x * a.y - c.y * a.x) as f32;
+        e2 = (a.x * b.y - a.y * b.x) as f32;
+    }
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return None;
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
+        return None;
+    }
+    p0t.z *= sz;
+    p1t.z *= sz;
+    p2t.z *= sz;
+    let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+    if det < 0.0 && (t_scaled >= tmin * det || t_scaled <= tmax * det) {
+        return None;
+    }
+    if det > 0.0 && (t_scaled <= tmin * det || t_scaled >= tmax * det) {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let (b0, b1, b2) = (e0 * inv_det, e1 * inv_det, e2 * inv_det);
+    let t = t_scaled * inv_det;
+    // Conservative check that t is positive beyond the error of its computation.
+    let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
+    let delta_z = gamma(3) * max_zt;
+    let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
+    let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
+    let delta_x = gamma(5) * (max_xt + max_zt);
+    let delta_y = gamma(5) * (max_yt + max_zt);
+    let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = Vec3::new(e0, e1, e2).abs().max_element();
+    let delta_t =
+        3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
+    if t <= delta_t {
+        return None;
+    }
+    let q = p[0] * b0 + p[1] * b1 + p[2] * b2;
+    let p_error = gamma(7) * ((p[0] * b0).abs() + (p[1] * b1).abs() + (p[2] * b2).abs());
+    Some(Hit { t, p: q, p_error, n: n.normalize() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_hits_from_outside_and_inside() {
+        let s = Primitive::Sphere { center: Vec3::new(0.0, 0.0, 5.0), radius: 1.0 };
+        let h = s.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 4.0).abs() < 1e-5 && h.n.z < 0.0);
+        let h = s.intersect(Vec3::new(0.0, 0.0, 5.0), Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 1.0).abs() < 1e-5 && h.n.z > 0.0);
+    }
+
+    #[test]
+    fn far_from_origin_sphere_hit_is_accurate() {
+        let c = Vec3::new(1e5, -1e5, 1e5);
+        let s = Primitive::Sphere { center: c, radius: 1.0 };
+        let o = c + Vec3::new(0.3, 0.2, -10.0);
+        let h = s.intersect(o, Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        // The point is on the sphere to within its error bound.
+        let dist = ((h.p - c).as_dvec3().length() - 1.0).abs();
+        assert!(dist <= h.p_error.length() as f64 * 2.0 + 1e-6, "{dist} vs {}", h.p_error);
+    }
+
+    #[test]
+    fn triangle_edge_is_watertight() {
+        // Two triangles sharing the diagonal of the unit square: rays along the diagonal hit one.
+        let a = Primitive::Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)] };
+        let b = Primitive::Triangle { p: [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y] };
+        for i in 1..1000 {
+            let x = i as f32 / 1000.0;
+            let o = Vec3::new(x, x, 1.0);
+            let hit = a.intersect(o, -Vec3::Z, 0.0, f32::INFINITY).is_some()
+                || b.intersect(o, -Vec3::Z, 0.0, f32::INFINITY).is_some();
+            assert!(hit, "ray at {x} slipped through");
+        }
+    }
+
+    #[test]
+    fn sliver_triangle_hit_and_no_nan() {
+        let t = Primitive::Triangle { p: [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.5, 1e-6, 0.0)] };
+        let h = t.intersect(Vec3::new(0.5, 2e-7, 1.0), -Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        assert!(h.p.is_finite() && h.n.is_finite());
+        assert!(t.intersect(Vec3::new(0.5, 2e-6, 1.0), -Vec3::Z, 0.0, f32::INFINITY).is_none());
+    }
+
+    #[test]
+    fn rectangle_and_disk() {
+        let r = Primitive::Rectangle { corner: Vec3::new(-1.0, -1.0, 2.0), u: Vec3::X * 2.0, v: Vec3::Y * 2.0 };
+        assert!(r.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY).is_some());
+        assert!((r.area() - 4.0).abs() < 1e-6);
+        let d = Primitive::Disk { center: Vec3::new(0.0, 0.0, 2.0), normal: -Vec3::Z, radius: 1.0 };
+        let h = d.intersect(Vec3::new(0.99, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 2.0).abs() < 1e-6);
+        assert!(d.intersect(Vec3::new(1.01, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_none());
+    }
+}

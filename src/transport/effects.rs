@@ -1,0 +1,182 @@
+//! Effects analysis: decide, before estimating, which effects of light transport can
+//! contribute to a measurement in a scene, and simulate only those.
+//!
+//! Each effect is a [`Decision`] with the reason. The rules are conservative — an
+//! effect is pruned only when geometry proves it cannot contribute:
+//!
+//! - **single scattering** needs an emitter and a surface with a material;
+//! - **multiple scattering** needs two scattering shapes, or one that can see itself:
+//!   a planar shape never sees itself, and a sphere only from inside (when the
+//!   measurement starts inside it, or its material transmits); a mesh may;
+//! - **occlusion** (shadow rays) needs a segment that can cross a surface other than its
+//!   end points: with no shapes, or one convex shape that is the only emitter (segments
+//!   between a point and a plane, between two points of a sphere from inside, or to the
+//!   cone-sampled visible cap of a sphere from outside cross nothing else), none can; a
+//!   camera ray's first hit on one planar or (from outside) spherical reflector lit
+//!   only by lights at infinity needs none either;
+//! - **specular chains** and **transmission** follow from the materials' lobes;
+//! - **wavelength** and **time** are not dimensions of a grey, static scene.
+//!
+//! Soundness is proven per catalog case by comparing the pruned estimate with the full
+//! simulation (every effect on) in a two-sample test (`tests/effects_soundness.rs`).
+
+use crate::bsdf::{Bsdf, BsdfModel, LobeFlags};
+use crate::scene::emitter::Emitter;
+use crate::scene::shape::Primitive;
+use crate::scene::{Scene, ShapeKind};
+use crate::transport::measure::Measure;
+use serde::{Deserialize, Serialize};
+
+/// Whether an effect is simulated, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Decision {
+    /// Simulated?
+    pub simulated: bool,
+    /// Why (or why not).
+    pub why: String,
+}
+
+fn yes(why: impl Into<String>) -> Decision {
+    Decision { simulated: true, why: why.into() }
+}
+
+fn no(why: impl Into<String>) -> Decision {
+    Decision { simulated: false, why: why.into() }
+}
+
+/// The effects a measurement in a scene calls for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Effects {
+    /// Emission seen directly.
+    pub direct_emission: Decision,
+    /// One scattering between emitter and sensor.
+    pub single_scattering: Decision,
+    /// Two or more scatterings.
+    pub multiple_scattering: Decision,
+    /// Chains through delta (perfectly specular) lobes.
+    pub specular_chains: Decision,
+    /// Transmission through surfaces.
+    pub transmission: Decision,
+    /// Shadow rays.
+    pub occlusion: Decision,
+    /// Wavelength as a sampled dimension.
+    pub wavelength: Decision,
+    /// Time as a sampled dimension.
+    pub time: Decision,
+    /// The most scatterings a path needs (`None`: unbounded, ended by Russian roulette).
+    pub max_bounces: Option<u32>,
+}
+
+fn is_black(b: &Bsdf) -> bool {
+    match b {
+        Bsdf::Lambertian(l) => l.albedo <= 0.0,
+        #[allow(unreachable_patterns)]
+        _ => false,
+    }
+}
+
+/// Whether point `p` lies strictly inside the sphere primitive.
+fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
+    match *prim {
+        Primitive::Sphere { center, radius } => (p - center).length_squared() < radius * radius,
+        _ => false,
+    }
+}
+
+/// Analyse `scene` for `measure`.
+pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
+    let grey = no("the scene's spectra are constant and no measurement is spectral: wavelength integrates out");
+    let static_ = no("nothing moves and the measurement is not time resolved: time integrates out");
+    let Some(origin) = measure.origin() else {
+        // Not a transport measurement: a property of one shape, emitter or BSDF.
+        let n = no("the measurement is a property of one object, not of light transport");
+        return Effects {
+            direct_emission: n.clone(),
+            single_scattering: n.clone(),
+            multiple_scattering: n.clone(),
+            specular_chains: n.clone(),
+            transmission: n.clone(),
+            occlusion: if matches!(measure, Measure::SolidAngle { .. } | Measure::ProjectedSolidAngle { .. }) && scene.shapes.len() > 1 {
+                yes("other shapes may hide part of the shape")
+            } else {
+                n
+            },
+            wavelength: grey,
+            time: static_,
+            max_bounces: Some(0),
+        };
+    };
+    let scatterers: Vec<usize> = (0..scene.shapes.len())
+        .filter(|&i| scene.shapes[i].material.is_some_and(|m| !is_black(&scene.materials[m])))
+        .collect();
+    let flags = scatterers
+        .iter()
+        .map(|&i| scene.materials[scene.shapes[i].material.unwrap()].flags())
+        .fold(LobeFlags::empty(), |a, b| a | b);
+    let transmits = flags.contains(LobeFlags::TRANSMISSION);
+    let has_emitters = scene.has_emitters();
+
+    let direct_emission = if has_emitters { yes("the scene has emitters") } else { no("the scene has no emitters") };
+    let single = if !has_emitters {
+        no("nothing emits")
+    } else if scatterers.is_empty() {
+        no("no surface scatters light (no material, or black)")
+    } else {
+        yes(format!("{} scattering shape(s) and {} emitter(s)", scatterers.len(), scene.emitters.len()))
+    };
+    let self_visible = |i: usize| {
+        let s = &scene.shapes[i];
+        match s.kind {
+            ShapeKind::Planar => false,
+            ShapeKind::Mesh => true,
+            ShapeKind::Sphere => transmits || s.prims.clone().any(|p| inside(&scene.prims()[p], origin)),
+        }
+    };
+    let multiple = if !single.simulated {
+        no("not even single scattering is possible")
+    } else if scatterers.len() >= 2 {
+        yes("two or more scattering shapes can exchange light")
+    } else if self_visible(scatterers[0]) {
+        yes("the scattering shape can see itself (a mesh, or a sphere seen from inside)")
+    } else {
+        no("a single planar or convex scatterer seen from outside cannot light itself")
+    };
+    let specular = if flags.contains(LobeFlags::SPECULAR) { yes("a material has a delta lobe") } else { no("no material has a delta lobe") };
+    let transmission = if transmits { yes("a material transmits") } else { no("no material transmits") };
+
+    let only_shape_emits = scene.emitters.iter().all(|e| matches!(e, Emitter::Area { shape: 0, .. }));
+    let only_infinite = scene.emitters.iter().all(|e| e.is_infinite());
+    let occlusion = if scene.shapes.is_empty() {
+        no("there are no shapes to occlude")
+    } else if scene.shapes.len() == 1 && scene.shapes[0].kind != ShapeKind::Mesh && only_shape_emits && !transmits {
+        no("one convex shape that is the only emitter: no segment crosses another surface")
+    } else if scene.shapes.len() == 1
+        && scene.shapes[0].kind != ShapeKind::Mesh
+        && only_infinite
+        && !transmits
+        && matches!(measure, Measure::Radiance { .. })
+        && !scene.shapes[0].prims.clone().any(|p| inside(&scene.prims()[p], origin))
+    {
+        no("one convex reflector seen from outside and lit from infinity: its lit side faces the lights")
+    } else {
+        yes("surfaces may block segments between vertices and emitters")
+    };
+    let max_bounces = if !single.simulated {
+        Some(0)
+    } else if !multiple.simulated {
+        Some(1)
+    } else {
+        None
+    };
+    Effects {
+        direct_emission,
+        single_scattering: single,
+        multiple_scattering: multiple,
+        specular_chains: specular,
+        transmission,
+        occlusion,
+        wavelength: grey,
+        time: static_,
+        max_bounces,
+    }
+}

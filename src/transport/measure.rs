@@ -1,0 +1,251 @@
+//! Measurements: each is an integral estimated one sample at a time.
+//!
+//! | measurement | integral | estimators |
+//! |---|---|---|
+//! | solid angle of shape S from p | Ω = ∫ V_S(ω) dω | uniform (sphere), area (dω = \|cos θl\| dA/r²) |
+//! | projected solid angle | Ω⊥ = ∫ V_S(ω) cos⁺θ dω | uniform, cosine, area |
+//! | irradiance at p, normal n | E = ∫ Li(p, ω) cos⁺θ dω | light, bsdf (cosine), mis, mis_balance, uniform |
+//! | radiance at p along d | L = Li(p, −d) | light, bsdf, mis, mis_balance (at every vertex) |
+//! | albedo of a BSDF | a(ωo) = ∫ f(ωi → ωo) \|cos θi\| dωi | bsdf, uniform |
+//! | power of an emitter | Φ = ∫∫ L cos θ dω dA | uniform |
+//! | intensity towards ω | I(ω) = ∫ L cos⁺θ dA | area |
+//!
+//! V_S(ω) is 1 where the first surface along ω belongs to S. Irradiance treats p as a
+//! virtual receiver with f = 1 (so that "BSDF sampling" is cosine sampling), after which
+//! the path tracer estimates Li, including every bounce the effects analysis allows.
+
+use crate::bsdf::{Bsdf, BsdfModel};
+use crate::math::{Frame, PI, TWO_PI};
+use crate::sampling::SampleStream;
+use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
+use crate::sampling::sphere::uniform_sphere;
+use crate::scene::Scene;
+use crate::scene::emitter::{Emitter, spot_falloff};
+use crate::transport::Estimator;
+use crate::transport::path::{Config, Prev, next_event, trace};
+use glam::{Vec2, Vec3};
+
+/// A measurement in engine coordinates (f32, rebased on the scene origin).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Measure {
+    /// Solid angle of shape `shape` seen from `from`.
+    SolidAngle {
+        /// Viewpoint.
+        from: Vec3,
+        /// Shape index.
+        shape: usize,
+    },
+    /// Projected solid angle of `shape` for a receiver at `from` facing `normal`.
+    ProjectedSolidAngle {
+        /// Viewpoint.
+        from: Vec3,
+        /// Receiver normal.
+        normal: Vec3,
+        /// Shape index.
+        shape: usize,
+    },
+    /// Irradiance at `at` on a receiver facing `normal`.
+    Irradiance {
+        /// Receiver point.
+        at: Vec3,
+        /// Receiver normal.
+        normal: Vec3,
+    },
+    /// Radiance arriving at `at` travelling against `direction` (seen looking along it).
+    Radiance {
+        /// Eye point.
+        at: Vec3,
+        /// Viewing direction.
+        direction: Vec3,
+    },
+    /// Directional albedo of a BSDF for the outgoing direction `wo` (local frame).
+    Albedo {
+        /// The BSDF.
+        bsdf: Box<Bsdf>,
+        /// Outgoing direction.
+        wo: Vec3,
+    },
+    /// Power of emitter `emitter`.
+    Power {
+        /// Emitter index.
+        emitter: usize,
+    },
+    /// Intensity of emitter `emitter` towards `direction`.
+    Intensity {
+        /// Emitter index.
+        emitter: usize,
+        /// Direction.
+        direction: Vec3,
+    },
+}
+
+impl Measure {
+    /// The point light transport starts from, for transport measurements.
+    pub fn origin(&self) -> Option<Vec3> {
+        match self {
+            Measure::Irradiance { at, .. } | Measure::Radiance { at, .. } => Some(*at),
+            _ => None,
+        }
+    }
+
+    /// Short name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Measure::SolidAngle { .. } => "solid_angle",
+            Measure::ProjectedSolidAngle { .. } => "projected_solid_angle",
+            Measure::Irradiance { .. } => "irradiance",
+            Measure::Radiance { .. } => "radiance",
+            Measure::Albedo { .. } => "albedo",
+            Measure::Power { .. } => "power",
+            Measure::Intensity { .. } => "intensity",
+        }
+    }
+
+    /// The estimators this measurement supports.
+    pub fn estimators(&self) -> &'static [Estimator] {
+        use Estimator::*;
+        match self {
+            Measure::SolidAngle { .. } => &[Uniform, Area],
+            Measure::ProjectedSolidAngle { .. } => &[Uniform, Cosine, Area],
+            Measure::Irradiance { .. } => &[Light, Bsdf, Mis, MisBalance, Uniform],
+            Measure::Radiance { .. } => &[Light, Bsdf, Mis, MisBalance],
+            Measure::Albedo { .. } => &[Bsdf, Uniform],
+            Measure::Power { .. } => &[Uniform],
+            Measure::Intensity { .. } => &[Area],
+        }
+    }
+
+    /// One sample of the estimator `est`, with the path tracer configured by `cfg`.
+    pub fn sample(&self, scene: &Scene, est: Estimator, cfg: &Config, s: &mut SampleStream) -> f32 {
+        match self {
+            Measure::SolidAngle { from, shape } => match est {
+                Estimator::Area => area_visibility(scene, *from, *shape, None, s),
+                _ => {
+                    let w = uniform_sphere(s.next_2d());
+                    if first_shape(scene, *from, w) == Some(*shape) { 4.0 * PI } else { 0.0 }
+                }
+            },
+            Measure::ProjectedSolidAngle { from, normal, shape } => match est {
+                Estimator::Area => area_visibility(scene, *from, *shape, Some(*normal), s),
+                Estimator::Cosine => {
+                    let w = Frame::from_z(*normal).to_world(cosine_hemisphere(s.next_2d()));
+                    if first_shape(scene, *from, w) == Some(*shape) { PI } else { 0.0 }
+                }
+                _ => {
+                    let wl = uniform_hemisphere(s.next_2d());
+                    let w = Frame::from_z(*normal).to_world(wl);
+                    if first_shape(scene, *from, w) == Some(*shape) { TWO_PI * wl.z } else { 0.0 }
+                }
+            },
+            Measure::Irradiance { at, normal } => irradiance(scene, *at, *normal, est, cfg, s),
+            Measure::Radiance { at, direction } => {
+                trace(scene, cfg, *at, *direction, Prev { p: *at, pdf: 1.0, delta: true }, 0, s)
+            }
+            Measure::Albedo { bsdf, wo } => match est {
+                Estimator::Uniform => {
+                    let wi = uniform_sphere(s.next_2d());
+                    bsdf.eval(*wo, wi) * wi.z.abs() * 4.0 * PI
+                }
+                _ => {
+                    let u = s.next_2d();
+                    let uc = s.next_1d();
+                    bsdf.sample(*wo, Vec3::new(u.x, u.y, uc)).map_or(0.0, |b| b.weight)
+                }
+            },
+            Measure::Power { emitter } => power_sample(scene, *emitter, s),
+            Measure::Intensity { emitter, direction } => intensity_sample(scene, *emitter, *direction, s),
+        }
+    }
+}
+
+/// Index of the shape first hit from `p` along `w`.
+fn first_shape(scene: &Scene, p: Vec3, w: Vec3) -> Option<usize> {
+    scene.intersect(p, w, f32::INFINITY).map(|h| h.shape)
+}
+
+/// Sample a point of shape `shape` by area: (point, normal, error, density per area).
+fn shape_area_sample(scene: &Scene, shape: usize, u: Vec2) -> (Vec3, Vec3, Vec3, f32) {
+    let s = &scene.shapes[shape];
+    let (x, _, local) = s.area_dist.sample(u.x);
+    let ux = (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, crate::math::ONE_MINUS_EPSILON);
+    let a = scene.prims()[s.prims.start + local].sample_area(Vec2::new(ux, u.y));
+    let n = if s.flip_normals { -a.n } else { a.n };
+    (a.p, n, a.p_error, 1.0 / s.area)
+}
+
+/// Area-sampled (projected) solid angle: |cos θl| / (r² p_A), times cos θ at the receiver.
+fn area_visibility(scene: &Scene, p: Vec3, shape: usize, normal: Option<Vec3>, s: &mut SampleStream) -> f32 {
+    let (q, n, _, pdf_a) = shape_area_sample(scene, shape, s.next_2d());
+    let d = q - p;
+    let r2 = d.length_squared();
+    if !(r2 > 0.0) {
+        return 0.0;
+    }
+    let w = d / r2.sqrt();
+    let cos_r = match normal {
+        Some(nr) => w.dot(nr).max(0.0),
+        None => 1.0,
+    };
+    if cos_r <= 0.0 {
+        return 0.0;
+    }
+    // Visible if the first hit along w is this shape at (about) the sampled distance.
+    match scene.intersect(p, w, f32::INFINITY) {
+        Some(h) if h.shape == shape && (h.hit.t * h.hit.t - r2).abs() <= 1e-3 * r2 => w.dot(n).abs() * cos_r / (r2 * pdf_a),
+        _ => 0.0,
+    }
+}
+
+fn irradiance(scene: &Scene, p: Vec3, n: Vec3, est: Estimator, cfg: &Config, s: &mut SampleStream) -> f32 {
+    let frame = Frame::from_z(n);
+    let uniform = est == Estimator::Uniform;
+    let pdf_dir = |wl: Vec3| if wl.z <= 0.0 { 0.0 } else if uniform { 0.5 / PI } else { wl.z / PI };
+    let mut e = next_event(scene, cfg, p, Vec3::ZERO, &frame, s, |wl| (wl.z.max(0.0), pdf_dir(wl)));
+    // Continue by cosine (or uniform) sampling unless it can contribute nothing.
+    if cfg.bsdf || cfg.max_bounces > 0 {
+        let wl = if uniform { uniform_hemisphere(s.next_2d()) } else { cosine_hemisphere(s.next_2d()) };
+        let pdf = pdf_dir(wl);
+        if pdf > 0.0 {
+            let w = frame.to_world(wl);
+            let li = trace(scene, cfg, p, w, Prev { p, pdf, delta: false }, 0, s);
+            e += li * wl.z / pdf;
+        }
+    }
+    e
+}
+
+fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
+    match &scene.emitters[emitter] {
+        Emitter::Area { shape, radiance, two_sided } => {
+            let (_, _, _, pdf_a) = shape_area_sample(scene, *shape, s.next_2d());
+            let w = if *two_sided { uniform_sphere(s.next_2d()) } else { uniform_hemisphere(s.next_2d()) };
+            let pdf_w = if *two_sided { 0.25 / PI } else { 0.5 / PI };
+            radiance * w.z.abs() / (pdf_a * pdf_w)
+        }
+        Emitter::Point { intensity, .. } => {
+            let _ = s.next_2d();
+            4.0 * PI * intensity
+        }
+        Emitter::Spot { frame, intensity, cos_total, cos_falloff_start, .. } => {
+            let w = uniform_sphere(s.next_2d());
+            4.0 * PI * intensity * spot_falloff(w.dot(frame.n), *cos_total, *cos_falloff_start)
+        }
+        _ => f32::NAN,
+    }
+}
+
+fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStream) -> f32 {
+    match &scene.emitters[emitter] {
+        Emitter::Area { shape, radiance, two_sided } => {
+            let (_, n, _, pdf_a) = shape_area_sample(scene, *shape, s.next_2d());
+            let c = n.dot(dir);
+            let c = if *two_sided { c.abs() } else { c.max(0.0) };
+            radiance * c / pdf_a
+        }
+        Emitter::Point { intensity, .. } => *intensity,
+        Emitter::Spot { frame, intensity, cos_total, cos_falloff_start, .. } => {
+            intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start)
+        }
+        _ => f32::NAN,
+    }
+}
