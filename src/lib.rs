@@ -14,6 +14,7 @@
 //! | [`error`] | located input errors (file, field, reason) |
 //! | [`scene`] | shapes, emitters, materials, BVH, JSON scenes |
 //! | [`transport`] | effects analysis, path tracer, measurements, the parallel engine |
+//! | [`verify`] | case files, running estimators, verdicts against the oracle |
 
 pub mod bsdf;
 pub mod error;
@@ -23,3 +24,4 @@ pub mod sampling;
 pub mod scene;
 pub mod stats;
 pub mod transport;
+pub mod verify;

@@ -175,7 +175,12 @@ pub enum PrimSampling {
 /// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
 pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
     match *prim {
-        Primitive::Sphere { center, radius } => SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone),
+        // A point on the sphere itself (a self-lit sphere) is ambiguous in f32: only a point
+        // clearly outside uses the cone; on or inside, every point of the sphere is visible
+        // and area sampling is exact.
+        Primitive::Sphere { center, radius } if (p - center).length_squared() > radius * radius * (1.0 + 1e-4) => {
+            SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
+        }
         Primitive::Rectangle { corner, u, v } if u.dot(v).abs() <= 1e-6 * u.length() * v.length() => {
             match SphericalRectangle::new(p, corner, u, v) {
                 Some(r) if r.solid_angle() > 1e-9 => PrimSampling::Rectangle(r),
