@@ -14,14 +14,18 @@
 //! | [`error`] | located input errors (file, field, reason) |
 //! | [`scene`] | shapes, emitters, materials, BVH, JSON scenes |
 //! | [`transport`] | effects analysis, path tracer, measurements, the parallel engine |
+//! | [`suites`] | the chi-square suite of every warp, shared by the CLI and the tests |
 //! | [`verify`] | case files, running estimators, verdicts against the oracle |
+//! | [`render`] | pinhole-camera EXR images |
 
 pub mod bsdf;
 pub mod error;
 pub mod io;
 pub mod math;
+pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod stats;
+pub mod suites;
 pub mod transport;
 pub mod verify;

@@ -1,60 +1,37 @@
 //! The warps of `lightproof::sampling`, each proven by a chi-square test of its samples
-//! against its density, with Šidák correction over this suite (family α = 1e-4), and
-//! the proof that the proof works: deliberately wrong densities are rejected.
+//! against its density (the suite in `lightproof::suites`), with Šidák correction over
+//! the suite (family α = 1e-4), and the proof that the proof works: deliberately wrong
+//! densities are rejected.
 
 mod common;
 
 use glam::{Vec2, Vec3};
 use lightproof::sampling::cone::Cone;
-use lightproof::sampling::disk::{concentric_disk, concentric_disk_pdf};
-use lightproof::sampling::distribution::Distribution2D;
 use lightproof::sampling::hemisphere::*;
-use lightproof::sampling::sphere::{uniform_sphere, uniform_sphere_pdf};
-use lightproof::sampling::sphere_cone::SphereCone;
-use lightproof::sampling::spherical_rectangle::SphericalRectangle;
-use lightproof::sampling::spherical_triangle::SphericalTriangle;
-use lightproof::sampling::triangle::uniform_triangle;
-use lightproof::stats::chi2::{Chi2Outcome, Chi2Test, Domain};
+use lightproof::stats::chi2::{Chi2Test, Domain};
 use lightproof::stats::sidak_alpha;
+use lightproof::suites::warps;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
-/// Number of chi-square tests in this suite that must pass (for Šidák).
-const SUITE: usize = 14;
 const FAMILY_ALPHA: f64 = 1e-4;
 
-fn test(domain: Domain, salt: u64) -> Chi2Test {
-    Chi2Test::new(domain, 1_000_000 * common::scale(), common::seed() ^ salt, sidak_alpha(FAMILY_ALPHA, SUITE))
-}
-
-fn check(o: Chi2Outcome) {
-    assert!(o.passed, "{} (seed {}): {}", o.name, common::seed(), o.reason.unwrap_or_default());
-}
-
-fn u2(u: Vec3) -> Vec2 {
-    Vec2::new(u.x, u.y)
-}
-
 #[test]
-fn uniform_sphere_chi2() {
-    check(test(Domain::Sphere, 1).run("uniform_sphere", |u| Some(uniform_sphere(u2(u))), |_| uniform_sphere_pdf() as f64));
-}
-
-#[test]
-fn uniform_hemisphere_chi2() {
-    check(test(Domain::Sphere, 2).run("uniform_hemisphere", |u| Some(uniform_hemisphere(u2(u))), |w| uniform_hemisphere_pdf(w) as f64));
-}
-
-#[test]
-fn cosine_hemisphere_chi2() {
-    check(test(Domain::Hemisphere, 3).run("cosine_hemisphere", |u| Some(cosine_hemisphere(u2(u))), |w| cosine_hemisphere_pdf(w) as f64));
-}
-
-#[test]
-fn cones_chi2() {
-    for (k, half_angle) in [0.3f32, std::f32::consts::FRAC_PI_2].into_iter().enumerate() {
-        let c = Cone::from_half_angle(half_angle);
-        check(test(Domain::Sphere, 4 + k as u64).run(&format!("cone_{half_angle}"), |u| Some(c.sample(u2(u))), |w| c.pdf(w) as f64));
-    }
+fn every_warp_passes_chi2() {
+    let suite = warps();
+    let alpha = sidak_alpha(FAMILY_ALPHA, suite.len());
+    let samples = 1_000_000 * common::scale();
+    let failures: Vec<String> = suite
+        .par_iter()
+        .enumerate()
+        .map(|(k, (name, test))| {
+            let o = test(samples, common::seed() ^ (k as u64 + 1), alpha);
+            (name, o)
+        })
+        .filter(|(_, o)| !o.passed)
+        .map(|(name, o)| format!("{name} (seed {}): {}", common::seed(), o.reason.unwrap_or_default()))
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
@@ -70,76 +47,8 @@ fn tiny_cone_is_sampled_inside_with_its_density() {
     }
 }
 
-#[test]
-fn concentric_disk_chi2() {
-    check(test(Domain::Disk, 6).run("concentric_disk", |u| Some(concentric_disk(u2(u)).extend(0.0)), |p| concentric_disk_pdf(p.truncate()) as f64));
-}
-
-#[test]
-fn uniform_triangle_chi2() {
-    // The unit right triangle in the square: density 2 inside, 0 outside.
-    check(test(Domain::Square, 7).run(
-        "uniform_triangle",
-        |u| {
-            let b = uniform_triangle(u2(u));
-            Some(Vec3::new(b.x, b.y, 0.0))
-        },
-        |p| if p.x + p.y <= 1.0 { 2.0 } else { 0.0 },
-    ));
-}
-
-fn spherical_triangle_case(name: &str, salt: u64, v: [Vec3; 3], res: (usize, usize)) {
-    let t = SphericalTriangle::new(Vec3::ZERO, v).expect("non-degenerate");
-    check(test(Domain::Sphere, salt).with_resolution(res.0, res.1).run(name, |u| Some(t.sample(u2(u))), |w| if t.contains(w) { t.pdf() as f64 } else { 0.0 }));
-}
-
-#[test]
-fn spherical_triangle_chi2() {
-    spherical_triangle_case("spherical_triangle", 8, [Vec3::new(0.2, 0.1, 1.0), Vec3::new(1.0, -0.3, 0.2), Vec3::new(-0.4, 0.9, 0.5)], (64, 128));
-}
-
-#[test]
-fn sliver_spherical_triangle_chi2() {
-    // A long thin triangle: one angle near 180 degrees.
-    spherical_triangle_case("sliver_spherical_triangle", 9, [Vec3::new(-1.0, 0.0, 0.3), Vec3::new(1.0, 0.02, 0.3), Vec3::new(0.0, -0.01, 0.3)], (128, 256));
-}
-
-#[test]
-fn spherical_rectangle_chi2() {
-    let r = SphericalRectangle::new(Vec3::ZERO, Vec3::new(-0.3, -0.8, 0.6), Vec3::new(1.2, 0.0, 0.0), Vec3::new(0.0, 0.9, 0.5)).unwrap();
-    // Membership by ray–plane intersection in f64.
-    let (s, ex, ey) = (Vec3::new(-0.3, -0.8, 0.6).as_dvec3(), Vec3::new(1.2, 0.0, 0.0).as_dvec3(), Vec3::new(0.0, 0.9, 0.5).as_dvec3());
-    let n = ex.cross(ey);
-    let inside = move |w: Vec3| {
-        let w = w.as_dvec3();
-        let t = s.dot(n) / w.dot(n);
-        if t <= 0.0 {
-            return false;
-        }
-        let q = w * t - s;
-        let (a, b) = (q.dot(ex) / ex.length_squared(), q.dot(ey) / ey.length_squared());
-        (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)
-    };
-    check(test(Domain::Sphere, 10).run("spherical_rectangle", |u| Some(r.sample(u2(u))), |w| if inside(w) { r.pdf() as f64 } else { 0.0 }));
-}
-
-#[test]
-fn sphere_cone_chi2() {
-    let c = Vec3::new(0.5, -1.0, 2.0);
-    let s = SphereCone::new(Vec3::ZERO, c, 1.2).unwrap();
-    check(test(Domain::Sphere, 11).run("sphere_cone", |u| Some(s.sample(Vec3::ZERO, u2(u))), |w| if s.contains(w) { s.pdf() as f64 } else { 0.0 }));
-}
-
-#[test]
-fn piecewise_constant_2d_chi2() {
-    let (nu, nv) = (7, 5);
-    let values: Vec<f32> = (0..nu * nv).map(|i| ((i * 37 % 11) as f32).powi(2) * if i % 9 == 0 { 0.0 } else { 1.0 }).collect();
-    let d = Distribution2D::new(&values, nu, nv);
-    check(test(Domain::Square, 12).with_resolution(35, 35).run(
-        "piecewise_constant_2d",
-        |u| Some(d.sample(u2(u)).0.extend(0.0)),
-        |p| d.pdf(p.truncate()) as f64,
-    ));
+fn u2(u: Vec3) -> Vec2 {
+    Vec2::new(u.x, u.y)
 }
 
 /// The proof that the proof works: three wrong densities must be rejected with p far

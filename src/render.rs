@@ -1,0 +1,114 @@
+//! Pinhole-camera images, for looking: each pixel is the mean of `spp` MIS path-traced
+//! radiance samples through jittered points of the pixel, written as an EXR.
+
+use crate::error::{InputError, parse_json};
+use crate::math::Frame;
+use crate::sampling::{Sampler, SamplerKind};
+use crate::scene::load::SceneDesc;
+use crate::transport::Heuristic;
+use crate::transport::effects::analyze;
+use crate::transport::measure::Measure;
+use crate::transport::path::{Config, Prev, trace};
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A pinhole camera.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye.
+    pub position: [f64; 3],
+    /// Point looked at.
+    pub look_at: [f64; 3],
+    /// Up vector.
+    #[serde(default = "up")]
+    pub up: [f64; 3],
+    /// Vertical field of view in degrees.
+    pub fov_degrees: f64,
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+}
+
+fn up() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+/// A scene with a camera.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    /// Optional name.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Optional teaching sentence.
+    #[serde(default)]
+    pub teaches: Option<String>,
+    /// Scene.
+    pub scene: SceneDesc,
+    /// Camera.
+    pub camera: CameraDesc,
+}
+
+/// Render `path` with `spp` samples per pixel; returns (width, height, radiance).
+pub fn render_file(path: &Path, spp: u64, seed: u64) -> Result<(usize, usize, Vec<f32>), InputError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
+    let desc: RenderDesc = parse_json(&file, &text)?;
+    let c = &desc.camera;
+    let eye = DVec3::from_array(c.position);
+    let look = DVec3::from_array(c.look_at) - eye;
+    if !eye.is_finite() || !(look.length() > 0.0) {
+        return Err(InputError::new(&file, "camera.look_at", "must differ from camera.position"));
+    }
+    if c.width == 0 || c.height == 0 || c.width * c.height > 1 << 26 {
+        return Err(InputError::new(&file, "camera.width", "width and height must be positive (and the image at most 64 Mpixel)"));
+    }
+    if !(c.fov_degrees > 0.0 && c.fov_degrees < 180.0) {
+        return Err(InputError::new(&file, "camera.fov_degrees", format!("must lie in (0, 180), got {}", c.fov_degrees)));
+    }
+    let scene = desc.scene.build(&file, "scene", path.parent().unwrap_or(Path::new(".")), eye)?;
+    let fwd = look.normalize().as_vec3();
+    let frame = Frame::from_z(fwd);
+    let upv = Vec3::from_array(c.up.map(|x| x as f32));
+    let right = fwd.cross(upv).normalize_or(frame.s);
+    let up = right.cross(fwd);
+    let tan = (c.fov_degrees.to_radians() * 0.5).tan() as f32;
+    let aspect = c.width as f32 / c.height as f32;
+    let effects = analyze(&scene, &Measure::Radiance { at: Vec3::ZERO, direction: fwd });
+    let mut cfg = Config::full(true, true, Heuristic::Power);
+    cfg.max_bounces = effects.max_bounces.unwrap_or(u32::MAX);
+    let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
+    let (w, h) = (c.width, c.height);
+    let pixels: Vec<f32> = (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let mut sum = 0.0f64;
+            for k in 0..spp {
+                let mut s = sampler.stream(i as u64 * spp + k);
+                let j = s.next_2d();
+                let px = (2.0 * (x as f32 + j.x) / w as f32 - 1.0) * tan * aspect;
+                let py = (1.0 - 2.0 * (y as f32 + j.y) / h as f32) * tan;
+                let d = (fwd + right * px + up * py).normalize();
+                sum += trace(&scene, &cfg, Vec3::ZERO, d, Prev { p: Vec3::ZERO, pdf: 1.0, delta: true }, 0, &mut s) as f64;
+            }
+            (sum / spp.max(1) as f64) as f32
+        })
+        .collect();
+    Ok((w, h, pixels))
+}
+
+/// Write grey radiance as an RGB EXR, atomically.
+pub fn write_exr(path: &Path, w: usize, h: usize, data: &[f32]) -> std::io::Result<()> {
+    let tmp = path.with_extension(format!("tmp{}.exr", std::process::id()));
+    exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
+        let v = data[y * w + x];
+        (v, v, v)
+    })
+    .map_err(|e| std::io::Error::other(e.to_string()))?;
+    std::fs::rename(&tmp, path)
+}
