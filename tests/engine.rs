@@ -1,0 +1,209 @@
+//! The engine's proof: white furnaces, estimator agreement, radiance invariance,
+//! reciprocity of the whole transport, translation invariance far from the origin, and
+//! bit-identical results whatever the thread count.
+
+mod common;
+
+use lightproof::sampling::SamplerKind;
+use lightproof::stats::{MeanTest, sidak_alpha};
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::{Estimate, RunSpec};
+use lightproof::verify::{Case, CaseDesc, judge};
+use statrs::distribution::{ContinuousCDF, Normal};
+use std::path::Path;
+
+/// Tests in this file that make a statistical decision (Šidák family).
+const FAMILY: usize = 16;
+const ALPHA: f64 = 1e-4;
+
+fn case(json: &str) -> Case {
+    let desc: CaseDesc = serde_json::from_str(json).expect("valid case JSON");
+    Case::from_desc(desc, Path::new("<engine test>")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn spec(samples: u64, salt: u64) -> RunSpec {
+    RunSpec { samples: samples * common::scale(), sampler: SamplerKind::Independent, seed: common::seed() ^ salt }
+}
+
+/// Two-sample z test of equal means; returns (z, passed at the family's per-test level).
+fn same_mean(a: &Estimate, b: &Estimate) -> (f64, bool) {
+    let (ma, mb) = (&a.batches.total, &b.batches.total);
+    let se = (ma.std_error().powi(2) + mb.std_error().powi(2)).sqrt();
+    let diff = ma.mean - mb.mean;
+    let z = if diff == 0.0 { 0.0 } else { diff / se.max(1e-6 * ma.mean.abs()) };
+    let crit = Normal::standard().inverse_cdf(1.0 - sidak_alpha(ALPHA, FAMILY) / 2.0);
+    (z, z.abs() <= crit && ma.non_finite == 0 && mb.non_finite == 0)
+}
+
+fn furnace(albedo: f64) -> Case {
+    case(&format!(
+        r#"{{ "name": "furnace {albedo}", "teaches": "Le/(1-ρ)",
+        "scene": {{ "materials": {{ "m": {{ "type": "lambertian", "albedo": {albedo} }} }},
+          "shapes": [ {{ "geometry": {{ "type": "sphere", "center": [0,0,0], "radius": 1 }}, "material": "m",
+                        "flip_normals": true, "emission": {{ "radiance": 1 }} }} ] }},
+        "measure": {{ "radiance": {{ "at": [0.3, 0.1, -0.2], "direction": [0.2, -0.6, 0.77] }} }},
+        "reference": {{ "closed_form": "furnace_closed_enclosure", "emitted_radiance": 1, "albedo": {albedo} }},
+        "estimators": ["light", "bsdf", "mis"] }}"#
+    ))
+}
+
+/// Closed sphere furnaces with Russian roulette: L = Le/(1 − ρ) for every estimator.
+/// ρ = 0.99 paths average 100 bounces; its test detects biases of about 2.5%.
+#[test]
+fn white_furnace_closed_sphere() {
+    let mut report = Vec::new();
+    for (k, (rho, n)) in [(0.5, 1u64 << 17), (0.9, 1 << 17), (0.99, 1 << 15)].into_iter().enumerate() {
+        let c = furnace(rho);
+        for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis].into_iter().enumerate() {
+            let e = c.estimate(est, &spec(n, (k * 3 + j) as u64), false);
+            let v = judge(&e, SamplerKind::Independent, c.reference.unwrap(), ALPHA, FAMILY);
+            report.push(format!("ρ={rho} {}: {:.5} ± {:.5} (det {:.2}%)", est.name(), v.estimate, v.std_error, 100.0 * v.detectable_relative_bias));
+            assert!(v.passed, "furnace ρ={rho} {}: {:?}", est.name(), v.reason);
+        }
+    }
+    println!("{}", report.join("\n"));
+}
+
+/// A convex diffuse sphere under constant radiance 1 reflects ρ, seen from outside.
+#[test]
+fn convex_object_under_constant_sky() {
+    let c = case(
+        r#"{ "name": "convex", "teaches": "ρ",
+        "scene": { "materials": { "m": { "type": "lambertian", "albedo": 0.7 } },
+          "shapes": [ { "geometry": { "type": "sphere", "center": [0,0,0], "radius": 2 }, "material": "m" } ],
+          "emitters": [ { "type": "constant", "radiance": 1 } ] },
+        "measure": { "radiance": { "at": [0.5, 0, 9], "direction": [0, 0, -1] } },
+        "reference": { "closed_form": "furnace_convex_object", "albedo": 0.7, "radiance": 1 },
+        "estimators": ["light", "bsdf", "mis"] }"#,
+    );
+    assert_eq!(c.effects.max_bounces, Some(1));
+    assert!(!c.effects.occlusion.simulated);
+    for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis].into_iter().enumerate() {
+        let e = c.estimate(est, &spec(1 << 17, 100 + j as u64), false);
+        let v = judge(&e, SamplerKind::Independent, 0.7, ALPHA, FAMILY);
+        assert!(v.passed, "{}: {:?}", est.name(), v.reason);
+    }
+}
+
+/// Emitter sampling, BSDF sampling and MIS agree with each other (two-sample tests),
+/// not only with the closed form.
+#[test]
+fn estimators_agree_with_each_other() {
+    let c = case(
+        r#"{ "name": "tilted square", "teaches": "agreement",
+        "scene": { "shapes": [ { "geometry": { "type": "rectangle", "corner": [-0.5, 0.2, 1], "edge_u": [0, 1, 0.4], "edge_v": [1.5, 0, 0.2] },
+                                 "emission": { "radiance": 2 } } ] },
+        "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0.2, 0, 1] } },
+        "estimators": ["light", "bsdf", "mis"] }"#,
+    );
+    let l = c.estimate(Estimator::Light, &spec(1 << 17, 200), false);
+    let b = c.estimate(Estimator::Bsdf, &spec(1 << 18, 201), false);
+    let m = c.estimate(Estimator::Mis, &spec(1 << 17, 202), false);
+    assert!(l.batches.total.mean > 0.1, "the emitter must face the receiver");
+    for (x, y, what) in [(&l, &b, "light vs bsdf"), (&l, &m, "light vs mis")] {
+        let (z, ok) = same_mean(x, y);
+        assert!(ok, "{what}: z = {z:.2}");
+    }
+}
+
+/// Radiance is invariant along a ray in vacuum: an emitter of radiance L looks equally
+/// bright from 1, 100 and 10⁴ units away.
+#[test]
+fn radiance_is_invariant_along_a_ray() {
+    for d in [1.0, 100.0, 1e4] {
+        let c = case(&format!(
+            r#"{{ "name": "invariance", "teaches": "L is constant along a ray",
+            "scene": {{ "shapes": [ {{ "geometry": {{ "type": "rectangle", "corner": [-1e4, -1e4, 0], "edge_u": [2e4, 0, 0], "edge_v": [0, 2e4, 0] }},
+                                     "emission": {{ "radiance": 3.5 }} }} ] }},
+            "measure": {{ "radiance": {{ "at": [0.1, 0.2, {d}], "direction": [0.01, 0.02, -1] }} }},
+            "reference": {{ "closed_form": "radiance_across_interface", "radiance": 3.5, "n1": 1, "n2": 1 }},
+            "estimators": ["mis"] }}"#
+        ));
+        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 300), false);
+        let v = judge(&e, SamplerKind::Independent, c.reference.unwrap(), ALPHA, FAMILY);
+        assert!(v.passed, "distance {d}: {:?}", v.reason);
+    }
+}
+
+fn reciprocity_case(light_at: [f64; 3], light_n: [f64; 3], sensor_at: [f64; 3], sensor_n: [f64; 3]) -> Case {
+    let f = |a: [f64; 3]| format!("[{}, {}, {}]", a[0], a[1], a[2]);
+    let r = 0.005;
+    case(&format!(
+        r#"{{ "name": "reciprocity", "teaches": "transport is reciprocal",
+        "scene": {{ "materials": {{ "floor": {{ "type": "lambertian", "albedo": 0.8 }} }},
+          "shapes": [
+            {{ "geometry": {{ "type": "rectangle", "corner": [-3, -3, 0], "edge_u": [6, 0, 0], "edge_v": [0, 6, 0] }}, "material": "floor" }},
+            {{ "geometry": {{ "type": "rectangle", "corner": [0, -3, 0.2], "edge_u": [0, 6, 0], "edge_v": [0, 0, 3] }} }},
+            {{ "geometry": {{ "type": "disk", "center": {}, "normal": {}, "radius": {r} }}, "emission": {{ "radiance": 1 }} }}
+          ] }},
+        "measure": {{ "irradiance": {{ "at": {}, "normal": {} }} }},
+        "estimators": ["mis"] }}"#,
+        f(light_at),
+        f(light_n),
+        f(sensor_at),
+        f(sensor_n)
+    ))
+}
+
+/// Reciprocity of the whole transport: a tiny Lambertian disk emitter at A seen by a
+/// cosine sensor at B equals the swapped configuration (the adjoint of a cosine sensor
+/// is a Lambertian emitter); a wall between them leaves only light scattered by the floor.
+#[test]
+fn transport_is_reciprocal() {
+    let (a, na) = ([-1.0, 0.3, 1.0], [0.3, 0.0, -1.0]);
+    let (b, nb) = ([1.2, -0.4, 0.7], [-0.5, 0.2, -1.0]);
+    let ab = reciprocity_case(a, na, b, nb).estimate(Estimator::Mis, &spec(1 << 18, 400), false);
+    let ba = reciprocity_case(b, nb, a, na).estimate(Estimator::Mis, &spec(1 << 18, 401), false);
+    let (z, ok) = same_mean(&ab, &ba);
+    assert!(ab.batches.total.mean > 0.0);
+    assert!(ok, "E(A→B) = {:.6e}, E(B→A) = {:.6e}, z = {z:.2}", ab.batches.total.mean, ba.batches.total.mean);
+}
+
+fn disk_case(offset: f64) -> Case {
+    let o = |x: f64, y: f64, z: f64| format!("[{}, {}, {}]", x + offset, y - offset, z + offset);
+    case(&format!(
+        r#"{{ "name": "far disk", "teaches": "translation invariance",
+        "scene": {{ "materials": {{ "m": {{ "type": "lambertian", "albedo": 0.6 }} }},
+          "shapes": [ {{ "geometry": {{ "type": "disk", "center": {}, "normal": [0, 0, -1], "radius": 1 }}, "emission": {{ "radiance": 1 }} }},
+                      {{ "geometry": {{ "type": "sphere", "center": {}, "radius": 0.4 }}, "material": "m" }} ] }},
+        "measure": {{ "irradiance": {{ "at": {}, "normal": [0, 0, 1] }} }},
+        "estimators": ["mis"] }}"#,
+        o(0.0, 0.0, 2.0),
+        o(0.8, 0.0, 0.6),
+        o(0.0, 0.0, 0.0)
+    ))
+}
+
+/// The same scene translated by 1e5 units in every axis gives the same answer.
+#[test]
+fn translation_far_from_the_origin() {
+    let near = disk_case(0.0).estimate(Estimator::Mis, &spec(1 << 17, 500), false);
+    let far = disk_case(1e5).estimate(Estimator::Mis, &spec(1 << 17, 501), false);
+    let (z, ok) = same_mean(&near, &far);
+    assert!(ok, "near {:.6} far {:.6} z {z:.2}", near.batches.total.mean, far.batches.total.mean);
+}
+
+/// Same seed, 1 or 2 threads: bit-identical accumulators.
+#[test]
+fn deterministic_across_thread_counts() {
+    let c = disk_case(0.0);
+    let s = spec(1 << 14, 600);
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+    assert_eq!(one.batches, two.batches);
+    for sampler in [SamplerKind::Stratified, SamplerKind::Sobol] {
+        let s = RunSpec { sampler, ..s };
+        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+        let two = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+        assert_eq!(one.batches, two.batches);
+    }
+}
+
+/// A test must be able to fail: a furnace judged against a reference 1% off is rejected.
+#[test]
+fn a_wrong_reference_is_rejected() {
+    let c = furnace(0.5);
+    let e = c.estimate(Estimator::Light, &spec(1 << 17, 700), false);
+    let v = MeanTest::new(ALPHA, FAMILY).judge(&e.batches.total, 2.0 * 1.01);
+    assert!(!v.passed, "{v:?}");
+}
