@@ -117,10 +117,12 @@ impl Primitive {
             Primitive::Rectangle { corner, u, v } => {
                 let n = u.cross(v);
                 let (t, p) = plane_hit(corner, n, o, d, tmin, tmax)?;
+                // Coordinates in the (possibly skewed) edge basis: rel = a·u + b·v with
+                // a = (rel × v)·n / |n|², b = (u × rel)·n / |n|².
                 let rel = p - corner;
-                let (uu, vv) = (u.length_squared(), v.length_squared());
-                let a = rel.dot(u) / uu;
-                let b = rel.dot(v) / vv;
+                let nn = n.length_squared();
+                let a = rel.cross(v).dot(n) / nn;
+                let b = u.cross(rel).dot(n) / nn;
                 if !(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b) {
                     return None;
                 }
@@ -347,6 +349,10 @@ mod tests {
         let r = Primitive::Rectangle { corner: Vec3::new(-1.0, -1.0, 2.0), u: Vec3::X * 2.0, v: Vec3::Y * 2.0 };
         assert!(r.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY).is_some());
         assert!((r.area() - 4.0).abs() < 1e-6);
+        // A skewed parallelogram: (1.2, 0.5) is inside, (0.1, 0.5) is not.
+        let s = Primitive::Rectangle { corner: Vec3::new(0.0, 0.0, 2.0), u: Vec3::X, v: Vec3::new(1.0, 1.0, 0.0) };
+        assert!(s.intersect(Vec3::new(1.2, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_some());
+        assert!(s.intersect(Vec3::new(0.1, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_none());
         let d = Primitive::Disk { center: Vec3::new(0.0, 0.0, 2.0), normal: -Vec3::Z, radius: 1.0 };
         let h = d.intersect(Vec3::new(0.99, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY).unwrap();
         assert!((h.t - 2.0).abs() < 1e-6);
