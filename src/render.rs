@@ -1,10 +1,10 @@
-//! Pinhole-camera images, for looking: each pixel is the mean of `spp` MIS path-traced
+//! Pinhole-camera images of a case file that has a `camera`, for looking: each pixel is the mean of `spp` MIS path-traced
 //! radiance samples through jittered points of the pixel, written as an EXR.
 
 use crate::error::{InputError, parse_json};
 use crate::math::Frame;
 use crate::sampling::{Sampler, SamplerKind};
-use crate::scene::load::SceneDesc;
+use crate::verify::CaseDesc;
 use crate::transport::Heuristic;
 use crate::transport::effects::analyze;
 use crate::transport::measure::Measure;
@@ -37,28 +37,15 @@ fn up() -> [f64; 3] {
     [0.0, 0.0, 1.0]
 }
 
-/// A scene with a camera.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RenderDesc {
-    /// Optional name.
-    #[serde(default)]
-    pub name: Option<String>,
-    /// Optional teaching sentence.
-    #[serde(default)]
-    pub teaches: Option<String>,
-    /// Scene.
-    pub scene: SceneDesc,
-    /// Camera.
-    pub camera: CameraDesc,
-}
 
 /// Render `path` with `spp` samples per pixel; returns (width, height, radiance).
 pub fn render_file(path: &Path, spp: u64, seed: u64) -> Result<(usize, usize, Vec<f32>), InputError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
-    let desc: RenderDesc = parse_json(&file, &text)?;
-    let c = &desc.camera;
+    let desc: CaseDesc = parse_json(&file, &text)?;
+    let Some(c) = &desc.camera else {
+        return Err(InputError::new(&file, "camera", "a file to render needs a `camera`"));
+    };
     let eye = DVec3::from_array(c.position);
     let look = DVec3::from_array(c.look_at) - eye;
     if !eye.is_finite() || !(look.length() > 0.0) {

@@ -132,6 +132,9 @@ pub struct CaseDesc {
     /// Samples per estimate (default 2¹⁸).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<u64>,
+    /// A camera for `lightproof render` (see [`crate::render::CameraDesc`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<crate::render::CameraDesc>,
 }
 
 /// A loaded, validated case.

@@ -1,0 +1,79 @@
+//! Engine speed: BVH build and closest-hit rays/s on a 100k-triangle mesh, and path
+//! samples/s on the furnace and Cornell-like scenes of `analytic/scenes/`.
+//! `cargo bench --bench engine` (use `RAYON_NUM_THREADS=2` for the 2-thread figures).
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::{Vec2, Vec3};
+use lightproof::sampling::sphere::uniform_sphere;
+use lightproof::sampling::{Sampler, SamplerKind};
+use lightproof::scene::accel::Accel;
+use lightproof::scene::shape::Primitive;
+use lightproof::transport::engine::{RunSpec, run};
+use lightproof::verify::Case;
+use std::hint::black_box;
+use std::path::Path;
+
+/// A UV sphere of about 100k triangles.
+fn mesh() -> Vec<Primitive> {
+    let (nt, np) = (158usize, 316usize);
+    let p = |i: usize, j: usize| {
+        let t = std::f32::consts::PI * i as f32 / nt as f32;
+        let f = 2.0 * std::f32::consts::PI * j as f32 / np as f32;
+        Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos())
+    };
+    let mut out = Vec::new();
+    for i in 0..nt {
+        for j in 0..np {
+            let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+            out.push(Primitive::Triangle { p: [a, b, c] });
+            out.push(Primitive::Triangle { p: [a, c, d] });
+        }
+    }
+    out.retain(|t| t.area() > 0.0);
+    out
+}
+
+fn bvh(c: &mut Criterion) {
+    let prims = mesh();
+    let mut g = c.benchmark_group("bvh");
+    g.sample_size(10);
+    g.bench_function(format!("build {} triangles", prims.len()), |b| b.iter(|| black_box(Accel::new(prims.clone()))));
+    let accel = Accel::new(prims);
+    let s = Sampler::independent(3);
+    let rays: Vec<(Vec3, Vec3)> = (0..65536u64)
+        .map(|i| {
+            let mut st = s.stream(i);
+            let o = uniform_sphere(st.next_2d()) * 3.0;
+            let target = uniform_sphere(st.next_2d()) * 0.5;
+            (o, (target - o).normalize())
+        })
+        .collect();
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("closest hit, 1 thread", |b| {
+        b.iter(|| rays.iter().filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some()).count())
+    });
+    g.finish();
+    let _ = Vec2::ZERO;
+}
+
+fn paths(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes");
+    let mut g = c.benchmark_group("path samples");
+    g.sample_size(10);
+    for name in ["furnace", "cornell"] {
+        let case = Case::load(&root.join(format!("{name}.json"))).expect("bench scene");
+        let est = case.desc.estimators[0];
+        let spec = RunSpec { samples: 1 << 18, sampler: SamplerKind::Independent, seed: 1 };
+        g.throughput(Throughput::Elements(spec.total()));
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let cfg = case.config(est, false);
+                black_box(run(&spec, |s| case.measure.sample(&case.scene, est, &cfg, s)))
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bvh, paths);
+criterion_main!(benches);
