@@ -39,16 +39,42 @@ pub fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
         eta = 1.0 / eta;
         cos_i = -cos_i;
     }
-    let sin2_i = 1.0 - cos_i * cos_i;
-    let sin2_t = sin2_i / (eta * eta);
-    if !(sin2_t < 1.0) {
+    // cos²θt = 1 − sin²θi/η² = ((η − 1)(η + 1) + cos²θi)/η²: no cancellation as η → 1.
+    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
+    if !(cos2_t > 0.0) {
         return 1.0;
     }
-    let cos_t = safe_sqrt(1.0 - sin2_t);
+    let cos_t = cos2_t.min(1.0).sqrt();
     let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let r = 0.5 * (r_parl * r_parl + r_perp * r_perp);
     if r.is_finite() { r.clamp(0.0, 1.0) } else { 1.0 }
+}
+
+/// Unpolarised Fresnel transmittance 1 − R of a dielectric interface (same arguments
+/// as [`fr_dielectric`]), computed directly as
+/// T = 2η cos θi cos θt (1/(η cos θi + cos θt)² + 1/(cos θi + η cos θt)²)
+/// (from 1 − r² = (1 − r)(1 + r)): where R → 1 (grazing, near total internal
+/// reflection), 1 − R in `f32` keeps no digits, and this form keeps all of them, which
+/// the reciprocity of a rough dielectric's transmission (evaluated once from each side)
+/// needs.
+#[inline]
+pub fn tr_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let mut cos_i = cos_i.clamp(-1.0, 1.0);
+    let mut eta = eta;
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+    }
+    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
+    if !(cos2_t > 0.0) {
+        return 0.0;
+    }
+    let cos_t = cos2_t.min(1.0).sqrt();
+    let a = eta * cos_i + cos_t;
+    let b = cos_i + eta * cos_t;
+    let t = 2.0 * eta * cos_i * cos_t * (1.0 / (a * a) + 1.0 / (b * b));
+    if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 }
 }
 
 /// Unpolarised Fresnel reflectance of a conductor with complex relative index
@@ -126,13 +152,17 @@ pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
 #[inline]
 pub fn refract(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     let cos_i = w.dot(n);
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta * eta);
-    if !(sin2_t < 1.0) {
+    // cos²θt = ((η − 1)(η + 1) + cos²θi)/η² (see fr_dielectric).
+    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
+    if !(cos2_t > 0.0) {
         return None;
     }
-    let cos_t = safe_sqrt(1.0 - sin2_t);
-    Some(-w / eta + (cos_i / eta - cos_t) * n)
+    let cos_t = cos2_t.min(1.0).sqrt();
+    // cos_i/η − cos_t written as ((1 − η²)/η²)/(cos_i/η + cos_t): the difference cancels
+    // catastrophically as η → 1 (four digits lost at η = 1.0001), the quotient does not.
+    let k = ((1.0 - eta) * (1.0 + eta) / (eta * eta)) / (cos_i / eta + cos_t);
+    let k = if k.is_finite() { k } else { cos_i / eta - cos_t };
+    Some(-w / eta + k * n)
 }
 
 #[cfg(test)]
@@ -146,6 +176,11 @@ mod tests {
         assert_eq!(fr_dielectric(0.0, 1.5), 1.0);
         // From inside glass past the critical angle.
         assert_eq!(fr_dielectric(-0.3, 1.5), 1.0);
+        for c in [-0.9, -0.5, 0.01, 0.3, 0.7, 1.0] {
+            for eta in [1.0001, 1.33, 2.4, 0.5] {
+                assert!((fr_dielectric(c, eta) + tr_dielectric(c, eta) - 1.0).abs() < 1e-6, "{c} {eta}");
+            }
+        }
         assert_eq!(fr_conductor(0.0, 1.0, 0.0), 1.0);
         assert!((fr_conductor(1.0, 1.5, 0.0) - 0.04).abs() < 1e-6);
     }

@@ -152,7 +152,8 @@ impl Microfacet {
     #[inline]
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.masking {
-            Masking::HeightCorrelated => 1.0 / (1.0 + self.lambda(wo) + self.lambda(wi)),
+            // Λo + Λi first: commutative, so G2(ωo, ωi) = G2(ωi, ωo) bit for bit.
+            Masking::HeightCorrelated => 1.0 / (1.0 + (self.lambda(wo) + self.lambda(wi))),
             Masking::Uncorrelated => self.g1(wo) * self.g1(wi),
         }
     }
@@ -160,7 +161,8 @@ impl Microfacet {
     /// Visible-normal density D_ω(m) = G1(ω) ⟨ω, m⟩⁺ D(m) / cos θ for ω with z > 0.
     #[inline]
     pub fn d_visible(&self, w: Vec3, m: Vec3) -> f32 {
-        let c = w.dot(m);
+        // ⟨ω, m⟩ in f64: at grazing ω it is a sum of nearly cancelling products.
+        let c = w.as_dvec3().dot(m.as_dvec3()) as f32;
         if !(w.z > 0.0) || !(c > 0.0) {
             return 0.0;
         }

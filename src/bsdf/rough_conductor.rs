@@ -79,7 +79,9 @@ impl BsdfModel for RoughConductor {
         }
         let h = h.normalize();
         let mf = self.microfacet();
-        let f = mf.d(h) * mf.g2(wo, wi) * fr_conductor(wo.dot(h), self.eta, self.k) / (4.0 * co * ci);
+        // F at the symmetric mean of ωo·h and ωi·h (equal but for rounding): reciprocal to the bit.
+        let c = 0.5 * (wo.dot(h) + wi.dot(h));
+        let f = mf.d(h) * mf.g2(wo, wi) * fr_conductor(c, self.eta, self.k) / (4.0 * (co * ci));
         if f.is_finite() { f } else { 0.0 }
     }
 

@@ -30,7 +30,7 @@
 //! stability only.
 
 use super::dielectric::validate_eta;
-use super::fresnel::{fr_dielectric, reflect, refract};
+use super::fresnel::{fr_dielectric, reflect, refract, tr_dielectric};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use super::rough_conductor::flip_z;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
@@ -71,7 +71,9 @@ fn half_vector(wo: Vec3, wi: Vec3, no: f32, ni: f32) -> Option<Vec3> {
         }
         h.normalize()
     } else {
-        let h = wo.as_dvec3() * no as f64 + wi.as_dvec3() * ni as f64;
+        // Unit-normalised in f64 first: as η → 1 the sum is short, and a direction's
+        // length error (an ulp) would turn its direction by 1e-4 relative.
+        let h = wo.as_dvec3().normalize() * no as f64 + wi.as_dvec3().normalize() * ni as f64;
         let l2 = h.length_squared();
         if !(l2 > 0.0) {
             return None;
@@ -88,6 +90,32 @@ fn half_vector(wo: Vec3, wi: Vec3, no: f32, ni: f32) -> Option<Vec3> {
         return None;
     }
     Some(h)
+}
+
+#[inline]
+fn dot64(a: Vec3, b: Vec3) -> f64 {
+    a.as_dvec3().dot(b.as_dvec3())
+}
+
+/// |dωm/dωi| of refraction, η_i² |ωi·m| / (η_i ωi·m + η_o ωo·m)² (Walter eq. 17), in
+/// `f64` because the denominator cancels as η → 1.
+#[inline]
+fn transmission_jacobian(wo: Vec3, wi: Vec3, m: Vec3, no: f32, ni: f32) -> f64 {
+    let m = m.as_dvec3().normalize();
+    let (oh, ih) = (wo.as_dvec3().normalize().dot(m), wi.as_dvec3().normalize().dot(m));
+    let (no, ni) = (no as f64, ni as f64);
+    let denom = ni * ih + no * oh;
+    ni * ni * ih.abs() / (denom * denom)
+}
+
+/// Fresnel transmittance through a microfacet, evaluated from the side of the rarer
+/// medium (cosine `oh` on ωo's side of index `no`, `ih` on ωi's side of index `ni`).
+/// Physically T is the same from both sides; numerically the dense side's cosine near
+/// the critical angle cancels, so always using the rare side makes the two argument
+/// orders of a reciprocity check compute the same expression.
+#[inline]
+fn transmittance(oh: f64, ih: f64, no: f32, ni: f32) -> f32 {
+    if ni >= no { tr_dielectric(oh.abs() as f32, ni / no) } else { tr_dielectric(ih.abs() as f32, no / ni) }
 }
 
 impl RoughDielectric {
@@ -130,13 +158,19 @@ impl BsdfModel for RoughDielectric {
         let ni = if wi.z > 0.0 { no } else { nf };
         let Some(h) = half_vector(wo, wi, no, ni) else { return 0.0 };
         let mf = self.microfacet();
-        let (oh, ih) = (wo.dot(h), wi.dot(h));
-        let f = fr_dielectric(oh, etap);
         let v = if ci > 0.0 {
-            mf.d(h) * mf.g2(wo, wi) * f / (4.0 * co * ci)
+            // F at the symmetric mean of ωo·h and ωi·h (equal but for rounding), so that
+            // both argument orders compute the same value (reciprocity to the bit).
+            let c = (0.5 * (dot64(wo, h) + dot64(wi, h))) as f32;
+            mf.d(h) * mf.g2(wo, wi) * fr_dielectric(c, etap) / (4.0 * (co * ci))
         } else {
-            let denom = ih + oh / etap;
-            mf.d(h) * mf.g2(wo, wi) * (1.0 - f) * (ih * oh).abs() / ((ci * co).abs() * denom * denom * etap * etap)
+            // Walter eq. 21 in f64: η_o² |ωi·h||ωo·h| / (η_i ωi·h + η_o ωo·h)², whose
+            // denominator cancels as η → 1.
+            let (oh, ih) = (dot64(wo, h), dot64(wi, h));
+            let (no, ni) = (no as f64, nf as f64);
+            let denom = ni * ih + no * oh;
+            let jac = no * no * (ih * oh).abs() / ((ci as f64 * co as f64).abs() * denom * denom);
+            (mf.d(h) as f64 * mf.g2(wo, wi) as f64 * transmittance(oh, ih, no as f32, ni as f32) as f64 * jac) as f32
         };
         if v.is_finite() && v > 0.0 { v } else { 0.0 }
     }
@@ -149,7 +183,7 @@ impl BsdfModel for RoughDielectric {
         }
         let mf = self.microfacet();
         let m = mf.sample_m(wo, Vec2::new(u.x, u.y));
-        let c = wo.dot(m);
+        let c = dot64(wo, m) as f32;
         if !(c > 0.0) {
             return None;
         }
@@ -167,9 +201,9 @@ impl BsdfModel for RoughDielectric {
             if !(wi.z < 0.0) {
                 return None;
             }
-            let ih = wi.dot(m);
-            let denom = ih + c / etap;
-            let pdf = pm * ih.abs() / (denom * denom) * (1.0 - f);
+            let (no, nf) = if flip { (self.eta, 1.0) } else { (1.0, self.eta) };
+            let t = transmittance(dot64(wo, m), dot64(wi, m), no, nf);
+            let pdf = (pm as f64 * transmission_jacobian(wo, wi, m, no, nf) * t as f64) as f32;
             (wi, pdf, mf.g2(wo, wi) / (g1 * etap * etap), LobeFlags::TRANSMISSION | LobeFlags::GLOSSY, etap)
         };
         if !(pdf > 0.0) || !pdf.is_finite() || !weight.is_finite() {
@@ -187,14 +221,13 @@ impl BsdfModel for RoughDielectric {
         let ni = if wi.z > 0.0 { no } else { nf };
         let Some(h) = half_vector(wo, wi, no, ni) else { return 0.0 };
         let mf = self.microfacet();
-        let (oh, ih) = (wo.dot(h), wi.dot(h));
+        let oh = dot64(wo, h) as f32;
         let pm = mf.pdf_m(wo, h);
-        let f = fr_dielectric(oh, etap);
         let p = if wi.z > 0.0 {
-            pm / (4.0 * oh) * f
+            pm / (4.0 * oh) * fr_dielectric((0.5 * (dot64(wo, h) + dot64(wi, h))) as f32, etap)
         } else {
-            let denom = ih + oh / etap;
-            pm * ih.abs() / (denom * denom) * (1.0 - f)
+            let t = transmittance(dot64(wo, h), dot64(wi, h), no, nf);
+            (pm as f64 * transmission_jacobian(wo, wi, h, no, nf) * t as f64) as f32
         };
         if p.is_finite() && p > 0.0 { p } else { 0.0 }
     }

@@ -75,8 +75,11 @@ pub struct Scene {
     accel: Accel,
 }
 
-/// Relative length of a shadow ray short of its target (pbrt-v4's ShadowEpsilon).
-pub const SHADOW_EPSILON: f32 = 1e-4;
+/// Relative length of a shadow ray short of its (already offset) target: a few ulps.
+/// pbrt-v4 uses 1e-4, which lets shadow rays stop 1e-4·d short: for a light or shape of
+/// size ~1e-3 at distance 1 that hides real occlusion (measured: +0.8% on the solid
+/// angle of a 1e-6 sr sphere). The target is offset by its error bound instead.
+pub const SHADOW_EPSILON: f32 = 1e-6;
 
 impl Scene {
     /// Assemble a scene; primitives are given per shape, in order.
@@ -124,6 +127,15 @@ impl Scene {
             return true;
         }
         self.accel.unoccluded(o, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+    }
+
+    /// Whether the segment from the free point `p` to the surface point `q` (error bound
+    /// `q_error`, normal `q_n`) crosses no surface.
+    pub fn segment_clear(&self, p: Vec3, q: Vec3, q_error: Vec3, q_n: Vec3) -> bool {
+        let target = offset_ray_origin(q, q_error, q_n, p - q);
+        let d = target - p;
+        let dist = d.length();
+        dist <= 0.0 || self.accel.unoccluded(p, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
     }
 
     /// Radiance emitted by the surface hit towards `wo` (pointing away from it).

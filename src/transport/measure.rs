@@ -175,7 +175,7 @@ fn shape_area_sample(scene: &Scene, shape: usize, u: Vec2) -> (Vec3, Vec3, Vec3,
 
 /// Area-sampled (projected) solid angle: |cos θl| / (r² p_A), times cos θ at the receiver.
 fn area_visibility(scene: &Scene, p: Vec3, shape: usize, normal: Option<Vec3>, s: &mut SampleStream) -> f32 {
-    let (q, n, _, pdf_a) = shape_area_sample(scene, shape, s.next_2d());
+    let (q, n, q_err, pdf_a) = shape_area_sample(scene, shape, s.next_2d());
     let d = q - p;
     let r2 = d.length_squared();
     if !(r2 > 0.0) {
@@ -189,11 +189,9 @@ fn area_visibility(scene: &Scene, p: Vec3, shape: usize, normal: Option<Vec3>, s
     if cos_r <= 0.0 {
         return 0.0;
     }
-    // Visible if the first hit along w is this shape at (about) the sampled distance.
-    match scene.intersect(p, w, f32::INFINITY) {
-        Some(h) if h.shape == shape && (h.hit.t * h.hit.t - r2).abs() <= 1e-3 * r2 => w.dot(n).abs() * cos_r / (r2 * pdf_a),
-        _ => 0.0,
-    }
+    // Visible if nothing (the shape itself included) lies between p and the sampled point:
+    // a shadow ray to the point, offset by its error bound.
+    if scene.segment_clear(p, q, q_err, n) { w.dot(n).abs() * cos_r / (r2 * pdf_a) } else { 0.0 }
 }
 
 fn irradiance(scene: &Scene, p: Vec3, n: Vec3, est: Estimator, cfg: &Config, s: &mut SampleStream) -> f32 {

@@ -1,0 +1,266 @@
+//! # 1. Photons, phase space, energy and power
+//!
+//! Geometric optics describes light as photons. A photon's state is a point of phase
+//! space: a position x (m), a direction of travel ω (unit vector), a wavelength λ (m),
+//! plus the time t (s) at which it is there. Left alone it moves along a straight
+//! trajectory x(t') = x + c (t' − t) ω.
+//!
+//! Each photon carries the energy e = h c / λ (J), so radiant energy Q (J) is a photon
+//! count times e, and radiant power (flux) Φ = dQ/dt (W) is a photon rate times e.
+//!
+//! This example simulates the photons a Lambertian disk of radiance L emits during a time
+//! window T as a Poisson process in phase space: photons are born uniformly in time, at
+//! uniform points of the disk, in uniform directions of the hemisphere, and each is kept
+//! with probability cos θ (Lewis–Shedler thinning: emission per unit projected area is
+//! what radiance holds constant). Nothing in the simulation knows that ∫ cos θ dω = π,
+//! yet the counted power comes out at Φ = π L A. Then the photons fly: a second disk
+//! counts the ones that reach it, with their time of flight, and receives Φ·F (F the
+//! disk-to-disk view factor) once the first photons have had time to arrive.
+//!
+//! Picture: target/examples/01_photon_flux.svg, the power leaving the source and the
+//! power arriving at the detector against time (the detector's ramp is time of flight).
+//!
+//! Run: `cargo run --release --example 01_phase_space -- [PHOTONS]`
+
+use glam::{DVec2, DVec3};
+use lightproof::sampling::Sampler;
+use lightproof::sampling::disk::concentric_disk;
+use lightproof::sampling::hemisphere::uniform_hemisphere;
+use lightproof::stats::{MeanTest, Verdict};
+use lightproof_analytic::radiometry::{SPEED_OF_LIGHT, lambertian_power, photon_energy};
+use lightproof_analytic::view_factor::disk_to_coaxial_disk;
+use plotters::prelude::*;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// Per-check significance level: a check fails when |z| > 3.89.
+const ALPHA: f64 = 1e-4;
+
+/// A photon: a point of phase space (position, direction, wavelength) at a time.
+#[derive(Clone, Copy, Debug)]
+struct Photon {
+    /// Position x (m) at time `t`.
+    x: DVec3,
+    /// Unit direction of travel ω.
+    omega: DVec3,
+    /// Vacuum wavelength λ (m).
+    lambda: f64,
+    /// Time (s) at which the photon is at `x` (here: its emission time).
+    t: f64,
+}
+
+impl Photon {
+    /// Its position at time `t` (a straight trajectory at the speed of light).
+    fn at(&self, t: f64) -> DVec3 {
+        self.x + SPEED_OF_LIGHT * (t - self.t) * self.omega
+    }
+
+    /// Its energy e = h c / λ (J).
+    fn energy(&self) -> f64 {
+        photon_energy(self.lambda)
+    }
+
+    /// Where and after how long its trajectory crosses the plane z = h (if it does).
+    fn cross_plane(&self, h: f64) -> Option<(DVec3, f64)> {
+        let s = (h - self.x.z) / self.omega.z;
+        (s > 0.0).then(|| (self.x + s * self.omega, s / SPEED_OF_LIGHT))
+    }
+}
+
+fn main() {
+    let n = samples(1 << 22);
+    // The source: a disk of radius 0.5 m in the plane z = 0 facing +z, radiance
+    // L = 2e-8 W/(m²·sr) of green light (555 nm). The detector: a disk of radius 0.5 m
+    // at height 1 m, facing the source.
+    let (radiance, lambda, r_src, r_det, height) = (2e-8, 555e-9, 0.5, 0.5, 1.0);
+    let area = PI * r_src * r_src;
+    let e = photon_energy(lambda);
+    // Photon radiance: photons per second, per m², per sr.
+    let photon_radiance = radiance / e;
+    // Candidate photons are born at the rate of a source emitting L_p in *every*
+    // direction of the hemisphere (2π sr); thinning by cos θ then keeps the right ones.
+    let candidate_rate = photon_radiance * area * 2.0 * PI;
+    let window = n as f64 / candidate_rate;
+
+    println!("1. Phase space: a photon is (x, ω, λ) at time t; it moves as x(t') = x + c (t' − t) ω");
+    println!("   energy per photon e = h c / λ [J];  radiant energy Q = N e [J];  power Φ = dQ/dt [W]\n");
+    println!("Source: Lambertian disk, radius {r_src} m, radiance L = {radiance:e} W/(m²·sr) at λ = {} nm", lambda * 1e9);
+    println!("  e = h c / λ = {e:.6e} J per photon;  photon radiance L / e = {photon_radiance:.4e} photons/(s·m²·sr)");
+    println!("  simulating ~{n} candidate photons: a time window T = {:.4e} s\n", window);
+
+    // The detector sees a photon after its time of flight; the earliest steady-state
+    // arrival is after the longest flight (rim to opposite rim).
+    let longest_flight = (height * height + (r_src + r_det) * (r_src + r_det)).sqrt() / SPEED_OF_LIGHT;
+    let steady_from = longest_flight;
+    // Times of flight of the detected photons, for the picture.
+    const BINS: usize = 120;
+    let plot_until = 6e-9;
+    let mut flight_bins = [0u64; BINS];
+
+    let sampler = Sampler::independent(1);
+    let (mut emitted, mut received) = (0u64, 0u64);
+    let mut q = 0.0; // radiant energy emitted (J): the sum of the photons' energies
+    let mut t = 0.0;
+    let mut shown = 0;
+    for i in 0.. {
+        let mut s = sampler.stream(i);
+        // Poisson process in time: exponential gaps between candidate births.
+        t += -(1.0 - s.next_1d() as f64).ln() / candidate_rate;
+        if t > window {
+            break;
+        }
+        let p = concentric_disk(s.next_2d()).as_dvec2() * r_src;
+        let w = uniform_hemisphere(s.next_2d()).as_dvec3();
+        // Thinning: keep the candidate with probability cos θ.
+        if s.next_1d() as f64 >= w.z {
+            continue;
+        }
+        let photon = Photon { x: DVec3::new(p.x, p.y, 0.0), omega: w, lambda, t };
+        emitted += 1;
+        q += photon.energy();
+        if shown < 3 {
+            shown += 1;
+            let later = photon.t + 2e-9;
+            println!(
+                "  photon {shown}: x = ({:+.3}, {:+.3}, 0) m, ω = ({:+.3}, {:+.3}, {:.3}), λ = {:.0} nm, t = {:.4e} s; 2 ns later at ({:+.3}, {:+.3}, {:.3}) m",
+                photon.x.x,
+                photon.x.y,
+                w.x,
+                w.y,
+                w.z,
+                photon.lambda * 1e9,
+                photon.t,
+                photon.at(later).x,
+                photon.at(later).y,
+                photon.at(later).z
+            );
+        }
+        // Where does the trajectory cross the detector's plane z = h, and when?
+        if let Some((hit, flight)) = photon.cross_plane(height)
+            && DVec2::new(hit.x, hit.y).length() <= r_det
+        {
+            let b = ((flight / plot_until * BINS as f64) as usize).min(BINS - 1);
+            flight_bins[b] += 1;
+            let arrival = photon.t + flight;
+            if arrival >= steady_from && arrival <= window {
+                received += 1;
+            }
+        }
+    }
+
+    let mut ok = true;
+    println!("\n  {emitted} photons emitted in T: radiant energy Q = N e = {q:.6e} J");
+    println!("\nPower = energy per time; a Poisson count N has standard error √N:");
+    let phi = lambertian_power(radiance, area);
+    ok &= report("emitted power Φ = N e / T  vs  π L A", &poisson(emitted, e / window, phi));
+    let f = disk_to_coaxial_disk(r_src, r_det, height);
+    let span = window - steady_from;
+    println!("  detector: disk r = {r_det} m at h = {height} m, view factor F = {f:.6}; counting arrivals in [{steady_from:.3e}, T] s");
+    if span <= 0.0 {
+        println!("  (the window is shorter than the time of flight: ask for more photons)");
+        ok = false;
+    } else {
+        ok &= report("received power M e / Δt  vs  Φ F", &poisson(received, e / span, phi * f));
+    }
+
+    // Switch the source on at t = 0: the detector receives, at time t, the photons whose
+    // flight took less than t, at the rate they were counted (per second of emission).
+    let dt = plot_until / BINS as f64;
+    let (mut leaving, mut arriving) = (vec![(0.0, 0.0)], vec![(0.0, 0.0)]);
+    let mut cumulative = 0u64;
+    for (i, &c) in flight_bins.iter().enumerate() {
+        cumulative += c;
+        let t_ns = (i + 1) as f64 * dt * 1e9;
+        leaving.push((t_ns, emitted as f64 * e / window * 1e9));
+        arriving.push((t_ns, cumulative as f64 * e / window * 1e9));
+    }
+    match plot(&leaving, &arriving, phi * 1e9, phi * f * 1e9, plot_until * 1e9) {
+        Ok(p) => println!("\nwrote {p} (power against time after the source switches on at t = 0: the detector follows after the time of flight)"),
+        Err(err) => println!("\n(could not write the plot: {err})"),
+    }
+    finish(ok);
+}
+
+/// Judge a Poisson count scaled to a rate: estimate k·scale, standard error √k·scale.
+fn poisson(count: u64, scale: f64, exact: f64) -> Verdict {
+    let est = count as f64 * scale;
+    let se = (count as f64).sqrt() * scale;
+    MeanTest::new(ALPHA, 1).judge_parts(est, se, exact, None, 0, count.max(2))
+}
+
+fn plot(leaving: &[(f64, f64)], arriving: &[(f64, f64)], phi: f64, phi_f: f64, t_max: f64) -> Result<String, Box<dyn std::error::Error>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join("01_photon_flux.svg");
+    let root = SVGBackend::new(&path, (800, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let y_max = leaving.iter().chain(arriving).map(|p| p.1).fold(phi, f64::max) * 1.15;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Photon counting: power leaving the source and reaching the detector", ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
+    chart.configure_mesh().x_desc("time after switching on (ns)").y_desc("power (nW) = photons per second × e").draw()?;
+    chart.draw_series(LineSeries::new(leaving.iter().copied(), &BLUE))?.label("leaving the source (photon count)").legend(|(x, y)| {
+        PathElement::new(vec![(x, y), (x + 20, y)], BLUE)
+    });
+    chart.draw_series(LineSeries::new(arriving.iter().copied(), &RED))?.label("arriving at the detector").legend(|(x, y)| {
+        PathElement::new(vec![(x, y), (x + 20, y)], RED)
+    });
+    for (v, c, l) in [(phi, BLACK, "Φ = π L A"), (phi_f, RGBColor(120, 120, 120), "Φ F (view factor)")] {
+        chart.draw_series(LineSeries::new([(0.0, v), (t_max, v)], c.stroke_width(1)))?.label(l).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 20, y)], c)
+        });
+    }
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).position(SeriesLabelPosition::LowerRight).draw()?;
+    root.present()?;
+    Ok("target/examples/01_photon_flux.svg".into())
+}
+
+// ---- the same few helpers in every example ----
+
+/// The sample count: the first command-line argument, or `default`.
+fn samples(default: u64) -> u64 {
+    match std::env::args().nth(1) {
+        None => default,
+        Some(a) => match a.replace('_', "").parse::<u64>() {
+            Ok(n) if n >= 256 => n,
+            _ => {
+                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                std::process::exit(2)
+            }
+        },
+    }
+}
+
+/// Format a number readably whatever its magnitude.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+}
+
+/// Print one verdict line; returns whether it passed.
+fn report(what: &str, v: &Verdict) -> bool {
+    println!(
+        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
+        num(v.estimate),
+        num(v.std_error),
+        num(v.reference),
+        v.z,
+        if v.passed { "PASS" } else { "FAIL" }
+    );
+    if let Some(r) = &v.reason {
+        println!("      ({r})");
+    }
+    v.passed
+}
+
+/// Print the overall verdict and exit non-zero if a check failed.
+fn finish(ok: bool) {
+    if ok {
+        println!("\nverdict: PASS (every estimate agrees with its closed form)");
+    } else {
+        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
+        std::process::exit(1);
+    }
+}

@@ -1,0 +1,185 @@
+//! # 2. Solid angle and projected solid angle
+//!
+//! The solid angle of a shape seen from a point is the area of its "shadow" on the unit
+//! sphere around that point: σ = ∫_S dω, in steradians (sr). The whole sphere is 4π sr.
+//! A small patch of area A at distance R, facing the viewer, subtends σ ≈ A/R²; in
+//! general each patch dA contributes dω = cos θl dA / r² (θl: angle between the patch
+//! normal and the line of sight).
+//!
+//! The projected solid angle weights each direction by the cosine to a receiver's
+//! normal: σ⊥ = ∫_S cos θ dω. It is what irradiance needs (E = L σ⊥ for a uniform
+//! emitter, example 4); the whole hemisphere has σ⊥ = π.
+//!
+//! The scenes are written as case files (JSON, the format `lightproof verify` reads) and
+//! estimated by Monte Carlo two ways: uniform directions on the sphere (count the hits,
+//! σ ≈ 4π · hits / N) and uniform points on the shape's area (sum cos θl / (r² p_A)).
+//!
+//! Run: `cargo run --release --example 02_solid_angle -- [SAMPLES]`
+
+use lightproof::sampling::SamplerKind;
+use lightproof::stats::Verdict;
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::RunSpec;
+use lightproof::verify::{Case, CaseDesc, judge, seed_for};
+use serde_json::json;
+use std::path::Path;
+
+/// A case file: a sphere of radius 1 at distance 3 subtends the cap σ = 2π(1 − cos α),
+/// sin α = R/d.
+const SPHERE_CASE: &str = r#"{
+  "name": "solid angle of a sphere",
+  "teaches": "a sphere of radius R at distance d subtends σ = 2π(1 − √(1 − R²/d²))",
+  "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 3], "radius": 1 } } ] },
+  "measure": { "solid_angle": { "from": [0, 0, 0], "shape": 0 } },
+  "reference": { "closed_form": "solid_angle_sphere", "point": [0, 0, 0], "center": [0, 0, 3], "radius": 1 },
+  "estimators": ["uniform", "area"]
+}"#;
+
+/// Per-check significance level: a check fails when |z| > 3.89.
+const ALPHA: f64 = 1e-4;
+
+fn main() {
+    let n = samples(1 << 20);
+    println!("2. Solid angle: σ = ∫_S dω = ∫_A cos θl / r² dA  [sr];  projected: σ⊥ = ∫_S cos θ dω  [sr]");
+    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    let mut ok = true;
+
+    // A sphere of radius 1 at distance 3: the cap formula σ = 2π(1 − cos α), sin α = R/d.
+    show_case_file("02_sphere.json", SPHERE_CASE);
+    let sphere: serde_json::Value = serde_json::from_str(SPHERE_CASE).unwrap();
+    ok &= check_all("sphere R = 1 at d = 3", sphere, n);
+
+    let triangle = json!({
+        "name": "solid angle of a triangle",
+        "teaches": "Van Oosterom–Strackee: tan(σ/2) = r1·(r2×r3) / (r1r2r3 + (r1·r2)r3 + (r1·r3)r2 + (r2·r3)r1)",
+        "scene": { "shapes": [ { "geometry": { "type": "triangle",
+            "vertices": [[-1, -0.5, 2], [1, -0.5, 2], [0, 1, 2.5]] } } ] },
+        "measure": { "solid_angle": { "from": [0, 0, 0], "shape": 0 } },
+        "reference": { "closed_form": "solid_angle_triangle", "point": [0, 0, 0],
+            "vertices": [[-1, -0.5, 2], [1, -0.5, 2], [0, 1, 2.5]] },
+        "estimators": ["uniform", "area"]
+    });
+    ok &= check_all("triangle", triangle, n);
+
+    let rect = |corner: [f64; 3], u: [f64; 3], v: [f64; 3], estimators: &[&str]| {
+        json!({
+            "name": "solid angle of a rectangle",
+            "teaches": "σ of a rectangle by inclusion–exclusion of four corner rectangles",
+            "scene": { "shapes": [ { "geometry": { "type": "rectangle", "corner": corner, "edge_u": u, "edge_v": v } } ] },
+            "measure": { "solid_angle": { "from": [0, 0, 0], "shape": 0 } },
+            "reference": { "closed_form": "solid_angle_rectangle", "point": [0, 0, 0], "corner": corner, "edge_u": u, "edge_v": v },
+            "estimators": estimators
+        })
+    };
+    ok &= check_all("rectangle 2 × 1.5 at 2", rect([-1.0, -1.0, 2.0], [2.0, 0.0, 0.0], [0.0, 1.5, 0.0], &["uniform", "area"]), n);
+
+    // σ ≈ A/R² for a small facing patch: a 0.1 × 0.1 square at distance 10. Uniform
+    // directions would almost never hit it (σ/4π ≈ 8e-6): sample its area instead.
+    let small = rect([-0.05, -0.05, 10.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], &["area"]);
+    let (area, r) = (0.01f64, 10.0f64);
+    println!("  small far patch: A/R² = {:.8} sr (the approximation); the exact value follows", area / (r * r));
+    ok &= check_all("square 0.1 × 0.1 at 10", small, n);
+
+    // Projected solid angle of the rectangle for a receiver at the origin facing +z.
+    let verts = json!([[-1, -1, 2], [1, -1, 2], [1, 0.5, 2], [-1, 0.5, 2]]);
+    let projected = json!({
+        "name": "projected solid angle of a rectangle",
+        "teaches": "σ⊥ = ∫ cos θ dω = ½ Σ edges Θ_i n·(unit normal of the plane through p and edge i)",
+        "scene": { "shapes": [ { "geometry": { "type": "rectangle", "corner": [-1, -1, 2], "edge_u": [2, 0, 0], "edge_v": [0, 1.5, 0] } } ] },
+        "measure": { "projected_solid_angle": { "from": [0, 0, 0], "normal": [0, 0, 1], "shape": 0 } },
+        "reference": { "closed_form": "polygon_projected_solid_angle", "point": [0, 0, 0], "normal": [0, 0, 1], "vertices": verts },
+        "estimators": ["uniform", "cosine", "area"]
+    });
+    println!("\nProjected solid angle σ⊥ = ∫ cos θ dω (≤ σ; the hemisphere has σ⊥ = π, σ = 2π):");
+    ok &= check_all("rectangle, receiver facing it", projected, n);
+
+    finish(ok);
+}
+
+/// Load a case description, run each of its estimators and judge it against its
+/// closed-form reference.
+fn check_all(label: &str, desc: serde_json::Value, n: u64) -> bool {
+    let case = load(desc);
+    let exact = case.reference.expect("every case here names a closed form");
+    let mut ok = true;
+    for &est in &case.desc.estimators {
+        let seed = seed_for(2, &case.desc.name, est, SamplerKind::Independent);
+        let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+        let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
+        ok &= report(&format!("{label} [{}]", est_name(est)), &v);
+    }
+    ok
+}
+
+fn est_name(e: Estimator) -> &'static str {
+    match e {
+        Estimator::Uniform => "uniform directions",
+        Estimator::Cosine => "cosine directions",
+        Estimator::Area => "uniform area",
+        other => other.name(),
+    }
+}
+
+// ---- the same few helpers in every example ----
+
+/// The sample count: the first command-line argument, or `default`.
+fn samples(default: u64) -> u64 {
+    match std::env::args().nth(1) {
+        None => default,
+        Some(a) => match a.replace('_', "").parse::<u64>() {
+            Ok(n) if n >= 256 => n,
+            _ => {
+                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                std::process::exit(2)
+            }
+        },
+    }
+}
+
+/// A case from its JSON description (the format of a case file).
+fn load(desc: serde_json::Value) -> Case {
+    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Print a case file and save it under target/examples/ for `lightproof verify`.
+fn show_case_file(name: &str, text: &str) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    let path = dir.join(name);
+    let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
+    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    if saved.is_ok() {
+        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+    }
+}
+
+/// Format a number readably whatever its magnitude.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+}
+
+/// Print one verdict line; returns whether it passed.
+fn report(what: &str, v: &Verdict) -> bool {
+    println!(
+        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
+        num(v.estimate),
+        num(v.std_error),
+        num(v.reference),
+        v.z,
+        if v.passed { "PASS" } else { "FAIL" }
+    );
+    if let Some(r) = &v.reason {
+        println!("      ({r})");
+    }
+    v.passed
+}
+
+/// Print the overall verdict and exit non-zero if a check failed.
+fn finish(ok: bool) {
+    if ok {
+        println!("\nverdict: PASS (every estimate agrees with its closed form)");
+    } else {
+        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
+        std::process::exit(1);
+    }
+}

@@ -1,0 +1,219 @@
+//! # 3. Radiant intensity
+//!
+//! Intensity is power per unit solid angle in a direction: I(ω) = dΦ/dω, in W/sr. It
+//! describes sources seen from far away, whose size no longer matters.
+//!
+//! - An isotropic point light has the same I in every direction, so Φ = ∫ I dω = 4π I.
+//! - A flat Lambertian emitter of radiance L and area A has I(θ) = L A cos θ (Lambert's
+//!   cosine law): seen at an angle θ from its normal its projected area is A cos θ. Its
+//!   power, one-sided, is Φ = ∫ I dω = π L A.
+//!
+//! The Monte Carlo estimator of the disk's intensity samples points uniformly on its area:
+//! I(ω) = ∫_A L cos θ dA ≈ L cos θ / p_A with p_A = 1/A.
+//!
+//! - A Lambertian sphere has I = L π R² in every direction: from anywhere it looks like
+//!   a disk of radius R and radiance L.
+//!
+//! Picture: target/examples/03_intensity.svg, I(θ) of the disk, estimates on the cosine.
+//!
+//! Run: `cargo run --release --example 03_intensity -- [SAMPLES]`
+
+use lightproof::sampling::SamplerKind;
+use lightproof::stats::Verdict;
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::RunSpec;
+use lightproof::verify::{Case, CaseDesc, judge, seed_for};
+use plotters::prelude::*;
+use serde_json::json;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// Per-check significance level: a check fails when |z| > 3.89.
+const ALPHA: f64 = 1e-4;
+
+/// A case file: the intensity of a Lambertian disk 60° off its normal.
+const DISK_CASE: &str = r#"{
+  "name": "Lambertian disk intensity at 60 degrees",
+  "teaches": "a flat Lambertian emitter has I(θ) = L A cos θ",
+  "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 0.5 },
+                           "emission": { "radiance": 2 } } ] },
+  "measure": { "intensity": { "shape": 0, "direction": [0.8660254037844386, 0, 0.5] } },
+  "reference": { "closed_form": "lambertian_intensity", "radiance": 2, "area": 0.7853981633974483, "theta": 1.0471975511965976 },
+  "estimators": ["area"]
+}"#;
+
+fn main() {
+    let n = samples(1 << 20);
+    println!("3. Intensity I = dΦ/dω [W/sr]:  point light Φ = 4π I;  Lambertian emitter I(θ) = L A cos θ, Φ = π L A");
+    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    let mut ok = true;
+
+    // An isotropic point light of intensity 2 W/sr: its intensity and power.
+    println!("Isotropic point light, I = 2 W/sr (a delta light: every sample is exact):");
+    let point = |measure: serde_json::Value, est: &str| {
+        load(json!({
+            "name": "point light", "teaches": "an isotropic point light: Φ = 4π I",
+            "scene": { "emitters": [ { "type": "point", "position": [0, 0, 0], "intensity": 2 } ] },
+            "measure": measure, "estimators": [est]
+        }))
+    };
+    let c = point(json!({ "intensity": { "emitter": 0, "direction": [0.3, -0.2, 0.9] } }), "area");
+    ok &= check("intensity I towards (0.3, −0.2, 0.9)", &c, Estimator::Area, n, 2.0);
+    let c = point(json!({ "power": { "emitter": 0 } }), "uniform");
+    ok &= check("power Φ = ∫ I dω  vs  4π I", &c, Estimator::Uniform, n, 4.0 * PI * 2.0);
+
+    println!("\nLambertian disk, radius 0.5 m, L = 2 W/(m²·sr):");
+    show_case_file("03_disk_intensity.json", DISK_CASE);
+    let (radiance, radius) = (2.0, 0.5);
+    let area = PI * radius * radius;
+    let mut points = Vec::new();
+    for deg in [0.0f64, 15.0, 30.0, 45.0, 60.0, 75.0, 89.0] {
+        let t = deg.to_radians();
+        let c = load(json!({
+            "name": format!("Lambertian disk intensity at {deg} degrees"),
+            "teaches": "a flat Lambertian emitter has I(θ) = L A cos θ",
+            "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": radius },
+                                     "emission": { "radiance": radiance } } ] },
+            "measure": { "intensity": { "shape": 0, "direction": [t.sin(), 0.0, t.cos()] } },
+            "reference": { "closed_form": "lambertian_intensity", "radiance": radiance, "area": area, "theta": t },
+            "estimators": ["area"]
+        }));
+        let v = estimate(&c, Estimator::Area, n);
+        ok &= report(&format!("I(θ = {deg}°)  vs  L A cos θ"), &v);
+        points.push((deg, v.estimate, v.std_error));
+    }
+    let c = load(json!({
+        "name": "Lambertian disk power", "teaches": "Φ = π L A",
+        "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": radius },
+                                 "emission": { "radiance": radiance } } ] },
+        "measure": { "power": { "shape": 0 } },
+        "reference": { "closed_form": "lambertian_power", "radiance": radiance, "area": area },
+        "estimators": ["uniform"]
+    }));
+    ok &= check("power Φ = ∫∫ L cos θ dω dA  vs  π L A", &c, Estimator::Uniform, n, c.reference.unwrap());
+
+    // A Lambertian sphere: every direction sees a disk of radius R (its projected
+    // area), so I = L π R² in all directions, the same as a facing disk of radius R.
+    println!("\nLambertian sphere, radius 0.5 m, L = 2 W/(m²·sr): I = L π R² in every direction (the Sun looks like a flat disk):");
+    for dir in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [-0.48, 0.6, -0.64]] {
+        let c = load(json!({
+            "name": format!("sphere intensity towards {dir:?}"), "teaches": "a Lambertian sphere has I = L π R²",
+            "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": radius },
+                                     "emission": { "radiance": radiance } } ] },
+            "measure": { "intensity": { "shape": 0, "direction": dir } },
+            "estimators": ["area"]
+        }));
+        ok &= check(&format!("I towards ({}, {}, {})  vs  L π R²", dir[0], dir[1], dir[2]), &c, Estimator::Area, n, radiance * area);
+    }
+
+    match plot(&points, radiance * area) {
+        Ok(p) => println!("\nwrote {p} (the disk's intensity against the angle from its normal)"),
+        Err(e) => println!("\n(could not write the plot: {e})"),
+    }
+    finish(ok);
+}
+
+/// Run one estimator of a case and judge it against `exact`.
+fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
+    let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
+    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    judge(&e, SamplerKind::Independent, case.reference.unwrap_or(f64::NAN), ALPHA, 1)
+}
+
+/// Run, judge against `exact` and report.
+fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
+    let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
+    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    report(what, &judge(&e, SamplerKind::Independent, exact, ALPHA, 1))
+}
+
+fn plot(points: &[(f64, f64, f64)], i0: f64) -> Result<String, Box<dyn std::error::Error>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join("03_intensity.svg");
+    let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Lambert's cosine law: intensity of a Lambertian disk", ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..90.0, 0.0..i0 * 1.1)?;
+    chart.configure_mesh().x_desc("angle from the normal θ (degrees)").y_desc("intensity I (W/sr)").draw()?;
+    chart
+        .draw_series(LineSeries::new((0..=90).map(|d| (d as f64, i0 * (d as f64).to_radians().cos())), &BLACK))?
+        .label("L A cos θ (closed form)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+    chart
+        .draw_series(points.iter().map(|&(d, i, _)| Circle::new((d, i), 4, RED.filled())))?
+        .label("Monte Carlo (area sampling)")
+        .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
+    chart.draw_series(points.iter().map(|&(d, i, se)| PathElement::new(vec![(d, i - 3.0 * se), (d, i + 3.0 * se)], RED)))?;
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    root.present()?;
+    Ok("target/examples/03_intensity.svg".into())
+}
+
+// ---- the same few helpers in every example ----
+
+/// The sample count: the first command-line argument, or `default`.
+fn samples(default: u64) -> u64 {
+    match std::env::args().nth(1) {
+        None => default,
+        Some(a) => match a.replace('_', "").parse::<u64>() {
+            Ok(n) if n >= 256 => n,
+            _ => {
+                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                std::process::exit(2)
+            }
+        },
+    }
+}
+
+/// A case from its JSON description (the format of a case file).
+fn load(desc: serde_json::Value) -> Case {
+    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Print a case file and save it under target/examples/ for `lightproof verify`.
+fn show_case_file(name: &str, text: &str) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    let path = dir.join(name);
+    let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
+    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    if saved.is_ok() {
+        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+    }
+}
+
+/// Format a number readably whatever its magnitude.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+}
+
+/// Print one verdict line; returns whether it passed.
+fn report(what: &str, v: &Verdict) -> bool {
+    println!(
+        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
+        num(v.estimate),
+        num(v.std_error),
+        num(v.reference),
+        v.z,
+        if v.passed { "PASS" } else { "FAIL" }
+    );
+    if let Some(r) = &v.reason {
+        println!("      ({r})");
+    }
+    v.passed
+}
+
+/// Print the overall verdict and exit non-zero if a check failed.
+fn finish(ok: bool) {
+    if ok {
+        println!("\nverdict: PASS (every estimate agrees with its closed form)");
+    } else {
+        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
+        std::process::exit(1);
+    }
+}

@@ -1,0 +1,213 @@
+//! # 6. The BSDF: f = dLo / dE
+//!
+//! A surface answers light with a BSDF f(ωi → ωo), in 1/sr: the radiance it sends
+//! towards ωo per unit of irradiance arriving from ωi, f = dLo(ωo) / dE(ωi) with
+//! dE = Li cos θi dωi. Summed over every incoming direction this is the reflection
+//! integral Lo(ωo) = ∫ f(ωi → ωo) Li(ωi) cos θi dωi.
+//!
+//! A physically plausible BSDF obeys two laws, checked here numerically for a diffuse
+//! (Lambertian, f = ρ/π) and a rough conductor (Cook–Torrance microfacet) model:
+//!
+//! - Helmholtz reciprocity: f(ωi → ωo) = f(ωo → ωi), light paths can be reversed;
+//! - energy conservation: the directional albedo a(ωo) = ∫ f cos θi dωi ≤ 1, a surface
+//!   cannot reflect more than it receives. For the Lambertian model a = ρ exactly; a
+//!   single-scattering microfacet model loses the light that would scatter between
+//!   microfacets, more so the rougher it is.
+//!
+//! Run: `cargo run --release --example 06_bsdf -- [SAMPLES]`
+
+use glam::Vec3;
+use lightproof::bsdf::contract::check_reciprocity;
+use lightproof::bsdf::{Bsdf, BsdfModel};
+use lightproof::sampling::SamplerKind;
+use lightproof::sampling::sphere::uniform_sphere;
+use lightproof::sampling::Sampler;
+use lightproof::stats::{MeanTest, Verdict};
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::RunSpec;
+use lightproof::verify::{Case, CaseDesc, judge, seed_for};
+use lightproof_analytic::irradiance::disk_on_axis;
+use serde_json::json;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// Per-check significance level: a check fails when |z| > 3.89.
+const ALPHA: f64 = 1e-4;
+
+const LAMBERTIAN: &str = r#"{ "type": "lambertian", "albedo": 0.6 }"#;
+const ROUGH_CONDUCTOR: &str = r#"{ "type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9 }"#;
+/// A rough conductor with Fresnel reflectance ≈ 1 and the largest roughness: what it
+/// loses is the light that would have bounced between microfacets.
+const WHITE_ROUGH_CONDUCTOR: &str = r#"{ "type": "rough_conductor", "alpha": 1.0, "eta": 1.0, "k": 100 }"#;
+
+fn main() {
+    let n = samples(1 << 19);
+    println!("6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi);  albedo ∫ f cos θi dωi ≤ 1");
+    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    let mut ok = true;
+
+    // f = dLo/dE: a large grey floor lit by a small disk light straight above the
+    // origin, seen from an eye looking at the origin at 45°.
+    println!("f = Lo / E: a floor of {LAMBERTIAN}, a disk light (R = 0.25, L = 10) 2 m above, an eye at 45°");
+    let (r, h, l) = (0.25, 2.0, 10.0);
+    let floor = |material: &str| {
+        json!({
+            "materials": { "floor": serde_json::from_str::<serde_json::Value>(material).unwrap() },
+            "shapes": [
+                { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 20 }, "material": "floor" },
+                { "geometry": { "type": "disk", "center": [0, 0, h], "normal": [0, 0, -1], "radius": r }, "emission": { "radiance": l } }
+            ]
+        })
+    };
+    let e_exact = disk_on_axis(r, h, l);
+    let c = load(json!({
+        "name": "irradiance on the floor", "teaches": "E = π L R²/(R² + h²)", "scene": floor(LAMBERTIAN),
+        "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } }, "estimators": ["light"]
+    }));
+    let e = estimate(&c, Estimator::Light, n, e_exact);
+    ok &= report("irradiance E at the origin", &e);
+    let c = load(json!({
+        "name": "radiance of the floor", "teaches": "Lo = f E for a small light", "scene": floor(LAMBERTIAN),
+        "measure": { "radiance": { "at": [0, -1, 1], "direction": [0, 1, -1] } }, "estimators": ["light", "mis"]
+    }));
+    let rho = 0.6;
+    for &est in &c.desc.estimators {
+        let v = estimate(&c, est, n, rho / PI * e_exact);
+        ok &= report(&format!("radiance Lo towards the eye vs (ρ/π) E [{}]", est.name()), &v);
+    }
+    let lo = estimate(&c, Estimator::Mis, n, rho / PI * e_exact).estimate;
+    println!("  {:<50} {:>12.6}  (ρ/π = {:.6}: f = dLo/dE)", "Lo / E", lo / e.estimate, rho / PI);
+
+    // For a glossy surface Lo / E depends on both directions: it is f(ωi → ωo) itself,
+    // blurred over the light's small solid angle (here about 0.05 sr).
+    let c = load(json!({
+        "name": "radiance of a rough conductor floor", "teaches": "Lo ≈ f E for a small light",
+        "scene": floor(ROUGH_CONDUCTOR), "measure": { "radiance": { "at": [0, -1, 1], "direction": [0, 1, -1] } },
+        "estimators": ["mis"]
+    }));
+    let glossy = Bsdf::from_json(ROUGH_CONDUCTOR).unwrap();
+    let wo = Vec3::new(0.0, -1.0, 1.0).normalize();
+    let f = glossy.eval(wo, Vec3::Z) as f64;
+    let lo = estimate(&c, Estimator::Mis, n, f * e_exact).estimate;
+    println!("  {:<50} {:>12.6}  (≈ f(ωi = up → ωo = eye) = {f:.6}, blurred over the light; no verdict)", "rough conductor floor: Lo / E", lo / e.estimate);
+
+    for (name, json) in [("Lambertian", LAMBERTIAN), ("rough conductor", ROUGH_CONDUCTOR), ("white rough conductor", WHITE_ROUGH_CONDUCTOR)] {
+        let bsdf = Bsdf::from_json(json).unwrap();
+        println!("\n{name} {json}:");
+        // Reciprocity: evaluate both ways for a few direction pairs, then check many.
+        let sampler = Sampler::independent(6);
+        for i in 0..3 {
+            let mut s = sampler.stream(i);
+            let mut a = uniform_sphere(s.next_2d());
+            let mut b = uniform_sphere(s.next_2d());
+            a.z = a.z.abs();
+            b.z = b.z.abs();
+            println!(
+                "  f(a → b) = {:<10.6} f(b → a) = {:<10.6} (a = ({:+.2}, {:+.2}, {:.2}), b = ({:+.2}, {:+.2}, {:.2}))",
+                bsdf.eval(b, a),
+                bsdf.eval(a, b),
+                a.x,
+                a.y,
+                a.z,
+                b.x,
+                b.y,
+                b.z
+            );
+        }
+        let rec = check_reciprocity(&bsdf, bsdf.eta_inside(), (n / 8).max(1000), 6);
+        println!(
+            "  {:<50} {} pairs compared, worst error / tolerance = {:.3}  verdict {}",
+            "reciprocity f(ωi→ωo) = f(ωo→ωi)",
+            rec.compared,
+            rec.worst,
+            if rec.passed { "PASS" } else { "FAIL" }
+        );
+        if let Some(why) = &rec.first_failure {
+            println!("      ({why})");
+        }
+        ok &= rec.passed;
+
+        // Energy: the directional albedo, by BSDF sampling and by uniform directions.
+        for theta in [0.0f64, 60.0] {
+            let c = load(json!({
+                "name": format!("{name} albedo at {theta}"), "teaches": "a(ωo) = ∫ f cos θi dωi ≤ 1",
+                "measure": { "albedo": { "bsdf": serde_json::from_str::<serde_json::Value>(json).unwrap(), "theta_degrees": theta } },
+                "estimators": ["bsdf", "uniform"]
+            }));
+            for &est in &c.desc.estimators {
+                let seed = seed_for(6, &c.desc.name, est, SamplerKind::Independent);
+                let e = c.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+                if name == "Lambertian" {
+                    let v = judge(&e, SamplerKind::Independent, rho, ALPHA, 1);
+                    ok &= report(&format!("albedo a(θo = {theta}°) = ρ [{}]", est.name()), &v);
+                } else {
+                    // One-sided: fail only if the albedo is significantly above 1.
+                    let v = MeanTest::new(ALPHA, 1).judge_at_most(&e.batches.total, 1.0);
+                    ok &= report(&format!("albedo a(θo = {theta}°) ≤ 1 [{}, one-sided]", est.name()), &v);
+                }
+            }
+        }
+    }
+    finish(ok);
+}
+
+/// Run one estimator of a case and judge it against `exact`.
+fn estimate(case: &Case, est: Estimator, n: u64, exact: f64) -> Verdict {
+    let seed = seed_for(6, &case.desc.name, est, SamplerKind::Independent);
+    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
+}
+
+// ---- the same few helpers in every example ----
+
+/// The sample count: the first command-line argument, or `default`.
+fn samples(default: u64) -> u64 {
+    match std::env::args().nth(1) {
+        None => default,
+        Some(a) => match a.replace('_', "").parse::<u64>() {
+            Ok(n) if n >= 256 => n,
+            _ => {
+                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                std::process::exit(2)
+            }
+        },
+    }
+}
+
+/// A case from its JSON description (the format of a case file).
+fn load(desc: serde_json::Value) -> Case {
+    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Format a number readably whatever its magnitude.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+}
+
+/// Print one verdict line; returns whether it passed.
+fn report(what: &str, v: &Verdict) -> bool {
+    println!(
+        "  {what:<50} {:>12} ± {:<11} {} {:>12}  z {:+6.2}  verdict {}",
+        num(v.estimate),
+        num(v.std_error),
+        if what.contains("one-sided") { "bound" } else { "exact" },
+        num(v.reference),
+        v.z,
+        if v.passed { "PASS" } else { "FAIL" }
+    );
+    if let Some(r) = &v.reason {
+        println!("      ({r})");
+    }
+    v.passed
+}
+
+/// Print the overall verdict and exit non-zero if a check failed.
+fn finish(ok: bool) {
+    if ok {
+        println!("\nverdict: PASS (every estimate agrees with its closed form)");
+    } else {
+        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
+        std::process::exit(1);
+    }
+}
