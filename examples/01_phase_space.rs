@@ -82,15 +82,28 @@ fn main() {
     let candidate_rate = photon_radiance * area * 2.0 * PI;
     let window = n as f64 / candidate_rate;
 
-    println!("1. Phase space: a photon is (x, ω, λ) at time t; it moves as x(t') = x + c (t' − t) ω");
-    println!("   energy per photon e = h c / λ [J];  radiant energy Q = N e [J];  power Φ = dQ/dt [W]\n");
-    println!("Source: Lambertian disk, radius {r_src} m, radiance L = {radiance:e} W/(m²·sr) at λ = {} nm", lambda * 1e9);
-    println!("  e = h c / λ = {e:.6e} J per photon;  photon radiance L / e = {photon_radiance:.4e} photons/(s·m²·sr)");
-    println!("  simulating ~{n} candidate photons: a time window T = {:.4e} s\n", window);
+    println!(
+        "1. Phase space: a photon is (x, ω, λ) at time t; it moves as x(t') = x + c (t' − t) ω"
+    );
+    println!(
+        "   energy per photon e = h c / λ [J];  radiant energy Q = N e [J];  power Φ = dQ/dt [W]\n"
+    );
+    println!(
+        "Source: Lambertian disk, radius {r_src} m, radiance L = {radiance:e} W/(m²·sr) at λ = {} nm",
+        lambda * 1e9
+    );
+    println!(
+        "  e = h c / λ = {e:.6e} J per photon;  photon radiance L / e = {photon_radiance:.4e} photons/(s·m²·sr)"
+    );
+    println!(
+        "  simulating ~{n} candidate photons: a time window T = {:.4e} s\n",
+        window
+    );
 
     // The detector sees a photon after its time of flight; the earliest steady-state
     // arrival is after the longest flight (rim to opposite rim).
-    let longest_flight = (height * height + (r_src + r_det) * (r_src + r_det)).sqrt() / SPEED_OF_LIGHT;
+    let longest_flight =
+        (height * height + (r_src + r_det) * (r_src + r_det)).sqrt() / SPEED_OF_LIGHT;
     let steady_from = longest_flight;
     // Times of flight of the detected photons, for the picture.
     const BINS: usize = 120;
@@ -115,7 +128,12 @@ fn main() {
         if s.next_1d() as f64 >= w.z {
             continue;
         }
-        let photon = Photon { x: DVec3::new(p.x, p.y, 0.0), omega: w, lambda, t };
+        let photon = Photon {
+            x: DVec3::new(p.x, p.y, 0.0),
+            omega: w,
+            lambda,
+            t,
+        };
         emitted += 1;
         q += photon.energy();
         if shown < 3 {
@@ -152,15 +170,23 @@ fn main() {
     println!("\n  {emitted} photons emitted in T: radiant energy Q = N e = {q:.6e} J");
     println!("\nPower = energy per time; a Poisson count N has standard error √N:");
     let phi = lambertian_power(radiance, area);
-    ok &= report("emitted power Φ = N e / T  vs  π L A", &poisson(emitted, e / window, phi));
+    ok &= report(
+        "emitted power Φ = N e / T  vs  π L A",
+        &poisson(emitted, e / window, phi),
+    );
     let f = disk_to_coaxial_disk(r_src, r_det, height);
     let span = window - steady_from;
-    println!("  detector: disk r = {r_det} m at h = {height} m, view factor F = {f:.6}; counting arrivals in [{steady_from:.3e}, T] s");
+    println!(
+        "  detector: disk r = {r_det} m at h = {height} m, view factor F = {f:.6}; counting arrivals in [{steady_from:.3e}, T] s"
+    );
     if span <= 0.0 {
         println!("  (the window is shorter than the time of flight: ask for more photons)");
         ok = false;
     } else {
-        ok &= report("received power M e / Δt  vs  Φ F", &poisson(received, e / span, phi * f));
+        ok &= report(
+            "received power M e / Δt  vs  Φ F",
+            &poisson(received, e / span, phi * f),
+        );
     }
 
     // Switch the source on at t = 0: the detector receives, at time t, the photons whose
@@ -174,8 +200,16 @@ fn main() {
         leaving.push((t_ns, emitted as f64 * e / window * 1e9));
         arriving.push((t_ns, cumulative as f64 * e / window * 1e9));
     }
-    match plot(&leaving, &arriving, phi * 1e9, phi * f * 1e9, plot_until * 1e9) {
-        Ok(p) => println!("\nwrote {p} (power against time after the source switches on at t = 0: the detector follows after the time of flight)"),
+    match plot(
+        &leaving,
+        &arriving,
+        phi * 1e9,
+        phi * f * 1e9,
+        plot_until * 1e9,
+    ) {
+        Ok(p) => println!(
+            "\nwrote {p} (power against time after the source switches on at t = 0: the detector follows after the time of flight)"
+        ),
         Err(err) => println!("\n(could not write the plot: {err})"),
     }
     finish(ok);
@@ -188,32 +222,61 @@ fn poisson(count: u64, scale: f64, exact: f64) -> Verdict {
     MeanTest::new(ALPHA, 1).judge_parts(est, se, exact, None, 0, count.max(2))
 }
 
-fn plot(leaving: &[(f64, f64)], arriving: &[(f64, f64)], phi: f64, phi_f: f64, t_max: f64) -> Result<String, Box<dyn std::error::Error>> {
+fn plot(
+    leaving: &[(f64, f64)],
+    arriving: &[(f64, f64)],
+    phi: f64,
+    phi_f: f64,
+    t_max: f64,
+) -> Result<String, Box<dyn std::error::Error>> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     std::fs::create_dir_all(&dir)?;
     let path = dir.join("01_photon_flux.svg");
     let root = SVGBackend::new(&path, (800, 480)).into_drawing_area();
     root.fill(&WHITE)?;
-    let y_max = leaving.iter().chain(arriving).map(|p| p.1).fold(phi, f64::max) * 1.15;
+    let y_max = leaving
+        .iter()
+        .chain(arriving)
+        .map(|p| p.1)
+        .fold(phi, f64::max)
+        * 1.15;
     let mut chart = ChartBuilder::on(&root)
-        .caption("Photon counting: power leaving the source and reaching the detector", ("sans-serif", 18))
+        .caption(
+            "Photon counting: power leaving the source and reaching the detector",
+            ("sans-serif", 18),
+        )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
-    chart.configure_mesh().x_desc("time after switching on (ns)").y_desc("power (nW) = photons per second × e").draw()?;
-    chart.draw_series(LineSeries::new(leaving.iter().copied(), &BLUE))?.label("leaving the source (photon count)").legend(|(x, y)| {
-        PathElement::new(vec![(x, y), (x + 20, y)], BLUE)
-    });
-    chart.draw_series(LineSeries::new(arriving.iter().copied(), &RED))?.label("arriving at the detector").legend(|(x, y)| {
-        PathElement::new(vec![(x, y), (x + 20, y)], RED)
-    });
-    for (v, c, l) in [(phi, BLACK, "Φ = π L A"), (phi_f, RGBColor(120, 120, 120), "Φ F (view factor)")] {
-        chart.draw_series(LineSeries::new([(0.0, v), (t_max, v)], c.stroke_width(1)))?.label(l).legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 20, y)], c)
-        });
+    chart
+        .configure_mesh()
+        .x_desc("time after switching on (ns)")
+        .y_desc("power (nW) = photons per second × e")
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(leaving.iter().copied(), &BLUE))?
+        .label("leaving the source (photon count)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+    chart
+        .draw_series(LineSeries::new(arriving.iter().copied(), &RED))?
+        .label("arriving at the detector")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED));
+    for (v, c, l) in [
+        (phi, BLACK, "Φ = π L A"),
+        (phi_f, RGBColor(120, 120, 120), "Φ F (view factor)"),
+    ] {
+        chart
+            .draw_series(LineSeries::new([(0.0, v), (t_max, v)], c.stroke_width(1)))?
+            .label(l)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).position(SeriesLabelPosition::LowerRight).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::LowerRight)
+        .draw()?;
     root.present()?;
     Ok("target/examples/01_photon_flux.svg".into())
 }
@@ -227,7 +290,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -236,7 +301,11 @@ fn samples(default: u64) -> u64 {
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

@@ -40,8 +40,12 @@ const ALPHA: f64 = 1e-4;
 
 fn main() {
     let n = samples(1 << 20);
-    println!("2. Solid angle: σ = ∫_S dω = ∫_A cos θl / r² dA  [sr];  projected: σ⊥ = ∫_S cos θ dω  [sr]");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "2. Solid angle: σ = ∫_S dω = ∫_A cos θl / r² dA  [sr];  projected: σ⊥ = ∫_S cos θ dω  [sr]"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
 
     // A sphere of radius 1 at distance 3: the cap formula σ = 2π(1 − cos α), sin α = R/d.
@@ -71,13 +75,30 @@ fn main() {
             "estimators": estimators
         })
     };
-    ok &= check_all("rectangle 2 × 1.5 at 2", rect([-1.0, -1.0, 2.0], [2.0, 0.0, 0.0], [0.0, 1.5, 0.0], &["uniform", "area"]), n);
+    ok &= check_all(
+        "rectangle 2 × 1.5 at 2",
+        rect(
+            [-1.0, -1.0, 2.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 1.5, 0.0],
+            &["uniform", "area"],
+        ),
+        n,
+    );
 
     // σ ≈ A/R² for a small facing patch: a 0.1 × 0.1 square at distance 10. Uniform
     // directions would almost never hit it (σ/4π ≈ 8e-6): sample its area instead.
-    let small = rect([-0.05, -0.05, 10.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], &["area"]);
+    let small = rect(
+        [-0.05, -0.05, 10.0],
+        [0.1, 0.0, 0.0],
+        [0.0, 0.1, 0.0],
+        &["area"],
+    );
     let (area, r) = (0.01f64, 10.0f64);
-    println!("  small far patch: A/R² = {:.8} sr (the approximation); the exact value follows", area / (r * r));
+    println!(
+        "  small far patch: A/R² = {:.8} sr (the approximation); the exact value follows",
+        area / (r * r)
+    );
     ok &= check_all("square 0.1 × 0.1 at 10", small, n);
 
     // Projected solid angle of the rectangle for a receiver at the origin facing +z.
@@ -104,7 +125,15 @@ fn check_all(label: &str, desc: serde_json::Value, n: u64) -> bool {
     let mut ok = true;
     for &est in &case.desc.estimators {
         let seed = seed_for(2, &case.desc.name, est, SamplerKind::Independent);
-        let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+        let e = case.estimate(
+            est,
+            &RunSpec {
+                samples: n,
+                sampler: SamplerKind::Independent,
+                seed,
+            },
+            false,
+        );
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
         ok &= report(&format!("{label} [{}]", est_name(est)), &v);
     }
@@ -129,7 +158,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -138,7 +169,8 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -147,15 +179,23 @@ fn show_case_file(name: &str, text: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let path = dir.join(name);
     let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    println!(
+        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
+    );
     if saved.is_ok() {
-        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+        println!(
+            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
+        );
     }
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

@@ -44,8 +44,12 @@ const DISK_CASE: &str = r#"{
 
 fn main() {
     let n = samples(1 << 20);
-    println!("3. Intensity I = dΦ/dω [W/sr]:  point light Φ = 4π I;  Lambertian emitter I(θ) = L A cos θ, Φ = π L A");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "3. Intensity I = dΦ/dω [W/sr]:  point light Φ = 4π I;  Lambertian emitter I(θ) = L A cos θ, Φ = π L A"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
 
     // An isotropic point light of intensity 2 W/sr: its intensity and power.
@@ -57,10 +61,25 @@ fn main() {
             "measure": measure, "estimators": [est]
         }))
     };
-    let c = point(json!({ "intensity": { "emitter": 0, "direction": [0.3, -0.2, 0.9] } }), "area");
-    ok &= check("intensity I towards (0.3, −0.2, 0.9)", &c, Estimator::Area, n, 2.0);
+    let c = point(
+        json!({ "intensity": { "emitter": 0, "direction": [0.3, -0.2, 0.9] } }),
+        "area",
+    );
+    ok &= check(
+        "intensity I towards (0.3, −0.2, 0.9)",
+        &c,
+        Estimator::Area,
+        n,
+        2.0,
+    );
     let c = point(json!({ "power": { "emitter": 0 } }), "uniform");
-    ok &= check("power Φ = ∫ I dω  vs  4π I", &c, Estimator::Uniform, n, 4.0 * PI * 2.0);
+    ok &= check(
+        "power Φ = ∫ I dω  vs  4π I",
+        &c,
+        Estimator::Uniform,
+        n,
+        4.0 * PI * 2.0,
+    );
 
     println!("\nLambertian disk, radius 0.5 m, L = 2 W/(m²·sr):");
     show_case_file("03_disk_intensity.json", DISK_CASE);
@@ -90,11 +109,19 @@ fn main() {
         "reference": { "closed_form": "lambertian_power", "radiance": radiance, "area": area },
         "estimators": ["uniform"]
     }));
-    ok &= check("power Φ = ∫∫ L cos θ dω dA  vs  π L A", &c, Estimator::Uniform, n, c.reference.unwrap());
+    ok &= check(
+        "power Φ = ∫∫ L cos θ dω dA  vs  π L A",
+        &c,
+        Estimator::Uniform,
+        n,
+        c.reference.unwrap(),
+    );
 
     // A Lambertian sphere: every direction sees a disk of radius R (its projected
     // area), so I = L π R² in all directions, the same as a facing disk of radius R.
-    println!("\nLambertian sphere, radius 0.5 m, L = 2 W/(m²·sr): I = L π R² in every direction (the Sun looks like a flat disk):");
+    println!(
+        "\nLambertian sphere, radius 0.5 m, L = 2 W/(m²·sr): I = L π R² in every direction (the Sun looks like a flat disk):"
+    );
     for dir in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [-0.48, 0.6, -0.64]] {
         let c = load(json!({
             "name": format!("sphere intensity towards {dir:?}"), "teaches": "a Lambertian sphere has I = L π R²",
@@ -103,7 +130,13 @@ fn main() {
             "measure": { "intensity": { "shape": 0, "direction": dir } },
             "estimators": ["area"]
         }));
-        ok &= check(&format!("I towards ({}, {}, {})  vs  L π R²", dir[0], dir[1], dir[2]), &c, Estimator::Area, n, radiance * area);
+        ok &= check(
+            &format!("I towards ({}, {}, {})  vs  L π R²", dir[0], dir[1], dir[2]),
+            &c,
+            Estimator::Area,
+            n,
+            radiance * area,
+        );
     }
 
     match plot(&points, radiance * area) {
@@ -116,14 +149,36 @@ fn main() {
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
     let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
-    judge(&e, SamplerKind::Independent, case.reference.unwrap_or(f64::NAN), ALPHA, 1)
+    let e = case.estimate(
+        est,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
+    judge(
+        &e,
+        SamplerKind::Independent,
+        case.reference.unwrap_or(f64::NAN),
+        ALPHA,
+        1,
+    )
 }
 
 /// Run, judge against `exact` and report.
 fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
     let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    let e = case.estimate(
+        est,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
     report(what, &judge(&e, SamplerKind::Independent, exact, ALPHA, 1))
 }
 
@@ -134,22 +189,44 @@ fn plot(points: &[(f64, f64, f64)], i0: f64) -> Result<String, Box<dyn std::erro
     let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
-        .caption("Lambert's cosine law: intensity of a Lambertian disk", ("sans-serif", 18))
+        .caption(
+            "Lambert's cosine law: intensity of a Lambertian disk",
+            ("sans-serif", 18),
+        )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(0.0..90.0, 0.0..i0 * 1.1)?;
-    chart.configure_mesh().x_desc("angle from the normal θ (degrees)").y_desc("intensity I (W/sr)").draw()?;
     chart
-        .draw_series(LineSeries::new((0..=90).map(|d| (d as f64, i0 * (d as f64).to_radians().cos())), &BLACK))?
+        .configure_mesh()
+        .x_desc("angle from the normal θ (degrees)")
+        .y_desc("intensity I (W/sr)")
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(
+            (0..=90).map(|d| (d as f64, i0 * (d as f64).to_radians().cos())),
+            &BLACK,
+        ))?
         .label("L A cos θ (closed form)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
     chart
-        .draw_series(points.iter().map(|&(d, i, _)| Circle::new((d, i), 4, RED.filled())))?
+        .draw_series(
+            points
+                .iter()
+                .map(|&(d, i, _)| Circle::new((d, i), 4, RED.filled())),
+        )?
         .label("Monte Carlo (area sampling)")
         .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-    chart.draw_series(points.iter().map(|&(d, i, se)| PathElement::new(vec![(d, i - 3.0 * se), (d, i + 3.0 * se)], RED)))?;
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    chart.draw_series(
+        points
+            .iter()
+            .map(|&(d, i, se)| PathElement::new(vec![(d, i - 3.0 * se), (d, i + 3.0 * se)], RED)),
+    )?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
     root.present()?;
     Ok("target/examples/03_intensity.svg".into())
 }
@@ -163,7 +240,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -172,7 +251,8 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -181,15 +261,23 @@ fn show_case_file(name: &str, text: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let path = dir.join(name);
     let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    println!(
+        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
+    );
     if saved.is_ok() {
-        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+        println!(
+            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
+        );
     }
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

@@ -48,8 +48,12 @@ const DISK_CASE: &str = r#"{
 
 fn main() {
     let n = samples(1 << 20);
-    println!("4. Irradiance E = ∫ L cos θ dω [W/m²];  point light E = I cos θ / r²;  disk on axis E = π L R²/(R² + h²)");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "4. Irradiance E = ∫ L cos θ dω [W/m²];  point light E = I cos θ / r²;  disk on axis E = π L R²/(R² + h²)"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
 
     show_case_file("04_disk_irradiance.json", DISK_CASE);
@@ -71,7 +75,12 @@ fn main() {
     ok &= check_all("disk, receiver off axis tilted 40°", &tilted, n);
 
     // A quadrilateral light (a mesh of two triangles): Lambert's polygon formula.
-    let quad = [[-1.0, -0.5, 1.5], [1.5, -1.0, 1.5], [1.0, 1.0, 1.5], [-0.5, 0.8, 1.5]];
+    let quad = [
+        [-1.0, -0.5, 1.5],
+        [1.5, -1.0, 1.5],
+        [1.0, 1.0, 1.5],
+        [-0.5, 0.8, 1.5],
+    ];
     let polygon = load(json!({
         "name": "quadrilateral light", "teaches": "E = ½ L Σ Θᵢ n·γ̂ᵢ (Lambert 1760)",
         "scene": { "shapes": [ { "geometry": { "type": "mesh", "vertices": quad, "indices": [[0, 1, 2], [0, 2, 3]] },
@@ -121,7 +130,13 @@ fn main() {
         }));
         let v = estimate(&c, Estimator::Mis, n);
         let far = PI / (h * h);
-        ok &= report(&format!("h = {h:<5} I/h² = {far:<8.5} ({:+.1}% off)", 100.0 * (far / v.reference - 1.0)), &v);
+        ok &= report(
+            &format!(
+                "h = {h:<5} I/h² = {far:<8.5} ({:+.1}% off)",
+                100.0 * (far / v.reference - 1.0)
+            ),
+            &v,
+        );
         points.push((h, v.estimate));
     }
     match plot(&points) {
@@ -134,15 +149,32 @@ fn main() {
 /// Run one estimator of a case and judge it against the case's closed form.
 fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
     let seed = seed_for(4, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
-    judge(&e, SamplerKind::Independent, case.reference.expect("a closed form"), ALPHA, 1)
+    let e = case.estimate(
+        est,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
+    judge(
+        &e,
+        SamplerKind::Independent,
+        case.reference.expect("a closed form"),
+        ALPHA,
+        1,
+    )
 }
 
 /// Run and report every estimator of a case.
 fn check_all(label: &str, case: &Case, n: u64) -> bool {
     let mut ok = true;
     for &est in &case.desc.estimators {
-        ok &= report(&format!("{label} [{}]", est.name()), &estimate(case, est, n));
+        ok &= report(
+            &format!("{label} [{}]", est.name()),
+            &estimate(case, est, n),
+        );
     }
     ok
 }
@@ -154,26 +186,45 @@ fn plot(points: &[(f64, f64)]) -> Result<String, Box<dyn std::error::Error>> {
     let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
-        .caption("Irradiance on the axis of a disk light (R = 1, L = 1)", ("sans-serif", 18))
+        .caption(
+            "Irradiance on the axis of a disk light (R = 1, L = 1)",
+            ("sans-serif", 18),
+        )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d((0.2f64..20.0).log_scale(), (0.005f64..60.0).log_scale())?;
-    chart.configure_mesh().x_desc("height h (m)").y_desc("irradiance E (W/m²)").draw()?;
-    let hs: Vec<f64> = (0..=100).map(|i| 0.2 * 100f64.powf(i as f64 / 100.0)).collect();
     chart
-        .draw_series(LineSeries::new(hs.iter().map(|&h| (h, PI / (1.0 + h * h))), &BLACK))?
+        .configure_mesh()
+        .x_desc("height h (m)")
+        .y_desc("irradiance E (W/m²)")
+        .draw()?;
+    let hs: Vec<f64> = (0..=100)
+        .map(|i| 0.2 * 100f64.powf(i as f64 / 100.0))
+        .collect();
+    chart
+        .draw_series(LineSeries::new(
+            hs.iter().map(|&h| (h, PI / (1.0 + h * h))),
+            &BLACK,
+        ))?
         .label("π L R²/(R² + h²) (disk)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
     chart
-        .draw_series(LineSeries::new(hs.iter().map(|&h| (h, PI / (h * h))), &BLUE))?
+        .draw_series(LineSeries::new(
+            hs.iter().map(|&h| (h, PI / (h * h))),
+            &BLUE,
+        ))?
         .label("I / h², I = L π R² (point light)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
     chart
         .draw_series(points.iter().map(|&p| Circle::new(p, 4, RED.filled())))?
         .label("Monte Carlo (MIS)")
         .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
     root.present()?;
     Ok("target/examples/04_inverse_square.svg".into())
 }
@@ -187,7 +238,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -196,7 +249,8 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -205,15 +259,23 @@ fn show_case_file(name: &str, text: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let path = dir.join(name);
     let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    println!(
+        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
+    );
     if saved.is_ok() {
-        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+        println!(
+            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
+        );
     }
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

@@ -23,9 +23,9 @@ use glam::Vec3;
 use lightproof::math::Frame;
 use lightproof::sampling::{Sampler, SamplerKind};
 use lightproof::stats::Verdict;
+use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
 use lightproof::transport::path::{Prev, trace};
-use lightproof::transport::Estimator;
 use lightproof::verify::{Case, CaseDesc, judge, seed_for};
 use lightproof_analytic::geom::Vec3 as V;
 use lightproof_analytic::irradiance::sphere as sphere_irradiance;
@@ -51,8 +51,12 @@ const SKY_CASE: &str = r#"{
 
 fn main() {
     let n = samples(1 << 18);
-    println!("5. Radiance L = d²Φ / (dA cos θ dω) [W/(m²·sr)] is constant along a ray: E = L σ⊥ falls with distance, L does not");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "5. Radiance L = d²Φ / (dA cos θ dω) [W/(m²·sr)] is constant along a ray: E = L σ⊥ falls with distance, L does not"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
 
     let le = 3.0;
@@ -66,21 +70,37 @@ fn main() {
             "scene": scene, "measure": { "radiance": { "at": [0, 0, d], "direction": [0.3 / d, 0.1 / d, -1] } },
             "estimators": ["mis"]
         }));
-        ok &= report(&format!("d = {d:<5} radiance along a ray"), &estimate(&c, Estimator::Mis, n, le));
+        ok &= report(
+            &format!("d = {d:<5} radiance along a ray"),
+            &estimate(&c, Estimator::Mis, n, le),
+        );
         // The irradiance it delivers to a receiver facing it, and σ⊥ = E / L.
         let c = load(json!({
             "name": format!("emitting sphere irradiance from {d}"), "teaches": "E = L σ⊥",
             "scene": scene, "measure": { "irradiance": { "at": [0, 0, d], "normal": [0, 0, -1] } },
             "estimators": ["light"]
         }));
-        let (p, nrm, ctr) = (V::new(0.0, 0.0, d), V::new(0.0, 0.0, -1.0), V::new(0.0, 0.0, 0.0));
+        let (p, nrm, ctr) = (
+            V::new(0.0, 0.0, d),
+            V::new(0.0, 0.0, -1.0),
+            V::new(0.0, 0.0, 0.0),
+        );
         let proj = sphere_irradiance(p, nrm, ctr, 1.0, 1.0); // σ⊥: the irradiance of L = 1
         let v = estimate(&c, Estimator::Light, n, le * proj);
-        ok &= report(&format!("d = {d:<5} irradiance E = L σ⊥, σ⊥ = {proj:.3e} sr"), &v);
-        println!("  {:<50} {:>12.6}  (L = E / σ⊥ from the estimate above)", format!("d = {d:<5} E / σ⊥"), v.estimate / proj);
+        ok &= report(
+            &format!("d = {d:<5} irradiance E = L σ⊥, σ⊥ = {proj:.3e} sr"),
+            &v,
+        );
+        println!(
+            "  {:<50} {:>12.6}  (L = E / σ⊥ from the estimate above)",
+            format!("d = {d:<5} E / σ⊥"),
+            v.estimate / proj
+        );
     }
 
-    println!("\nA grey sphere (ρ = 0.6) under a uniform sky L_sky = 1.5 reflects ρ L_sky = 0.9 towards every eye:");
+    println!(
+        "\nA grey sphere (ρ = 0.6) under a uniform sky L_sky = 1.5 reflects ρ L_sky = 0.9 towards every eye:"
+    );
     show_case_file("05_grey_sphere.json", SKY_CASE);
     for d in [3.0, 30.0, 300.0] {
         let c = load(json!({
@@ -96,7 +116,10 @@ fn main() {
             "estimators": ["light", "bsdf", "mis"]
         }));
         for &est in &c.desc.estimators {
-            ok &= report(&format!("d = {d:<5} reflected radiance [{}]", est.name()), &estimate(&c, est, n, c.reference.unwrap()));
+            ok &= report(
+                &format!("d = {d:<5} reflected radiance [{}]", est.name()),
+                &estimate(&c, est, n, c.reference.unwrap()),
+            );
         }
     }
 
@@ -104,7 +127,9 @@ fn main() {
     for (d, name) in [(3.0, "05_radiance_near.exr"), (12.0, "05_radiance_far.exr")] {
         match render(d, name, (n / 4096).clamp(4, 64)) {
             Ok((p, count, mean)) => {
-                println!("wrote {p} (camera at {d} m: {count} pixels show the sphere, their mean radiance is {mean:.3})")
+                println!(
+                    "wrote {p} (camera at {d} m: {count} pixels show the sphere, their mean radiance is {mean:.3})"
+                )
             }
             Err(e) => println!("(could not write {name}: {e})"),
         }
@@ -115,14 +140,26 @@ fn main() {
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64, exact: f64) -> Verdict {
     let seed = seed_for(5, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    let e = case.estimate(
+        est,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
     judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
 }
 
 /// Render the grey sphere from distance `d` (64 × 64, 50° field of view, `spp` samples
 /// per pixel) into target/examples/`name`; returns the path, the number of pixels
 /// inside the sphere and their mean.
-fn render(d: f64, name: &str, spp: u64) -> Result<(String, usize, f64), Box<dyn std::error::Error>> {
+fn render(
+    d: f64,
+    name: &str,
+    spp: u64,
+) -> Result<(String, usize, f64), Box<dyn std::error::Error>> {
     let case = load(json!({
         "name": "grey sphere image", "teaches": "radiance per pixel",
         "scene": {
@@ -150,7 +187,19 @@ fn render(d: f64, name: &str, spp: u64) -> Result<(String, usize, f64), Box<dyn 
             let u = (2.0 * (x as f32 + j.x) / w as f32 - 1.0) * tan;
             let v = (1.0 - 2.0 * (y as f32 + j.y) / h as f32) * tan;
             let dir = frame.to_world(Vec3::new(u, v, 1.0).normalize());
-            sum += trace(&case.scene, &cfg, eye, dir, Prev { p: eye, pdf: 1.0, delta: true }, 0, &mut s) as f64;
+            sum += trace(
+                &case.scene,
+                &cfg,
+                eye,
+                dir,
+                Prev {
+                    p: eye,
+                    pdf: 1.0,
+                    delta: true,
+                },
+                0,
+                &mut s,
+            ) as f64;
         }
         *px = (sum / spp as f64) as f32;
     }
@@ -170,7 +219,8 @@ fn render(d: f64, name: &str, spp: u64) -> Result<(String, usize, f64), Box<dyn 
         })
         .map(|i| pixels[i])
         .collect();
-    let mean = sphere_pixels.iter().map(|&v| v as f64).sum::<f64>() / sphere_pixels.len().max(1) as f64;
+    let mean =
+        sphere_pixels.iter().map(|&v| v as f64).sum::<f64>() / sphere_pixels.len().max(1) as f64;
     Ok((format!("target/examples/{name}"), sphere_pixels.len(), mean))
 }
 
@@ -183,7 +233,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -192,7 +244,8 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -201,15 +254,23 @@ fn show_case_file(name: &str, text: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let path = dir.join(name);
     let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    println!(
+        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
+    );
     if saved.is_ok() {
-        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+        println!(
+            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
+        );
     }
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

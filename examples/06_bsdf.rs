@@ -19,9 +19,9 @@
 use glam::Vec3;
 use lightproof::bsdf::contract::check_reciprocity;
 use lightproof::bsdf::{Bsdf, BsdfModel};
+use lightproof::sampling::Sampler;
 use lightproof::sampling::SamplerKind;
 use lightproof::sampling::sphere::uniform_sphere;
-use lightproof::sampling::Sampler;
 use lightproof::stats::{MeanTest, Verdict};
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
@@ -35,20 +35,28 @@ use std::path::Path;
 const ALPHA: f64 = 1e-4;
 
 const LAMBERTIAN: &str = r#"{ "type": "lambertian", "albedo": 0.6 }"#;
-const ROUGH_CONDUCTOR: &str = r#"{ "type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9 }"#;
+const ROUGH_CONDUCTOR: &str =
+    r#"{ "type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9 }"#;
 /// A rough conductor with Fresnel reflectance ≈ 1 and the largest roughness: what it
 /// loses is the light that would have bounced between microfacets.
-const WHITE_ROUGH_CONDUCTOR: &str = r#"{ "type": "rough_conductor", "alpha": 1.0, "eta": 1.0, "k": 100 }"#;
+const WHITE_ROUGH_CONDUCTOR: &str =
+    r#"{ "type": "rough_conductor", "alpha": 1.0, "eta": 1.0, "k": 100 }"#;
 
 fn main() {
     let n = samples(1 << 19);
-    println!("6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi);  albedo ∫ f cos θi dωi ≤ 1");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi);  albedo ∫ f cos θi dωi ≤ 1"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
 
     // f = dLo/dE: a large grey floor lit by a small disk light straight above the
     // origin, seen from an eye looking at the origin at 45°.
-    println!("f = Lo / E: a floor of {LAMBERTIAN}, a disk light (R = 0.25, L = 10) 2 m above, an eye at 45°");
+    println!(
+        "f = Lo / E: a floor of {LAMBERTIAN}, a disk light (R = 0.25, L = 10) 2 m above, an eye at 45°"
+    );
     let (r, h, l) = (0.25, 2.0, 10.0);
     let floor = |material: &str| {
         json!({
@@ -73,10 +81,18 @@ fn main() {
     let rho = 0.6;
     for &est in &c.desc.estimators {
         let v = estimate(&c, est, n, rho / PI * e_exact);
-        ok &= report(&format!("radiance Lo towards the eye vs (ρ/π) E [{}]", est.name()), &v);
+        ok &= report(
+            &format!("radiance Lo towards the eye vs (ρ/π) E [{}]", est.name()),
+            &v,
+        );
     }
     let lo = estimate(&c, Estimator::Mis, n, rho / PI * e_exact).estimate;
-    println!("  {:<50} {:>12.6}  (ρ/π = {:.6}: f = dLo/dE)", "Lo / E", lo / e.estimate, rho / PI);
+    println!(
+        "  {:<50} {:>12.6}  (ρ/π = {:.6}: f = dLo/dE)",
+        "Lo / E",
+        lo / e.estimate,
+        rho / PI
+    );
 
     // For a glossy surface Lo / E depends on both directions: it is f(ωi → ωo) itself,
     // blurred over the light's small solid angle (here about 0.05 sr).
@@ -89,9 +105,17 @@ fn main() {
     let wo = Vec3::new(0.0, -1.0, 1.0).normalize();
     let f = glossy.eval(wo, Vec3::Z) as f64;
     let lo = estimate(&c, Estimator::Mis, n, f * e_exact).estimate;
-    println!("  {:<50} {:>12.6}  (≈ f(ωi = up → ωo = eye) = {f:.6}, blurred over the light; no verdict)", "rough conductor floor: Lo / E", lo / e.estimate);
+    println!(
+        "  {:<50} {:>12.6}  (≈ f(ωi = up → ωo = eye) = {f:.6}, blurred over the light; no verdict)",
+        "rough conductor floor: Lo / E",
+        lo / e.estimate
+    );
 
-    for (name, json) in [("Lambertian", LAMBERTIAN), ("rough conductor", ROUGH_CONDUCTOR), ("white rough conductor", WHITE_ROUGH_CONDUCTOR)] {
+    for (name, json) in [
+        ("Lambertian", LAMBERTIAN),
+        ("rough conductor", ROUGH_CONDUCTOR),
+        ("white rough conductor", WHITE_ROUGH_CONDUCTOR),
+    ] {
         let bsdf = Bsdf::from_json(json).unwrap();
         println!("\n{name} {json}:");
         // Reciprocity: evaluate both ways for a few direction pairs, then check many.
@@ -136,14 +160,25 @@ fn main() {
             }));
             for &est in &c.desc.estimators {
                 let seed = seed_for(6, &c.desc.name, est, SamplerKind::Independent);
-                let e = c.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+                let e = c.estimate(
+                    est,
+                    &RunSpec {
+                        samples: n,
+                        sampler: SamplerKind::Independent,
+                        seed,
+                    },
+                    false,
+                );
                 if name == "Lambertian" {
                     let v = judge(&e, SamplerKind::Independent, rho, ALPHA, 1);
                     ok &= report(&format!("albedo a(θo = {theta}°) = ρ [{}]", est.name()), &v);
                 } else {
                     // One-sided: fail only if the albedo is significantly above 1.
                     let v = MeanTest::new(ALPHA, 1).judge_at_most(&e.batches.total, 1.0);
-                    ok &= report(&format!("albedo a(θo = {theta}°) ≤ 1 [{}, one-sided]", est.name()), &v);
+                    ok &= report(
+                        &format!("albedo a(θo = {theta}°) ≤ 1 [{}, one-sided]", est.name()),
+                        &v,
+                    );
                 }
             }
         }
@@ -154,7 +189,15 @@ fn main() {
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64, exact: f64) -> Verdict {
     let seed = seed_for(6, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    let e = case.estimate(
+        est,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
     judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
 }
 
@@ -167,7 +210,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -176,13 +221,18 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.
@@ -191,7 +241,11 @@ fn report(what: &str, v: &Verdict) -> bool {
         "  {what:<50} {:>12} ± {:<11} {} {:>12}  z {:+6.2}  verdict {}",
         num(v.estimate),
         num(v.std_error),
-        if what.contains("one-sided") { "bound" } else { "exact" },
+        if what.contains("one-sided") {
+            "bound"
+        } else {
+            "exact"
+        },
         num(v.reference),
         v.z,
         if v.passed { "PASS" } else { "FAIL" }

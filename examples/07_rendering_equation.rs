@@ -47,8 +47,12 @@ const FURNACE_CASE: &str = r#"{
 
 fn main() {
     let n = samples(1 << 18);
-    println!("7. Rendering equation Lo = Le + ∫ f Li cos θi dωi [W/(m²·sr)];  white furnace: L_k = Le (1 − ρ^(k+1)) / (1 − ρ) → Le / (1 − ρ)");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "7. Rendering equation Lo = Le + ∫ f Li cos θi dωi [W/(m²·sr)];  white furnace: L_k = Le (1 − ρ^(k+1)) / (1 − ρ) → Le / (1 − ρ)"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     show_case_file("07_furnace.json", FURNACE_CASE);
     let case = load(serde_json::from_str(FURNACE_CASE).unwrap());
     let (le, rho) = (1.0f64, 0.8f64);
@@ -58,29 +62,59 @@ fn main() {
         // The path tracer's configuration for MIS, with its depth capped at k bounces.
         let mut cfg = case.config(Estimator::Mis, false);
         cfg.max_bounces = k;
-        let seed = seed_for(7 + k as u64, &case.desc.name, Estimator::Mis, SamplerKind::Independent);
-        let spec = RunSpec { samples: n, sampler: SamplerKind::Independent, seed };
-        let e = run(&spec, |s| case.measure.sample(&case.scene, Estimator::Mis, &cfg, s));
+        let seed = seed_for(
+            7 + k as u64,
+            &case.desc.name,
+            Estimator::Mis,
+            SamplerKind::Independent,
+        );
+        let spec = RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        };
+        let e = run(&spec, |s| {
+            case.measure.sample(&case.scene, Estimator::Mis, &cfg, s)
+        });
         let exact = le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho);
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
-        ok &= report(&format!("k = {k:<2} bounces: Le (1 − ρ^{}) / (1 − ρ)", k + 1), &v);
+        ok &= report(
+            &format!("k = {k:<2} bounces: Le (1 − ρ^{}) / (1 − ρ)", k + 1),
+            &v,
+        );
         points.push((k as f64, v.estimate, v.std_error));
     }
     // Unbounded, with Russian roulette: the whole series.
     let exact = case.reference.expect("the case names a closed form");
     let seed = seed_for(7, &case.desc.name, Estimator::Mis, SamplerKind::Independent);
-    let e = case.estimate(Estimator::Mis, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+    let e = case.estimate(
+        Estimator::Mis,
+        &RunSpec {
+            samples: n,
+            sampler: SamplerKind::Independent,
+            seed,
+        },
+        false,
+    );
     let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
     ok &= report("unbounded (Russian roulette): Le / (1 − ρ)", &v);
 
     match plot(&points, le / (1.0 - rho), le, rho, v.estimate) {
-        Ok(p) => println!("\nwrote {p} (each bounce adds ρ times the last; the series converges to Le/(1 − ρ))"),
+        Ok(p) => println!(
+            "\nwrote {p} (each bounce adds ρ times the last; the series converges to Le/(1 − ρ))"
+        ),
         Err(err) => println!("\n(could not write the plot: {err})"),
     }
     finish(ok);
 }
 
-fn plot(points: &[(f64, f64, f64)], limit: f64, le: f64, rho: f64, unbounded: f64) -> Result<String, Box<dyn std::error::Error>> {
+fn plot(
+    points: &[(f64, f64, f64)],
+    limit: f64,
+    le: f64,
+    rho: f64,
+    unbounded: f64,
+) -> Result<String, Box<dyn std::error::Error>> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     std::fs::create_dir_all(&dir)?;
     let path = dir.join("07_furnace_bounces.svg");
@@ -88,14 +122,25 @@ fn plot(points: &[(f64, f64, f64)], limit: f64, le: f64, rho: f64, unbounded: f6
     root.fill(&WHITE)?;
     let k_max = points.len() as f64 - 1.0;
     let mut chart = ChartBuilder::on(&root)
-        .caption("White furnace (ρ = 0.8): radiance after k bounces", ("sans-serif", 18))
+        .caption(
+            "White furnace (ρ = 0.8): radiance after k bounces",
+            ("sans-serif", 18),
+        )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(-0.5..k_max + 0.5, 0.0..limit * 1.1)?;
-    chart.configure_mesh().x_desc("maximum number of bounces k").y_desc("radiance L (W/(m²·sr))").draw()?;
     chart
-        .draw_series(LineSeries::new((0..=points.len() - 1).map(|k| (k as f64, le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho))), &BLACK))?
+        .configure_mesh()
+        .x_desc("maximum number of bounces k")
+        .y_desc("radiance L (W/(m²·sr))")
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(
+            (0..=points.len() - 1)
+                .map(|k| (k as f64, le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho))),
+            &BLACK,
+        ))?
         .label("Le (1 − ρ^(k+1)) / (1 − ρ)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
     chart
@@ -103,14 +148,27 @@ fn plot(points: &[(f64, f64, f64)], limit: f64, le: f64, rho: f64, unbounded: f6
         .label("Le / (1 − ρ)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
     chart
-        .draw_series(points.iter().map(|&(k, l, _)| Circle::new((k, l), 4, RED.filled())))?
+        .draw_series(
+            points
+                .iter()
+                .map(|&(k, l, _)| Circle::new((k, l), 4, RED.filled())),
+        )?
         .label("path tracer capped at k bounces")
         .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
     chart
-        .draw_series(std::iter::once(Cross::new((k_max, unbounded), 6, GREEN.stroke_width(2))))?
+        .draw_series(std::iter::once(Cross::new(
+            (k_max, unbounded),
+            6,
+            GREEN.stroke_width(2),
+        )))?
         .label("unbounded, Russian roulette")
         .legend(|(x, y)| Cross::new((x + 10, y), 5, GREEN.stroke_width(2)));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).position(SeriesLabelPosition::LowerRight).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::LowerRight)
+        .draw()?;
     root.present()?;
     Ok("target/examples/07_furnace_bounces.svg".into())
 }
@@ -124,7 +182,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -133,7 +193,8 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -142,15 +203,23 @@ fn show_case_file(name: &str, text: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let path = dir.join(name);
     let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!("A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}");
+    println!(
+        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
+    );
     if saved.is_ok() {
-        println!("(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n");
+        println!(
+            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
+        );
     }
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

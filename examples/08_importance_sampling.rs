@@ -33,14 +33,26 @@ use std::path::Path;
 /// Per-check significance level: a check fails when |z| > 3.89.
 const ALPHA: f64 = 1e-4;
 
-const ESTIMATORS: [Estimator; 5] = [Estimator::Uniform, Estimator::Bsdf, Estimator::Light, Estimator::Mis, Estimator::MisBalance];
+const ESTIMATORS: [Estimator; 5] = [
+    Estimator::Uniform,
+    Estimator::Bsdf,
+    Estimator::Light,
+    Estimator::Mis,
+    Estimator::MisBalance,
+];
 const RADII: [f64; 5] = [0.1, 0.3, 1.0, 3.0, 10.0];
 
 fn main() {
     let n = samples(1 << 19);
-    println!("8. Importance sampling: E = ∫ L cos θ dω ≈ (1/N) Σ L cos θ / p(ω);  variance V = ∫ (L cos θ)²/p dω − E²;  efficiency = 1 / (V t)");
-    println!("   disk light, radiance 1, at height 1 above the receiver; exact E = π L R² / (R² + h²)");
-    println!("   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n");
+    println!(
+        "8. Importance sampling: E = ∫ L cos θ dω ≈ (1/N) Σ L cos θ / p(ω);  variance V = ∫ (L cos θ)²/p dω − E²;  efficiency = 1 / (V t)"
+    );
+    println!(
+        "   disk light, radiance 1, at height 1 above the receiver; exact E = π L R² / (R² + h²)"
+    );
+    println!(
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+    );
     let mut ok = true;
     let mut rows = Vec::new();
     for r in RADII {
@@ -54,20 +66,40 @@ fn main() {
             "estimators": ESTIMATORS.iter().map(|e| e.name()).collect::<Vec<_>>()
         }));
         let exact = case.reference.expect("a closed form");
-        println!("disk radius R = {r} (σ = {:.4} sr):", 2.0 * std::f64::consts::PI * (1.0 - 1.0 / (1.0 + r * r).sqrt()));
+        println!(
+            "disk radius R = {r} (σ = {:.4} sr):",
+            2.0 * std::f64::consts::PI * (1.0 - 1.0 / (1.0 + r * r).sqrt())
+        );
         for est in ESTIMATORS {
             let seed = seed_for(8, &case.desc.name, est, SamplerKind::Independent);
-            let e = case.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
+            let e = case.estimate(
+                est,
+                &RunSpec {
+                    samples: n,
+                    sampler: SamplerKind::Independent,
+                    seed,
+                },
+                false,
+            );
             let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
             ok &= report(&format!("  [{}]", est_label(est)), &v);
             let count = e.batches.total.count.max(1) as f64;
             let rel_var = e.batches.total.variance() / (exact * exact);
             let ns_per_sample = e.seconds / count * 1e9;
-            rows.push(Row { radius: r, est, rel_var, ns_per_sample, efficiency: 1.0 / (rel_var * ns_per_sample * 1e-9) });
+            rows.push(Row {
+                radius: r,
+                est,
+                rel_var,
+                ns_per_sample,
+                efficiency: 1.0 / (rel_var * ns_per_sample * 1e-9),
+            });
         }
     }
 
-    println!("\n{:<8} {:<14} {:>16} {:>14} {:>18}", "radius", "estimator", "rel. variance", "ns / sample", "efficiency (1/s)");
+    println!(
+        "\n{:<8} {:<14} {:>16} {:>14} {:>18}",
+        "radius", "estimator", "rel. variance", "ns / sample", "efficiency (1/s)"
+    );
     for row in &rows {
         println!(
             "{:<8} {:<14} {:>16.4e} {:>14.1} {:>18.4e}{}",
@@ -79,8 +111,12 @@ fn main() {
             if best(&rows, row) { "  ← best" } else { "" }
         );
     }
-    println!("(relative variance V/E² per sample; efficiency 1/(V/E² · t): samples-per-second worth of a zero-variance estimator.");
-    println!(" Times are wall-clock over all threads and noisy at small sample counts; the variances are not.)");
+    println!(
+        "(relative variance V/E² per sample; efficiency 1/(V/E² · t): samples-per-second worth of a zero-variance estimator."
+    );
+    println!(
+        " Times are wall-clock over all threads and noisy at small sample counts; the variances are not.)"
+    );
     match plot(&rows) {
         Ok(p) => println!("\nwrote {p}"),
         Err(err) => println!("\n(could not write the plot: {err})"),
@@ -98,7 +134,9 @@ struct Row {
 
 /// Whether `row` has the highest efficiency for its radius.
 fn best(rows: &[Row], row: &Row) -> bool {
-    rows.iter().filter(|r| r.radius == row.radius).all(|r| r.efficiency <= row.efficiency)
+    rows.iter()
+        .filter(|r| r.radius == row.radius)
+        .all(|r| r.efficiency <= row.efficiency)
 }
 
 fn est_label(e: Estimator) -> &'static str {
@@ -118,12 +156,19 @@ fn plot(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
     let path = dir.join("08_efficiency.svg");
     let root = SVGBackend::new(&path, (760, 500)).into_drawing_area();
     root.fill(&WHITE)?;
-    let finite = || rows.iter().map(|r| r.efficiency).filter(|e| e.is_finite() && *e > 0.0);
+    let finite = || {
+        rows.iter()
+            .map(|r| r.efficiency)
+            .filter(|e| e.is_finite() && *e > 0.0)
+    };
     let lo = finite().fold(f64::INFINITY, f64::min) / 3.0;
     let hi = finite().fold(0.0, f64::max) * 3.0;
     let (lo, hi) = if lo < hi { (lo, hi) } else { (1.0, 10.0) };
     let mut chart = ChartBuilder::on(&root)
-        .caption("Irradiance under a disk light: efficiency of each estimator", ("sans-serif", 18))
+        .caption(
+            "Irradiance under a disk light: efficiency of each estimator",
+            ("sans-serif", 18),
+        )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
@@ -136,14 +181,25 @@ fn plot(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
         .draw()?;
     let colours = [RGBColor(150, 150, 150), BLUE, RED, GREEN, MAGENTA];
     for (est, colour) in ESTIMATORS.iter().zip(colours) {
-        let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.est == *est && r.efficiency.is_finite()).map(|r| (r.radius, r.efficiency)).collect();
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.est == *est && r.efficiency.is_finite())
+            .map(|r| (r.radius, r.efficiency))
+            .collect();
         chart
             .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))?
             .label(est_label(*est))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).position(SeriesLabelPosition::UpperRight).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
     root.present()?;
     Ok("target/examples/08_efficiency.svg".into())
 }
@@ -157,7 +213,9 @@ fn samples(default: u64) -> u64 {
         Some(a) => match a.replace('_', "").parse::<u64>() {
             Ok(n) if n >= 256 => n,
             _ => {
-                eprintln!("usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`");
+                eprintln!(
+                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
+                );
                 std::process::exit(2)
             }
         },
@@ -166,13 +224,18 @@ fn samples(default: u64) -> u64 {
 
 /// A case from its JSON description (the format of a case file).
 fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc = serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
+    let desc: CaseDesc =
+        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Format a number readably whatever its magnitude.
 fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) { format!("{x:.6}") } else { format!("{x:.5e}") }
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.5e}")
+    }
 }
 
 /// Print one verdict line; returns whether it passed.

@@ -361,7 +361,7 @@ pub struct Outcome {
 impl Outcome {
     /// Whether it passed (a case without reference passes unless a sample was non-finite).
     pub fn passed(&self) -> bool {
-        self.verdict.as_ref().map_or(true, |v| v.passed)
+        self.verdict.as_ref().is_none_or(|v| v.passed)
     }
 }
 

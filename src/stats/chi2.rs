@@ -421,7 +421,7 @@ impl Chi2Test {
         let mut files = vec![json_path];
         let max_count = expected.iter().cloned().fold(1.0, f64::max).max(observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
         let (w, h) = (self.cols, self.rows);
-        let images: [(&str, Box<dyn Fn(usize) -> (f32, f32, f32) + Sync>); 3] = [
+        let images: [(&str, PixelFn); 3] = [
             ("observed", Box::new(|i| { let v = (observed[i] as f64 / max_count) as f32; (v, v, v) })),
             ("expected", Box::new(|i| { let v = (expected[i] / max_count) as f32; (v, v, v) })),
             ("residual", Box::new(|i| {
@@ -439,6 +439,9 @@ impl Chi2Test {
         Ok(files)
     }
 }
+
+/// A pixel of a table image, by cell index.
+type PixelFn<'a> = Box<dyn Fn(usize) -> (f32, f32, f32) + Sync + 'a>;
 
 /// Where failure tables go: `$CARGO_TARGET_DIR/chi2-failures` or `target/chi2-failures`.
 pub fn failure_dir() -> PathBuf {

@@ -1,0 +1,87 @@
+//! The teaching examples (`examples/01_*.rs` … `examples/08_*.rs`) must keep running and
+//! passing: each is run through `cargo run --example NAME -- 20000` (a small sample count;
+//! `cargo test` has already built them in the same profile) and must exit 0 and print
+//! its verdict. The examples run one after another: cargo holds a lock on the build
+//! directory, and each example already uses every core. Under `cargo test` they are
+//! already built (cargo builds examples with the tests), so this takes a few seconds;
+//! under `cargo test --test examples` they are first built in one parallel step.
+
+use std::process::Command;
+
+const EXAMPLES: [&str; 8] = [
+    "01_phase_space",
+    "02_solid_angle",
+    "03_intensity",
+    "04_irradiance",
+    "05_radiance",
+    "06_bsdf",
+    "07_rendering_equation",
+    "08_importance_sampling",
+];
+
+/// `cargo` in this package, in the profile this test was built with.
+fn cargo(command: &str) -> Command {
+    let mut c = Command::new(env!("CARGO"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"))
+        .arg(command)
+        .arg("--quiet");
+    if !cfg!(debug_assertions) {
+        // `cargo test --release`: the examples were built in release too.
+        c.arg("--release");
+    }
+    c
+}
+
+fn run_example(name: &str) {
+    let out = cargo("run")
+        .args(["--example", name, "--", "20000"])
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run cargo for example {name}: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "example {name} failed ({}):\n{stdout}\n{stderr}",
+        out.status
+    );
+    assert!(
+        stdout.contains("verdict: PASS"),
+        "example {name} printed no passing verdict:\n{stdout}\n{stderr}"
+    );
+    assert!(
+        !stdout.contains("verdict FAIL"),
+        "example {name} printed a failing check:\n{stdout}"
+    );
+}
+
+#[test]
+fn every_example_runs_and_passes() {
+    // Build them all at once (a no-op when `cargo test` already did).
+    let mut build = cargo("build");
+    for name in EXAMPLES {
+        build.args(["--example", name]);
+    }
+    let out = build.output().expect("cannot run cargo build");
+    assert!(
+        out.status.success(),
+        "building the examples failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for name in EXAMPLES {
+        run_example(name);
+    }
+}
+
+#[test]
+fn examples_reject_a_bad_sample_count() {
+    let out = cargo("run")
+        .args(["--example", "02_solid_angle", "--", "many"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
