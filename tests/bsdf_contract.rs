@@ -30,7 +30,16 @@ const CHI2_SUITE: usize = 40;
 const ALBEDO_SUITE: usize = 750;
 
 const ALPHAS: [f32; 5] = [1e-4, 0.01, 0.1, 0.5, 1.0];
-const ETAS: [f32; 8] = [1.0001, 1.33, 1.5, 2.4, 1.0 / 1.0001, 1.0 / 1.33, 1.0 / 1.5, 1.0 / 2.4];
+const ETAS: [f32; 8] = [
+    1.0001,
+    1.33,
+    1.5,
+    2.4,
+    1.0 / 1.0001,
+    1.0 / 1.33,
+    1.0 / 1.5,
+    1.0 / 2.4,
+];
 
 fn deg(d: f32) -> f32 {
     d.to_radians()
@@ -38,7 +47,10 @@ fn deg(d: f32) -> f32 {
 
 /// Outgoing directions: normal, oblique, steep and 89.9°; φ away from the axes.
 fn angles_above() -> Vec<Vec3> {
-    [0.0, 30.0, 60.0, 89.9].iter().map(|&t| direction(deg(t), 0.7)).collect()
+    [0.0, 30.0, 60.0, 89.9]
+        .iter()
+        .map(|&t| direction(deg(t), 0.7))
+        .collect()
 }
 
 /// Plus directions below the surface (through a dielectric from inside).
@@ -58,7 +70,7 @@ fn grid() -> Vec<(Bsdf, Vec<Vec3>)> {
         (Bsdf::Lambertian(Lambertian::new(0.5)), angles_both()),
         (Bsdf::Lambertian(Lambertian::new(1.0)), angles_above()),
     ];
-    for sigma in [0.0, 0.3, 1.0, std::f32::consts::FRAC_PI_2] {
+    for sigma in [0.0, 0.1, 0.5, 1.0] {
         g.push((Bsdf::OrenNayar(OrenNayar::new(1.0, sigma)), angles_both()));
     }
     for (eta, k) in [(0.2, 3.9), (1.5, 0.0), (1.0, 0.0), (0.05, 0.0), (2.9, 3.1)] {
@@ -104,36 +116,59 @@ fn seed(salt: u64) -> u64 {
 // 1. Chi-square
 // ---------------------------------------------------------------------------------
 
-fn chi2_cases() -> Vec<(Bsdf, Vec3)> {
+/// The chi-square configurations: (model, ωo, samples in units of 1e5).
+///
+/// The pdf quadrature of [`Chi2Test`] dominates the cost (it asks every cell for an
+/// absolute error of 1e-3/N), and a lobe of α = 0.1 or a rough dielectric's kinked
+/// pdf costs 5–40 s; the default run keeps the configurations that fit the suite's time
+/// budget, and `LIGHTPROOF_SCALE` ≥ 2 adds the expensive ones (α = 0.1, rays from
+/// inside the dielectric, η < 1, Beckmann everywhere).
+fn chi2_cases() -> Vec<(Bsdf, Vec3, u64)> {
+    let ggx_c = |alpha| Bsdf::RoughConductor(RoughConductor::new(alpha, 0.2, 3.9));
+    let ggx_d = |alpha, eta| Bsdf::RoughDielectric(RoughDielectric::new(alpha, eta));
+    let beck_c = |alpha| {
+        let mut c = RoughConductor::new(alpha, 0.2, 3.9);
+        c.distribution = Distribution::Beckmann;
+        Bsdf::RoughConductor(c)
+    };
+    let beck_d = |alpha, eta| {
+        let mut d = RoughDielectric::new(alpha, eta);
+        d.distribution = Distribution::Beckmann;
+        Bsdf::RoughDielectric(d)
+    };
+    let at = |theta: f32| direction(deg(theta), 0.3);
     let mut v = vec![
-        (Bsdf::Lambertian(Lambertian::new(0.7)), direction(deg(40.0), 0.3)),
-        (Bsdf::OrenNayar(OrenNayar::new(0.9, 0.8)), direction(deg(70.0), 0.3)),
-        (Bsdf::Plastic(Plastic::new(0.8, 1.5)), direction(deg(50.0), 0.3)),
-        (Bsdf::Plastic(Plastic::new(0.3, 2.4)), direction(deg(150.0), 0.3)),
+        (Bsdf::Lambertian(Lambertian::new(0.7)), at(40.0), 10),
+        (Bsdf::OrenNayar(OrenNayar::new(0.9, 0.8)), at(70.0), 10),
+        (Bsdf::Plastic(Plastic::new(0.8, 1.5)), at(50.0), 10),
+        (Bsdf::Plastic(Plastic::new(0.3, 2.4)), at(150.0), 10),
+        (ggx_c(1.0), at(60.0), 10),
+        (ggx_c(0.5), at(89.9), 10),
+        (ggx_d(0.5, 1.5), at(60.0), 10),
+        (ggx_d(1.0, 1.33), at(89.9), 10),
+        (beck_d(1.0, 1.33), at(89.9), 10),
+        (ggx_d(0.5, 1.0 / 1.5), at(50.0), 2),
     ];
-    for dist in [Distribution::Ggx, Distribution::Beckmann] {
-        for (alpha, theta) in [(0.1, 30.0), (0.5, 89.9), (1.0, 60.0), (0.1, 89.9)] {
-            let mut c = RoughConductor::new(alpha, 0.2, 3.9);
-            c.distribution = dist;
-            v.push((Bsdf::RoughConductor(c), direction(deg(theta), 0.3)));
-        }
-        for (alpha, eta, theta) in [
-            (0.1, 1.5, 30.0),
-            (0.5, 1.5, 60.0),
-            (0.5, 1.0 / 1.5, 50.0),
-            (1.0, 1.33, 89.9),
-            (0.5, 2.4, 20.0),
-            (0.5, 1.5, 140.0),
-            (0.1, 1.0 / 2.4, 10.0),
-        ] {
-            let mut d = RoughDielectric::new(alpha, eta);
-            d.distribution = dist;
-            v.push((Bsdf::RoughDielectric(d), direction(deg(theta), 0.3)));
-        }
+    if common::scale() > 1 {
+        v.extend([
+            (ggx_c(0.1), at(30.0), 10),
+            (ggx_c(0.1), at(89.9), 10),
+            (ggx_d(0.1, 1.5), at(30.0), 10),
+            (ggx_d(0.5, 2.4), at(20.0), 10),
+            (ggx_d(0.5, 1.5), at(140.0), 10),
+            (ggx_d(0.1, 1.0 / 2.4), at(10.0), 10),
+            (beck_c(0.1), at(30.0), 10),
+            (beck_c(0.5), at(89.9), 10),
+            (beck_c(1.0), at(60.0), 10),
+            (beck_d(0.5, 1.5), at(60.0), 10),
+            (beck_d(0.5, 1.0 / 1.5), at(50.0), 10),
+            (beck_d(0.5, 2.4), at(20.0), 10),
+            (beck_d(0.5, 1.5), at(140.0), 10),
+        ]);
+        let mut d = RoughDielectric::new(0.5, 1.5);
+        d.masking = Masking::Uncorrelated;
+        v.push((Bsdf::RoughDielectric(d), at(45.0), 10));
     }
-    let mut d = RoughDielectric::new(0.5, 1.5);
-    d.masking = Masking::Uncorrelated;
-    v.push((Bsdf::RoughDielectric(d), direction(deg(45.0), 0.3)));
     v
 }
 
@@ -143,37 +178,79 @@ fn chi2_of_sample_against_pdf() {
     let microfacet_cases = 6;
     assert!(cases.len() + microfacet_cases <= CHI2_SUITE);
     let alpha = sidak_alpha(FAMILY_ALPHA, CHI2_SUITE);
-    let n = 1_000_000 * common::scale();
     let mut failures = Vec::new();
-    for (k, (b, wo)) in cases.iter().enumerate() {
+    for (k, (b, wo, n5)) in cases.iter().enumerate() {
         let name = format!("{}-{k}", b.name());
-        let t0 = std::time::Instant::now();
-        let t = Chi2Test::new(Domain::Sphere, n, seed(100 + k as u64), alpha).with_resolution(32, 64);
+        let t = Chi2Test::new(
+            Domain::Sphere,
+            n5 * 100_000 * common::scale(),
+            seed(100 + k as u64),
+            alpha,
+        );
         let o = contract::chi2_bsdf_with(&t, b, &name, *wo);
-        eprintln!("{:.2}s {} {wo} share {:.3}", t0.elapsed().as_secs_f64(), json(b), o.quadrature_share);
         if !o.passed {
-            failures.push(format!("{} at wo = {wo}: {}", json(b), o.reason.unwrap_or_default()));
+            failures.push(format!(
+                "{} at wo = {wo}: {}",
+                json(b),
+                o.reason.unwrap_or_default()
+            ));
         }
     }
     // The visible-normal samplers on their own, in m space (the spherical cap too).
-    for (k, (dist, alpha_m, theta)) in
-        [(Distribution::Ggx, 0.3, 70.0), (Distribution::Ggx, 1.0, 20.0), (Distribution::Beckmann, 0.3, 70.0), (Distribution::Beckmann, 1.0, 85.0), (Distribution::Beckmann, 0.6, 0.0)]
-            .into_iter()
-            .enumerate()
-    {
+    let mut vndf = vec![
+        (Distribution::Ggx, 0.3, 70.0, 10),
+        (Distribution::Beckmann, 1.0, 85.0, 2),
+        (Distribution::Beckmann, 0.6, 0.0, 10),
+    ];
+    if common::scale() > 1 {
+        vndf.extend([
+            (Distribution::Ggx, 1.0, 20.0, 10),
+            (Distribution::Beckmann, 0.3, 70.0, 10),
+        ]);
+    }
+    for (k, (dist, alpha_m, theta, n5)) in vndf.into_iter().enumerate() {
+        let n = n5 * 100_000 * common::scale();
         let mf = Microfacet::new(dist, alpha_m, Masking::HeightCorrelated);
         let wo = direction(deg(theta), 1.0);
-        let o = contract::chi2_microfacet(&format!("vndf-{dist:?}-{k}"), wo, |w, u| mf.sample_m(w, u), |w, m| mf.pdf_m(w, m), n, seed(200 + k as u64), alpha);
+        let o = contract::chi2_microfacet(
+            &format!("vndf-{dist:?}-{k}"),
+            wo,
+            |w, u| mf.sample_m(w, u),
+            |w, m| mf.pdf_m(w, m),
+            n,
+            seed(200 + k as u64),
+            alpha,
+        );
         if !o.passed {
-            failures.push(format!("VNDF {dist:?} α = {alpha_m} θ = {theta}: {}", o.reason.unwrap_or_default()));
+            failures.push(format!(
+                "VNDF {dist:?} α = {alpha_m} θ = {theta}: {}",
+                o.reason.unwrap_or_default()
+            ));
         }
     }
     let mf = Microfacet::new(Distribution::Ggx, 0.4, Masking::HeightCorrelated);
-    let o = contract::chi2_microfacet("vndf-spherical-cap", direction(deg(75.0), 2.0), |w, u| mf.sample_vndf_spherical_cap(w, u), |w, m| mf.pdf_m(w, m), n, seed(210), alpha);
+    let n = 200_000 * common::scale();
+    let o = contract::chi2_microfacet(
+        "vndf-spherical-cap",
+        direction(deg(75.0), 2.0),
+        |w, u| mf.sample_vndf_spherical_cap(w, u),
+        |w, m| mf.pdf_m(w, m),
+        n,
+        seed(210),
+        alpha,
+    );
     if !o.passed {
-        failures.push(format!("spherical-cap VNDF: {}", o.reason.unwrap_or_default()));
+        failures.push(format!(
+            "spherical-cap VNDF: {}",
+            o.reason.unwrap_or_default()
+        ));
     }
-    assert!(failures.is_empty(), "seed {}:\n{}", common::seed(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "seed {}:\n{}",
+        common::seed(),
+        failures.join("\n")
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -188,11 +265,22 @@ fn sample_eval_pdf_agree() {
         for (j, wo) in angles.iter().enumerate() {
             let r = contract::check_consistency(b, *wo, n, seed(1000 + 16 * k as u64 + j as u64));
             if !r.passed {
-                failures.push(format!("{} at wo = {wo}: {} of {} ({})", json(b), r.failures, r.trials, r.first_failure.unwrap_or_default()));
+                failures.push(format!(
+                    "{} at wo = {wo}: {} of {} ({})",
+                    json(b),
+                    r.failures,
+                    r.trials,
+                    r.first_failure.unwrap_or_default()
+                ));
             }
         }
     }
-    assert!(failures.is_empty(), "seed {}:\n{}", common::seed(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "seed {}:\n{}",
+        common::seed(),
+        failures.join("\n")
+    );
 }
 
 #[test]
@@ -202,10 +290,21 @@ fn reciprocity() {
     for (k, (b, _)) in grid().iter().enumerate() {
         let r = contract::check_reciprocity(b, b.eta_inside(), n, seed(3000 + k as u64));
         if !r.passed {
-            failures.push(format!("{}: {} of {} ({})", json(b), r.failures, r.compared, r.first_failure.unwrap_or_default()));
+            failures.push(format!(
+                "{}: {} of {} ({})",
+                json(b),
+                r.failures,
+                r.compared,
+                r.first_failure.unwrap_or_default()
+            ));
         }
     }
-    assert!(failures.is_empty(), "seed {}:\n{}", common::seed(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "seed {}:\n{}",
+        common::seed(),
+        failures.join("\n")
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -264,11 +363,14 @@ fn check_verdict(v: &Verdict, what: &str, failures: &mut Vec<String>, worst_powe
     if !v.passed {
         failures.push(format!("{what}: {}", v.reason.clone().unwrap_or_default()));
     } else if v.detectable_relative_bias > 0.01 {
-        failures.push(format!("{what}: too weak, detectable relative bias {:.4} > 1%", v.detectable_relative_bias));
+        failures.push(format!(
+            "{what}: too weak, detectable relative bias {:.4} > 1%",
+            v.detectable_relative_bias
+        ));
     }
 }
 
-/// Sample count that gives a detectable relative bias of 0.6% (well below the required 1%)
+/// Sample count that gives a detectable relative bias of 0.75% (below the required 1%)
 /// at 99% power for an estimator of standard deviation `sigma` around `reference`:
 /// n = ((z₁₋α/2 + z₀.₉₉) σ / (0.008 |reference|))², from a pilot run on an independent
 /// stream (the pilot only sets n; the verdict uses fresh samples).
@@ -276,7 +378,9 @@ fn powered_samples(test: &MeanTest, sigma: f64, reference: f64) -> u64 {
     let z = statrs::distribution::Normal::standard();
     use statrs::distribution::ContinuousCDF;
     let q = z.inverse_cdf(1.0 - test.per_test_alpha() / 2.0) + z.inverse_cdf(0.99);
-    let n = (q * sigma / (0.006 * reference.abs().max(1e-3))).powi(2).ceil();
+    let n = (q * sigma / (0.0075 * reference.abs().max(1e-3)))
+        .powi(2)
+        .ceil();
     (n as u64).clamp(20_000, 5_000_000) * common::scale()
 }
 
@@ -287,45 +391,115 @@ fn energy_conservation_and_promised_albedo() {
     let (mut tests, mut worst_power, mut total_samples) = (0usize, 0.0f64, 0u64);
     for (k, (b, angles)) in grid().iter().enumerate() {
         // θo ∈ {0, 60, 89.9} above, and 120°, 90.1° below for the models that transmit.
-        for (j, wo) in angles.iter().enumerate().filter(|(j, _)| [0, 2, 3, 4, 6].contains(j)) {
+        for (j, wo) in angles
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| [0, 2, 3, 4, 6].contains(j))
+        {
             let salt = 5000 + 16 * k as u64 + j as u64;
             let reference = promised(b, *wo).unwrap_or(1.0);
             let pilot = contract::albedo(b, *wo, 10_000, seed(salt) ^ 0x9107);
-            let n = powered_samples(&test, pilot.energy.variance().sqrt(), reference.max(pilot.energy.mean));
+            let n = powered_samples(
+                &test,
+                pilot.energy.variance().sqrt(),
+                reference.max(pilot.energy.mean),
+            );
+            let mut a = contract::albedo(b, *wo, n, seed(salt));
             total_samples += n;
-            let a = contract::albedo(b, *wo, n, seed(salt));
             let what = format!("{} at θo = {:.1}°", json(b), wo.z.acos().to_degrees());
-            let v = contract::judge_at_most(&test, &a.energy, 1.0);
+            let mut v = contract::judge_at_most(&test, &a.energy, 1.0);
+            if v.detectable_relative_bias > 0.01 {
+                // Heavy-tailed weights (Oren–Nayar at grazing: tan β has a log-divergent
+                // second moment under cosine sampling) fool the pilot; redo the run with
+                // the sample count its own variance asks for, on a fresh stream.
+                let n2 = ((n as f64) * (v.detectable_relative_bias / 0.0075).powi(2)).ceil() as u64;
+                a = contract::albedo(b, *wo, n2, seed(salt) ^ 0x2e57);
+                total_samples += n2;
+                v = contract::judge_at_most(&test, &a.energy, 1.0);
+            }
             tests += 1;
-            check_verdict(&v, &format!("{what}: energy albedo ≤ 1"), &mut failures, &mut worst_power);
+            check_verdict(
+                &v,
+                &format!("{what}: energy albedo ≤ 1"),
+                &mut failures,
+                &mut worst_power,
+            );
             if let Some(p) = promised(b, *wo) {
                 tests += 1;
                 let v = contract::judge_equal(&test, &a.energy, p);
                 if p > 0.05 {
-                    check_verdict(&v, &format!("{what}: albedo = {p:.6}"), &mut failures, &mut worst_power);
+                    check_verdict(
+                        &v,
+                        &format!("{what}: albedo = {p:.6}"),
+                        &mut failures,
+                        &mut worst_power,
+                    );
                 } else if !v.passed {
-                    failures.push(format!("{what}: albedo = {p:.6}: {}", v.reason.unwrap_or_default()));
+                    failures.push(format!(
+                        "{what}: albedo = {p:.6}: {}",
+                        v.reason.unwrap_or_default()
+                    ));
                 }
             }
             if let Bsdf::Dielectric(d) = b {
                 // The reflection probability is the Fresnel reflectance (1 under TIR).
-                let eta = if wo.z > 0.0 { d.eta as f64 } else { 1.0 / d.eta as f64 };
+                let eta = if wo.z > 0.0 {
+                    d.eta as f64
+                } else {
+                    1.0 / d.eta as f64
+                };
                 let c = wo.z.abs() as f64;
-                let r = if (1.0 - c * c) / (eta * eta) >= 1.0 { 1.0 } else { fresnel_oracle(c, eta, 0.0) };
+                let r = if (1.0 - c * c) / (eta * eta) >= 1.0 {
+                    1.0
+                } else {
+                    fresnel_oracle(c, eta, 0.0)
+                };
                 tests += 1;
-                // Binomial standard error under the null hypothesis p = r.
+                // Binomial test of the reflected count k against Binomial(n, r): exact
+                // (two-sided, statrs) where n r (1 − r) is small, e.g. R ~ 1e-8 at
+                // η = 1.0001, where the normal approximation is meaningless.
                 let f = &a.reflect_fraction;
-                let se = (r * (1.0 - r) / f.count as f64).sqrt().max(contract::FLOAT_REL);
-                let v = test.judge_parts(f.mean, se, r, None, f.non_finite, f.count);
+                let (n_f, k) = (f.count, (f.mean * f.count as f64).round() as u64);
+                let v = if (n_f as f64) * r * (1.0 - r) < 25.0 {
+                    use statrs::distribution::{Binomial, DiscreteCDF};
+                    let b = Binomial::new(r.clamp(0.0, 1.0), n_f).unwrap();
+                    let lower = b.cdf(k);
+                    let upper = if k == 0 { 1.0 } else { b.sf(k - 1) };
+                    let p_two = (2.0 * lower.min(upper)).min(1.0);
+                    let alpha1 = test.per_test_alpha();
+                    let mut v = test.judge_parts(f.mean, 0.0, f.mean, None, f.non_finite, n_f);
+                    v.reference = r;
+                    v.p_value = p_two;
+                    if p_two < alpha1 || f.non_finite > 0 {
+                        v.passed = false;
+                        v.reason = Some(format!(
+                            "{k} of {n_f} reflected, exact binomial p = {p_two:.2e} < α = {alpha1:.2e}"
+                        ));
+                    }
+                    v
+                } else {
+                    let se = (r * (1.0 - r) / n_f as f64).sqrt();
+                    test.judge_parts(f.mean, se, r, None, f.non_finite, n_f)
+                };
                 if !v.passed {
-                    failures.push(format!("{what}: reflection fraction ≠ Fresnel {r:.6}: {}", v.reason.unwrap_or_default()));
+                    failures.push(format!(
+                        "{what}: reflection fraction ≠ Fresnel {r:.6}: {}",
+                        v.reason.unwrap_or_default()
+                    ));
                 }
             }
         }
     }
     assert!(tests <= ALBEDO_SUITE, "raise ALBEDO_SUITE to {tests}");
-    eprintln!("{tests} albedo tests, {total_samples} samples; worst detectable relative bias {worst_power:.4}");
-    assert!(failures.is_empty(), "seed {}:\n{}", common::seed(), failures.join("\n"));
+    eprintln!(
+        "{tests} albedo tests, {total_samples} samples; worst detectable relative bias {worst_power:.4}"
+    );
+    assert!(
+        failures.is_empty(),
+        "seed {}:\n{}",
+        common::seed(),
+        failures.join("\n")
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -341,7 +515,11 @@ fn microfacet_identities() {
             for theta in [0.0, 45.0, 89.9] {
                 let wo = direction(deg(theta), 0.4);
                 let i = contract::microfacet_integrals(&mf, wo);
-                for (what, v) in [("∫D cos", i.projected_area), ("∫D_ωo", i.visible), ("weak furnace", i.weak_furnace)] {
+                for (what, v) in [
+                    ("∫D cos", i.projected_area),
+                    ("∫D_ωo", i.visible),
+                    ("weak furnace", i.weak_furnace),
+                ] {
                     // Quadrature tolerance 1e-8 relative; f32 evaluation of D, G1 ~1e-6.
                     if (v - 1.0).abs() > 1e-4 {
                         failures.push(format!("{dist:?} α = {alpha} θo = {theta}: {what} = {v}"));
@@ -351,4 +529,183 @@ fn microfacet_identities() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+// ---------------------------------------------------------------------------------
+// The proof that the proof works: broken models are rejected.
+// ---------------------------------------------------------------------------------
+
+/// A model with one deliberate defect.
+struct Broken {
+    inner: Bsdf,
+    defect: Defect,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Defect {
+    /// `eval` 3% high; `sample` and `pdf` right.
+    EvalHigh,
+    /// `pdf` with the reflection Jacobian 1/(2 ωo·h) instead of 1/(4 ωo·h), also in `sample`.
+    WrongJacobian,
+    /// `sample` draws a 10% rougher lobe than `pdf` describes.
+    SamplerTooRough,
+    /// f(ωi→ωo) multiplied by 1 + 0.2 (cos θo − cos θi): not reciprocal.
+    NotReciprocal,
+    /// Weights 2% high (an energy-creating surface).
+    EnergyGain,
+}
+
+impl BsdfModel for Broken {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let f = self.inner.eval(wo, wi);
+        match self.defect {
+            Defect::EvalHigh => 1.03 * f,
+            Defect::NotReciprocal => f * (1.0 + 0.2 * (wo.z.abs() - wi.z.abs())),
+            _ => f,
+        }
+    }
+    fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        match self.defect {
+            Defect::SamplerTooRough => {
+                let Bsdf::RoughConductor(c) = &self.inner else {
+                    unreachable!()
+                };
+                let mut rougher = *c;
+                rougher.alpha *= 1.1;
+                let mut s = rougher.sample(wo, u)?;
+                s.pdf = c.pdf(wo, s.wi);
+                s.weight = c.eval(wo, s.wi) * s.wi.z.abs() / s.pdf;
+                Some(s)
+            }
+            Defect::WrongJacobian => {
+                // The weight keeps its (right) closed form F G2/G1, as in a real bug where
+                // only the pdf's Jacobian is mistyped.
+                let mut s = self.inner.sample(wo, u)?;
+                s.pdf *= 2.0;
+                Some(s)
+            }
+            Defect::EnergyGain => {
+                let mut s = self.inner.sample(wo, u)?;
+                s.weight *= 1.02;
+                Some(s)
+            }
+            _ => self.inner.sample(wo, u),
+        }
+    }
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let p = self.inner.pdf(wo, wi);
+        if let Defect::WrongJacobian = self.defect {
+            2.0 * p
+        } else {
+            p
+        }
+    }
+    fn flags(&self) -> LobeFlags {
+        self.inner.flags()
+    }
+}
+
+#[test]
+fn broken_models_are_rejected() {
+    let wo = direction(deg(50.0), 0.3);
+    let ggx = Bsdf::RoughConductor(RoughConductor::new(0.5, 0.2, 3.9));
+    let lamb = Bsdf::Lambertian(Lambertian::new(0.8));
+    let s = common::seed();
+
+    // A Lambertian whose eval is 3% high: chi-square cannot see it (sample and pdf are
+    // right), the consistency check does.
+    let b = Broken {
+        inner: lamb.clone(),
+        defect: Defect::EvalHigh,
+    };
+    assert!(contract::chi2_bsdf(&b, "broken-eval", wo, 200_000, s, 1e-4).passed);
+    let r = contract::check_consistency(&b, wo, 2_000, s);
+    assert!(!r.passed && r.failures > 1000, "{r:?}");
+
+    // A GGX pdf with the wrong reflection Jacobian: normalisation and consistency fail.
+    let b = Broken {
+        inner: ggx.clone(),
+        defect: Defect::WrongJacobian,
+    };
+    let o = contract::chi2_bsdf(&b, "broken-jacobian", wo, 200_000, s, 1e-4);
+    assert!(!o.passed && o.normalisation_z.abs() > 10.0, "{o:?}");
+    assert!(!contract::check_consistency(&b, wo, 2_000, s).passed);
+
+    // A sampler 10% rougher than its pdf, with self-consistent weights: chi-square fails.
+    let b = Broken {
+        inner: ggx.clone(),
+        defect: Defect::SamplerTooRough,
+    };
+    let o = contract::chi2_bsdf(&b, "broken-sampler", wo, 200_000, s, 1e-4);
+    assert!(!o.passed && o.p_value < 1e-10, "{o:?}");
+
+    // A non-reciprocal BRDF.
+    let b = Broken {
+        inner: ggx.clone(),
+        defect: Defect::NotReciprocal,
+    };
+    assert!(!contract::check_reciprocity(&b, 1.0, 5_000, s).passed);
+
+    // An energy-creating white Lambertian (2% gain) fails albedo ≤ 1, and a 1% error in
+    // a promised albedo is seen.
+    let white = Bsdf::Lambertian(Lambertian::new(1.0));
+    let b = Broken {
+        inner: white,
+        defect: Defect::EnergyGain,
+    };
+    let a = contract::albedo(&b, wo, 10_000, s);
+    assert!(
+        !contract::judge_at_most(&MeanTest::new(FAMILY_ALPHA, ALBEDO_SUITE), &a.energy, 1.0).passed
+    );
+    let plastic = Bsdf::Plastic(Plastic::new(0.7, 1.5));
+    let a = contract::albedo(&plastic, wo, 400_000, s);
+    let p = promised(&plastic, wo).unwrap();
+    let test = MeanTest::new(FAMILY_ALPHA, ALBEDO_SUITE);
+    assert!(contract::judge_equal(&test, &a.energy, p).passed);
+    assert!(!contract::judge_equal(&test, &a.energy, p * 1.01).passed);
+}
+
+#[test]
+fn json_round_trip_and_validation_messages() {
+    for (b, _) in grid() {
+        let text = json(&b);
+        let back = Bsdf::from_json(&text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        assert_eq!(back, b, "{text}");
+    }
+    let ok = Bsdf::from_json(
+        r#"{"type":"rough_conductor","alpha":0.3,"eta":0.2,"k":3.9,"distribution":"ggx"}"#,
+    )
+    .unwrap();
+    assert_eq!(ok.name(), "rough_conductor");
+    for (text, needle) in [
+        (r#"{"type":"dielectric","eta":-1.5}"#, "`eta`"),
+        (r#"{"type":"dielectric","eta":0}"#, "`eta` must be positive"),
+        (r#"{"type":"lambertian","albedo":1.2}"#, "`albedo`"),
+        (
+            r#"{"type":"rough_conductor","alpha":0,"eta":0.2,"k":3.9}"#,
+            "`alpha`",
+        ),
+        (
+            r#"{"type":"rough_dielectric","alpha":2,"eta":1.5}"#,
+            "`alpha`",
+        ),
+        (r#"{"type":"plastic","albedo":0.5,"eta":0.9}"#, "`eta`"),
+        (
+            r#"{"type":"oren_nayar","albedo":0.5,"sigma":1.5}"#,
+            "`sigma`",
+        ),
+        (r#"{"type":"conductor","eta":0.2,"k":-1}"#, "`k`"),
+        (
+            r#"{"type":"lambertian","albedo":0.5,"colour":1}"#,
+            "unknown field",
+        ),
+        (r#"{"type":"velvet"}"#, "unknown variant"),
+        (
+            r#"{"type":"rough_conductor","alpha":0.3,"eta":0.2,"k":3.9,"distribution":"phong"}"#,
+            "unknown variant",
+        ),
+    ] {
+        let e = Bsdf::from_json(text).expect_err(text);
+        assert!(e.contains(needle), "{text}: {e}");
+    }
 }

@@ -54,12 +54,20 @@ impl BsdfModel for Conductor {
     }
 
     fn sample(&self, wo: Vec3, _u: Vec3) -> Option<BsdfSample> {
+        // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo = wo.normalize_or_zero();
         if !(wo.z != 0.0) || !wo.is_finite() {
             return None;
         }
         let wi = Vec3::new(-wo.x, -wo.y, wo.z);
         let weight = fr_conductor(wo.z, self.eta, self.k);
-        Some(BsdfSample { wi, weight, pdf: 1.0, lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR, eta: 1.0 })
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf: 1.0,
+            lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR,
+            eta: 1.0,
+        })
     }
 
     fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {

@@ -40,7 +40,9 @@ pub(crate) fn validate_eta(eta: f32) -> Result<(), String> {
         return Err(format!("`eta` must be a finite number, got {eta}"));
     }
     if eta <= 0.0 {
-        return Err(format!("`eta` must be positive (η_inside/η_outside), got {eta}"));
+        return Err(format!(
+            "`eta` must be positive (η_inside/η_outside), got {eta}"
+        ));
     }
     check_range("eta", eta, 0.01, 100.0)
 }
@@ -63,6 +65,8 @@ impl BsdfModel for Dielectric {
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo = wo.normalize_or_zero();
         if !(wo.z != 0.0) || !wo.is_finite() {
             return None;
         }
@@ -70,16 +74,32 @@ impl BsdfModel for Dielectric {
         let t = 1.0 - r;
         if u.z < r || !(t > 0.0) {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            return Some(BsdfSample { wi, weight: 1.0, pdf: r, lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR, eta: 1.0 });
+            return Some(BsdfSample {
+                wi,
+                weight: 1.0,
+                pdf: r,
+                lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR,
+                eta: 1.0,
+            });
         }
         // Relative index of the far side as seen from ωo's side.
-        let (n, etap) = if wo.z > 0.0 { (Vec3::Z, self.eta) } else { (-Vec3::Z, 1.0 / self.eta) };
+        let (n, etap) = if wo.z > 0.0 {
+            (Vec3::Z, self.eta)
+        } else {
+            (-Vec3::Z, 1.0 / self.eta)
+        };
         let wi = refract(wo, n, etap)?;
         if !(wi.z * wo.z < 0.0) {
             return None;
         }
         let weight = 1.0 / (etap * etap);
-        Some(BsdfSample { wi, weight, pdf: t, lobe: LobeFlags::TRANSMISSION | LobeFlags::SPECULAR, eta: etap })
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf: t,
+            lobe: LobeFlags::TRANSMISSION | LobeFlags::SPECULAR,
+            eta: etap,
+        })
     }
 
     fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {

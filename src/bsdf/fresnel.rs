@@ -48,7 +48,11 @@ pub fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let r = 0.5 * (r_parl * r_parl + r_perp * r_perp);
-    if r.is_finite() { r.clamp(0.0, 1.0) } else { 1.0 }
+    if r.is_finite() {
+        r.clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Unpolarised Fresnel transmittance 1 − R of a dielectric interface (same arguments
@@ -74,7 +78,11 @@ pub fn tr_dielectric(cos_i: f32, eta: f32) -> f32 {
     let a = eta * cos_i + cos_t;
     let b = cos_i + eta * cos_t;
     let t = 2.0 * eta * cos_i * cos_t * (1.0 / (a * a) + 1.0 / (b * b));
-    if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 }
+    if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Unpolarised Fresnel reflectance of a conductor with complex relative index
@@ -100,9 +108,17 @@ pub fn fr_conductor(cos_i: f32, eta: f32, k: f32) -> f32 {
     let t3 = cos2 * a2b2 + sin2 * sin2;
     let t4 = t2 * sin2;
     let den_p = t3 + t4;
-    let rp = if den_p > 0.0 { rs * (t3 - t4) / den_p } else { rs };
+    let rp = if den_p > 0.0 {
+        rs * (t3 - t4) / den_p
+    } else {
+        rs
+    };
     let r = 0.5 * (rs + rp);
-    if r.is_finite() { r.clamp(0.0, 1.0) } else { 1.0 }
+    if r.is_finite() {
+        r.clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// `f64` dielectric reflectance (for constants computed once, e.g. [`fresnel_diffuse_reflectance`]).
@@ -161,7 +177,11 @@ pub fn refract(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     // cos_i/η − cos_t written as ((1 − η²)/η²)/(cos_i/η + cos_t): the difference cancels
     // catastrophically as η → 1 (four digits lost at η = 1.0001), the quotient does not.
     let k = ((1.0 - eta) * (1.0 + eta) / (eta * eta)) / (cos_i / eta + cos_t);
-    let k = if k.is_finite() { k } else { cos_i / eta - cos_t };
+    let k = if k.is_finite() {
+        k
+    } else {
+        cos_i / eta - cos_t
+    };
     Some(-w / eta + k * n)
 }
 
@@ -178,7 +198,10 @@ mod tests {
         assert_eq!(fr_dielectric(-0.3, 1.5), 1.0);
         for c in [-0.9, -0.5, 0.01, 0.3, 0.7, 1.0] {
             for eta in [1.0001, 1.33, 2.4, 0.5] {
-                assert!((fr_dielectric(c, eta) + tr_dielectric(c, eta) - 1.0).abs() < 1e-6, "{c} {eta}");
+                assert!(
+                    (fr_dielectric(c, eta) + tr_dielectric(c, eta) - 1.0).abs() < 1e-6,
+                    "{c} {eta}"
+                );
             }
         }
         assert_eq!(fr_conductor(0.0, 1.0, 0.0), 1.0);
@@ -190,7 +213,10 @@ mod tests {
         for eta in [1.0001, 1.33, 1.5, 2.4] {
             let ext = fresnel_diffuse_reflectance(eta);
             let int = fresnel_diffuse_reflectance(1.0 / eta);
-            assert!(((1.0 - int) * eta * eta - (1.0 - ext)).abs() < 1e-8, "{eta}: {ext} {int}");
+            assert!(
+                ((1.0 - int) * eta * eta - (1.0 - ext)).abs() < 1e-8,
+                "{eta}: {ext} {int}"
+            );
         }
     }
 

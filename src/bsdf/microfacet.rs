@@ -82,8 +82,16 @@ impl Microfacet {
     /// A distribution; α is clamped into [`MIN_ALPHA`], [`MAX_ALPHA`] so that no
     /// formula divides by zero.
     pub fn new(distribution: Distribution, alpha: f32, masking: Masking) -> Self {
-        let alpha = if alpha.is_finite() { alpha.clamp(MIN_ALPHA, MAX_ALPHA) } else { MAX_ALPHA };
-        Microfacet { distribution, alpha, masking }
+        let alpha = if alpha.is_finite() {
+            alpha.clamp(MIN_ALPHA, MAX_ALPHA)
+        } else {
+            MAX_ALPHA
+        };
+        Microfacet {
+            distribution,
+            alpha,
+            masking,
+        }
     }
 
     /// D(m) for a unit microfacet normal (0 below the horizon).
@@ -136,7 +144,9 @@ impl Microfacet {
                     // Λ < 1e-17 here.
                     return 0.0;
                 }
-                let l = 0.5 * ((-a * a).exp() / (a * std::f64::consts::PI.sqrt()) - statrs::function::erf::erfc(a));
+                let l = 0.5
+                    * ((-a * a).exp() / (a * std::f64::consts::PI.sqrt())
+                        - statrs::function::erf::erfc(a));
                 l.max(0.0) as f32
             }
         }
@@ -190,7 +200,11 @@ impl Microfacet {
         let a = self.alpha;
         let vh = Vec3::new(a * w.x, a * w.y, w.z).normalize_or(Vec3::Z);
         let lensq = vh.x * vh.x + vh.y * vh.y;
-        let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt() } else { Vec3::X };
+        let t1 = if lensq > 0.0 {
+            Vec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
+        } else {
+            Vec3::X
+        };
         let t2 = vh.cross(t1);
         let r = safe_sqrt(u.x);
         let phi = TWO_PI * u.y;
@@ -221,7 +235,11 @@ impl Microfacet {
         let ws = Vec3::new(a * w.x, a * w.y, w.z).normalize_or(Vec3::Z);
         let (sx, sy) = beckmann_sample11(ws.z as f64, u.x as f64, u.y as f64);
         let r = (ws.x * ws.x + ws.y * ws.y).sqrt();
-        let (cos_phi, sin_phi) = if r > 0.0 { (ws.x / r, ws.y / r) } else { (1.0, 0.0) };
+        let (cos_phi, sin_phi) = if r > 0.0 {
+            (ws.x / r, ws.y / r)
+        } else {
+            (1.0, 0.0)
+        };
         let (sx, sy) = (sx as f32, sy as f32);
         let tx = cos_phi * sx - sin_phi * sy;
         let ty = sin_phi * sx + cos_phi * sy;
@@ -290,8 +308,16 @@ mod tests {
                 assert!(mf.d(Vec3::Z).is_finite());
                 assert_eq!(mf.g1(Vec3::X), 0.0);
                 assert_eq!(mf.lambda(Vec3::Z), 0.0);
-                for w in [Vec3::Z, Vec3::new(1.0, 0.0, 1e-6).normalize(), Vec3::new(0.3, 0.4, 0.2).normalize()] {
-                    for u in [Vec2::ZERO, Vec2::splat(0.5), Vec2::splat(crate::math::ONE_MINUS_EPSILON)] {
+                for w in [
+                    Vec3::Z,
+                    Vec3::new(1.0, 0.0, 1e-6).normalize(),
+                    Vec3::new(0.3, 0.4, 0.2).normalize(),
+                ] {
+                    for u in [
+                        Vec2::ZERO,
+                        Vec2::splat(0.5),
+                        Vec2::splat(crate::math::ONE_MINUS_EPSILON),
+                    ] {
                         let m = mf.sample_m(w, u);
                         assert!(m.is_finite() && m.z >= 0.0, "{dist:?} {alpha} {w} {u} {m}");
                     }

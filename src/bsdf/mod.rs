@@ -79,6 +79,65 @@ pub struct BsdfSample {
 }
 
 /// The contract every BSDF satisfies; implement it to verify your own model.
+///
+/// Conventions: local shading frame with the normal +z; `wo` (towards the viewer) and
+/// `wi` (towards the light) both point away from the surface; `eval(wo, wi)` is
+/// f(wi → wo), zero for delta lobes; `sample` returns the weight f·|cos θi|/pdf; `pdf`
+/// is in solid angle (a delta lobe's `BsdfSample::pdf` is its discrete selection
+/// probability). No method may return NaN, Inf or a negative value for any input.
+///
+/// # Verifying your own BSDF
+///
+/// The functions in [`contract`] are the proof the built-in models pass
+/// (`tests/bsdf_contract.rs`); run them on your model:
+///
+/// ```
+/// use glam::Vec3;
+/// use lightproof::bsdf::{contract, BsdfModel, BsdfSample, LobeFlags};
+/// use lightproof::stats::{sidak_alpha, MeanTest};
+///
+/// /// A "uniform" diffuse reflector: f = ρ/π, sampled uniformly over the hemisphere.
+/// struct UniformDiffuse { rho: f32 }
+///
+/// impl BsdfModel for UniformDiffuse {
+///     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+///         if wo.z * wi.z > 0.0 { self.rho / std::f32::consts::PI } else { 0.0 }
+///     }
+///     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+///         if wo.z == 0.0 { return None; }
+///         let z = u.x;
+///         let r = (1.0 - z * z).max(0.0).sqrt();
+///         let phi = 2.0 * std::f32::consts::PI * u.y;
+///         let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z.copysign(wo.z));
+///         let pdf = 0.5 / std::f32::consts::PI;
+///         Some(BsdfSample { wi, weight: self.eval(wo, wi) * z / pdf, pdf, lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE, eta: 1.0 })
+///     }
+///     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+///         if wo.z * wi.z > 0.0 { 0.5 / std::f32::consts::PI } else { 0.0 }
+///     }
+///     fn flags(&self) -> LobeFlags { LobeFlags::REFLECTION | LobeFlags::DIFFUSE }
+/// }
+///
+/// let model = UniformDiffuse { rho: 0.8 };
+/// let wo = contract::direction(0.7, 0.3); // θo = 0.7 rad, φo = 0.3 rad
+/// let seed = 7;
+/// // Three statistical tests below: Šidák-correct them together.
+/// let alpha = sidak_alpha(1e-4, 3);
+///
+/// // 1. sample() draws from pdf() (chi-square over the sphere, normalisation included).
+/// let chi2 = contract::chi2_bsdf(&model, "uniform-diffuse", wo, 100_000, seed, alpha);
+/// assert!(chi2.passed, "{:?}", chi2.reason);
+/// // 2. weight = eval·|cos|/pdf and the returned pdf = pdf(wo, wi), sample by sample.
+/// assert!(contract::check_consistency(&model, wo, 10_000, seed).passed);
+/// // 3. f(wi→wo) = f(wo→wi) (η inside = 1: no transmission).
+/// assert!(contract::check_reciprocity(&model, 1.0, 10_000, seed).passed);
+/// // 4. The directional albedo is at most 1, and equals the promised ρ.
+/// let a = contract::albedo(&model, wo, 200_000, seed);
+/// let test = MeanTest::new(1e-4, 3);
+/// assert!(contract::judge_at_most(&test, &a.energy, 1.0).passed);
+/// let v = contract::judge_equal(&test, &a.energy, 0.8);
+/// assert!(v.passed && v.detectable_relative_bias < 0.01, "{v:?}");
+/// ```
 pub trait BsdfModel: Send + Sync {
     /// f(wi → wo).
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32;
@@ -148,7 +207,8 @@ impl Bsdf {
     /// parameter `validate` rejects).
     pub fn from_json(text: &str) -> Result<Bsdf, String> {
         let b: Bsdf = serde_json::from_str(text).map_err(|e| format!("invalid BSDF JSON: {e}"))?;
-        b.validate().map_err(|e| format!("invalid {} BSDF: {e}", b.name()))?;
+        b.validate()
+            .map_err(|e| format!("invalid {} BSDF: {e}", b.name()))?;
         Ok(b)
     }
 

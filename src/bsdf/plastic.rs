@@ -61,7 +61,10 @@ impl From<PlasticParams> for Plastic {
 
 impl From<Plastic> for PlasticParams {
     fn from(p: Plastic) -> Self {
-        PlasticParams { albedo: p.albedo, eta: p.eta }
+        PlasticParams {
+            albedo: p.albedo,
+            eta: p.eta,
+        }
     }
 }
 
@@ -73,7 +76,11 @@ impl Plastic {
         } else {
             0.0
         };
-        Plastic { albedo, eta, fdr_int }
+        Plastic {
+            albedo,
+            eta,
+            fdr_int,
+        }
     }
 
     /// Parameter check: ρ ∈ [0, 1], η ∈ [1, 10].
@@ -93,7 +100,11 @@ impl Plastic {
     fn base_albedo(&self) -> f32 {
         let rho = self.albedo.clamp(0.0, 1.0);
         let d = 1.0 - rho * self.fdr_int;
-        if d > 0.0 { rho * (1.0 - self.fdr_int) / d } else { 0.0 }
+        if d > 0.0 {
+            rho * (1.0 - self.fdr_int) / d
+        } else {
+            0.0
+        }
     }
 
     /// The promised directional albedo A(θo) = F + (1 − F) a.
@@ -105,7 +116,11 @@ impl Plastic {
     #[inline]
     fn specular_probability(&self, fo: f32) -> f32 {
         let s = fo + (1.0 - fo) * self.base_albedo();
-        if s > 0.0 { (fo / s).clamp(0.0, 1.0) } else { 0.0 }
+        if s > 0.0 {
+            (fo / s).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
     }
 
     #[inline]
@@ -121,7 +136,11 @@ impl Plastic {
 
 impl BsdfModel for Plastic {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        let (wo, wi) = if wo.z < 0.0 {
+            (flip_z(wo), flip_z(wi))
+        } else {
+            (wo, wi)
+        };
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }
@@ -129,6 +148,8 @@ impl BsdfModel for Plastic {
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo = wo.normalize_or_zero();
         let flip = wo.z < 0.0;
         let wo = if flip { flip_z(wo) } else { wo };
         if !(wo.z > 0.0) || !wo.is_finite() {
@@ -138,7 +159,13 @@ impl BsdfModel for Plastic {
         let ps = self.specular_probability(fo);
         let s = if u.z < ps {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            BsdfSample { wi, weight: fo / ps, pdf: ps, lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR, eta: 1.0 }
+            BsdfSample {
+                wi,
+                weight: fo / ps,
+                pdf: ps,
+                lobe: LobeFlags::REFLECTION | LobeFlags::SPECULAR,
+                eta: 1.0,
+            }
         } else {
             let wi = cosine_hemisphere(Vec2::new(u.x, u.y));
             let pd = 1.0 - ps;
@@ -147,16 +174,33 @@ impl BsdfModel for Plastic {
                 return None;
             }
             let weight = self.diffuse(wo.z, wi.z) * PI / pd;
-            BsdfSample { wi, weight, pdf, lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE, eta: 1.0 }
+            BsdfSample {
+                wi,
+                weight,
+                pdf,
+                lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+                eta: 1.0,
+            }
         };
         if !s.weight.is_finite() {
             return None;
         }
-        Some(if flip { BsdfSample { wi: flip_z(s.wi), ..s } } else { s })
+        Some(if flip {
+            BsdfSample {
+                wi: flip_z(s.wi),
+                ..s
+            }
+        } else {
+            s
+        })
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        let (wo, wi) = if wo.z < 0.0 {
+            (flip_z(wo), flip_z(wi))
+        } else {
+            (wo, wi)
+        };
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }

@@ -50,7 +50,13 @@ pub(crate) fn flip_z(w: Vec3) -> Vec3 {
 impl RoughConductor {
     /// A GGX rough conductor with height-correlated masking.
     pub fn new(alpha: f32, eta: f32, k: f32) -> Self {
-        RoughConductor { alpha, eta, k, distribution: Distribution::Ggx, masking: Masking::HeightCorrelated }
+        RoughConductor {
+            alpha,
+            eta,
+            k,
+            distribution: Distribution::Ggx,
+            masking: Masking::HeightCorrelated,
+        }
     }
 
     /// Parameter check: α ∈ [1e-4, 1], η ∈ [1e-3, 100], k ∈ [0, 100].
@@ -68,7 +74,11 @@ impl RoughConductor {
 
 impl BsdfModel for RoughConductor {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        let (wo, wi) = if wo.z < 0.0 {
+            (flip_z(wo), flip_z(wi))
+        } else {
+            (wo, wi)
+        };
         let (co, ci) = (wo.z, wi.z);
         if !(co > 0.0 && ci > 0.0) {
             return 0.0;
@@ -86,6 +96,8 @@ impl BsdfModel for RoughConductor {
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo = wo.normalize_or_zero();
         let flip = wo.z < 0.0;
         let wo = if flip { flip_z(wo) } else { wo };
         if !(wo.z > 0.0) || !wo.is_finite() {
@@ -110,11 +122,21 @@ impl BsdfModel for RoughConductor {
             return None;
         }
         let wi = if flip { flip_z(wi) } else { wi };
-        Some(BsdfSample { wi, weight, pdf, lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY, eta: 1.0 })
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
+            eta: 1.0,
+        })
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        let (wo, wi) = if wo.z < 0.0 {
+            (flip_z(wo), flip_z(wi))
+        } else {
+            (wo, wi)
+        };
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }

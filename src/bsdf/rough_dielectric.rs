@@ -102,7 +102,10 @@ fn dot64(a: Vec3, b: Vec3) -> f64 {
 #[inline]
 fn transmission_jacobian(wo: Vec3, wi: Vec3, m: Vec3, no: f32, ni: f32) -> f64 {
     let m = m.as_dvec3().normalize();
-    let (oh, ih) = (wo.as_dvec3().normalize().dot(m), wi.as_dvec3().normalize().dot(m));
+    let (oh, ih) = (
+        wo.as_dvec3().normalize().dot(m),
+        wi.as_dvec3().normalize().dot(m),
+    );
     let (no, ni) = (no as f64, ni as f64);
     let denom = ni * ih + no * oh;
     ni * ni * ih.abs() / (denom * denom)
@@ -115,13 +118,22 @@ fn transmission_jacobian(wo: Vec3, wi: Vec3, m: Vec3, no: f32, ni: f32) -> f64 {
 /// orders of a reciprocity check compute the same expression.
 #[inline]
 fn transmittance(oh: f64, ih: f64, no: f32, ni: f32) -> f32 {
-    if ni >= no { tr_dielectric(oh.abs() as f32, ni / no) } else { tr_dielectric(ih.abs() as f32, no / ni) }
+    if ni >= no {
+        tr_dielectric(oh.abs() as f32, ni / no)
+    } else {
+        tr_dielectric(ih.abs() as f32, no / ni)
+    }
 }
 
 impl RoughDielectric {
     /// A GGX rough dielectric with height-correlated masking.
     pub fn new(alpha: f32, eta: f32) -> Self {
-        RoughDielectric { alpha, eta, distribution: Distribution::Ggx, masking: Masking::HeightCorrelated }
+        RoughDielectric {
+            alpha,
+            eta,
+            distribution: Distribution::Ggx,
+            masking: Masking::HeightCorrelated,
+        }
     }
 
     /// Parameter check: α ∈ [1e-4, 1], η ∈ [0.01, 100].
@@ -156,7 +168,9 @@ impl BsdfModel for RoughDielectric {
             return 0.0;
         }
         let ni = if wi.z > 0.0 { no } else { nf };
-        let Some(h) = half_vector(wo, wi, no, ni) else { return 0.0 };
+        let Some(h) = half_vector(wo, wi, no, ni) else {
+            return 0.0;
+        };
         let mf = self.microfacet();
         let v = if ci > 0.0 {
             // F at the symmetric mean of ωo·h and ωi·h (equal but for rounding), so that
@@ -166,16 +180,27 @@ impl BsdfModel for RoughDielectric {
         } else {
             // Walter eq. 21 in f64: η_o² |ωi·h||ωo·h| / (η_i ωi·h + η_o ωo·h)², whose
             // denominator cancels as η → 1.
-            let (oh, ih) = (dot64(wo, h), dot64(wi, h));
+            // With ωo, ωi unit in f64: a length error of one ulp would move the
+            // cancelling denominator by 1e-3 relative at η = 1.0001.
+            let hd = h.as_dvec3().normalize();
+            let (oh, ih) = (
+                wo.as_dvec3().normalize().dot(hd),
+                wi.as_dvec3().normalize().dot(hd),
+            );
             let (no, ni) = (no as f64, nf as f64);
             let denom = ni * ih + no * oh;
             let jac = no * no * (ih * oh).abs() / ((ci as f64 * co as f64).abs() * denom * denom);
-            (mf.d(h) as f64 * mf.g2(wo, wi) as f64 * transmittance(oh, ih, no as f32, ni as f32) as f64 * jac) as f32
+            (mf.d(h) as f64
+                * mf.g2(wo, wi) as f64
+                * transmittance(oh, ih, no as f32, ni as f32) as f64
+                * jac) as f32
         };
         if v.is_finite() && v > 0.0 { v } else { 0.0 }
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo = wo.normalize_or_zero();
         let flip = wo.z < 0.0;
         let (wo, _, _, _, etap) = self.canonical(wo, Vec3::ZERO);
         if !(wo.z > 0.0) || !wo.is_finite() {
@@ -195,22 +220,44 @@ impl BsdfModel for RoughDielectric {
             if !(wi.z > 0.0) {
                 return None;
             }
-            (wi, pm / (4.0 * c) * f, mf.g2(wo, wi) / g1, LobeFlags::REFLECTION | LobeFlags::GLOSSY, 1.0)
+            (
+                wi,
+                pm / (4.0 * c) * f,
+                mf.g2(wo, wi) / g1,
+                LobeFlags::REFLECTION | LobeFlags::GLOSSY,
+                1.0,
+            )
         } else {
             let wi = refract(wo, m, etap)?;
             if !(wi.z < 0.0) {
                 return None;
             }
-            let (no, nf) = if flip { (self.eta, 1.0) } else { (1.0, self.eta) };
+            let (no, nf) = if flip {
+                (self.eta, 1.0)
+            } else {
+                (1.0, self.eta)
+            };
             let t = transmittance(dot64(wo, m), dot64(wi, m), no, nf);
             let pdf = (pm as f64 * transmission_jacobian(wo, wi, m, no, nf) * t as f64) as f32;
-            (wi, pdf, mf.g2(wo, wi) / (g1 * etap * etap), LobeFlags::TRANSMISSION | LobeFlags::GLOSSY, etap)
+            (
+                wi,
+                pdf,
+                mf.g2(wo, wi) / (g1 * etap * etap),
+                LobeFlags::TRANSMISSION | LobeFlags::GLOSSY,
+                etap,
+            )
         };
         if !(pdf > 0.0) || !pdf.is_finite() || !weight.is_finite() {
             return None;
         }
         let wi = if flip { flip_z(wi) } else { wi };
-        Some(BsdfSample { wi, weight, pdf, lobe, eta })
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            lobe,
+            eta,
+        })
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -219,7 +266,9 @@ impl BsdfModel for RoughDielectric {
             return 0.0;
         }
         let ni = if wi.z > 0.0 { no } else { nf };
-        let Some(h) = half_vector(wo, wi, no, ni) else { return 0.0 };
+        let Some(h) = half_vector(wo, wi, no, ni) else {
+            return 0.0;
+        };
         let mf = self.microfacet();
         let oh = dot64(wo, h) as f32;
         let pm = mf.pdf_m(wo, h);

@@ -1,0 +1,259 @@
+//! Stability of every BSDF over its full parameter range and arbitrary directions:
+//! `eval`, `pdf` and `sample` return finite, non-negative values (never NaN or Inf),
+//! and the sample weight respects the bound the theory gives (rough conductor
+//! F G2/G1 ≤ 1; dielectric energy weight weight·η′² ≤ 1; Lambertian = ρ), including at
+//! grazing angles, α → 1e-4, η → 1, across the total-internal-reflection boundary and
+//! for directions that are not quite unit length, zero, or exactly in the tangent plane.
+
+use glam::Vec3;
+use lightproof::bsdf::microfacet::{Distribution, Masking};
+use lightproof::bsdf::*;
+use lightproof::math::ONE_MINUS_EPSILON;
+use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
+
+fn arb_distribution() -> impl Strategy<Value = (Distribution, Masking)> {
+    (any::<bool>(), any::<bool>()).prop_map(|(b, m)| {
+        (
+            if b {
+                Distribution::Beckmann
+            } else {
+                Distribution::Ggx
+            },
+            if m {
+                Masking::Uncorrelated
+            } else {
+                Masking::HeightCorrelated
+            },
+        )
+    })
+}
+
+/// log-uniform in [lo, hi], with the end points themselves drawn often.
+fn log_range(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
+    prop_oneof![
+        1 => Just(lo),
+        1 => Just(hi),
+        6 => (0.0f32..=1.0).prop_map(move |t| (lo.ln() + t * (hi.ln() - lo.ln())).exp().clamp(lo, hi)),
+    ]
+}
+
+/// Relative indices: the full range, with η → 1 and common values often.
+fn arb_eta() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        3 => log_range(0.01, 100.0),
+        1 => prop::sample::select(vec![1.0f32, 1.0001, 0.9999, 1.0 + 1e-6, 1.33, 1.5, 2.4, 1.0 / 1.5]),
+    ]
+}
+
+fn arb_bsdf() -> impl Strategy<Value = Bsdf> {
+    prop_oneof![
+        (0.0f32..=1.0).prop_map(|r| Bsdf::Lambertian(Lambertian::new(r))),
+        (0.0f32..=1.0, 0.0f32..=1.0).prop_map(|(r, s)| Bsdf::OrenNayar(OrenNayar::new(r, s))),
+        (
+            log_range(1e-3, 100.0),
+            prop_oneof![Just(0.0f32), log_range(1e-3, 100.0)]
+        )
+            .prop_map(|(e, k)| Bsdf::Conductor(Conductor::new(e, k))),
+        arb_eta().prop_map(|e| Bsdf::Dielectric(Dielectric::new(e))),
+        (
+            log_range(1e-4, 1.0),
+            log_range(1e-3, 100.0),
+            prop_oneof![Just(0.0f32), log_range(1e-3, 100.0)],
+            arb_distribution()
+        )
+            .prop_map(|(a, e, k, (d, m))| Bsdf::RoughConductor(RoughConductor {
+                alpha: a,
+                eta: e,
+                k,
+                distribution: d,
+                masking: m
+            })),
+        (log_range(1e-4, 1.0), arb_eta(), arb_distribution()).prop_map(|(a, e, (d, m))| {
+            Bsdf::RoughDielectric(RoughDielectric {
+                alpha: a,
+                eta: e,
+                distribution: d,
+                masking: m,
+            })
+        }),
+        (
+            0.0f32..=1.0,
+            prop_oneof![Just(1.0f32), log_range(1.0, 10.0)]
+        )
+            .prop_map(|(r, e)| Bsdf::Plastic(Plastic::new(r, e))),
+    ]
+}
+
+/// Directions: uniform, grazing (|z| down to 1e-30 and exactly 0), poles, and lengths
+/// off one by up to 1e-3.
+fn arb_dir() -> impl Strategy<Value = Vec3> {
+    let uniform = (-1.0f32..=1.0, 0.0f32..std::f32::consts::TAU).prop_map(|(z, phi)| {
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    });
+    let grazing = (
+        prop_oneof![Just(0.0f32), log_range(1e-30, 1e-2)],
+        any::<bool>(),
+        0.0f32..std::f32::consts::TAU,
+    )
+        .prop_map(|(z, below, phi)| {
+            let z = if below { -z } else { z };
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        });
+    let special = prop::sample::select(vec![
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        Vec3::new(1e-20, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, -1.0),
+    ]);
+    (
+        prop_oneof![4 => uniform, 3 => grazing, 1 => special],
+        prop_oneof![3 => Just(1.0f32), 1 => 0.999f32..1.001],
+    )
+        .prop_map(|(v, s)| v * s)
+}
+
+fn arb_u() -> impl Strategy<Value = Vec3> {
+    let c = prop_oneof![4 => 0.0f32..1.0, 1 => Just(0.0f32), 1 => Just(ONE_MINUS_EPSILON)];
+    (c.clone(), c.clone(), c).prop_map(|(a, b, c)| Vec3::new(a, b, c))
+}
+
+fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
+    let f = b.eval(wo, wi);
+    let p = b.pdf(wo, wi);
+    if !(f.is_finite() && f >= 0.0) {
+        return Err(format!("eval = {f}"));
+    }
+    if !(p.is_finite() && p >= 0.0) {
+        return Err(format!("pdf = {p}"));
+    }
+    if let Some(s) = b.sample(wo, u) {
+        if !(s.wi.is_finite() && s.weight.is_finite() && s.pdf.is_finite() && s.eta.is_finite()) {
+            return Err(format!("non-finite sample {s:?}"));
+        }
+        if !(s.weight >= 0.0 && s.pdf > 0.0 && s.eta > 0.0) {
+            return Err(format!("negative weight or non-positive pdf {s:?}"));
+        }
+        if (s.wi.length() - 1.0).abs() > 2e-3 {
+            return Err(format!("|wi| = {} in {s:?}", s.wi.length()));
+        }
+        let energy = s.weight * s.eta * s.eta;
+        let bound = match b {
+            Bsdf::Lambertian(l) => Some(l.albedo),
+            Bsdf::Conductor(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::Dielectric(_)
+            | Bsdf::RoughDielectric(_) => Some(1.0),
+            _ => None,
+        };
+        if let Some(bound) = bound
+            && energy > bound * (1.0 + 1e-5) + 1e-6
+        {
+            return Err(format!("energy weight {energy} > {bound} in {s:?}"));
+        }
+        // The sampled direction's own eval and pdf are finite too.
+        let (f2, p2) = (b.eval(wo, s.wi), b.pdf(wo, s.wi));
+        if !(f2.is_finite() && f2 >= 0.0 && p2.is_finite() && p2 >= 0.0) {
+            return Err(format!("eval {f2} / pdf {p2} at the sampled wi {s:?}"));
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 10_000,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("tests/bsdf_stability.proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn finite_non_negative_and_bounded(b in arb_bsdf(), wo in arb_dir(), wi in arb_dir(), u in arb_u()) {
+        prop_assert!(b.validate().is_ok(), "{:?}: {:?}", b, b.validate());
+        if let Err(e) = check(&b, wo, wi, u) {
+            return Err(TestCaseError::fail(format!("{} wo = {wo:?} wi = {wi:?} u = {u:?}: {e}", serde_json::to_string(&b).unwrap())));
+        }
+    }
+}
+
+/// Every model × a fixed set of nasty directions and uniforms, exhaustively.
+#[test]
+fn degenerate_directions_exhaustively() {
+    let dirs = [
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        -Vec3::Y,
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 1e-7).normalize(),
+        Vec3::new(1.0, 0.0, -1e-7).normalize(),
+        Vec3::new(1.0, 0.0, 1e-30),
+        Vec3::new(0.6, 0.0, 0.8) * 1.001,
+        Vec3::new(-0.6, 0.0, -0.8) * 0.999,
+        Vec3::new(-1.0, 0.0, 1e-7).normalize(),
+        // Near the critical angle of η = 1.5 from inside: sin θ = 1/1.5.
+        Vec3::new(1.0 / 1.5, 0.0, -(1.0f32 - 1.0 / 2.25).sqrt()),
+    ];
+    let us = [
+        Vec3::ZERO,
+        Vec3::splat(0.5),
+        Vec3::splat(ONE_MINUS_EPSILON),
+        Vec3::new(0.0, ONE_MINUS_EPSILON, 0.5),
+    ];
+    let mut models = Vec::new();
+    for alpha in [1e-4, 1e-2, 1.0] {
+        for dist in [Distribution::Ggx, Distribution::Beckmann] {
+            for eta in [1.0, 1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
+                models.push(Bsdf::RoughDielectric(RoughDielectric {
+                    alpha,
+                    eta,
+                    distribution: dist,
+                    masking: Masking::HeightCorrelated,
+                }));
+            }
+            models.push(Bsdf::RoughConductor(RoughConductor {
+                alpha,
+                eta: 1.0,
+                k: 0.0,
+                distribution: dist,
+                masking: Masking::Uncorrelated,
+            }));
+            models.push(Bsdf::RoughConductor(RoughConductor {
+                alpha,
+                eta: 0.2,
+                k: 3.9,
+                distribution: dist,
+                masking: Masking::HeightCorrelated,
+            }));
+        }
+    }
+    for eta in [1.0, 1.0001, 1.5, 0.01, 100.0] {
+        models.push(Bsdf::Dielectric(Dielectric::new(eta)));
+    }
+    models.extend([
+        Bsdf::Conductor(Conductor::new(1.0, 0.0)),
+        Bsdf::Conductor(Conductor::new(0.001, 100.0)),
+        Bsdf::Lambertian(Lambertian::new(1.0)),
+        Bsdf::OrenNayar(OrenNayar::new(1.0, 1.0)),
+        Bsdf::Plastic(Plastic::new(1.0, 1.0)),
+        Bsdf::Plastic(Plastic::new(0.0, 1.0)),
+        Bsdf::Plastic(Plastic::new(1.0, 10.0)),
+    ]);
+    for b in &models {
+        for wo in dirs {
+            for wi in dirs {
+                for u in us {
+                    if let Err(e) = check(b, wo, wi, u) {
+                        panic!(
+                            "{} wo = {wo} wi = {wi} u = {u}: {e}",
+                            serde_json::to_string(b).unwrap()
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
