@@ -509,6 +509,7 @@ fn energy_conservation_and_promised_albedo() {
 #[test]
 fn microfacet_identities() {
     let mut failures = Vec::new();
+    let mut worst = 0.0f64;
     for dist in [Distribution::Ggx, Distribution::Beckmann] {
         for alpha in ALPHAS {
             let mf = Microfacet::new(dist, alpha, Masking::HeightCorrelated);
@@ -521,6 +522,7 @@ fn microfacet_identities() {
                     ("weak furnace", i.weak_furnace),
                 ] {
                     // Quadrature tolerance 1e-8 relative; f32 evaluation of D, G1 ~1e-6.
+                    worst = worst.max((v - 1.0).abs());
                     if (v - 1.0).abs() > 1e-4 {
                         failures.push(format!("{dist:?} α = {alpha} θo = {theta}: {what} = {v}"));
                     }
@@ -528,6 +530,7 @@ fn microfacet_identities() {
             }
         }
     }
+    eprintln!("microfacet identities: worst |integral − 1| = {worst:.2e}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -708,4 +711,26 @@ fn json_round_trip_and_validation_messages() {
         let e = Bsdf::from_json(text).expect_err(text);
         assert!(e.contains(needle), "{text}: {e}");
     }
+}
+
+#[test]
+fn chi2_images_for_a_person_to_look_at() {
+    let b = Bsdf::from_json(r#"{"type":"rough_conductor","alpha":0.5,"eta":0.2,"k":3.9}"#).unwrap();
+    let t = Chi2Test::new(Domain::Sphere, 50_000, common::seed(), 1e-4).with_resolution(16, 32);
+    let tables = contract::chi2_tables(&t, &b, direction(deg(40.0), 0.0));
+    // Some draws reflect below the horizon and fail: the counts and ∫ pdf agree on the
+    // fraction that succeeds (binomial, 6σ).
+    let (obs, exp) = (
+        tables.observed.iter().sum::<u64>() as f64,
+        tables.expected.iter().sum::<f64>(),
+    );
+    assert!(
+        obs < 50_000.0 && (obs - exp).abs() < 6.0 * (exp * (1.0 - exp / 50_000.0)).sqrt() + 1.0,
+        "{obs} {exp}"
+    );
+    let dir = std::env::temp_dir().join(format!("lightproof-chi2-{}", std::process::id()));
+    let files = contract::write_chi2_images(&tables, &dir, "rough_conductor").unwrap();
+    assert_eq!(files.len(), 4);
+    assert!(files.iter().all(|f| f.exists()));
+    let _ = std::fs::remove_dir_all(&dir);
 }

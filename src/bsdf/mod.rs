@@ -11,9 +11,34 @@
 //! - `pdf(wo, wi)` is the density `sample` draws wi with.
 //!
 //! Hot paths use the closed enum [`Bsdf`]; [`BsdfModel`] is the public trait a user
-//! implements to put their own BSDF through the same proof (`tests/bsdf_contract.rs`).
+//! implements to put their own BSDF through the same proof ([`contract`], run on every
+//! built-in model by `tests/bsdf_contract.rs` and `tests/bsdf_stability.rs`).
 //!
-//! Radiance convention for transmission: see the dielectric models' docs.
+//! | model | JSON | file |
+//! |---|---|---|
+//! | Lambertian | `{"type": "lambertian", "albedo": 0.5}` | [`lambertian`] |
+//! | Oren–Nayar (Fujii's improved form) | `{"type": "oren_nayar", "albedo": 0.8, "sigma": 0.5}` | [`oren_nayar`] |
+//! | smooth conductor | `{"type": "conductor", "eta": 0.2, "k": 3.9}` | [`conductor`] |
+//! | smooth dielectric | `{"type": "dielectric", "eta": 1.5}` | [`dielectric`] |
+//! | rough conductor | `{"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9, "distribution": "ggx", "masking": "height_correlated"}` | [`rough_conductor`] |
+//! | rough dielectric | `{"type": "rough_dielectric", "alpha": 0.3, "eta": 1.5, "distribution": "beckmann"}` | [`rough_dielectric`] |
+//! | two-layer plastic | `{"type": "plastic", "albedo": 0.5, "eta": 1.5}` | [`plastic`] |
+//!
+//! `distribution` (`ggx` | `beckmann`) and `masking` (`height_correlated` |
+//! `uncorrelated`) are optional. Shared pieces: [`fresnel`] (dielectric and conductor
+//! Fresnel, reflection, refraction) and [`microfacet`] (D, Λ, G1, G2, visible-normal
+//! sampling). [`Bsdf::from_json`] parses and validates a model.
+//!
+//! **Indices of refraction.** A dielectric's `eta` is η_inside/η_outside with the inside
+//! below the surface (−z); [`BsdfSample::eta`] is the relative index η_i/η_o crossed by
+//! the sample (1 for reflection). **Radiance convention** (pbrt-v4 "radiance" mode):
+//! transmitted radiance is scaled by (η_o/η_i)², so reciprocity reads
+//! f(ωi→ωo)/η_o² = f(ωo→ωi)/η_i², and the energy carried by a sample is
+//! weight·η′² (see [`dielectric`], [`rough_dielectric`]).
+//!
+//! Engine arithmetic is `f32`; `f64` appears where a formula cancels (the generalised
+//! half vector and refraction Jacobian as η → 1, erf-based Beckmann terms, constants
+//! computed once by quadrature), each place saying why.
 
 pub mod conductor;
 pub mod contract;
