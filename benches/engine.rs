@@ -37,7 +37,9 @@ fn bvh(c: &mut Criterion) {
     let prims = mesh();
     let mut g = c.benchmark_group("bvh");
     g.sample_size(10);
-    g.bench_function(format!("build {} triangles", prims.len()), |b| b.iter(|| black_box(Accel::new(prims.clone()))));
+    g.bench_function(format!("build {} triangles", prims.len()), |b| {
+        b.iter(|| black_box(Accel::new(prims.clone())))
+    });
     let accel = Accel::new(prims);
     let s = Sampler::independent(3);
     let rays: Vec<(Vec3, Vec3)> = (0..65536u64)
@@ -50,7 +52,11 @@ fn bvh(c: &mut Criterion) {
         .collect();
     g.throughput(Throughput::Elements(rays.len() as u64));
     g.bench_function("closest hit, 1 thread", |b| {
-        b.iter(|| rays.iter().filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some())
+                .count()
+        })
     });
     g.finish();
     let _ = Vec2::ZERO;
@@ -63,12 +69,18 @@ fn paths(c: &mut Criterion) {
     for name in ["furnace", "cornell"] {
         let case = Case::load(&root.join(format!("{name}.json"))).expect("bench scene");
         let est = case.desc.estimators[0];
-        let spec = RunSpec { samples: 1 << 18, sampler: SamplerKind::Independent, seed: 1 };
+        let spec = RunSpec {
+            samples: 1 << 18,
+            sampler: SamplerKind::Independent,
+            seed: 1,
+        };
         g.throughput(Throughput::Elements(spec.total()));
         g.bench_function(name, |b| {
             b.iter(|| {
                 let cfg = case.config(est, false);
-                black_box(run(&spec, |s| case.measure.sample(&case.scene, est, &cfg, s)))
+                black_box(run(&spec, |s| {
+                    case.measure.sample(&case.scene, est, &cfg, s)
+                }))
             })
         });
     }

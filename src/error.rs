@@ -16,8 +16,16 @@ pub struct InputError {
 
 impl InputError {
     /// A located error.
-    pub fn new(file: impl Into<String>, field: impl Into<String>, reason: impl Into<String>) -> Self {
-        InputError { file: file.into(), field: field.into(), reason: reason.into() }
+    pub fn new(
+        file: impl Into<String>,
+        field: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        InputError {
+            file: file.into(),
+            field: field.into(),
+            reason: reason.into(),
+        }
     }
 }
 
@@ -27,18 +35,36 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
-        let field = if path.is_empty() || path == "." { "-".to_string() } else { path };
+        let field = if path.is_empty() || path == "." {
+            "-".to_string()
+        } else {
+            path
+        };
         InputError::new(file, field, inner.to_string())
     })
 }
 
 /// Check a number is finite and within bounds; `what` describes the bound.
-pub fn check_number(file: &str, field: &str, v: f64, ok: impl Fn(f64) -> bool, what: &str) -> Result<(), InputError> {
+pub fn check_number(
+    file: &str,
+    field: &str,
+    v: f64,
+    ok: impl Fn(f64) -> bool,
+    what: &str,
+) -> Result<(), InputError> {
     if !v.is_finite() {
-        return Err(InputError::new(file, field, format!("must be a finite number, got {v}")));
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be a finite number, got {v}"),
+        ));
     }
     if !ok(v) {
-        return Err(InputError::new(file, field, format!("must be {what}, got {v}")));
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be {what}, got {v}"),
+        ));
     }
     Ok(())
 }

@@ -22,7 +22,11 @@ const DEFAULT_SEED: u64 = 0x11_9470;
 const ALPHA: f64 = 1e-4;
 
 #[derive(Parser)]
-#[command(name = "lightproof", version, about = "Prove a light-transport engine right: Monte Carlo estimates judged against closed forms by statistics")]
+#[command(
+    name = "lightproof",
+    version,
+    about = "Prove a light-transport engine right: Monte Carlo estimates judged against closed forms by statistics"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -104,11 +108,13 @@ enum Command {
 }
 
 fn parse_estimator(s: &str) -> Result<Estimator, String> {
-    serde_json::from_value(serde_json::Value::String(s.to_string())).map_err(|_| format!("unknown estimator `{s}`"))
+    serde_json::from_value(serde_json::Value::String(s.to_string()))
+        .map_err(|_| format!("unknown estimator `{s}`"))
 }
 
 fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
-    serde_json::from_value(serde_json::Value::String(s.to_string())).map_err(|_| format!("unknown sampler `{s}` (independent, stratified, sobol)"))
+    serde_json::from_value(serde_json::Value::String(s.to_string()))
+        .map_err(|_| format!("unknown sampler `{s}` (independent, stratified, sobol)"))
 }
 
 enum Failure {
@@ -136,7 +142,10 @@ fn main() -> ExitCode {
         Command::Verify { threads, .. } | Command::Estimate { threads, .. } => *threads,
         _ => None,
     };
-    let pool = match rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build() {
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+    {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: cannot start worker threads: {e}");
@@ -155,15 +164,44 @@ fn main() -> ExitCode {
 
 fn default_catalog() -> PathBuf {
     let local = PathBuf::from("analytic/cases");
-    if local.is_dir() { local } else { Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases") }
+    if local.is_dir() {
+        local
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases")
+    }
 }
 
 fn dispatch(command: Command) -> Result<(), Failure> {
     match command {
-        Command::Verify { paths, seed, samples, json, no_chi2, .. } => verify(paths, seed, samples, json, no_chi2),
-        Command::Estimate { case, samples, seed, estimator, sampler, .. } => estimate(&case, samples, seed, estimator, sampler),
-        Command::Chi2 { bsdf, wo, samples, seed, out } => chi2(&bsdf, &wo, samples, seed, &out),
-        Command::Render { scene, spp, output, seed } => {
+        Command::Verify {
+            paths,
+            seed,
+            samples,
+            json,
+            no_chi2,
+            ..
+        } => verify(paths, seed, samples, json, no_chi2),
+        Command::Estimate {
+            case,
+            samples,
+            seed,
+            estimator,
+            sampler,
+            ..
+        } => estimate(&case, samples, seed, estimator, sampler),
+        Command::Chi2 {
+            bsdf,
+            wo,
+            samples,
+            seed,
+            out,
+        } => chi2(&bsdf, &wo, samples, seed, &out),
+        Command::Render {
+            scene,
+            spp,
+            output,
+            seed,
+        } => {
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed)?;
             lightproof::render::write_exr(&output, w, h, &data)
                 .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", output.display())))?;
@@ -173,16 +211,36 @@ fn dispatch(command: Command) -> Result<(), Failure> {
     }
 }
 
-fn verify(paths: Vec<PathBuf>, seed: u64, samples: Option<u64>, json: Option<PathBuf>, no_chi2: bool) -> Result<(), Failure> {
+fn verify(
+    paths: Vec<PathBuf>,
+    seed: u64,
+    samples: Option<u64>,
+    json: Option<PathBuf>,
+    no_chi2: bool,
+) -> Result<(), Failure> {
     let whole = paths.is_empty();
-    let paths = if whole { vec![default_catalog()] } else { paths };
+    let paths = if whole {
+        vec![default_catalog()]
+    } else {
+        paths
+    };
     let files = collect_cases(&paths)?;
-    let cases: Vec<Case> = files.iter().map(|f| Case::load(f)).collect::<Result<_, _>>()?;
-    let warp_suite = if whole && !no_chi2 { lightproof::suites::warps() } else { vec![] };
+    let cases: Vec<Case> = files
+        .iter()
+        .map(|f| Case::load(f))
+        .collect::<Result<_, _>>()?;
+    let warp_suite = if whole && !no_chi2 {
+        lightproof::suites::warps()
+    } else {
+        vec![]
+    };
     let k = count_tests(&cases) + warp_suite.len();
     let t0 = Instant::now();
     let bar = ProgressBar::new((cases.len() + warp_suite.len()) as u64);
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     let mut outcomes: Vec<Outcome> = Vec::new();
     for c in &cases {
         bar.set_message(c.desc.name.clone());
@@ -192,7 +250,11 @@ fn verify(paths: Vec<PathBuf>, seed: u64, samples: Option<u64>, json: Option<Pat
     let mut chi2_rows = Vec::new();
     for (i, (name, test)) in warp_suite.iter().enumerate() {
         bar.set_message(format!("chi2 {name}"));
-        chi2_rows.push(test(1_000_000, seed ^ (i as u64 + 1), sidak_alpha(ALPHA, k)));
+        chi2_rows.push(test(
+            1_000_000,
+            seed ^ (i as u64 + 1),
+            sidak_alpha(ALPHA, k),
+        ));
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -202,13 +264,26 @@ fn verify(paths: Vec<PathBuf>, seed: u64, samples: Option<u64>, json: Option<Pat
     );
     for o in &outcomes {
         let (r, z, det, verdict) = match &o.verdict {
-            Some(v) => (format!("{:.6}", v.reference), format!("{:+.2}", v.z), format!("{:.3}%", 100.0 * v.detectable_relative_bias), if v.passed { "pass" } else { "FAIL" }),
+            Some(v) => (
+                format!("{:.6}", v.reference),
+                format!("{:+.2}", v.z),
+                format!("{:.3}%", 100.0 * v.detectable_relative_bias),
+                if v.passed { "pass" } else { "FAIL" },
+            ),
             None => ("-".into(), "-".into(), "-".into(), "(no reference)"),
         };
         let name: String = o.case.chars().take(48).collect();
         println!(
             "{name:<48} {:<12} {:>24} {r:>12} {z:>8} {det:>9} {:>7.2}s  {verdict}",
-            format!("{}{}", o.estimator.name(), if o.sampler == SamplerKind::Independent { String::new() } else { format!("/{}", o.sampler.name()) }),
+            format!(
+                "{}{}",
+                o.estimator.name(),
+                if o.sampler == SamplerKind::Independent {
+                    String::new()
+                } else {
+                    format!("/{}", o.sampler.name())
+                }
+            ),
             format!("{:.6} ± {:.6}", o.estimate, o.std_error),
             o.seconds
         );
@@ -217,12 +292,23 @@ fn verify(paths: Vec<PathBuf>, seed: u64, samples: Option<u64>, json: Option<Pat
         }
     }
     for c in &chi2_rows {
-        println!("{:<48} {:<12} {:>24} {:>12} {:>8} {:>9} {:>8}  {}", format!("chi2 {}", c.name), "sampling", format!("p = {:.3e}", c.p_value), format!("dof {}", c.dof), "-", "-", "", if c.passed { "pass" } else { "FAIL" });
+        println!(
+            "{:<48} {:<12} {:>24} {:>12} {:>8} {:>9} {:>8}  {}",
+            format!("chi2 {}", c.name),
+            "sampling",
+            format!("p = {:.3e}", c.p_value),
+            format!("dof {}", c.dof),
+            "-",
+            "-",
+            "",
+            if c.passed { "pass" } else { "FAIL" }
+        );
         if let Some(r) = &c.reason {
             println!("    ↳ {r}");
         }
     }
-    let failed = outcomes.iter().filter(|o| !o.passed()).count() + chi2_rows.iter().filter(|c| !c.passed).count();
+    let failed = outcomes.iter().filter(|o| !o.passed()).count()
+        + chi2_rows.iter().filter(|c| !c.passed).count();
     let total = outcomes.len() + chi2_rows.len();
     println!(
         "\n{} passed, {} failed  ({} cases, {} verdicts, Šidák over k = {k} at family α = {ALPHA}, seed {seed}, {:.1}s)",
@@ -235,20 +321,42 @@ fn verify(paths: Vec<PathBuf>, seed: u64, samples: Option<u64>, json: Option<Pat
     if let Some(path) = json {
         let doc = serde_json::json!({ "seed": seed, "alpha": ALPHA, "tests": k, "outcomes": outcomes, "chi2": chi2_rows });
         let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::Input(e.to_string()))?;
-        lightproof::io::write_atomic(&path, text.as_bytes()).map_err(|e| Failure::Input(format!("{}: cannot write: {e}", path.display())))?;
+        lightproof::io::write_atomic(&path, text.as_bytes())
+            .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", path.display())))?;
     }
-    if failed > 0 { Err(Failure::Verdict) } else { Ok(()) }
+    if failed > 0 {
+        Err(Failure::Verdict)
+    } else {
+        Ok(())
+    }
 }
 
-fn estimate(path: &Path, samples: Option<u64>, seed: u64, estimator: Option<Estimator>, sampler: SamplerKind) -> Result<(), Failure> {
+fn estimate(
+    path: &Path,
+    samples: Option<u64>,
+    seed: u64,
+    estimator: Option<Estimator>,
+    sampler: SamplerKind,
+) -> Result<(), Failure> {
     let case = Case::load(path)?;
     let est = estimator.unwrap_or(case.desc.estimators[0]);
     if !case.measure.estimators().contains(&est) {
-        return Err(Failure::Input(format!("{}: --estimator: `{}` cannot estimate {}", path.display(), est.name(), case.measure.name())));
+        return Err(Failure::Input(format!(
+            "{}: --estimator: `{}` cannot estimate {}",
+            path.display(),
+            est.name(),
+            case.measure.name()
+        )));
     }
-    let n = samples.or(case.desc.samples).unwrap_or(lightproof::verify::DEFAULT_SAMPLES);
+    let n = samples
+        .or(case.desc.samples)
+        .unwrap_or(lightproof::verify::DEFAULT_SAMPLES);
     let run_seed = seed_for(seed, &case.desc.name, est, sampler);
-    let spec = RunSpec { samples: n, sampler, seed: run_seed };
+    let spec = RunSpec {
+        samples: n,
+        sampler,
+        seed: run_seed,
+    };
     let e = case.estimate(est, &spec, false);
     let verdict = case.reference.map(|r| judge(&e, sampler, r, ALPHA, 1));
     let mut obj = serde_json::json!({
@@ -270,22 +378,51 @@ fn estimate(path: &Path, samples: Option<u64>, seed: u64, estimator: Option<Esti
         obj["z"] = serde_json::json!(v.z);
         obj["verdict"] = serde_json::to_value(v).unwrap_or_default();
     }
-    println!("{}", serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?);
-    if verdict.is_some_and(|v| !v.passed) { Err(Failure::Verdict) } else { Ok(()) }
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?
+    );
+    if verdict.is_some_and(|v| !v.passed) {
+        Err(Failure::Verdict)
+    } else {
+        Ok(())
+    }
 }
 
 fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(), Failure> {
-    let bsdf = Bsdf::from_json(json).map_err(|e| Failure::Input(format!("<bsdf argument>: {e}")))?;
-    let parts: Vec<f64> = wo.split(',').map(|s| s.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| Failure::Input(format!("--wo: expected θ,φ in degrees, got `{wo}`")))?;
+    let bsdf =
+        Bsdf::from_json(json).map_err(|e| Failure::Input(format!("<bsdf argument>: {e}")))?;
+    let parts: Vec<f64> = wo
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| Failure::Input(format!("--wo: expected θ,φ in degrees, got `{wo}`")))?;
     if parts.len() != 2 || parts.iter().any(|x| !x.is_finite()) {
-        return Err(Failure::Input(format!("--wo: expected two finite numbers θ,φ in degrees, got `{wo}`")));
+        return Err(Failure::Input(format!(
+            "--wo: expected two finite numbers θ,φ in degrees, got `{wo}`"
+        )));
     }
     let w = direction(parts[0].to_radians() as f32, parts[1].to_radians() as f32);
     let o = chi2_bsdf(&bsdf, bsdf.name(), w, samples, seed, ALPHA);
-    let test = lightproof::stats::chi2::Chi2Test::new(lightproof::stats::chi2::Domain::Sphere, samples, seed, ALPHA);
+    let test = lightproof::stats::chi2::Chi2Test::new(
+        lightproof::stats::chi2::Domain::Sphere,
+        samples,
+        seed,
+        ALPHA,
+    );
     let tables = lightproof::bsdf::contract::chi2_tables(&test, &bsdf, w);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
         .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", out.display())))?;
-    println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "bsdf": bsdf, "wo_degrees": parts, "outcome": o, "images": files })).unwrap_or_default());
-    if o.passed { Ok(()) } else { Err(Failure::Verdict) }
+    println!(
+        "{}",
+        serde_json::to_string_pretty(
+            &serde_json::json!({ "bsdf": bsdf, "wo_degrees": parts, "outcome": o, "images": files })
+        )
+        .unwrap_or_default()
+    );
+    if o.passed {
+        Ok(())
+    } else {
+        Err(Failure::Verdict)
+    }
 }

@@ -4,11 +4,11 @@
 use crate::error::{InputError, parse_json};
 use crate::math::Frame;
 use crate::sampling::{Sampler, SamplerKind};
-use crate::verify::CaseDesc;
 use crate::transport::Heuristic;
 use crate::transport::effects::analyze;
 use crate::transport::measure::Measure;
 use crate::transport::path::{Config, Prev, trace};
+use crate::verify::CaseDesc;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -37,27 +37,49 @@ fn up() -> [f64; 3] {
     [0.0, 0.0, 1.0]
 }
 
-
 /// Render `path` with `spp` samples per pixel; returns (width, height, radiance).
-pub fn render_file(path: &Path, spp: u64, seed: u64) -> Result<(usize, usize, Vec<f32>), InputError> {
+pub fn render_file(
+    path: &Path,
+    spp: u64,
+    seed: u64,
+) -> Result<(usize, usize, Vec<f32>), InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
     let desc: CaseDesc = parse_json(&file, &text)?;
     let Some(c) = &desc.camera else {
-        return Err(InputError::new(&file, "camera", "a file to render needs a `camera`"));
+        return Err(InputError::new(
+            &file,
+            "camera",
+            "a file to render needs a `camera`",
+        ));
     };
     let eye = DVec3::from_array(c.position);
     let look = DVec3::from_array(c.look_at) - eye;
     if !eye.is_finite() || !(look.length() > 0.0) {
-        return Err(InputError::new(&file, "camera.look_at", "must differ from camera.position"));
+        return Err(InputError::new(
+            &file,
+            "camera.look_at",
+            "must differ from camera.position",
+        ));
     }
     if c.width == 0 || c.height == 0 || c.width * c.height > 1 << 26 {
-        return Err(InputError::new(&file, "camera.width", "width and height must be positive (and the image at most 64 Mpixel)"));
+        return Err(InputError::new(
+            &file,
+            "camera.width",
+            "width and height must be positive (and the image at most 64 Mpixel)",
+        ));
     }
     if !(c.fov_degrees > 0.0 && c.fov_degrees < 180.0) {
-        return Err(InputError::new(&file, "camera.fov_degrees", format!("must lie in (0, 180), got {}", c.fov_degrees)));
+        return Err(InputError::new(
+            &file,
+            "camera.fov_degrees",
+            format!("must lie in (0, 180), got {}", c.fov_degrees),
+        ));
     }
-    let scene = desc.scene.build(&file, "scene", path.parent().unwrap_or(Path::new(".")), eye)?;
+    let scene = desc
+        .scene
+        .build(&file, "scene", path.parent().unwrap_or(Path::new(".")), eye)?;
     let fwd = look.normalize().as_vec3();
     let frame = Frame::from_z(fwd);
     let upv = Vec3::from_array(c.up.map(|x| x as f32));
@@ -65,7 +87,13 @@ pub fn render_file(path: &Path, spp: u64, seed: u64) -> Result<(usize, usize, Ve
     let up = right.cross(fwd);
     let tan = (c.fov_degrees.to_radians() * 0.5).tan() as f32;
     let aspect = c.width as f32 / c.height as f32;
-    let effects = analyze(&scene, &Measure::Radiance { at: Vec3::ZERO, direction: fwd });
+    let effects = analyze(
+        &scene,
+        &Measure::Radiance {
+            at: Vec3::ZERO,
+            direction: fwd,
+        },
+    );
     let mut cfg = Config::full(true, true, Heuristic::Power);
     cfg.max_bounces = effects.max_bounces.unwrap_or(u32::MAX);
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
@@ -81,7 +109,19 @@ pub fn render_file(path: &Path, spp: u64, seed: u64) -> Result<(usize, usize, Ve
                 let px = (2.0 * (x as f32 + j.x) / w as f32 - 1.0) * tan * aspect;
                 let py = (1.0 - 2.0 * (y as f32 + j.y) / h as f32) * tan;
                 let d = (fwd + right * px + up * py).normalize();
-                sum += trace(&scene, &cfg, Vec3::ZERO, d, Prev { p: Vec3::ZERO, pdf: 1.0, delta: true }, 0, &mut s) as f64;
+                sum += trace(
+                    &scene,
+                    &cfg,
+                    Vec3::ZERO,
+                    d,
+                    Prev {
+                        p: Vec3::ZERO,
+                        pdf: 1.0,
+                        delta: true,
+                    },
+                    0,
+                    &mut s,
+                ) as f64;
             }
             (sum / spp.max(1) as f64) as f32
         })

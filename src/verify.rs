@@ -156,7 +156,11 @@ pub struct Case {
 fn unit(file: &str, field: &str, a: [f64; 3]) -> Result<Vec3, InputError> {
     let v = DVec3::from_array(a);
     if !v.is_finite() || !(v.length() > 0.0) {
-        return Err(InputError::new(file, field, format!("must be a finite non-zero vector, got {a:?}")));
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be a finite non-zero vector, got {a:?}"),
+        ));
     }
     Ok(v.normalize().as_vec3())
 }
@@ -164,7 +168,11 @@ fn unit(file: &str, field: &str, a: [f64; 3]) -> Result<Vec3, InputError> {
 fn point(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
     let v = DVec3::from_array(a);
     if !v.is_finite() {
-        return Err(InputError::new(file, field, format!("must be three finite numbers, got {a:?}")));
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be three finite numbers, got {a:?}"),
+        ));
     }
     Ok(v)
 }
@@ -173,7 +181,8 @@ impl Case {
     /// Load and validate a case file.
     pub fn load(path: &Path) -> Result<Case, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
         let desc: CaseDesc = parse_json(&file, &text)?;
         Case::from_desc(desc, path)
     }
@@ -183,8 +192,11 @@ impl Case {
         let file = path.display().to_string();
         let f = file.as_str();
         let origin = match &desc.measure {
-            MeasureDesc::SolidAngle { from, .. } | MeasureDesc::ProjectedSolidAngle { from, .. } => point(f, "measure.from", *from)?,
-            MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => point(f, "measure.at", *at)?,
+            MeasureDesc::SolidAngle { from, .. }
+            | MeasureDesc::ProjectedSolidAngle { from, .. } => point(f, "measure.from", *from)?,
+            MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
+                point(f, "measure.at", *at)?
+            }
             _ => desc.scene.any_point(),
         };
         let base = path.parent().unwrap_or(Path::new("."));
@@ -193,56 +205,119 @@ impl Case {
             if i < scene.shapes.len() {
                 Ok(i)
             } else {
-                Err(InputError::new(f, field, format!("shape {i} does not exist (the scene has {} shapes)", scene.shapes.len())))
+                Err(InputError::new(
+                    f,
+                    field,
+                    format!(
+                        "shape {i} does not exist (the scene has {} shapes)",
+                        scene.shapes.len()
+                    ),
+                ))
             }
         };
-        let emitter_index = |shape: Option<usize>, emitter: Option<usize>| -> Result<usize, InputError> {
-            let n_area = scene.shapes.iter().filter(|s| s.emitter.is_some()).count();
-            let idx = match (shape, emitter) {
-                (Some(s), None) => scene.shapes[shape_index("measure.shape", s)?]
-                    .emitter
-                    .ok_or_else(|| InputError::new(f, "measure.shape", format!("shape {s} does not emit")))?,
-                (None, Some(e)) if e < scene.emitters.len() - n_area => n_area + e,
-                (None, Some(e)) => return Err(InputError::new(f, "measure.emitter", format!("emitter {e} does not exist"))),
-                _ => return Err(InputError::new(f, "measure", "give exactly one of `shape` or `emitter`")),
+        let emitter_index =
+            |shape: Option<usize>, emitter: Option<usize>| -> Result<usize, InputError> {
+                let n_area = scene.shapes.iter().filter(|s| s.emitter.is_some()).count();
+                let idx = match (shape, emitter) {
+                    (Some(s), None) => scene.shapes[shape_index("measure.shape", s)?]
+                        .emitter
+                        .ok_or_else(|| {
+                            InputError::new(f, "measure.shape", format!("shape {s} does not emit"))
+                        })?,
+                    (None, Some(e)) if e < scene.emitters.len() - n_area => n_area + e,
+                    (None, Some(e)) => {
+                        return Err(InputError::new(
+                            f,
+                            "measure.emitter",
+                            format!("emitter {e} does not exist"),
+                        ));
+                    }
+                    _ => {
+                        return Err(InputError::new(
+                            f,
+                            "measure",
+                            "give exactly one of `shape` or `emitter`",
+                        ));
+                    }
+                };
+                if scene.emitters[idx].is_infinite() {
+                    return Err(InputError::new(
+                        f,
+                        "measure",
+                        "power and intensity are not defined for emitters at infinity",
+                    ));
+                }
+                Ok(idx)
             };
-            if scene.emitters[idx].is_infinite() {
-                return Err(InputError::new(f, "measure", "power and intensity are not defined for emitters at infinity"));
-            }
-            Ok(idx)
-        };
         let rebased = |p: DVec3| (p - origin).as_vec3();
         let measure = match &desc.measure {
-            MeasureDesc::SolidAngle { from, shape } => {
-                Measure::SolidAngle { from: rebased(point(f, "measure.from", *from)?), shape: shape_index("measure.shape", *shape)? }
-            }
-            MeasureDesc::ProjectedSolidAngle { from, normal, shape } => Measure::ProjectedSolidAngle {
+            MeasureDesc::SolidAngle { from, shape } => Measure::SolidAngle {
+                from: rebased(point(f, "measure.from", *from)?),
+                shape: shape_index("measure.shape", *shape)?,
+            },
+            MeasureDesc::ProjectedSolidAngle {
+                from,
+                normal,
+                shape,
+            } => Measure::ProjectedSolidAngle {
                 from: rebased(point(f, "measure.from", *from)?),
                 normal: unit(f, "measure.normal", *normal)?,
                 shape: shape_index("measure.shape", *shape)?,
             },
-            MeasureDesc::Irradiance { at, normal } => {
-                Measure::Irradiance { at: rebased(point(f, "measure.at", *at)?), normal: unit(f, "measure.normal", *normal)? }
-            }
-            MeasureDesc::Radiance { at, direction } => {
-                Measure::Radiance { at: rebased(point(f, "measure.at", *at)?), direction: unit(f, "measure.direction", *direction)? }
-            }
-            MeasureDesc::Albedo { bsdf, theta_degrees, phi_degrees } => {
-                bsdf.validate().map_err(|r| InputError::new(f, "measure.albedo.bsdf", r))?;
-                check_number(f, "measure.albedo.theta_degrees", *theta_degrees, |t| (0.0..=180.0).contains(&t), "in [0, 180]")?;
-                check_number(f, "measure.albedo.phi_degrees", *phi_degrees, |_| true, "finite")?;
+            MeasureDesc::Irradiance { at, normal } => Measure::Irradiance {
+                at: rebased(point(f, "measure.at", *at)?),
+                normal: unit(f, "measure.normal", *normal)?,
+            },
+            MeasureDesc::Radiance { at, direction } => Measure::Radiance {
+                at: rebased(point(f, "measure.at", *at)?),
+                direction: unit(f, "measure.direction", *direction)?,
+            },
+            MeasureDesc::Albedo {
+                bsdf,
+                theta_degrees,
+                phi_degrees,
+            } => {
+                bsdf.validate()
+                    .map_err(|r| InputError::new(f, "measure.albedo.bsdf", r))?;
+                check_number(
+                    f,
+                    "measure.albedo.theta_degrees",
+                    *theta_degrees,
+                    |t| (0.0..=180.0).contains(&t),
+                    "in [0, 180]",
+                )?;
+                check_number(
+                    f,
+                    "measure.albedo.phi_degrees",
+                    *phi_degrees,
+                    |_| true,
+                    "finite",
+                )?;
                 let (t, p) = (theta_degrees.to_radians(), phi_degrees.to_radians());
                 let wo = DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos()).as_vec3();
-                Measure::Albedo { bsdf: Box::new(bsdf.clone()), wo }
+                Measure::Albedo {
+                    bsdf: Box::new(bsdf.clone()),
+                    wo,
+                }
             }
-            MeasureDesc::Power { shape, emitter } => Measure::Power { emitter: emitter_index(*shape, *emitter)? },
-            MeasureDesc::Intensity { shape, emitter, direction } => Measure::Intensity {
+            MeasureDesc::Power { shape, emitter } => Measure::Power {
+                emitter: emitter_index(*shape, *emitter)?,
+            },
+            MeasureDesc::Intensity {
+                shape,
+                emitter,
+                direction,
+            } => Measure::Intensity {
                 emitter: emitter_index(*shape, *emitter)?,
                 direction: unit(f, "measure.direction", *direction)?,
             },
         };
         if desc.estimators.is_empty() {
-            return Err(InputError::new(f, "estimators", "name at least one estimator"));
+            return Err(InputError::new(
+                f,
+                "estimators",
+                "name at least one estimator",
+            ));
         }
         for (i, e) in desc.estimators.iter().enumerate() {
             if !measure.estimators().contains(e) {
@@ -250,21 +325,37 @@ impl Case {
                 return Err(InputError::new(
                     f,
                     format!("estimators[{i}]"),
-                    format!("`{}` cannot estimate {}; use one of {}", e.name(), measure.name(), ok.join(", ")),
+                    format!(
+                        "`{}` cannot estimate {}; use one of {}",
+                        e.name(),
+                        measure.name(),
+                        ok.join(", ")
+                    ),
                 ));
             }
         }
         if let Some(n) = desc.samples
             && n < 2 * BATCHES
         {
-            return Err(InputError::new(f, "samples", format!("must be at least {} (two per batch), got {n}", 2 * BATCHES)));
+            return Err(InputError::new(
+                f,
+                "samples",
+                format!("must be at least {} (two per batch), got {n}", 2 * BATCHES),
+            ));
         }
         let reference = match &desc.reference {
             None => None,
             Some(map) => {
-                let name = map.get("closed_form").and_then(|v| v.as_str()).ok_or_else(|| {
-                    InputError::new(f, "reference.closed_form", "must name a closed form of lightproof-analytic")
-                })?;
+                let name = map
+                    .get("closed_form")
+                    .and_then(|v| v.as_str())
+                    .ok_or_else(|| {
+                        InputError::new(
+                            f,
+                            "reference.closed_form",
+                            "must name a closed form of lightproof-analytic",
+                        )
+                    })?;
                 let mut params = map.clone();
                 params.remove("closed_form");
                 let v = lightproof_analytic::catalog::evaluate(name, &params)
@@ -273,12 +364,23 @@ impl Case {
             }
         };
         let effects = analyze(&scene, &measure);
-        Ok(Case { file: path.to_path_buf(), desc, scene, measure, reference, effects })
+        Ok(Case {
+            file: path.to_path_buf(),
+            desc,
+            scene,
+            measure,
+            reference,
+            effects,
+        })
     }
 
     /// Samplers to run.
     pub fn samplers(&self) -> Vec<SamplerKind> {
-        if self.desc.samplers.is_empty() { vec![SamplerKind::Independent] } else { self.desc.samplers.clone() }
+        if self.desc.samplers.is_empty() {
+            vec![SamplerKind::Independent]
+        } else {
+            self.desc.samplers.clone()
+        }
     }
 
     /// Path-tracer configuration for an estimator: pruned by the effects analysis, or
@@ -286,7 +388,9 @@ impl Case {
     pub fn config(&self, est: Estimator, full: bool) -> Config {
         let (light, bsdf, heuristic) = match est {
             Estimator::Light => (true, false, Heuristic::Power),
-            Estimator::Bsdf | Estimator::Uniform | Estimator::Cosine => (false, true, Heuristic::Power),
+            Estimator::Bsdf | Estimator::Uniform | Estimator::Cosine => {
+                (false, true, Heuristic::Power)
+            }
             Estimator::MisBalance => (true, true, Heuristic::Balance),
             Estimator::Mis | Estimator::Area => (true, true, Heuristic::Power),
         };
@@ -311,15 +415,32 @@ impl Case {
 }
 
 /// Judge an estimate against a reference within a family of `tests` tests at level `alpha`.
-pub fn judge(est: &Estimate, sampler: SamplerKind, reference: f64, alpha: f64, tests: usize) -> Verdict {
+pub fn judge(
+    est: &Estimate,
+    sampler: SamplerKind,
+    reference: f64,
+    alpha: f64,
+    tests: usize,
+) -> Verdict {
     let t = MeanTest::new(alpha, tests);
     let total = &est.batches.total;
     let plain = total.std_error();
     let batch = est.batches.std_error();
     let use_batches = sampler != SamplerKind::Independent || batch > 1.5 * plain;
-    let (se, dof) = if use_batches { (batch, Some(est.batches.dof())) } else { (plain, None) };
+    let (se, dof) = if use_batches {
+        (batch, Some(est.batches.dof()))
+    } else {
+        (plain, None)
+    };
     let floor = 2e-6 * total.mean.abs();
-    t.judge_parts(total.mean, se.max(floor), reference, dof, total.non_finite, total.count)
+    t.judge_parts(
+        total.mean,
+        se.max(floor),
+        reference,
+        dof,
+        total.non_finite,
+        total.count,
+    )
 }
 
 /// The outcome of one estimator × sampler of a case.
@@ -369,20 +490,35 @@ impl Outcome {
 /// independent (Šidák is exact) and reproducible.
 pub fn seed_for(base: u64, case: &str, est: Estimator, sampler: SamplerKind) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for b in case.bytes().chain(est.name().bytes()).chain(sampler.name().bytes()) {
+    for b in case
+        .bytes()
+        .chain(est.name().bytes())
+        .chain(sampler.name().bytes())
+    {
         h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
     }
     crate::sampling::sampler::hash_words(&[base, h])
 }
 
 /// Run every estimator × sampler of a case and judge them in a family of `tests` tests.
-pub fn run_case(case: &Case, base_seed: u64, samples: Option<u64>, scale: u64, alpha: f64, tests: usize) -> Vec<Outcome> {
+pub fn run_case(
+    case: &Case,
+    base_seed: u64,
+    samples: Option<u64>,
+    scale: u64,
+    alpha: f64,
+    tests: usize,
+) -> Vec<Outcome> {
     let mut out = Vec::new();
     for sampler in case.samplers() {
         for &est in &case.desc.estimators {
             let n = samples.or(case.desc.samples).unwrap_or(DEFAULT_SAMPLES) * scale.max(1);
             let seed = seed_for(base_seed, &case.desc.name, est, sampler);
-            let spec = RunSpec { samples: n, sampler, seed };
+            let spec = RunSpec {
+                samples: n,
+                sampler,
+                seed,
+            };
             let e = case.estimate(est, &spec, false);
             let verdict = case.reference.map(|r| judge(&e, sampler, r, alpha, tests));
             out.push(Outcome {
@@ -394,7 +530,9 @@ pub fn run_case(case: &Case, base_seed: u64, samples: Option<u64>, scale: u64, a
                 samples: e.batches.total.count + e.batches.total.non_finite,
                 seed,
                 estimate: e.batches.total.mean,
-                std_error: verdict.as_ref().map_or(e.batches.total.std_error(), |v| v.std_error),
+                std_error: verdict
+                    .as_ref()
+                    .map_or(e.batches.total.std_error(), |v| v.std_error),
                 seconds: e.seconds,
                 effects: case.effects.clone(),
                 reference: case.reference,
@@ -413,7 +551,13 @@ pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
         if p.is_dir() {
             let mut stack = vec![p.clone()];
             while let Some(d) = stack.pop() {
-                let rd = std::fs::read_dir(&d).map_err(|e| InputError::new(d.display().to_string(), "-", format!("cannot read folder: {e}")))?;
+                let rd = std::fs::read_dir(&d).map_err(|e| {
+                    InputError::new(
+                        d.display().to_string(),
+                        "-",
+                        format!("cannot read folder: {e}"),
+                    )
+                })?;
                 for entry in rd.flatten() {
                     let q = entry.path();
                     if q.is_dir() {
@@ -426,7 +570,11 @@ pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
         } else if p.exists() {
             out.push(p.clone());
         } else {
-            return Err(InputError::new(p.display().to_string(), "-", "no such file or folder"));
+            return Err(InputError::new(
+                p.display().to_string(),
+                "-",
+                "no such file or folder",
+            ));
         }
     }
     out.sort();
@@ -435,5 +583,9 @@ pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
 
 /// Number of verdicts a list of cases will produce (for the Šidák correction).
 pub fn count_tests(cases: &[Case]) -> usize {
-    cases.iter().filter(|c| c.reference.is_some()).map(|c| c.desc.estimators.len() * c.samplers().len()).sum()
+    cases
+        .iter()
+        .filter(|c| c.reference.is_some())
+        .map(|c| c.desc.estimators.len() * c.samplers().len())
+        .sum()
 }

@@ -24,13 +24,20 @@ const MIN_CASES: usize = 40;
 fn load_catalog() -> Vec<Case> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("analytic/cases");
     let files = collect_cases(&[root]).expect("the catalog folder is readable");
-    files.iter().map(|f| Case::load(f).unwrap_or_else(|e| panic!("{e}"))).collect()
+    files
+        .iter()
+        .map(|f| Case::load(f).unwrap_or_else(|e| panic!("{e}")))
+        .collect()
 }
 
 #[test]
 fn catalog_is_well_formed() {
     let cases = load_catalog();
-    assert!(cases.len() >= MIN_CASES, "the catalog holds {} case files, fewer than {MIN_CASES}", cases.len());
+    assert!(
+        cases.len() >= MIN_CASES,
+        "the catalog holds {} case files, fewer than {MIN_CASES}",
+        cases.len()
+    );
     let mut bad = Vec::new();
     let mut names = std::collections::BTreeMap::new();
     for c in &cases {
@@ -43,10 +50,17 @@ fn catalog_is_well_formed() {
         }
         if let Some(other) = names.insert(c.desc.name.clone(), file.clone()) {
             // Seeds are derived from the name: two cases of one name would share them.
-            bad.push(format!("{file}: name `{}` also used by {other}", c.desc.name));
+            bad.push(format!(
+                "{file}: name `{}` also used by {other}",
+                c.desc.name
+            ));
         }
     }
-    assert!(bad.is_empty(), "ill-formed catalog cases:\n{}", bad.join("\n"));
+    assert!(
+        bad.is_empty(),
+        "ill-formed catalog cases:\n{}",
+        bad.join("\n")
+    );
 }
 
 fn row(o: &Outcome) -> String {
@@ -79,12 +93,17 @@ fn catalog_matches_closed_forms() {
     let mut lines = vec![header.clone()];
     let mut failures = Vec::new();
     let mut ran = 0;
-    for c in cases.iter().filter(|c| c.file.display().to_string().contains(&filter)) {
+    for c in cases
+        .iter()
+        .filter(|c| c.file.display().to_string().contains(&filter))
+    {
         for o in run_case(c, seed, None, scale, ALPHA, tests) {
             ran += 1;
             let r = row(&o);
             let v = o.verdict.as_ref();
-            let weak = v.is_some_and(|v| v.detectable_relative_bias.is_nan() || v.detectable_relative_bias > MAX_DETECTABLE);
+            let weak = v.is_some_and(|v| {
+                v.detectable_relative_bias.is_nan() || v.detectable_relative_bias > MAX_DETECTABLE
+            });
             if !o.passed() {
                 failures.push(r.clone());
             } else if weak {

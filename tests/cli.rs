@@ -29,8 +29,14 @@ fn bad(name: &str, text: &str, must_contain: &[&str]) {
     let out = bin().arg("verify").arg(&p).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{name}: {err}");
-    assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE"), "{name}: {err}");
-    assert!(err.contains(&p.display().to_string()), "{name}: the message must name the file: {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("RUST_BACKTRACE"),
+        "{name}: {err}"
+    );
+    assert!(
+        err.contains(&p.display().to_string()),
+        "{name}: the message must name the file: {err}"
+    );
     for m in must_contain {
         assert!(err.contains(m), "{name}: expected `{m}` in: {err}");
     }
@@ -40,18 +46,54 @@ fn bad(name: &str, text: &str, must_contain: &[&str]) {
 #[test]
 fn bad_input_is_named_and_exits_2() {
     bad("malformed.json", "{ \"name\": ", &["EOF"]);
-    bad("unknown.json", &GOOD.replace("\"teaches\"", "\"colour\": 1, \"teaches\""), &["colour"]);
-    bad("negative.json", &GOOD.replace("\"radiance\": 1 } } ]", "\"radiance\": -1 } } ]"), &["scene.shapes[0].emission.radiance", "non-negative"]);
-    bad("nan.json", &GOOD.replace("\"radius\": 1 }, \"emission\"", "\"radius\": \"NaN\" }, \"emission\""), &["scene.shapes[0].geometry", "NaN"]);
-    bad("degenerate.json", &GOOD.replace("\"radius\": 1 }, \"emission\"", "\"radius\": 0 }, \"emission\""), &["scene.shapes[0].geometry.radius", "positive"]);
+    bad(
+        "unknown.json",
+        &GOOD.replace("\"teaches\"", "\"colour\": 1, \"teaches\""),
+        &["colour"],
+    );
+    bad(
+        "negative.json",
+        &GOOD.replace("\"radiance\": 1 } } ]", "\"radiance\": -1 } } ]"),
+        &["scene.shapes[0].emission.radiance", "non-negative"],
+    );
+    bad(
+        "nan.json",
+        &GOOD.replace(
+            "\"radius\": 1 }, \"emission\"",
+            "\"radius\": \"NaN\" }, \"emission\"",
+        ),
+        &["scene.shapes[0].geometry", "NaN"],
+    );
+    bad(
+        "degenerate.json",
+        &GOOD.replace(
+            "\"radius\": 1 }, \"emission\"",
+            "\"radius\": 0 }, \"emission\"",
+        ),
+        &["scene.shapes[0].geometry.radius", "positive"],
+    );
     bad(
         "eta.json",
-        &GOOD.replace("\"shapes\"", "\"materials\": { \"glass\": { \"type\": \"dielectric\", \"eta\": -1.5 } }, \"shapes\""),
+        &GOOD.replace(
+            "\"shapes\"",
+            "\"materials\": { \"glass\": { \"type\": \"dielectric\", \"eta\": -1.5 } }, \"shapes\"",
+        ),
         &["materials.glass", "eta"],
     );
-    bad("estimator.json", &GOOD.replace("\"light\", \"mis\"", "\"area\""), &["estimators[0]"]);
-    bad("closed_form.json", &GOOD.replace("disk_irradiance_on_axis", "no_such_form"), &["reference"]);
-    let out = bin().args(["verify", "/no/such/file.json"]).output().unwrap();
+    bad(
+        "estimator.json",
+        &GOOD.replace("\"light\", \"mis\"", "\"area\""),
+        &["estimators[0]"],
+    );
+    bad(
+        "closed_form.json",
+        &GOOD.replace("disk_irradiance_on_axis", "no_such_form"),
+        &["reference"],
+    );
+    let out = bin()
+        .args(["verify", "/no/such/file.json"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
 
@@ -59,28 +101,69 @@ fn bad_input_is_named_and_exits_2() {
 fn a_passing_case_exits_0_and_prints_the_table() {
     let p = tmp("good.json", GOOD);
     let json = p.with_extension("out.json");
-    let out = bin().args(["verify", "--threads", "2", "--json"]).arg(&json).arg(&p).output().unwrap();
+    let out = bin()
+        .args(["verify", "--threads", "2", "--json"])
+        .arg(&json)
+        .arg(&p)
+        .output()
+        .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(stdout.contains("2 passed, 0 failed"), "{stdout}");
-    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(doc["outcomes"].as_array().unwrap().len(), 2);
 }
 
 #[test]
 fn estimate_prints_the_contract() {
     let p = tmp("est.json", GOOD);
-    let out = bin().args(["estimate", "--samples", "20000"]).arg(&p).output().unwrap();
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = bin()
+        .args(["estimate", "--samples", "20000"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    for key in ["case", "estimate", "std_error", "samples", "seconds", "effects", "reference", "z", "verdict"] {
+    for key in [
+        "case",
+        "estimate",
+        "std_error",
+        "samples",
+        "seconds",
+        "effects",
+        "reference",
+        "z",
+        "verdict",
+    ] {
         assert!(v.get(key).is_some(), "missing `{key}` in {v}");
     }
     assert!(v["effects"]["occlusion"]["why"].is_string());
     // Same seed, different thread counts: identical estimates.
-    let a = bin().args(["estimate", "--samples", "20000", "--threads", "1"]).arg(&p).output().unwrap();
-    let b = bin().args(["estimate", "--samples", "20000", "--threads", "2"]).arg(&p).output().unwrap();
-    let (a, b): (serde_json::Value, serde_json::Value) = (serde_json::from_slice(&a.stdout).unwrap(), serde_json::from_slice(&b.stdout).unwrap());
+    let a = bin()
+        .args(["estimate", "--samples", "20000", "--threads", "1"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    let b = bin()
+        .args(["estimate", "--samples", "20000", "--threads", "2"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    let (a, b): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_slice(&a.stdout).unwrap(),
+        serde_json::from_slice(&b.stdout).unwrap(),
+    );
     assert_eq!(a["estimate"], b["estimate"]);
 }
 
@@ -88,13 +171,29 @@ fn estimate_prints_the_contract() {
 fn chi2_command_writes_images() {
     let dir = std::env::temp_dir().join(format!("lightproof-chi2-{}", std::process::id()));
     let out = bin()
-        .args(["chi2", r#"{"type":"lambertian","albedo":0.5}"#, "--wo", "40,10", "--samples", "100000", "--out"])
+        .args([
+            "chi2",
+            r#"{"type":"lambertian","albedo":0.5}"#,
+            "--wo",
+            "40,10",
+            "--samples",
+            "100000",
+            "--out",
+        ])
         .arg(&dir)
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(Path::new(&dir).read_dir().unwrap().count() >= 3);
-    let bad = bin().args(["chi2", r#"{"type":"lambertian","albedo":2}"#]).output().unwrap();
+    let bad = bin()
+        .args(["chi2", r#"{"type":"lambertian","albedo":2}"#])
+        .output()
+        .unwrap();
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("albedo"));
 }

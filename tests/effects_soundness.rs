@@ -16,9 +16,15 @@ use std::path::PathBuf;
 fn pruned_and_full_simulations_agree() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("analytic/cases");
     let files = collect_cases(&[root]).expect("catalog");
-    let cases: Vec<Case> = files.iter().map(|f| Case::load(f).unwrap_or_else(|e| panic!("{e}"))).collect();
+    let cases: Vec<Case> = files
+        .iter()
+        .map(|f| Case::load(f).unwrap_or_else(|e| panic!("{e}")))
+        .collect();
     // Only transport measurements have anything to prune.
-    let cases: Vec<&Case> = cases.iter().filter(|c| c.measure.origin().is_some()).collect();
+    let cases: Vec<&Case> = cases
+        .iter()
+        .filter(|c| c.measure.origin().is_some())
+        .collect();
     assert!(!cases.is_empty());
     let crit = Normal::standard().inverse_cdf(1.0 - sidak_alpha(1e-4, cases.len()) / 2.0);
     let mut lines = Vec::new();
@@ -28,12 +34,32 @@ fn pruned_and_full_simulations_agree() {
         let est = c.desc.estimators[0];
         let n = (1u64 << 15) * common::scale();
         let seed = seed_for(common::seed(), &c.desc.name, est, SamplerKind::Independent);
-        let pruned = c.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed }, false);
-        let full = c.estimate(est, &RunSpec { samples: n, sampler: SamplerKind::Independent, seed: seed ^ 0xf011 }, true);
+        let pruned = c.estimate(
+            est,
+            &RunSpec {
+                samples: n,
+                sampler: SamplerKind::Independent,
+                seed,
+            },
+            false,
+        );
+        let full = c.estimate(
+            est,
+            &RunSpec {
+                samples: n,
+                sampler: SamplerKind::Independent,
+                seed: seed ^ 0xf011,
+            },
+            true,
+        );
         let (a, b) = (&pruned.batches.total, &full.batches.total);
         let se = (a.std_error().powi(2) + b.std_error().powi(2)).sqrt();
         let diff = a.mean - b.mean;
-        let z = if diff == 0.0 { 0.0 } else { diff / se.max(2e-6 * a.mean.abs()) };
+        let z = if diff == 0.0 {
+            0.0
+        } else {
+            diff / se.max(2e-6 * a.mean.abs())
+        };
         t_pruned += pruned.seconds;
         t_full += full.seconds;
         lines.push(format!(
@@ -48,6 +74,13 @@ fn pruned_and_full_simulations_agree() {
             failures.push(lines.last().unwrap().clone());
         }
     }
-    println!("{}\ntotal: pruned {t_pruned:.2}s, full {t_full:.2}s", lines.join("\n"));
-    assert!(failures.is_empty(), "pruning changed an expected value:\n{}", failures.join("\n"));
+    println!(
+        "{}\ntotal: pruned {t_pruned:.2}s, full {t_full:.2}s",
+        lines.join("\n")
+    );
+    assert!(
+        failures.is_empty(),
+        "pruning changed an expected value:\n{}",
+        failures.join("\n")
+    );
 }

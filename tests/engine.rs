@@ -22,7 +22,11 @@ fn case(json: &str) -> Case {
 }
 
 fn spec(samples: u64, salt: u64) -> RunSpec {
-    RunSpec { samples: samples * common::scale(), sampler: SamplerKind::Independent, seed: common::seed() ^ salt }
+    RunSpec {
+        samples: samples * common::scale(),
+        sampler: SamplerKind::Independent,
+        seed: common::seed() ^ salt,
+    }
 }
 
 /// Two-sample z test of equal means; returns (z, passed at the family's per-test level).
@@ -30,9 +34,16 @@ fn same_mean(a: &Estimate, b: &Estimate) -> (f64, bool) {
     let (ma, mb) = (&a.batches.total, &b.batches.total);
     let se = (ma.std_error().powi(2) + mb.std_error().powi(2)).sqrt();
     let diff = ma.mean - mb.mean;
-    let z = if diff == 0.0 { 0.0 } else { diff / se.max(1e-6 * ma.mean.abs()) };
+    let z = if diff == 0.0 {
+        0.0
+    } else {
+        diff / se.max(1e-6 * ma.mean.abs())
+    };
     let crit = Normal::standard().inverse_cdf(1.0 - sidak_alpha(ALPHA, FAMILY) / 2.0);
-    (z, z.abs() <= crit && ma.non_finite == 0 && mb.non_finite == 0)
+    (
+        z,
+        z.abs() <= crit && ma.non_finite == 0 && mb.non_finite == 0,
+    )
 }
 
 fn furnace(albedo: f64) -> Case {
@@ -52,12 +63,30 @@ fn furnace(albedo: f64) -> Case {
 #[test]
 fn white_furnace_closed_sphere() {
     let mut report = Vec::new();
-    for (k, (rho, n)) in [(0.5, 1u64 << 17), (0.9, 1 << 17), (0.99, 1 << 15)].into_iter().enumerate() {
+    for (k, (rho, n)) in [(0.5, 1u64 << 17), (0.9, 1 << 17), (0.99, 1 << 15)]
+        .into_iter()
+        .enumerate()
+    {
         let c = furnace(rho);
-        for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis].into_iter().enumerate() {
+        for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
+            .into_iter()
+            .enumerate()
+        {
             let e = c.estimate(est, &spec(n, (k * 3 + j) as u64), false);
-            let v = judge(&e, SamplerKind::Independent, c.reference.unwrap(), ALPHA, FAMILY);
-            report.push(format!("ρ={rho} {}: {:.5} ± {:.5} (det {:.2}%)", est.name(), v.estimate, v.std_error, 100.0 * v.detectable_relative_bias));
+            let v = judge(
+                &e,
+                SamplerKind::Independent,
+                c.reference.unwrap(),
+                ALPHA,
+                FAMILY,
+            );
+            report.push(format!(
+                "ρ={rho} {}: {:.5} ± {:.5} (det {:.2}%)",
+                est.name(),
+                v.estimate,
+                v.std_error,
+                100.0 * v.detectable_relative_bias
+            ));
             assert!(v.passed, "furnace ρ={rho} {}: {:?}", est.name(), v.reason);
         }
     }
@@ -78,7 +107,10 @@ fn convex_object_under_constant_sky() {
     );
     assert_eq!(c.effects.max_bounces, Some(1));
     assert!(!c.effects.occlusion.simulated);
-    for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis].into_iter().enumerate() {
+    for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
+        .into_iter()
+        .enumerate()
+    {
         let e = c.estimate(est, &spec(1 << 17, 100 + j as u64), false);
         let v = judge(&e, SamplerKind::Independent, 0.7, ALPHA, FAMILY);
         assert!(v.passed, "{}: {:?}", est.name(), v.reason);
@@ -99,7 +131,10 @@ fn estimators_agree_with_each_other() {
     let l = c.estimate(Estimator::Light, &spec(1 << 17, 200), false);
     let b = c.estimate(Estimator::Bsdf, &spec(1 << 18, 201), false);
     let m = c.estimate(Estimator::Mis, &spec(1 << 17, 202), false);
-    assert!(l.batches.total.mean > 0.1, "the emitter must face the receiver");
+    assert!(
+        l.batches.total.mean > 0.1,
+        "the emitter must face the receiver"
+    );
     for (x, y, what) in [(&l, &b, "light vs bsdf"), (&l, &m, "light vs mis")] {
         let (z, ok) = same_mean(x, y);
         assert!(ok, "{what}: z = {z:.2}");
@@ -120,12 +155,23 @@ fn radiance_is_invariant_along_a_ray() {
             "estimators": ["mis"] }}"#
         ));
         let e = c.estimate(Estimator::Mis, &spec(1 << 10, 300), false);
-        let v = judge(&e, SamplerKind::Independent, c.reference.unwrap(), ALPHA, FAMILY);
+        let v = judge(
+            &e,
+            SamplerKind::Independent,
+            c.reference.unwrap(),
+            ALPHA,
+            FAMILY,
+        );
         assert!(v.passed, "distance {d}: {:?}", v.reason);
     }
 }
 
-fn reciprocity_case(light_at: [f64; 3], light_n: [f64; 3], sensor_at: [f64; 3], sensor_n: [f64; 3]) -> Case {
+fn reciprocity_case(
+    light_at: [f64; 3],
+    light_n: [f64; 3],
+    sensor_at: [f64; 3],
+    sensor_n: [f64; 3],
+) -> Case {
     let f = |a: [f64; 3]| format!("[{}, {}, {}]", a[0], a[1], a[2]);
     let r = 0.005;
     case(&format!(
@@ -156,7 +202,11 @@ fn transport_is_reciprocal() {
     let ba = reciprocity_case(b, nb, a, na).estimate(Estimator::Mis, &spec(1 << 18, 401), false);
     let (z, ok) = same_mean(&ab, &ba);
     assert!(ab.batches.total.mean > 0.0);
-    assert!(ok, "E(A→B) = {:.6e}, E(B→A) = {:.6e}, z = {z:.2}", ab.batches.total.mean, ba.batches.total.mean);
+    assert!(
+        ok,
+        "E(A→B) = {:.6e}, E(B→A) = {:.6e}, z = {z:.2}",
+        ab.batches.total.mean, ba.batches.total.mean
+    );
 }
 
 fn disk_case(offset: f64) -> Case {
@@ -180,7 +230,11 @@ fn translation_far_from_the_origin() {
     let near = disk_case(0.0).estimate(Estimator::Mis, &spec(1 << 17, 500), false);
     let far = disk_case(1e5).estimate(Estimator::Mis, &spec(1 << 17, 501), false);
     let (z, ok) = same_mean(&near, &far);
-    assert!(ok, "near {:.6} far {:.6} z {z:.2}", near.batches.total.mean, far.batches.total.mean);
+    assert!(
+        ok,
+        "near {:.6} far {:.6} z {z:.2}",
+        near.batches.total.mean, far.batches.total.mean
+    );
 }
 
 /// Same seed, 1 or 2 threads: bit-identical accumulators.
@@ -188,13 +242,29 @@ fn translation_far_from_the_origin() {
 fn deterministic_across_thread_counts() {
     let c = disk_case(0.0);
     let s = spec(1 << 14, 600);
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
-    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| c.estimate(Estimator::Mis, &s, false));
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| c.estimate(Estimator::Mis, &s, false));
     assert_eq!(one.batches, two.batches);
     for sampler in [SamplerKind::Stratified, SamplerKind::Sobol] {
         let s = RunSpec { sampler, ..s };
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
-        let two = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(|| c.estimate(Estimator::Mis, &s, false));
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| c.estimate(Estimator::Mis, &s, false));
+        let two = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap()
+            .install(|| c.estimate(Estimator::Mis, &s, false));
         assert_eq!(one.batches, two.batches);
     }
 }

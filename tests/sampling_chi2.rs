@@ -29,7 +29,13 @@ fn every_warp_passes_chi2() {
             (name, o)
         })
         .filter(|(_, o)| !o.passed)
-        .map(|(name, o)| format!("{name} (seed {}): {}", common::seed(), o.reason.unwrap_or_default()))
+        .map(|(name, o)| {
+            format!(
+                "{name} (seed {}): {}",
+                common::seed(),
+                o.reason.unwrap_or_default()
+            )
+        })
         .collect();
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
@@ -57,10 +63,18 @@ fn u2(u: Vec3) -> Vec2 {
 fn wrong_densities_are_rejected() {
     let t = Chi2Test::new(Domain::Hemisphere, 200_000, common::seed(), 1e-4);
     // Off by a constant factor: the shape test alone would pass, normalisation catches it.
-    let o = t.run("wrong-constant-factor", |u| Some(cosine_hemisphere(u2(u))), |w| 1.05 * cosine_hemisphere_pdf(w) as f64);
+    let o = t.run(
+        "wrong-constant-factor",
+        |u| Some(cosine_hemisphere(u2(u))),
+        |w| 1.05 * cosine_hemisphere_pdf(w) as f64,
+    );
     assert!(!o.passed && o.normalisation_z.abs() > 10.0, "{o:?}");
     // Wrong exponent: claims cos²θ·3/(2π) for cosine samples.
-    let o = t.run("wrong-exponent", |u| Some(cosine_hemisphere(u2(u))), |w| 3.0 * (w.z as f64).powi(2) / (2.0 * PI));
+    let o = t.run(
+        "wrong-exponent",
+        |u| Some(cosine_hemisphere(u2(u))),
+        |w| 3.0 * (w.z as f64).powi(2) / (2.0 * PI),
+    );
     assert!(!o.passed && o.p_value < 1e-30, "{o:?}");
     // Mirrored lobe: a cone about +x sampled, density claimed about −x.
     let c = Cone::from_half_angle(0.5);
@@ -73,6 +87,9 @@ fn wrong_densities_are_rejected() {
         },
         |w| c.pdf(Vec3::new(-w.z, w.y, -w.x)) as f64,
     );
-    assert!(!o.passed && o.reason.as_deref().unwrap_or("").contains("chi2-failures"), "{o:?}");
+    assert!(
+        !o.passed && o.reason.as_deref().unwrap_or("").contains("chi2-failures"),
+        "{o:?}"
+    );
     assert!(o.dump.iter().all(|p| p.exists()));
 }

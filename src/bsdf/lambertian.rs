@@ -30,7 +30,11 @@ impl Lambertian {
 
 impl BsdfModel for Lambertian {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if same_hemisphere(wo, wi) { self.albedo * INV_PI } else { 0.0 }
+        if same_hemisphere(wo, wi) {
+            self.albedo * INV_PI
+        } else {
+            0.0
+        }
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
@@ -45,11 +49,21 @@ impl BsdfModel for Lambertian {
         if pdf <= 0.0 {
             return None;
         }
-        Some(BsdfSample { wi, weight: self.albedo, pdf, lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE, eta: 1.0 })
+        Some(BsdfSample {
+            wi,
+            weight: self.albedo,
+            pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+            eta: 1.0,
+        })
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if same_hemisphere(wo, wi) { wi.z.abs() * INV_PI } else { 0.0 }
+        if same_hemisphere(wo, wi) {
+            wi.z.abs() * INV_PI
+        } else {
+            0.0
+        }
     }
 
     fn flags(&self) -> LobeFlags {

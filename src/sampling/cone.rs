@@ -20,7 +20,9 @@ impl Cone {
     /// The cone of half-angle `theta_max` ∈ (0, π].
     pub fn from_half_angle(theta_max: f32) -> Self {
         let s = (0.5 * theta_max).sin();
-        Cone { one_minus_cos_max: 2.0 * s * s }
+        Cone {
+            one_minus_cos_max: 2.0 * s * s,
+        }
     }
 
     /// Solid angle 2π(1 − cos θmax).
@@ -42,14 +44,22 @@ impl Cone {
     #[inline]
     pub fn contains(&self, w: Vec3) -> bool {
         // 1 − cos θ without cancellation: (x² + y²)/(1 + z) for z > −1.
-        let omc = if w.z > 0.0 { (w.x * w.x + w.y * w.y) / (1.0 + w.z) } else { 1.0 - w.z };
+        let omc = if w.z > 0.0 {
+            (w.x * w.x + w.y * w.y) / (1.0 + w.z)
+        } else {
+            1.0 - w.z
+        };
         omc <= self.one_minus_cos_max
     }
 
     /// Density of [`Cone::sample`] in solid angle.
     #[inline]
     pub fn pdf(&self, w: Vec3) -> f32 {
-        if self.contains(w) { 1.0 / self.solid_angle() } else { 0.0 }
+        if self.contains(w) {
+            1.0 / self.solid_angle()
+        } else {
+            0.0
+        }
     }
 }
 

@@ -23,7 +23,11 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 /// Density of [`concentric_disk`] per unit area.
 #[inline]
 pub fn concentric_disk_pdf(p: Vec2) -> f32 {
-    if p.length_squared() <= 1.0 { INV_PI } else { 0.0 }
+    if p.length_squared() <= 1.0 {
+        INV_PI
+    } else {
+        0.0
+    }
 }
 
 /// Inverse of [`concentric_disk`].

@@ -22,7 +22,13 @@ impl Distribution1D {
     pub fn new(values: &[f32]) -> Self {
         let n = values.len().max(1);
         let func: Vec<f32> = (0..n)
-            .map(|i| values.get(i).copied().filter(|v| v.is_finite() && *v > 0.0).unwrap_or(0.0))
+            .map(|i| {
+                values
+                    .get(i)
+                    .copied()
+                    .filter(|v| v.is_finite() && *v > 0.0)
+                    .unwrap_or(0.0)
+            })
             .collect();
         let mut cdf = Vec::with_capacity(n + 1);
         cdf.push(0.0);
@@ -40,7 +46,11 @@ impl Distribution1D {
             }
         }
         cdf[n] = 1.0;
-        Distribution1D { func, cdf, integral }
+        Distribution1D {
+            func,
+            cdf,
+            integral,
+        }
     }
 
     /// Number of cells.
@@ -63,7 +73,11 @@ impl Distribution1D {
         let n = self.func.len();
         let u = (u as f64).clamp(0.0, 1.0);
         // Largest i with cdf[i] <= u, restricted to cells of positive mass.
-        let mut i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        let mut i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .saturating_sub(1)
+            .min(n - 1);
         while i > 0 && self.cdf[i + 1] <= self.cdf[i] {
             i -= 1;
         }
@@ -71,13 +85,21 @@ impl Distribution1D {
             i += 1;
         }
         let width = self.cdf[i + 1] - self.cdf[i];
-        let du = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.5 };
+        let du = if width > 0.0 {
+            ((u - self.cdf[i]) / width).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
         let x = ((i as f64 + du) / n as f64).min(1.0 - f64::EPSILON) as f32;
         (x, self.pdf_cell(i), i)
     }
 
     fn pdf_cell(&self, i: usize) -> f32 {
-        if self.integral > 0.0 { (self.func[i] as f64 / self.integral) as f32 } else { 1.0 }
+        if self.integral > 0.0 {
+            (self.func[i] as f64 / self.integral) as f32
+        } else {
+            1.0
+        }
     }
 
     /// Density at x ∈ [0, 1).
@@ -122,7 +144,10 @@ impl Distribution2D {
             })
             .collect();
         let marginal_values: Vec<f32> = conditional.iter().map(|c| c.integral() as f32).collect();
-        Distribution2D { marginal: Distribution1D::new(&marginal_values), conditional }
+        Distribution2D {
+            marginal: Distribution1D::new(&marginal_values),
+            conditional,
+        }
     }
 
     /// ∫∫ f.

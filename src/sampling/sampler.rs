@@ -38,7 +38,11 @@ pub enum SamplerKind {
 
 impl SamplerKind {
     /// All kinds, in report order.
-    pub const ALL: [SamplerKind; 3] = [SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Sobol];
+    pub const ALL: [SamplerKind; 3] = [
+        SamplerKind::Independent,
+        SamplerKind::Stratified,
+        SamplerKind::Sobol,
+    ];
 
     /// Lower-case name.
     pub fn name(&self) -> &'static str {
@@ -113,7 +117,11 @@ pub struct Sampler {
 impl Sampler {
     /// A sampler of the given kind.
     pub fn new(kind: SamplerKind, seed: u64, count: u64) -> Self {
-        Sampler { kind, seed, count: count.max(1) }
+        Sampler {
+            kind,
+            seed,
+            count: count.max(1),
+        }
     }
 
     /// Independent samples with a seed.
@@ -239,8 +247,14 @@ mod tests {
     fn streams_depend_only_on_seed_and_index() {
         for kind in SamplerKind::ALL {
             let s = Sampler::new(kind, 42, 100);
-            let a: Vec<f32> = (0..5).map(|_| 0.0).scan(s.stream(17), |st, _| Some(st.next_1d())).collect();
-            let b: Vec<f32> = (0..5).map(|_| 0.0).scan(s.stream(17), |st, _| Some(st.next_1d())).collect();
+            let a: Vec<f32> = (0..5)
+                .map(|_| 0.0)
+                .scan(s.stream(17), |st, _| Some(st.next_1d()))
+                .collect();
+            let b: Vec<f32> = (0..5)
+                .map(|_| 0.0)
+                .scan(s.stream(17), |st, _| Some(st.next_1d()))
+                .collect();
             assert_eq!(a, b);
             assert!(a.iter().all(|u| (0.0..1.0).contains(u)));
         }

@@ -31,7 +31,13 @@ impl SphereCone {
         let cos_max = safe_sqrt(1.0 - sin2_max);
         let one_minus_cos_max = sin2_max / (1.0 + cos_max);
         let frame = Frame::from_z(d / dc2.sqrt());
-        Some(SphereCone { center, radius, frame, sin2_max, one_minus_cos_max })
+        Some(SphereCone {
+            center,
+            radius,
+            frame,
+            sin2_max,
+            one_minus_cos_max,
+        })
     }
 
     /// Solid angle 2π(1 − cos θmax).
@@ -51,7 +57,8 @@ impl SphereCone {
         let omc = u.x * self.one_minus_cos_max;
         let (sin2_theta, cos_theta) = (omc * (2.0 - omc), 1.0 - omc);
         let sin_max = self.sin2_max.sqrt();
-        let cos_alpha = sin2_theta / sin_max + cos_theta * safe_sqrt(1.0 - sin2_theta / self.sin2_max);
+        let cos_alpha =
+            sin2_theta / sin_max + cos_theta * safe_sqrt(1.0 - sin2_theta / self.sin2_max);
         let sin_alpha = safe_sqrt(1.0 - cos_alpha * cos_alpha);
         let phi = TWO_PI * u.y;
         // The normal at the sampled point, about the axis from the centre to the viewer.
@@ -68,7 +75,11 @@ impl SphereCone {
     /// Whether direction `w` from the viewer falls inside the cone.
     pub fn contains(&self, w: Vec3) -> bool {
         let z = w.dot(self.frame.n);
-        let omc = if z > 0.0 { (1.0 - z * z).max(0.0) / (1.0 + z) } else { 2.0 };
+        let omc = if z > 0.0 {
+            (1.0 - z * z).max(0.0) / (1.0 + z)
+        } else {
+            2.0
+        };
         omc <= self.one_minus_cos_max * (1.0 + 1e-4)
     }
 }

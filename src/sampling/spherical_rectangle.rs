@@ -65,7 +65,21 @@ impl SphericalRectangle {
         if !(solid_angle > 0.0) || !solid_angle.is_finite() {
             return None;
         }
-        Some(SphericalRectangle { o, x, y, z, z0, x0, y0, x1, y1, b0: n0.z, b1: n2.z, k, solid_angle })
+        Some(SphericalRectangle {
+            o,
+            x,
+            y,
+            z,
+            z0,
+            x0,
+            y0,
+            x1,
+            y1,
+            b0: n0.z,
+            b1: n2.z,
+            k,
+            solid_angle,
+        })
     }
 
     /// Solid angle Ω in steradians.
@@ -95,7 +109,11 @@ impl SphericalRectangle {
         let h1 = self.y1 / (d * d + self.y1 * self.y1).sqrt();
         let hv = h0 + u.y as f64 * (h1 - h0);
         let hv2 = hv * hv;
-        let yv = if hv2 < 1.0 - 1e-12 { hv * d / (1.0 - hv2).sqrt() } else { self.y1 };
+        let yv = if hv2 < 1.0 - 1e-12 {
+            hv * d / (1.0 - hv2).sqrt()
+        } else {
+            self.y1
+        };
         let yv = yv.clamp(self.y0, self.y1);
         (self.o + xu * self.x + yv * self.y + self.z0 * self.z).as_vec3()
     }
@@ -116,13 +134,8 @@ mod tests {
         // Solid angle of a unit square centred on the axis at distance 1:
         // 4 asin(1/(1+1)·1/√... ) = 4·atan(0.25/ (1·sqrt(0.5+1)))... use the closed form
         // Ω = 4 atan(ab / (d √(a²+b²+d²))) with half-sides a = b = 0.5.
-        let r = SphericalRectangle::new(
-            Vec3::ZERO,
-            Vec3::new(-0.5, -0.5, 1.0),
-            Vec3::X,
-            Vec3::Y,
-        )
-        .unwrap();
+        let r = SphericalRectangle::new(Vec3::ZERO, Vec3::new(-0.5, -0.5, 1.0), Vec3::X, Vec3::Y)
+            .unwrap();
         let exact = 4.0 * (0.25f64 / (1.0 * (0.25f64 + 0.25 + 1.0).sqrt())).atan();
         assert!((r.solid_angle() as f64 - exact).abs() < 1e-6);
         let p = r.sample_point(Vec2::new(0.3, 0.7));

@@ -55,7 +55,13 @@ impl SphericalTriangle {
             return None;
         }
         let alpha = angle_between(n_ab, -n_ca);
-        Some(SphericalTriangle { a, b, c, alpha, solid_angle })
+        Some(SphericalTriangle {
+            a,
+            b,
+            c,
+            alpha,
+            solid_angle,
+        })
     }
 
     /// Solid angle Ω in steradians.
@@ -82,7 +88,11 @@ impl SphericalTriangle {
         let k2 = sin_phi - sin_alpha * a.dot(b);
         let num = k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha;
         let den = (k2 * sin_phi + k1 * cos_phi) * sin_alpha;
-        let cos_bp = if den != 0.0 { (num / den).clamp(-1.0, 1.0) } else { 1.0 };
+        let cos_bp = if den != 0.0 {
+            (num / den).clamp(-1.0, 1.0)
+        } else {
+            1.0
+        };
         let sin_bp = (1.0 - cos_bp * cos_bp).max(0.0).sqrt();
         let cp = cos_bp * a + sin_bp * gram_schmidt(c, a).normalize_or_zero();
         let cos_theta = 1.0 - u.y as f64 * (1.0 - cp.dot(b));
@@ -116,9 +126,17 @@ mod tests {
     #[test]
     fn tiny_triangle_keeps_its_area() {
         // A right triangle with legs 1e-3 at distance 1: Ω ≈ 5e-7 sr.
-        let v = [Vec3::new(0.0, 0.0, 1.0), Vec3::new(1e-3, 0.0, 1.0), Vec3::new(0.0, 1e-3, 1.0)];
+        let v = [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(1e-3, 0.0, 1.0),
+            Vec3::new(0.0, 1e-3, 1.0),
+        ];
         let t = SphericalTriangle::new(Vec3::ZERO, v).unwrap();
-        assert!((t.solid_angle() as f64 / 5e-7 - 1.0).abs() < 1e-3, "{}", t.solid_angle());
+        assert!(
+            (t.solid_angle() as f64 / 5e-7 - 1.0).abs() < 1e-3,
+            "{}",
+            t.solid_angle()
+        );
     }
 
     proptest! {

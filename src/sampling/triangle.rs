@@ -17,7 +17,11 @@ pub fn uniform_triangle(u: Vec2) -> Vec2 {
 pub fn invert_uniform_triangle(b: Vec2) -> Vec2 {
     let su = 1.0 - b.x;
     let u0 = su * su;
-    let u1 = if su > 0.0 { (b.y / su).clamp(0.0, 1.0) } else { 0.5 };
+    let u1 = if su > 0.0 {
+        (b.y / su).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
     Vec2::new(u0, u1)
 }
 

@@ -33,7 +33,11 @@ impl Accel {
                 })
                 .collect();
             let mut t = std::time::Duration::default();
-            obvhs::cwbvh::builder::build_cwbvh(&aabbs, obvhs::BvhBuildParams::medium_build(), &mut t)
+            obvhs::cwbvh::builder::build_cwbvh(
+                &aabbs,
+                obvhs::BvhBuildParams::medium_build(),
+                &mut t,
+            )
         });
         Accel { prims, bvh }
     }
@@ -79,12 +83,17 @@ impl Accel {
     /// Whether nothing lies on the segment t ∈ (tmin, tmax).
     pub fn unoccluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
         match &self.bvh {
-            None => self.prims.iter().all(|p| p.intersect(o, d, tmin, tmax).is_none()),
+            None => self
+                .prims
+                .iter()
+                .all(|p| p.intersect(o, d, tmin, tmax).is_none()),
             Some(bvh) => {
                 let ray = Ray::new(Vec3A::from(o), Vec3A::from(d), tmin, tmax);
                 bvh.ray_traverse_miss(ray, |_, slot| {
                     let idx = bvh.primitive_indices[slot] as usize;
-                    self.prims[idx].intersect(o, d, tmin, tmax).map_or(f32::INFINITY, |h| h.t)
+                    self.prims[idx]
+                        .intersect(o, d, tmin, tmax)
+                        .map_or(f32::INFINITY, |h| h.t)
                 })
             }
         }
@@ -105,11 +114,16 @@ mod tests {
             let mut s = sampler.stream(i);
             let c = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 10.0;
             if i % 2 == 0 {
-                prims.push(Primitive::Sphere { center: c, radius: 0.3 });
+                prims.push(Primitive::Sphere {
+                    center: c,
+                    radius: 0.3,
+                });
             } else {
                 let a = uniform_sphere(s.next_2d());
                 let b = uniform_sphere(s.next_2d());
-                prims.push(Primitive::Triangle { p: [c, c + a, c + b] });
+                prims.push(Primitive::Triangle {
+                    p: [c, c + a, c + b],
+                });
             }
         }
         let accel = Accel::new(prims.clone());
@@ -118,7 +132,9 @@ mod tests {
             let mut s = sampler.stream(10_000 + i);
             let o = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 10.0;
             let d = uniform_sphere(s.next_2d());
-            let fast = accel.intersect(o, d, 0.0, f32::INFINITY).map(|(i, h)| (i, h.t));
+            let fast = accel
+                .intersect(o, d, 0.0, f32::INFINITY)
+                .map(|(i, h)| (i, h.t));
             let mut slow: Option<(usize, f32)> = None;
             for (k, p) in prims.iter().enumerate() {
                 if let Some(h) = p.intersect(o, d, 0.0, slow.map_or(f32::INFINITY, |x| x.1)) {
@@ -126,7 +142,10 @@ mod tests {
                 }
             }
             assert_eq!(fast, slow);
-            assert_eq!(accel.unoccluded(o, d, 0.0, 5.0), slow.is_none_or(|x| x.1 >= 5.0));
+            assert_eq!(
+                accel.unoccluded(o, d, 0.0, 5.0),
+                slow.is_none_or(|x| x.1 >= 5.0)
+            );
         }
     }
 }

@@ -41,13 +41,21 @@ impl EnvMap {
             })
             .collect();
         let distribution = Distribution2D::new(&weights, width, height);
-        EnvMap { width, height, radiance, distribution }
+        EnvMap {
+            width,
+            height,
+            radiance,
+            distribution,
+        }
     }
 
     fn uv(&self, w: Vec3) -> Vec2 {
         let theta = crate::math::safe_acos(w.z);
         let phi = crate::math::azimuth(w);
-        Vec2::new((phi / TWO_PI).min(crate::math::ONE_MINUS_EPSILON), (theta / PI).min(crate::math::ONE_MINUS_EPSILON))
+        Vec2::new(
+            (phi / TWO_PI).min(crate::math::ONE_MINUS_EPSILON),
+            (theta / PI).min(crate::math::ONE_MINUS_EPSILON),
+        )
     }
 
     /// Radiance arriving from direction `w` (pointing away from the scene).
@@ -178,17 +186,23 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
         // A point on the sphere itself (a self-lit sphere) is ambiguous in f32: only a point
         // clearly outside uses the cone; on or inside, every point of the sphere is visible
         // and area sampling is exact.
-        Primitive::Sphere { center, radius } if (p - center).length_squared() > radius * radius * (1.0 + 1e-4) => {
+        Primitive::Sphere { center, radius }
+            if (p - center).length_squared() > radius * radius * (1.0 + 1e-4) =>
+        {
             SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
         }
-        Primitive::Rectangle { corner, u, v } if u.dot(v).abs() <= 1e-6 * u.length() * v.length() => {
+        Primitive::Rectangle { corner, u, v }
+            if u.dot(v).abs() <= 1e-6 * u.length() * v.length() =>
+        {
             match SphericalRectangle::new(p, corner, u, v) {
                 Some(r) if r.solid_angle() > 1e-9 => PrimSampling::Rectangle(r),
                 _ => PrimSampling::Area,
             }
         }
         Primitive::Triangle { p: v } => match SphericalTriangle::new(p, v) {
-            Some(t) if t.solid_angle() > 1e-9 && t.solid_angle() < 6.22 => PrimSampling::Triangle(t),
+            Some(t) if t.solid_angle() > 1e-9 && t.solid_angle() < 6.22 => {
+                PrimSampling::Triangle(t)
+            }
             _ => PrimSampling::Area,
         },
         _ => PrimSampling::Area,
@@ -216,20 +230,46 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Ve
     match prim_strategy(prim, p) {
         PrimSampling::Cone(c) => {
             let q = c.sample_point(u);
-            let Primitive::Sphere { center, radius } = *prim else { return None };
+            let Primitive::Sphere { center, radius } = *prim else {
+                return None;
+            };
             let n = (q - center) / radius;
-            Some((q, n, crate::math::gamma(5) * (q - center).abs() + crate::math::gamma(1) * center.abs(), c.pdf()))
+            Some((
+                q,
+                n,
+                crate::math::gamma(5) * (q - center).abs() + crate::math::gamma(1) * center.abs(),
+                c.pdf(),
+            ))
         }
         PrimSampling::Rectangle(r) => {
             let q = r.sample_point(u);
-            let Primitive::Rectangle { corner, u: eu, v: ev } = *prim else { return None };
-            Some((q, eu.cross(ev).normalize(), crate::math::gamma(6) * (corner.abs() + eu.abs() + ev.abs()), r.pdf()))
+            let Primitive::Rectangle {
+                corner,
+                u: eu,
+                v: ev,
+            } = *prim
+            else {
+                return None;
+            };
+            Some((
+                q,
+                eu.cross(ev).normalize(),
+                crate::math::gamma(6) * (corner.abs() + eu.abs() + ev.abs()),
+                r.pdf(),
+            ))
         }
         PrimSampling::Triangle(t) => {
             let w = t.sample(u);
             let (q, n) = plane_point(prim, p, w)?;
-            let Primitive::Triangle { p: v } = *prim else { return None };
-            Some((q, n, crate::math::gamma(7) * (v[0].abs() + v[1].abs() + v[2].abs()), t.pdf()))
+            let Primitive::Triangle { p: v } = *prim else {
+                return None;
+            };
+            Some((
+                q,
+                n,
+                crate::math::gamma(7) * (v[0].abs() + v[1].abs() + v[2].abs()),
+                t.pdf(),
+            ))
         }
         PrimSampling::Area => {
             let s = prim.sample_area(u);
@@ -254,7 +294,11 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
             let d = q - p;
             let r2 = d.length_squared();
             let cos = (d.normalize_or_zero().dot(n)).abs();
-            if cos <= 0.0 { 0.0 } else { r2 / (prim.area() * cos) }
+            if cos <= 0.0 {
+                0.0
+            } else {
+                r2 / (prim.area() * cos)
+            }
         }
     }
 }
@@ -262,12 +306,18 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
 impl Emitter {
     /// Whether the emitter is a Dirac delta in position or direction.
     pub fn is_delta(&self) -> bool {
-        matches!(self, Emitter::Point { .. } | Emitter::Spot { .. } | Emitter::Directional { .. })
+        matches!(
+            self,
+            Emitter::Point { .. } | Emitter::Spot { .. } | Emitter::Directional { .. }
+        )
     }
 
     /// Whether the emitter sits at infinity.
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_))
+        matches!(
+            self,
+            Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_)
+        )
     }
 
     /// Radiance arriving along a ray that escapes the scene in direction `w`.
@@ -302,16 +352,34 @@ impl Emitter {
             delta,
         };
         match self {
-            Emitter::Point { position, intensity } => {
+            Emitter::Point {
+                position,
+                intensity,
+            } => {
                 let d = *position - p;
                 let r2 = d.length_squared();
                 if r2 <= 0.0 {
                     return None;
                 }
                 let wi = d / r2.sqrt();
-                Some(LightSample { wi, li: intensity / r2, pdf: 1.0, p: *position, p_error: Vec3::ZERO, n: -wi, infinite: false, delta: true })
+                Some(LightSample {
+                    wi,
+                    li: intensity / r2,
+                    pdf: 1.0,
+                    p: *position,
+                    p_error: Vec3::ZERO,
+                    n: -wi,
+                    infinite: false,
+                    delta: true,
+                })
             }
-            Emitter::Spot { position, frame, intensity, cos_total, cos_falloff_start } => {
+            Emitter::Spot {
+                position,
+                frame,
+                intensity,
+                cos_total,
+                cos_falloff_start,
+            } => {
                 let d = *position - p;
                 let r2 = d.length_squared();
                 if r2 <= 0.0 {
@@ -320,10 +388,27 @@ impl Emitter {
                 let wi = d / r2.sqrt();
                 let cos = (-wi).dot(frame.n);
                 let li = intensity * spot_falloff(cos, *cos_total, *cos_falloff_start) / r2;
-                Some(LightSample { wi, li, pdf: 1.0, p: *position, p_error: Vec3::ZERO, n: -wi, infinite: false, delta: true })
+                Some(LightSample {
+                    wi,
+                    li,
+                    pdf: 1.0,
+                    p: *position,
+                    p_error: Vec3::ZERO,
+                    n: -wi,
+                    infinite: false,
+                    delta: true,
+                })
             }
-            Emitter::Directional { direction, irradiance } => Some(at_infinity(-*direction, *irradiance, 1.0, true)),
-            Emitter::Constant { radiance } => Some(at_infinity(uniform_sphere(u), *radiance, INV_FOUR_PI, false)),
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => Some(at_infinity(-*direction, *irradiance, 1.0, true)),
+            Emitter::Constant { radiance } => Some(at_infinity(
+                uniform_sphere(u),
+                *radiance,
+                INV_FOUR_PI,
+                false,
+            )),
             Emitter::Map(m) => {
                 let (w, pdf) = m.sample(u)?;
                 Some(at_infinity(w, m.eval(w), pdf, false))
@@ -337,14 +422,29 @@ impl Emitter {
     /// 2π I [(1 − cos θs) + (cos θs − cos θt)/2] (pbrt-v4 eq. 12.3).
     pub fn power(&self, shape_area: f32) -> Option<f64> {
         match self {
-            Emitter::Area { radiance, two_sided, .. } => {
-                Some(std::f64::consts::PI * *radiance as f64 * shape_area as f64 * if *two_sided { 2.0 } else { 1.0 })
+            Emitter::Area {
+                radiance,
+                two_sided,
+                ..
+            } => Some(
+                std::f64::consts::PI
+                    * *radiance as f64
+                    * shape_area as f64
+                    * if *two_sided { 2.0 } else { 1.0 },
+            ),
+            Emitter::Point { intensity, .. } => {
+                Some(4.0 * std::f64::consts::PI * *intensity as f64)
             }
-            Emitter::Point { intensity, .. } => Some(4.0 * std::f64::consts::PI * *intensity as f64),
-            Emitter::Spot { intensity, cos_total, cos_falloff_start, .. } => Some(
+            Emitter::Spot {
+                intensity,
+                cos_total,
+                cos_falloff_start,
+                ..
+            } => Some(
                 2.0 * std::f64::consts::PI
                     * *intensity as f64
-                    * ((1.0 - *cos_falloff_start as f64) + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
+                    * ((1.0 - *cos_falloff_start as f64)
+                        + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
             ),
             _ => None,
         }
@@ -376,7 +476,12 @@ mod tests {
         for k in 0..50 {
             let u = Vec2::new((k as f32 * 0.137) % 1.0, (k as f32 * 0.311) % 1.0);
             if let Some((w, pdf)) = m.sample(u) {
-                assert!((m.pdf(w) - pdf).abs() <= 1e-3 * pdf, "{} vs {}", m.pdf(w), pdf);
+                assert!(
+                    (m.pdf(w) - pdf).abs() <= 1e-3 * pdf,
+                    "{} vs {}",
+                    m.pdf(w),
+                    pdf
+                );
             }
         }
     }

@@ -210,7 +210,11 @@ fn finite3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
     if a.iter().all(|x| x.is_finite()) {
         Ok(v3(a))
     } else {
-        Err(InputError::new(file, field, format!("must be three finite numbers, got {a:?}")))
+        Err(InputError::new(
+            file,
+            field,
+            format!("must be three finite numbers, got {a:?}"),
+        ))
     }
 }
 
@@ -244,7 +248,9 @@ impl SceneDesc {
                 GeometryDesc::Sphere { center, .. } | GeometryDesc::Disk { center, .. } => *center,
                 GeometryDesc::Rectangle { corner, .. } => *corner,
                 GeometryDesc::Triangle { vertices } => vertices[0],
-                GeometryDesc::Mesh { vertices, .. } => vertices.first().copied().unwrap_or_default(),
+                GeometryDesc::Mesh { vertices, .. } => {
+                    vertices.first().copied().unwrap_or_default()
+                }
                 GeometryDesc::Obj { .. } => [0.0; 3],
             };
             if p.iter().all(|x| x.is_finite()) {
@@ -256,12 +262,23 @@ impl SceneDesc {
 
     /// Validate and build, with every position rebased on `origin` (in f64) before it
     /// becomes f32. `file` names the file in errors; relative paths resolve against `base`.
-    pub fn build(&self, file: &str, field: &str, base: &Path, origin: DVec3) -> Result<Scene, InputError> {
-        let b = Builder { file, base: base.to_path_buf(), origin };
+    pub fn build(
+        &self,
+        file: &str,
+        field: &str,
+        base: &Path,
+        origin: DVec3,
+    ) -> Result<Scene, InputError> {
+        let b = Builder {
+            file,
+            base: base.to_path_buf(),
+            origin,
+        };
         let mut materials = Vec::new();
         let mut material_index = BTreeMap::new();
         for (name, m) in &self.materials {
-            m.validate().map_err(|r| InputError::new(file, format!("{field}.materials.{name}"), r))?;
+            m.validate()
+                .map_err(|r| InputError::new(file, format!("{field}.materials.{name}"), r))?;
             material_index.insert(name.clone(), materials.len());
             materials.push(m.clone());
         }
@@ -276,23 +293,50 @@ impl SceneDesc {
             let material = match &s.material {
                 None => None,
                 Some(name) => Some(*material_index.get(name).ok_or_else(|| {
-                    InputError::new(file, format!("{f}.material"), format!("no material named `{name}` in `materials`"))
+                    InputError::new(
+                        file,
+                        format!("{f}.material"),
+                        format!("no material named `{name}` in `materials`"),
+                    )
                 })?),
             };
             let emitter = match &s.emission {
                 None => None,
                 Some(e) => {
-                    check_number(file, &format!("{f}.emission.radiance"), e.radiance, |x| x >= 0.0, "a non-negative radiance")?;
-                    emitters.push(super::Emitter::Area { shape: shapes.len(), radiance: e.radiance as f32, two_sided: e.two_sided });
+                    check_number(
+                        file,
+                        &format!("{f}.emission.radiance"),
+                        e.radiance,
+                        |x| x >= 0.0,
+                        "a non-negative radiance",
+                    )?;
+                    emitters.push(super::Emitter::Area {
+                        shape: shapes.len(),
+                        radiance: e.radiance as f32,
+                        two_sided: e.two_sided,
+                    });
                     Some(emitters.len() - 1)
                 }
             };
             let area_dist = area_distribution(&prims[range.clone()]);
             let area = prims[range.clone()].iter().map(|p| p.area()).sum::<f32>();
             if !(area > 0.0) || !area.is_finite() {
-                return Err(InputError::new(file, format!("{f}.geometry"), "is degenerate: its area is zero"));
+                return Err(InputError::new(
+                    file,
+                    format!("{f}.geometry"),
+                    "is degenerate: its area is zero",
+                ));
             }
-            shapes.push(Shape { name: s.name.clone(), prims: range, area, area_dist, material, emitter, flip_normals: s.flip_normals, kind });
+            shapes.push(Shape {
+                name: s.name.clone(),
+                prims: range,
+                area,
+                area_dist,
+                material,
+                emitter,
+                flip_normals: s.flip_normals,
+                kind,
+            });
         }
         for (i, e) in self.emitters.iter().enumerate() {
             let f = format!("{field}.emitters[{i}]");
@@ -303,18 +347,34 @@ impl SceneDesc {
 }
 
 impl Builder<'_> {
-    fn transform(&self, t: Option<&TransformDesc>, f: &str) -> Result<impl Fn(DVec3) -> DVec3 + use<>, InputError> {
+    fn transform(
+        &self,
+        t: Option<&TransformDesc>,
+        f: &str,
+    ) -> Result<impl Fn(DVec3) -> DVec3 + use<>, InputError> {
         let mut scale = 1.0;
         let mut rot = DQuat::IDENTITY;
         let mut tr = DVec3::ZERO;
         if let Some(t) = t {
             if let Some(s) = t.scale {
-                check_number(self.file, &format!("{f}.transform.scale"), s, |x| x > 0.0, "a positive scale")?;
+                check_number(
+                    self.file,
+                    &format!("{f}.transform.scale"),
+                    s,
+                    |x| x > 0.0,
+                    "a positive scale",
+                )?;
                 scale = s;
             }
             if let Some(r) = &t.rotate {
                 let axis = unit3(self.file, &format!("{f}.transform.rotate.axis"), r.axis)?;
-                check_number(self.file, &format!("{f}.transform.rotate.degrees"), r.degrees, |_| true, "finite")?;
+                check_number(
+                    self.file,
+                    &format!("{f}.transform.rotate.degrees"),
+                    r.degrees,
+                    |_| true,
+                    "finite",
+                )?;
                 rot = DQuat::from_axis_angle(axis, r.degrees.to_radians());
             }
             if let Some(t) = t.translate {
@@ -324,7 +384,13 @@ impl Builder<'_> {
         Ok(move |p: DVec3| rot * (p * scale) + tr)
     }
 
-    fn geometry(&self, g: &GeometryDesc, t: Option<&TransformDesc>, f: &str, prims: &mut Vec<Primitive>) -> Result<ShapeKind, InputError> {
+    fn geometry(
+        &self,
+        g: &GeometryDesc,
+        t: Option<&TransformDesc>,
+        f: &str,
+        prims: &mut Vec<Primitive>,
+    ) -> Result<ShapeKind, InputError> {
         let xf = self.transform(t, f)?;
         let file = self.file;
         let scale = t.and_then(|t| t.scale).unwrap_or(1.0);
@@ -332,28 +398,63 @@ impl Builder<'_> {
         match g {
             GeometryDesc::Sphere { center, radius } => {
                 let c = finite3(file, &format!("{gf}.center"), *center)?;
-                check_number(file, &format!("{gf}.radius"), *radius, |r| r > 0.0, "a positive radius")?;
-                prims.push(Primitive::Sphere { center: self.to_f32(xf(c)), radius: (radius * scale) as f32 });
+                check_number(
+                    file,
+                    &format!("{gf}.radius"),
+                    *radius,
+                    |r| r > 0.0,
+                    "a positive radius",
+                )?;
+                prims.push(Primitive::Sphere {
+                    center: self.to_f32(xf(c)),
+                    radius: (radius * scale) as f32,
+                });
                 Ok(ShapeKind::Sphere)
             }
-            GeometryDesc::Rectangle { corner, edge_u, edge_v } => {
+            GeometryDesc::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+            } => {
                 let c = finite3(file, &format!("{gf}.corner"), *corner)?;
                 let u = finite3(file, &format!("{gf}.edge_u"), *edge_u)?;
                 let v = finite3(file, &format!("{gf}.edge_v"), *edge_v)?;
                 if !(u.cross(v).length() > 0.0) {
-                    return Err(InputError::new(file, gf, "is degenerate: edge_u and edge_v are parallel or zero"));
+                    return Err(InputError::new(
+                        file,
+                        gf,
+                        "is degenerate: edge_u and edge_v are parallel or zero",
+                    ));
                 }
                 let (c2, u2, v2) = (xf(c), xf(c + u), xf(c + v));
-                prims.push(Primitive::Rectangle { corner: self.to_f32(c2), u: (u2 - c2).as_vec3(), v: (v2 - c2).as_vec3() });
+                prims.push(Primitive::Rectangle {
+                    corner: self.to_f32(c2),
+                    u: (u2 - c2).as_vec3(),
+                    v: (v2 - c2).as_vec3(),
+                });
                 Ok(ShapeKind::Planar)
             }
-            GeometryDesc::Disk { center, normal, radius } => {
+            GeometryDesc::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let c = finite3(file, &format!("{gf}.center"), *center)?;
                 let n = unit3(file, &format!("{gf}.normal"), *normal)?;
-                check_number(file, &format!("{gf}.radius"), *radius, |r| r > 0.0, "a positive radius")?;
+                check_number(
+                    file,
+                    &format!("{gf}.radius"),
+                    *radius,
+                    |r| r > 0.0,
+                    "a positive radius",
+                )?;
                 let c2 = xf(c);
                 let n2 = (xf(c + n) - c2).normalize();
-                prims.push(Primitive::Disk { center: self.to_f32(c2), normal: n2.as_vec3(), radius: (radius * scale) as f32 });
+                prims.push(Primitive::Disk {
+                    center: self.to_f32(c2),
+                    normal: n2.as_vec3(),
+                    radius: (radius * scale) as f32,
+                });
                 Ok(ShapeKind::Planar)
             }
             GeometryDesc::Triangle { vertices } => {
@@ -362,7 +463,11 @@ impl Builder<'_> {
                     p[k] = self.to_f32(xf(finite3(file, &format!("{gf}.vertices[{k}]"), *v)?));
                 }
                 if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
-                    return Err(InputError::new(file, gf, "is degenerate: the triangle has zero area"));
+                    return Err(InputError::new(
+                        file,
+                        gf,
+                        "is degenerate: the triangle has zero area",
+                    ));
                 }
                 prims.push(Primitive::Triangle { p });
                 Ok(ShapeKind::Planar)
@@ -377,9 +482,18 @@ impl Builder<'_> {
             }
             GeometryDesc::Obj { path } => {
                 let full = self.base.join(path);
-                let opts = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-                let (models, _) = tobj::load_obj(&full, &opts)
-                    .map_err(|e| InputError::new(file, format!("{gf}.path"), format!("cannot read OBJ `{}`: {e}", full.display())))?;
+                let opts = tobj::LoadOptions {
+                    triangulate: true,
+                    single_index: true,
+                    ..Default::default()
+                };
+                let (models, _) = tobj::load_obj(&full, &opts).map_err(|e| {
+                    InputError::new(
+                        file,
+                        format!("{gf}.path"),
+                        format!("cannot read OBJ `{}`: {e}", full.display()),
+                    )
+                })?;
                 let mut all = Vec::new();
                 let mut idx = Vec::new();
                 for m in models {
@@ -396,9 +510,19 @@ impl Builder<'_> {
         }
     }
 
-    fn mesh(&self, vs: &[DVec3], indices: &[[u32; 3]], gf: &str, prims: &mut Vec<Primitive>) -> Result<ShapeKind, InputError> {
+    fn mesh(
+        &self,
+        vs: &[DVec3],
+        indices: &[[u32; 3]],
+        gf: &str,
+        prims: &mut Vec<Primitive>,
+    ) -> Result<ShapeKind, InputError> {
         if indices.is_empty() {
-            return Err(InputError::new(self.file, format!("{gf}.indices"), "a mesh needs at least one triangle"));
+            return Err(InputError::new(
+                self.file,
+                format!("{gf}.indices"),
+                "a mesh needs at least one triangle",
+            ));
         }
         let mut normal: Option<DVec3> = None;
         let mut planar = true;
@@ -408,42 +532,92 @@ impl Builder<'_> {
             for j in 0..3 {
                 let i = t[j] as usize;
                 let v = vs.get(i).ok_or_else(|| {
-                    InputError::new(self.file, format!("{gf}.indices[{k}]"), format!("vertex index {i} is out of range (the mesh has {} vertices)", vs.len()))
+                    InputError::new(
+                        self.file,
+                        format!("{gf}.indices[{k}]"),
+                        format!(
+                            "vertex index {i} is out of range (the mesh has {} vertices)",
+                            vs.len()
+                        ),
+                    )
                 })?;
                 pd[j] = *v;
                 p[j] = self.to_f32(*v);
             }
             let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
             if !(n.length() > 0.0) || !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
-                return Err(InputError::new(self.file, format!("{gf}.indices[{k}]"), "is a degenerate triangle (zero area)"));
+                return Err(InputError::new(
+                    self.file,
+                    format!("{gf}.indices[{k}]"),
+                    "is a degenerate triangle (zero area)",
+                ));
             }
             let n = n.normalize();
             match normal {
                 None => normal = Some(n),
                 Some(m) => {
-                    if m.dot(n) < 1.0 - 1e-9 || (pd[0] - vs[indices[0][0] as usize]).dot(m).abs() > 1e-9 * (1.0 + pd[0].length()) {
+                    if m.dot(n) < 1.0 - 1e-9
+                        || (pd[0] - vs[indices[0][0] as usize]).dot(m).abs()
+                            > 1e-9 * (1.0 + pd[0].length())
+                    {
                         planar = false;
                     }
                 }
             }
             prims.push(Primitive::Triangle { p });
         }
-        Ok(if planar { ShapeKind::Planar } else { ShapeKind::Mesh })
+        Ok(if planar {
+            ShapeKind::Planar
+        } else {
+            ShapeKind::Mesh
+        })
     }
 
     fn emitter(&self, e: &EmitterDesc, f: &str) -> Result<super::Emitter, InputError> {
         use super::Emitter;
         let file = self.file;
-        let nonneg = |name: &str, v: f64| check_number(file, &format!("{f}.{name}"), v, |x| x >= 0.0, "non-negative");
+        let nonneg = |name: &str, v: f64| {
+            check_number(
+                file,
+                &format!("{f}.{name}"),
+                v,
+                |x| x >= 0.0,
+                "non-negative",
+            )
+        };
         Ok(match e {
-            EmitterDesc::Point { position, intensity } => {
+            EmitterDesc::Point {
+                position,
+                intensity,
+            } => {
                 nonneg("intensity", *intensity)?;
-                Emitter::Point { position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?), intensity: *intensity as f32 }
+                Emitter::Point {
+                    position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                    intensity: *intensity as f32,
+                }
             }
-            EmitterDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
+            EmitterDesc::Spot {
+                position,
+                direction,
+                intensity,
+                cone_angle,
+                falloff_start,
+            } => {
                 nonneg("intensity", *intensity)?;
-                check_number(file, &format!("{f}.cone_angle"), *cone_angle, |x| x > 0.0 && x <= 180.0, "in (0, 180] degrees")?;
-                check_number(file, &format!("{f}.falloff_start"), *falloff_start, |x| x >= 0.0 && x <= *cone_angle, "in [0, cone_angle] degrees")?;
+                check_number(
+                    file,
+                    &format!("{f}.cone_angle"),
+                    *cone_angle,
+                    |x| x > 0.0 && x <= 180.0,
+                    "in (0, 180] degrees",
+                )?;
+                check_number(
+                    file,
+                    &format!("{f}.falloff_start"),
+                    *falloff_start,
+                    |x| x >= 0.0 && x <= *cone_angle,
+                    "in [0, cone_angle] degrees",
+                )?;
                 let d = unit3(file, &format!("{f}.direction"), *direction)?;
                 Emitter::Spot {
                     position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
@@ -453,22 +627,39 @@ impl Builder<'_> {
                     cos_falloff_start: falloff_start.to_radians().cos() as f32,
                 }
             }
-            EmitterDesc::Directional { direction, irradiance } => {
+            EmitterDesc::Directional {
+                direction,
+                irradiance,
+            } => {
                 nonneg("irradiance", *irradiance)?;
-                Emitter::Directional { direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(), irradiance: *irradiance as f32 }
+                Emitter::Directional {
+                    direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(),
+                    irradiance: *irradiance as f32,
+                }
             }
             EmitterDesc::Constant { radiance } => {
                 nonneg("radiance", *radiance)?;
-                Emitter::Constant { radiance: *radiance as f32 }
+                Emitter::Constant {
+                    radiance: *radiance as f32,
+                }
             }
             EmitterDesc::Envmap { path, scale } => {
                 nonneg("scale", *scale)?;
                 let full = self.base.join(path);
-                let (w, h, data) = read_exr_grey(&full).map_err(|r| InputError::new(file, format!("{f}.path"), r))?;
+                let (w, h, data) = read_exr_grey(&full)
+                    .map_err(|r| InputError::new(file, format!("{f}.path"), r))?;
                 if let Some(bad) = data.iter().find(|v| !v.is_finite() || **v < 0.0) {
-                    return Err(InputError::new(file, format!("{f}.path"), format!("holds a negative or non-finite radiance ({bad})")));
+                    return Err(InputError::new(
+                        file,
+                        format!("{f}.path"),
+                        format!("holds a negative or non-finite radiance ({bad})"),
+                    ));
                 }
-                Emitter::Map(Box::new(EnvMap::new(w, h, data.into_iter().map(|v| v * *scale as f32).collect())))
+                Emitter::Map(Box::new(EnvMap::new(
+                    w,
+                    h,
+                    data.into_iter().map(|v| v * *scale as f32).collect(),
+                )))
             }
         })
     }
@@ -479,7 +670,13 @@ pub fn read_exr_grey(path: &Path) -> Result<(usize, usize, Vec<f32>), String> {
     use exr::prelude::*;
     let image = read_first_rgba_layer_from_file(
         path,
-        |res, _| (res.width(), res.height(), vec![0.0f32; res.width() * res.height()]),
+        |res, _| {
+            (
+                res.width(),
+                res.height(),
+                vec![0.0f32; res.width() * res.height()],
+            )
+        },
         |(w, _, data), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
             data[pos.y() * *w + pos.x()] = (r + g + b) / 3.0;
         },

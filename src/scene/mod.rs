@@ -83,14 +83,25 @@ pub const SHADOW_EPSILON: f32 = 1e-6;
 
 impl Scene {
     /// Assemble a scene; primitives are given per shape, in order.
-    pub fn new(shapes: Vec<Shape>, prims: Vec<Primitive>, materials: Vec<Bsdf>, emitters: Vec<Emitter>) -> Self {
+    pub fn new(
+        shapes: Vec<Shape>,
+        prims: Vec<Primitive>,
+        materials: Vec<Bsdf>,
+        emitters: Vec<Emitter>,
+    ) -> Self {
         let mut prim_shape = vec![0u32; prims.len()];
         for (i, s) in shapes.iter().enumerate() {
             for p in s.prims.clone() {
                 prim_shape[p] = i as u32;
             }
         }
-        Scene { shapes, prim_shape, materials, emitters, accel: Accel::new(prims) }
+        Scene {
+            shapes,
+            prim_shape,
+            materials,
+            emitters,
+            accel: Accel::new(prims),
+        }
     }
 
     /// All primitives.
@@ -116,17 +127,26 @@ impl Scene {
     /// Whether the segment from `from` (a surface point with error `from_error` and normal
     /// `from_n`, or a free point with zero error) to the light sample is clear.
     pub fn visible(&self, from: Vec3, from_error: Vec3, from_n: Vec3, ls: &LightSample) -> bool {
-        let o = if from_error == Vec3::ZERO { from } else { offset_ray_origin(from, from_error, from_n, ls.wi) };
+        let o = if from_error == Vec3::ZERO {
+            from
+        } else {
+            offset_ray_origin(from, from_error, from_n, ls.wi)
+        };
         if ls.infinite {
             return self.accel.unoccluded(o, ls.wi, 0.0, f32::INFINITY);
         }
-        let target = if ls.p_error == Vec3::ZERO { ls.p } else { offset_ray_origin(ls.p, ls.p_error, ls.n, -ls.wi) };
+        let target = if ls.p_error == Vec3::ZERO {
+            ls.p
+        } else {
+            offset_ray_origin(ls.p, ls.p_error, ls.n, -ls.wi)
+        };
         let d = target - o;
         let dist = d.length();
         if dist <= 0.0 {
             return true;
         }
-        self.accel.unoccluded(o, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+        self.accel
+            .unoccluded(o, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
     }
 
     /// Whether the segment from the free point `p` to the surface point `q` (error bound
@@ -135,13 +155,20 @@ impl Scene {
         let target = offset_ray_origin(q, q_error, q_n, p - q);
         let d = target - p;
         let dist = d.length();
-        dist <= 0.0 || self.accel.unoccluded(p, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+        dist <= 0.0
+            || self
+                .accel
+                .unoccluded(p, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
     }
 
     /// Radiance emitted by the surface hit towards `wo` (pointing away from it).
     pub fn emitted(&self, sh: &SurfaceHit, wo: Vec3) -> f32 {
         match self.shapes[sh.shape].emitter.map(|e| &self.emitters[e]) {
-            Some(Emitter::Area { radiance, two_sided, .. }) if *two_sided || sh.hit.n.dot(wo) > 0.0 => *radiance,
+            Some(Emitter::Area {
+                radiance,
+                two_sided,
+                ..
+            }) if *two_sided || sh.hit.n.dot(wo) > 0.0 => *radiance,
             _ => 0.0,
         }
     }
@@ -153,7 +180,11 @@ impl Scene {
 
     /// Probability of choosing one emitter (uniform selection).
     pub fn emitter_choice_pdf(&self) -> f32 {
-        if self.emitters.is_empty() { 0.0 } else { 1.0 / self.emitters.len() as f32 }
+        if self.emitters.is_empty() {
+            0.0
+        } else {
+            1.0 / self.emitters.len() as f32
+        }
     }
 
     /// Sample incident light at `p` (uniform choice of emitter, then the emitter's best
@@ -166,14 +197,22 @@ impl Scene {
         let k = ((u_choice * n as f32) as usize).min(n - 1);
         let choice = 1.0 / n as f32;
         let mut ls = match &self.emitters[k] {
-            Emitter::Area { shape, radiance, two_sided } => {
+            Emitter::Area {
+                shape,
+                radiance,
+                two_sided,
+            } => {
                 let s = &self.shapes[*shape];
                 // The position within the chosen cell is a fresh uniform number.
                 let (x, _, local) = s.area_dist.sample(u.x);
                 let ux = (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, 1.0);
                 let prim_index = s.prims.start + local;
                 let prim = &self.prims()[prim_index];
-                let (q, mut nq, q_err, pdf_w) = sample_prim(prim, p, Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y))?;
+                let (q, mut nq, q_err, pdf_w) = sample_prim(
+                    prim,
+                    p,
+                    Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y),
+                )?;
                 if s.flip_normals {
                     nq = -nq;
                 }
@@ -183,9 +222,22 @@ impl Scene {
                     return None;
                 }
                 let wi = d / dist;
-                let li = if *two_sided || nq.dot(-wi) > 0.0 { *radiance } else { 0.0 };
+                let li = if *two_sided || nq.dot(-wi) > 0.0 {
+                    *radiance
+                } else {
+                    0.0
+                };
                 let p_choice_prim = prim.area() / s.area;
-                LightSample { wi, li, pdf: pdf_w * p_choice_prim, p: q, p_error: q_err, n: nq, infinite: false, delta: false }
+                LightSample {
+                    wi,
+                    li,
+                    pdf: pdf_w * p_choice_prim,
+                    p: q,
+                    p_error: q_err,
+                    n: nq,
+                    infinite: false,
+                    delta: false,
+                }
             }
             e => e.sample_non_area(p, u)?,
         };

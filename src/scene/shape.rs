@@ -84,7 +84,9 @@ impl Primitive {
             Primitive::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
             // In f64: the f32 cross product of a sliver triangle's edges loses ~5e-4 of its area.
             Primitive::Triangle { p } => {
-                (0.5 * (p[1].as_dvec3() - p[0].as_dvec3()).cross(p[2].as_dvec3() - p[0].as_dvec3()).length()) as f32
+                (0.5 * (p[1].as_dvec3() - p[0].as_dvec3())
+                    .cross(p[2].as_dvec3() - p[0].as_dvec3())
+                    .length()) as f32
             }
         }
     }
@@ -92,14 +94,29 @@ impl Primitive {
     /// Axis-aligned bounds (padded by the error of their own arithmetic).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let (lo, hi) = match *self {
-            Primitive::Sphere { center, radius } => (center - Vec3::splat(radius), center + Vec3::splat(radius)),
+            Primitive::Sphere { center, radius } => {
+                (center - Vec3::splat(radius), center + Vec3::splat(radius))
+            }
             Primitive::Rectangle { corner, u, v } => {
                 let pts = [corner, corner + u, corner + v, corner + u + v];
-                (pts.iter().fold(Vec3::INFINITY, |a, &b| a.min(b)), pts.iter().fold(Vec3::NEG_INFINITY, |a, &b| a.max(b)))
+                (
+                    pts.iter().fold(Vec3::INFINITY, |a, &b| a.min(b)),
+                    pts.iter().fold(Vec3::NEG_INFINITY, |a, &b| a.max(b)),
+                )
             }
-            Primitive::Disk { center, normal, radius } => {
+            Primitive::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 // Extent of a disk along axis i is r·√(1 − nᵢ²).
-                let e = radius * Vec3::from((Vec3::ONE - normal * normal).max(Vec3::ZERO).to_array().map(f32::sqrt));
+                let e = radius
+                    * Vec3::from(
+                        (Vec3::ONE - normal * normal)
+                            .max(Vec3::ZERO)
+                            .to_array()
+                            .map(f32::sqrt),
+                    );
                 (center - e, center + e)
             }
             Primitive::Triangle { p } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
@@ -116,7 +133,9 @@ impl Primitive {
     /// Closest hit with t in (tmin, tmax), for a unit direction `d`.
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
         match *self {
-            Primitive::Sphere { center, radius } => intersect_sphere(center, radius, o, d, tmin, tmax),
+            Primitive::Sphere { center, radius } => {
+                intersect_sphere(center, radius, o, d, tmin, tmax)
+            }
             Primitive::Rectangle { corner, u, v } => {
                 let n = u.cross(v);
                 let (t, p) = plane_hit(corner, n, o, d, tmin, tmax)?;
@@ -131,9 +150,18 @@ impl Primitive {
                 }
                 let p = corner + u * a + v * b;
                 let p_error = gamma(6) * (corner.abs() + (u * a).abs() + (v * b).abs());
-                Some(Hit { t, p, p_error, n: n.normalize() })
+                Some(Hit {
+                    t,
+                    p,
+                    p_error,
+                    n: n.normalize(),
+                })
             }
-            Primitive::Disk { center, normal, radius } => {
+            Primitive::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let (t, p) = plane_hit(center, normal, o, d, tmin, tmax)?;
                 let rel = p - center;
                 let rel = rel - normal * rel.dot(normal);
@@ -142,7 +170,12 @@ impl Primitive {
                 }
                 let p = center + rel;
                 let p_error = gamma(6) * (center.abs() + rel.abs());
-                Some(Hit { t, p, p_error, n: normal })
+                Some(Hit {
+                    t,
+                    p,
+                    p_error,
+                    n: normal,
+                })
             }
             Primitive::Triangle { p } => intersect_triangle(p, o, d, tmin, tmax),
         }
@@ -155,23 +188,51 @@ impl Primitive {
             Primitive::Sphere { center, radius } => {
                 let n = uniform_sphere(u);
                 let p = center + n * radius;
-                AreaSample { p, p_error: gamma(5) * (center.abs() + (n * radius).abs()), n, pdf }
+                AreaSample {
+                    p,
+                    p_error: gamma(5) * (center.abs() + (n * radius).abs()),
+                    n,
+                    pdf,
+                }
             }
-            Primitive::Rectangle { corner, u: eu, v: ev } => {
+            Primitive::Rectangle {
+                corner,
+                u: eu,
+                v: ev,
+            } => {
                 let p = corner + eu * u.x + ev * u.y;
                 let p_error = gamma(6) * (corner.abs() + (eu * u.x).abs() + (ev * u.y).abs());
-                AreaSample { p, p_error, n: eu.cross(ev).normalize(), pdf }
+                AreaSample {
+                    p,
+                    p_error,
+                    n: eu.cross(ev).normalize(),
+                    pdf,
+                }
             }
-            Primitive::Disk { center, normal, radius } => {
+            Primitive::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let d = concentric_disk(u) * radius;
                 let f = Frame::from_z(normal);
                 let rel = f.s * d.x + f.t * d.y;
-                AreaSample { p: center + rel, p_error: gamma(6) * (center.abs() + rel.abs()), n: normal, pdf }
+                AreaSample {
+                    p: center + rel,
+                    p_error: gamma(6) * (center.abs() + rel.abs()),
+                    n: normal,
+                    pdf,
+                }
             }
             Primitive::Triangle { p } => {
                 let q = sample_triangle(p, u);
                 let p_error = gamma(6) * (p[0].abs() + p[1].abs() + p[2].abs());
-                AreaSample { p: q, p_error, n: (p[1] - p[0]).cross(p[2] - p[0]).normalize(), pdf }
+                AreaSample {
+                    p: q,
+                    p_error,
+                    n: (p[1] - p[0]).cross(p[2] - p[0]).normalize(),
+                    pdf,
+                }
             }
         }
     }
@@ -191,7 +252,14 @@ fn plane_hit(origin: Vec3, n: Vec3, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> O
 
 /// Robust ray–sphere intersection (Haines et al. 2019): with f = o − c and b = −f·d,
 /// the discriminant r² − |f + b d|² avoids the cancellation of b² − (|f|² − r²).
-fn intersect_sphere(center: Vec3, radius: f32, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+fn intersect_sphere(
+    center: Vec3,
+    radius: f32,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
     let f = o - center;
     let b = -f.dot(d);
     let l = f + d * b;
@@ -298,7 +366,12 @@ fn intersect_triangle(p: [Vec3; 3], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> O
     }
     let q = p[0] * b0 + p[1] * b1 + p[2] * b2;
     let p_error = gamma(7) * ((p[0] * b0).abs() + (p[1] * b1).abs() + (p[2] * b2).abs());
-    Some(Hit { t, p: q, p_error, n: n.normalize() })
+    Some(Hit {
+        t,
+        p: q,
+        p_error,
+        n: n.normalize(),
+    })
 }
 
 #[cfg(test)]
@@ -307,29 +380,47 @@ mod tests {
 
     #[test]
     fn sphere_hits_from_outside_and_inside() {
-        let s = Primitive::Sphere { center: Vec3::new(0.0, 0.0, 5.0), radius: 1.0 };
-        let h = s.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        let s = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 5.0),
+            radius: 1.0,
+        };
+        let h = s
+            .intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY)
+            .unwrap();
         assert!((h.t - 4.0).abs() < 1e-5 && h.n.z < 0.0);
-        let h = s.intersect(Vec3::new(0.0, 0.0, 5.0), Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        let h = s
+            .intersect(Vec3::new(0.0, 0.0, 5.0), Vec3::Z, 0.0, f32::INFINITY)
+            .unwrap();
         assert!((h.t - 1.0).abs() < 1e-5 && h.n.z > 0.0);
     }
 
     #[test]
     fn far_from_origin_sphere_hit_is_accurate() {
         let c = Vec3::new(1e5, -1e5, 1e5);
-        let s = Primitive::Sphere { center: c, radius: 1.0 };
+        let s = Primitive::Sphere {
+            center: c,
+            radius: 1.0,
+        };
         let o = c + Vec3::new(0.3, 0.2, -10.0);
         let h = s.intersect(o, Vec3::Z, 0.0, f32::INFINITY).unwrap();
         // The point is on the sphere to within its error bound.
         let dist = ((h.p - c).as_dvec3().length() - 1.0).abs();
-        assert!(dist <= h.p_error.length() as f64 * 2.0 + 1e-6, "{dist} vs {}", h.p_error);
+        assert!(
+            dist <= h.p_error.length() as f64 * 2.0 + 1e-6,
+            "{dist} vs {}",
+            h.p_error
+        );
     }
 
     #[test]
     fn triangle_edge_is_watertight() {
         // Two triangles sharing the diagonal of the unit square: rays along the diagonal hit one.
-        let a = Primitive::Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)] };
-        let b = Primitive::Triangle { p: [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y] };
+        let a = Primitive::Triangle {
+            p: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)],
+        };
+        let b = Primitive::Triangle {
+            p: [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+        };
         for i in 1..1000 {
             let x = i as f32 / 1000.0;
             let o = Vec3::new(x, x, 1.0);
@@ -341,24 +432,61 @@ mod tests {
 
     #[test]
     fn sliver_triangle_hit_and_no_nan() {
-        let t = Primitive::Triangle { p: [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.5, 1e-6, 0.0)] };
-        let h = t.intersect(Vec3::new(0.5, 2e-7, 1.0), -Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        let t = Primitive::Triangle {
+            p: [
+                Vec3::ZERO,
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.5, 1e-6, 0.0),
+            ],
+        };
+        let h = t
+            .intersect(Vec3::new(0.5, 2e-7, 1.0), -Vec3::Z, 0.0, f32::INFINITY)
+            .unwrap();
         assert!(h.p.is_finite() && h.n.is_finite());
-        assert!(t.intersect(Vec3::new(0.5, 2e-6, 1.0), -Vec3::Z, 0.0, f32::INFINITY).is_none());
+        assert!(
+            t.intersect(Vec3::new(0.5, 2e-6, 1.0), -Vec3::Z, 0.0, f32::INFINITY)
+                .is_none()
+        );
     }
 
     #[test]
     fn rectangle_and_disk() {
-        let r = Primitive::Rectangle { corner: Vec3::new(-1.0, -1.0, 2.0), u: Vec3::X * 2.0, v: Vec3::Y * 2.0 };
-        assert!(r.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY).is_some());
+        let r = Primitive::Rectangle {
+            corner: Vec3::new(-1.0, -1.0, 2.0),
+            u: Vec3::X * 2.0,
+            v: Vec3::Y * 2.0,
+        };
+        assert!(
+            r.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY)
+                .is_some()
+        );
         assert!((r.area() - 4.0).abs() < 1e-6);
         // A skewed parallelogram: (1.2, 0.5) is inside, (0.1, 0.5) is not.
-        let s = Primitive::Rectangle { corner: Vec3::new(0.0, 0.0, 2.0), u: Vec3::X, v: Vec3::new(1.0, 1.0, 0.0) };
-        assert!(s.intersect(Vec3::new(1.2, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_some());
-        assert!(s.intersect(Vec3::new(0.1, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_none());
-        let d = Primitive::Disk { center: Vec3::new(0.0, 0.0, 2.0), normal: -Vec3::Z, radius: 1.0 };
-        let h = d.intersect(Vec3::new(0.99, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        let s = Primitive::Rectangle {
+            corner: Vec3::new(0.0, 0.0, 2.0),
+            u: Vec3::X,
+            v: Vec3::new(1.0, 1.0, 0.0),
+        };
+        assert!(
+            s.intersect(Vec3::new(1.2, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_some()
+        );
+        assert!(
+            s.intersect(Vec3::new(0.1, 0.5, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_none()
+        );
+        let d = Primitive::Disk {
+            center: Vec3::new(0.0, 0.0, 2.0),
+            normal: -Vec3::Z,
+            radius: 1.0,
+        };
+        let h = d
+            .intersect(Vec3::new(0.99, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+            .unwrap();
         assert!((h.t - 2.0).abs() < 1e-6);
-        assert!(d.intersect(Vec3::new(1.01, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY).is_none());
+        assert!(
+            d.intersect(Vec3::new(1.01, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_none()
+        );
     }
 }

@@ -68,12 +68,20 @@ impl Accumulator {
 
     /// Unbiased sample variance.
     pub fn variance(&self) -> f64 {
-        if self.count > 1 { self.m2 / (self.count - 1) as f64 } else { 0.0 }
+        if self.count > 1 {
+            self.m2 / (self.count - 1) as f64
+        } else {
+            0.0
+        }
     }
 
     /// Standard error of the mean, √(s²/n).
     pub fn std_error(&self) -> f64 {
-        if self.count > 1 { (self.variance() / self.count as f64).sqrt() } else { f64::INFINITY }
+        if self.count > 1 {
+            (self.variance() / self.count as f64).sqrt()
+        } else {
+            f64::INFINITY
+        }
     }
 }
 

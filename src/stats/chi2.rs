@@ -99,7 +99,9 @@ impl Domain {
                 let l = (x * x + y * y + z * z).sqrt();
                 ((l - 1.0).abs() < 1e-3 && z >= 0.0).then(|| ((z / l).min(1.0), phi()))
             }
-            Domain::Square => ((0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)).then_some((y, x)),
+            Domain::Square => {
+                ((0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)).then_some((y, x))
+            }
             Domain::Disk => {
                 let r2 = x * x + y * y;
                 (r2 <= 1.0 + 1e-6).then(|| (r2.min(1.0), phi()))
@@ -164,7 +166,14 @@ impl Chi2Test {
             Domain::Hemisphere => (32, 128),
             Domain::Square | Domain::Disk => (64, 64),
         };
-        Chi2Test { domain, rows, cols, samples, seed, alpha }
+        Chi2Test {
+            domain,
+            rows,
+            cols,
+            samples,
+            seed,
+            alpha,
+        }
     }
 
     /// Set the resolution.
@@ -231,7 +240,11 @@ impl Chi2Test {
         let abs_tol = 1e-3 / self.samples.max(1) as f64;
         let f = |a: f64, b: f64| {
             let v = pdf(self.domain.point(a, b));
-            if v.is_finite() && v > 0.0 { v * jac } else { 0.0 }
+            if v.is_finite() && v > 0.0 {
+                v * jac
+            } else {
+                0.0
+            }
         };
         (0..self.rows * self.cols)
             .into_par_iter()
@@ -256,7 +269,11 @@ impl Chi2Test {
         let jac = self.domain.jacobian();
         let f = |a: f64, b: f64| {
             let v = pdf(self.domain.point(a, b));
-            if v.is_finite() && v > 0.0 { v * jac } else { 0.0 }
+            if v.is_finite() && v > 0.0 {
+                v * jac
+            } else {
+                0.0
+            }
         };
         let (r, c) = (cell / self.cols, cell % self.cols);
         const SPLIT: usize = 32;
@@ -266,8 +283,14 @@ impl Chi2Test {
             for j in 0..SPLIT {
                 let sa = da / SPLIT as f64;
                 let sb = db / SPLIT as f64;
-                let qa = (a0 + r as f64 * da + i as f64 * sa, a0 + r as f64 * da + (i + 1) as f64 * sa);
-                let qb = (b0 + c as f64 * db + j as f64 * sb, b0 + c as f64 * db + (j + 1) as f64 * sb);
+                let qa = (
+                    a0 + r as f64 * da + i as f64 * sa,
+                    a0 + r as f64 * da + (i + 1) as f64 * sa,
+                );
+                let qb = (
+                    b0 + c as f64 * db + j as f64 * sb,
+                    b0 + c as f64 * db + (j + 1) as f64 * sb,
+                );
                 let (v, e) = adaptive_quadrature_2d(&f, qa, qb, gauss_4x4(&f, qa, qb), tol, 5);
                 total.0 += v;
                 total.1 += e;
@@ -297,15 +320,22 @@ impl Chi2Test {
         let pdf_integral: f64 = integrals.iter().map(|(v, _)| v).sum();
         let quad_err: f64 = integrals.iter().map(|(_, e)| e).sum();
         // What the quadrature error could add to the statistic: Σ (δ N)² / E.
-        let quadrature_chi2: f64 = integrals.iter().map(|(v, e)| (e * n).powi(2) / (v * n).max(1.0)).sum();
+        let quadrature_chi2: f64 = integrals
+            .iter()
+            .map(|(v, e)| (e * n).powi(2) / (v * n).max(1.0))
+            .sum();
         let success_fraction = ok as f64 / n;
 
         let mut reasons = Vec::new();
         if outside > 0 {
-            reasons.push(format!("{outside} samples fell outside the {:?} domain or were not finite", self.domain));
+            reasons.push(format!(
+                "{outside} samples fell outside the {:?} domain or were not finite",
+                self.domain
+            ));
         }
-        let zero_cells: Vec<usize> =
-            (0..observed.len()).filter(|&i| observed[i] > 0 && expected[i] == 0.0).collect();
+        let zero_cells: Vec<usize> = (0..observed.len())
+            .filter(|&i| observed[i] > 0 && expected[i] == 0.0)
+            .collect();
         if !zero_cells.is_empty() {
             reasons.push(format!(
                 "{} cells hold samples where the pdf integrates to zero (first: row {}, col {})",
@@ -342,10 +372,15 @@ impl Chi2Test {
                 _ => pooled.push((po, pe)),
             }
         }
-        let statistic: f64 =
-            pooled.iter().filter(|(_, e)| *e > 0.0).map(|(o, e)| (o - e) * (o - e) / e).sum();
+        let statistic: f64 = pooled
+            .iter()
+            .filter(|(_, e)| *e > 0.0)
+            .map(|(o, e)| (o - e) * (o - e) / e)
+            .sum();
         let dof = pooled.len().saturating_sub(1).max(1);
-        let p_value = ChiSquared::new(dof as f64).map(|d| d.sf(statistic)).unwrap_or(0.0);
+        let p_value = ChiSquared::new(dof as f64)
+            .map(|d| d.sf(statistic))
+            .unwrap_or(0.0);
         if p_value < self.alpha {
             reasons.push(format!(
                 "chi-square statistic {statistic:.1} with {dof} dof has p = {p_value:.3e} < α = {:.3e}",
@@ -388,21 +423,54 @@ impl Chi2Test {
             dump: Vec::new(),
         };
         if !outcome.passed {
-            outcome.dump = self.dump(name, &observed, &expected, &outcome).unwrap_or_default();
-            let files: Vec<String> = outcome.dump.iter().map(|p| p.display().to_string()).collect();
-            outcome.reason = Some(format!("{}; tables written to {}", reasons.join("; "), files.join(", ")));
+            outcome.dump = self
+                .dump(name, &observed, &expected, &outcome)
+                .unwrap_or_default();
+            let files: Vec<String> = outcome
+                .dump
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect();
+            outcome.reason = Some(format!(
+                "{}; tables written to {}",
+                reasons.join("; "),
+                files.join(", ")
+            ));
         }
         outcome
     }
 
-    fn dump(&self, name: &str, observed: &[u64], expected: &[f64], outcome: &Chi2Outcome) -> std::io::Result<Vec<PathBuf>> {
+    fn dump(
+        &self,
+        name: &str,
+        observed: &[u64],
+        expected: &[f64],
+        outcome: &Chi2Outcome,
+    ) -> std::io::Result<Vec<PathBuf>> {
         let dir = failure_dir();
         std::fs::create_dir_all(&dir)?;
-        let stem: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
+        let stem: String = name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
         let residual: Vec<f64> = observed
             .iter()
             .zip(expected)
-            .map(|(&o, &e)| if e > 0.0 { (o as f64 - e) / e.sqrt() } else if o > 0 { f64::INFINITY } else { 0.0 })
+            .map(|(&o, &e)| {
+                if e > 0.0 {
+                    (o as f64 - e) / e.sqrt()
+                } else if o > 0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let json = serde_json::json!({
             "name": name,
@@ -419,15 +487,38 @@ impl Chi2Test {
         let json_path = dir.join(format!("{stem}.json"));
         crate::io::write_atomic(&json_path, serde_json::to_string_pretty(&json)?.as_bytes())?;
         let mut files = vec![json_path];
-        let max_count = expected.iter().cloned().fold(1.0, f64::max).max(observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
+        let max_count = expected
+            .iter()
+            .cloned()
+            .fold(1.0, f64::max)
+            .max(observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
         let (w, h) = (self.cols, self.rows);
         let images: [(&str, PixelFn); 3] = [
-            ("observed", Box::new(|i| { let v = (observed[i] as f64 / max_count) as f32; (v, v, v) })),
-            ("expected", Box::new(|i| { let v = (expected[i] / max_count) as f32; (v, v, v) })),
-            ("residual", Box::new(|i| {
-                let r = residual[i].clamp(-1e6, 1e6) as f32;
-                if r > 0.0 { (r, 0.0, 0.0) } else { (0.0, 0.0, -r) }
-            })),
+            (
+                "observed",
+                Box::new(|i| {
+                    let v = (observed[i] as f64 / max_count) as f32;
+                    (v, v, v)
+                }),
+            ),
+            (
+                "expected",
+                Box::new(|i| {
+                    let v = (expected[i] / max_count) as f32;
+                    (v, v, v)
+                }),
+            ),
+            (
+                "residual",
+                Box::new(|i| {
+                    let r = residual[i].clamp(-1e6, 1e6) as f32;
+                    if r > 0.0 {
+                        (r, 0.0, 0.0)
+                    } else {
+                        (0.0, 0.0, -r)
+                    }
+                }),
+            ),
         ];
         for (label, f) in images.iter() {
             let path = dir.join(format!("{stem}-{label}.exr"));
@@ -454,8 +545,18 @@ pub fn failure_dir() -> PathBuf {
 /// Tensor 4-point Gauss–Legendre rule on a rectangle. An open rule: it never evaluates
 /// the density on a cell edge, where indicator-shaped densities jump.
 fn gauss_4x4<F: Fn(f64, f64) -> f64>(f: &F, (a0, a1): (f64, f64), (b0, b1): (f64, f64)) -> f64 {
-    const X: [f64; 4] = [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
-    const W: [f64; 4] = [0.347_854_845_137_453_9, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_9];
+    const X: [f64; 4] = [
+        -0.861_136_311_594_052_6,
+        -0.339_981_043_584_856_3,
+        0.339_981_043_584_856_3,
+        0.861_136_311_594_052_6,
+    ];
+    const W: [f64; 4] = [
+        0.347_854_845_137_453_9,
+        0.652_145_154_862_546_1,
+        0.652_145_154_862_546_1,
+        0.347_854_845_137_453_9,
+    ];
     let (ha, ma) = (0.5 * (a1 - a0), 0.5 * (a1 + a0));
     let (hb, mb) = (0.5 * (b1 - b0), 0.5 * (b1 + b0));
     let mut s = 0.0;
@@ -500,10 +601,17 @@ fn adaptive_quadrature_2d<F: Fn(f64, f64) -> f64>(
 ) -> (f64, f64) {
     let am = 0.5 * (ra.0 + ra.1);
     let bm = 0.5 * (rb.0 + rb.1);
-    let quads = [((ra.0, am), (rb.0, bm)), ((ra.0, am), (bm, rb.1)), ((am, ra.1), (rb.0, bm)), ((am, ra.1), (bm, rb.1))];
+    let quads = [
+        ((ra.0, am), (rb.0, bm)),
+        ((ra.0, am), (bm, rb.1)),
+        ((am, ra.1), (rb.0, bm)),
+        ((am, ra.1), (bm, rb.1)),
+    ];
     let parts: [f64; 4] = quads.map(|(qa, qb)| gauss_4x4(f, qa, qb));
     let fine: f64 = parts.iter().sum();
-    let err = (fine - coarse).abs().max((fine - gauss_3x3(f, ra, rb)).abs());
+    let err = (fine - coarse)
+        .abs()
+        .max((fine - gauss_3x3(f, ra, rb)).abs());
     if err <= tol.max(1e-9 * fine.abs()) || depth >= MAX_DEPTH {
         return (fine, err);
     }
@@ -526,7 +634,11 @@ mod tests {
     #[test]
     fn quadrature_of_constant_density() {
         let t = Chi2Test::new(Domain::Sphere, 1000, 1, 0.01).with_resolution(8, 16);
-        let total: f64 = t.integrate_pdf(&|_| 1.0 / (4.0 * PI)).iter().map(|c| c.0).sum();
+        let total: f64 = t
+            .integrate_pdf(&|_| 1.0 / (4.0 * PI))
+            .iter()
+            .map(|c| c.0)
+            .sum();
         assert!((total - 1.0).abs() < 1e-12);
         let t = Chi2Test::new(Domain::Disk, 1000, 1, 0.01).with_resolution(8, 16);
         let total: f64 = t.integrate_pdf(&|_| 1.0 / PI).iter().map(|c| c.0).sum();
@@ -535,7 +647,12 @@ mod tests {
 
     #[test]
     fn cells_and_params_round_trip() {
-        for d in [Domain::Sphere, Domain::Hemisphere, Domain::Square, Domain::Disk] {
+        for d in [
+            Domain::Sphere,
+            Domain::Hemisphere,
+            Domain::Square,
+            Domain::Disk,
+        ] {
             let (a, b) = (0.3, 0.6);
             let p = d.point(a, b);
             let (a2, b2) = d.params(p).unwrap();

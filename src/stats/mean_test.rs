@@ -37,7 +37,10 @@ pub struct MeanTest {
 
 impl Default for MeanTest {
     fn default() -> Self {
-        MeanTest { alpha: 1e-4, tests: 1 }
+        MeanTest {
+            alpha: 1e-4,
+            tests: 1,
+        }
     }
 }
 
@@ -74,14 +77,18 @@ pub struct Verdict {
 
 fn quantile(p: f64, dof: Option<u64>) -> f64 {
     match dof {
-        Some(n) if n > 0 => StudentsT::new(0.0, 1.0, n as f64).map(|t| t.inverse_cdf(p)).unwrap_or(f64::INFINITY),
+        Some(n) if n > 0 => StudentsT::new(0.0, 1.0, n as f64)
+            .map(|t| t.inverse_cdf(p))
+            .unwrap_or(f64::INFINITY),
         _ => Normal::standard().inverse_cdf(p),
     }
 }
 
 fn upper_tail(z: f64, dof: Option<u64>) -> f64 {
     match dof {
-        Some(n) if n > 0 => StudentsT::new(0.0, 1.0, n as f64).map(|t| t.sf(z)).unwrap_or(0.0),
+        Some(n) if n > 0 => StudentsT::new(0.0, 1.0, n as f64)
+            .map(|t| t.sf(z))
+            .unwrap_or(0.0),
         _ => Normal::standard().sf(z),
     }
 }
@@ -99,7 +106,14 @@ impl MeanTest {
 
     /// Two-sided test of an accumulator's mean against `reference` (z test).
     pub fn judge(&self, acc: &Accumulator, reference: f64) -> Verdict {
-        self.judge_parts(acc.mean, acc.std_error(), reference, None, acc.non_finite, acc.count)
+        self.judge_parts(
+            acc.mean,
+            acc.std_error(),
+            reference,
+            None,
+            acc.non_finite,
+            acc.count,
+        )
     }
 
     /// Two-sided test from a mean, standard error and optional t degrees of freedom.
@@ -125,8 +139,11 @@ impl MeanTest {
             (f64::INFINITY.copysign(diff), 0.0)
         };
         let detectable_bias = (critical + power_q) * std_error;
-        let detectable_relative_bias =
-            if reference != 0.0 { detectable_bias / reference.abs() } else { detectable_bias };
+        let detectable_relative_bias = if reference != 0.0 {
+            detectable_bias / reference.abs()
+        } else {
+            detectable_bias
+        };
         let mut reason = None;
         if non_finite > 0 {
             reason = Some(format!("{non_finite} non-finite samples (NaN or Inf)"));
@@ -135,7 +152,10 @@ impl MeanTest {
         } else if !reference.is_finite() {
             reason = Some("reference is not finite".into());
         } else if p_value < alpha || !estimate.is_finite() {
-            reason = Some(format!("|z| = {:.2} exceeds the critical value {critical:.2} (p = {p_value:.2e} < α = {alpha:.2e})", z.abs()));
+            reason = Some(format!(
+                "|z| = {:.2} exceeds the critical value {critical:.2} (p = {p_value:.2e} < α = {alpha:.2e})",
+                z.abs()
+            ));
         }
         Verdict {
             estimate,
@@ -162,14 +182,26 @@ impl MeanTest {
         let power_q = quantile(POWER, None);
         let s = acc.std_error();
         let diff = acc.mean - bound;
-        let z = if s > 0.0 && s.is_finite() { diff / s } else if diff > 0.0 { f64::INFINITY } else { f64::NEG_INFINITY };
+        let z = if s > 0.0 && s.is_finite() {
+            diff / s
+        } else if diff > 0.0 {
+            f64::INFINITY
+        } else {
+            f64::NEG_INFINITY
+        };
         let p_value = upper_tail(z, None);
         let detectable_bias = (critical + power_q) * s;
         let mut reason = None;
         if acc.non_finite > 0 {
-            reason = Some(format!("{} non-finite samples (NaN or Inf)", acc.non_finite));
+            reason = Some(format!(
+                "{} non-finite samples (NaN or Inf)",
+                acc.non_finite
+            ));
         } else if p_value < alpha {
-            reason = Some(format!("mean {:.6} exceeds the bound {bound} by z = {z:.2} (p = {p_value:.2e})", acc.mean));
+            reason = Some(format!(
+                "mean {:.6} exceeds the bound {bound} by z = {z:.2} (p = {p_value:.2e})",
+                acc.mean
+            ));
         }
         Verdict {
             estimate: acc.mean,

@@ -19,7 +19,12 @@ pub struct SlopeFit {
 
 /// Least-squares fit through the finite points.
 pub fn fit_slope(x: &[f64], y: &[f64]) -> Option<SlopeFit> {
-    let pts: Vec<(f64, f64)> = x.iter().zip(y).map(|(&a, &b)| (a, b)).filter(|(a, b)| a.is_finite() && b.is_finite()).collect();
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .map(|(&a, &b)| (a, b))
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .collect();
     let n = pts.len();
     if n < 2 {
         return None;
@@ -33,9 +38,21 @@ pub fn fit_slope(x: &[f64], y: &[f64]) -> Option<SlopeFit> {
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let slope = sxy / sxx;
     let intercept = my - slope * mx;
-    let ssr: f64 = pts.iter().map(|p| (p.1 - intercept - slope * p.0).powi(2)).sum();
-    let slope_std_error = if n > 2 { (ssr / (n - 2) as f64 / sxx).sqrt() } else { f64::INFINITY };
-    Some(SlopeFit { slope, intercept, slope_std_error, points: n })
+    let ssr: f64 = pts
+        .iter()
+        .map(|p| (p.1 - intercept - slope * p.0).powi(2))
+        .sum();
+    let slope_std_error = if n > 2 {
+        (ssr / (n - 2) as f64 / sxx).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    Some(SlopeFit {
+        slope,
+        intercept,
+        slope_std_error,
+        points: n,
+    })
 }
 
 #[cfg(test)]

@@ -37,11 +37,17 @@ pub struct Decision {
 }
 
 fn yes(why: impl Into<String>) -> Decision {
-    Decision { simulated: true, why: why.into() }
+    Decision {
+        simulated: true,
+        why: why.into(),
+    }
 }
 
 fn no(why: impl Into<String>) -> Decision {
-    Decision { simulated: false, why: why.into() }
+    Decision {
+        simulated: false,
+        why: why.into(),
+    }
 }
 
 /// The effects a measurement in a scene calls for.
@@ -85,7 +91,9 @@ fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
 
 /// Analyse `scene` for `measure`.
 pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
-    let grey = no("the scene's spectra are constant and no measurement is spectral: wavelength integrates out");
+    let grey = no(
+        "the scene's spectra are constant and no measurement is spectral: wavelength integrates out",
+    );
     let static_ = no("nothing moves and the measurement is not time resolved: time integrates out");
     let Some(origin) = measure.origin() else {
         // Not a transport measurement: a property of one shape, emitter or BSDF.
@@ -96,7 +104,11 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
             multiple_scattering: n.clone(),
             specular_chains: n.clone(),
             transmission: n.clone(),
-            occlusion: if matches!(measure, Measure::SolidAngle { .. } | Measure::ProjectedSolidAngle { .. }) && scene.shapes.len() > 1 {
+            occlusion: if matches!(
+                measure,
+                Measure::SolidAngle { .. } | Measure::ProjectedSolidAngle { .. }
+            ) && scene.shapes.len() > 1
+            {
                 yes("other shapes may hide part of the shape")
             } else {
                 n
@@ -107,7 +119,11 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
         };
     };
     let scatterers: Vec<usize> = (0..scene.shapes.len())
-        .filter(|&i| scene.shapes[i].material.is_some_and(|m| !is_black(&scene.materials[m])))
+        .filter(|&i| {
+            scene.shapes[i]
+                .material
+                .is_some_and(|m| !is_black(&scene.materials[m]))
+        })
         .collect();
     let flags = scatterers
         .iter()
@@ -116,20 +132,30 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
     let transmits = flags.contains(LobeFlags::TRANSMISSION);
     let has_emitters = scene.has_emitters();
 
-    let direct_emission = if has_emitters { yes("the scene has emitters") } else { no("the scene has no emitters") };
+    let direct_emission = if has_emitters {
+        yes("the scene has emitters")
+    } else {
+        no("the scene has no emitters")
+    };
     let single = if !has_emitters {
         no("nothing emits")
     } else if scatterers.is_empty() {
         no("no surface scatters light (no material, or black)")
     } else {
-        yes(format!("{} scattering shape(s) and {} emitter(s)", scatterers.len(), scene.emitters.len()))
+        yes(format!(
+            "{} scattering shape(s) and {} emitter(s)",
+            scatterers.len(),
+            scene.emitters.len()
+        ))
     };
     let self_visible = |i: usize| {
         let s = &scene.shapes[i];
         match s.kind {
             ShapeKind::Planar => false,
             ShapeKind::Mesh => true,
-            ShapeKind::Sphere => transmits || s.prims.clone().any(|p| inside(&scene.prims()[p], origin)),
+            ShapeKind::Sphere => {
+                transmits || s.prims.clone().any(|p| inside(&scene.prims()[p], origin))
+            }
         }
     };
     let multiple = if !single.simulated {
@@ -141,23 +167,43 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
     } else {
         no("a single planar or convex scatterer seen from outside cannot light itself")
     };
-    let specular = if flags.contains(LobeFlags::SPECULAR) { yes("a material has a delta lobe") } else { no("no material has a delta lobe") };
-    let transmission = if transmits { yes("a material transmits") } else { no("no material transmits") };
+    let specular = if flags.contains(LobeFlags::SPECULAR) {
+        yes("a material has a delta lobe")
+    } else {
+        no("no material has a delta lobe")
+    };
+    let transmission = if transmits {
+        yes("a material transmits")
+    } else {
+        no("no material transmits")
+    };
 
-    let only_shape_emits = scene.emitters.iter().all(|e| matches!(e, Emitter::Area { shape: 0, .. }));
+    let only_shape_emits = scene
+        .emitters
+        .iter()
+        .all(|e| matches!(e, Emitter::Area { shape: 0, .. }));
     let only_infinite = scene.emitters.iter().all(|e| e.is_infinite());
     let occlusion = if scene.shapes.is_empty() {
         no("there are no shapes to occlude")
-    } else if scene.shapes.len() == 1 && scene.shapes[0].kind != ShapeKind::Mesh && only_shape_emits && !transmits {
+    } else if scene.shapes.len() == 1
+        && scene.shapes[0].kind != ShapeKind::Mesh
+        && only_shape_emits
+        && !transmits
+    {
         no("one convex shape that is the only emitter: no segment crosses another surface")
     } else if scene.shapes.len() == 1
         && scene.shapes[0].kind != ShapeKind::Mesh
         && only_infinite
         && !transmits
         && matches!(measure, Measure::Radiance { .. })
-        && !scene.shapes[0].prims.clone().any(|p| inside(&scene.prims()[p], origin))
+        && !scene.shapes[0]
+            .prims
+            .clone()
+            .any(|p| inside(&scene.prims()[p], origin))
     {
-        no("one convex reflector seen from outside and lit from infinity: its lit side faces the lights")
+        no(
+            "one convex reflector seen from outside and lit from infinity: its lit side faces the lights",
+        )
     } else {
         yes("surfaces may block segments between vertices and emitters")
     };

@@ -81,5 +81,8 @@ where
 {
     let t0 = Instant::now();
     let batches = run_batches(spec, 0..BATCHES, f);
-    Estimate { batches: BatchMeans::from_batches(batches), seconds: t0.elapsed().as_secs_f64() }
+    Estimate {
+        batches: BatchMeans::from_batches(batches),
+        seconds: t0.elapsed().as_secs_f64(),
+    }
 }

@@ -122,25 +122,51 @@ impl Measure {
                 Estimator::Area => area_visibility(scene, *from, *shape, None, s),
                 _ => {
                     let w = uniform_sphere(s.next_2d());
-                    if first_shape(scene, *from, w) == Some(*shape) { 4.0 * PI } else { 0.0 }
+                    if first_shape(scene, *from, w) == Some(*shape) {
+                        4.0 * PI
+                    } else {
+                        0.0
+                    }
                 }
             },
-            Measure::ProjectedSolidAngle { from, normal, shape } => match est {
+            Measure::ProjectedSolidAngle {
+                from,
+                normal,
+                shape,
+            } => match est {
                 Estimator::Area => area_visibility(scene, *from, *shape, Some(*normal), s),
                 Estimator::Cosine => {
                     let w = Frame::from_z(*normal).to_world(cosine_hemisphere(s.next_2d()));
-                    if first_shape(scene, *from, w) == Some(*shape) { PI } else { 0.0 }
+                    if first_shape(scene, *from, w) == Some(*shape) {
+                        PI
+                    } else {
+                        0.0
+                    }
                 }
                 _ => {
                     let wl = uniform_hemisphere(s.next_2d());
                     let w = Frame::from_z(*normal).to_world(wl);
-                    if first_shape(scene, *from, w) == Some(*shape) { TWO_PI * wl.z } else { 0.0 }
+                    if first_shape(scene, *from, w) == Some(*shape) {
+                        TWO_PI * wl.z
+                    } else {
+                        0.0
+                    }
                 }
             },
             Measure::Irradiance { at, normal } => irradiance(scene, *at, *normal, est, cfg, s),
-            Measure::Radiance { at, direction } => {
-                trace(scene, cfg, *at, *direction, Prev { p: *at, pdf: 1.0, delta: true }, 0, s)
-            }
+            Measure::Radiance { at, direction } => trace(
+                scene,
+                cfg,
+                *at,
+                *direction,
+                Prev {
+                    p: *at,
+                    pdf: 1.0,
+                    delta: true,
+                },
+                0,
+                s,
+            ),
             Measure::Albedo { bsdf, wo } => match est {
                 Estimator::Uniform => {
                     let wi = uniform_sphere(s.next_2d());
@@ -149,11 +175,14 @@ impl Measure {
                 _ => {
                     let u = s.next_2d();
                     let uc = s.next_1d();
-                    bsdf.sample(*wo, Vec3::new(u.x, u.y, uc)).map_or(0.0, |b| b.weight)
+                    bsdf.sample(*wo, Vec3::new(u.x, u.y, uc))
+                        .map_or(0.0, |b| b.weight)
                 }
             },
             Measure::Power { emitter } => power_sample(scene, *emitter, s),
-            Measure::Intensity { emitter, direction } => intensity_sample(scene, *emitter, *direction, s),
+            Measure::Intensity { emitter, direction } => {
+                intensity_sample(scene, *emitter, *direction, s)
+            }
         }
     }
 }
@@ -167,14 +196,21 @@ fn first_shape(scene: &Scene, p: Vec3, w: Vec3) -> Option<usize> {
 fn shape_area_sample(scene: &Scene, shape: usize, u: Vec2) -> (Vec3, Vec3, Vec3, f32) {
     let s = &scene.shapes[shape];
     let (x, _, local) = s.area_dist.sample(u.x);
-    let ux = (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, crate::math::ONE_MINUS_EPSILON);
+    let ux =
+        (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, crate::math::ONE_MINUS_EPSILON);
     let a = scene.prims()[s.prims.start + local].sample_area(Vec2::new(ux, u.y));
     let n = if s.flip_normals { -a.n } else { a.n };
     (a.p, n, a.p_error, 1.0 / s.area)
 }
 
 /// Area-sampled (projected) solid angle: |cos θl| / (r² p_A), times cos θ at the receiver.
-fn area_visibility(scene: &Scene, p: Vec3, shape: usize, normal: Option<Vec3>, s: &mut SampleStream) -> f32 {
+fn area_visibility(
+    scene: &Scene,
+    p: Vec3,
+    shape: usize,
+    normal: Option<Vec3>,
+    s: &mut SampleStream,
+) -> f32 {
     let (q, n, q_err, pdf_a) = shape_area_sample(scene, shape, s.next_2d());
     let d = q - p;
     let r2 = d.length_squared();
@@ -191,21 +227,58 @@ fn area_visibility(scene: &Scene, p: Vec3, shape: usize, normal: Option<Vec3>, s
     }
     // Visible if nothing (the shape itself included) lies between p and the sampled point:
     // a shadow ray to the point, offset by its error bound.
-    if scene.segment_clear(p, q, q_err, n) { w.dot(n).abs() * cos_r / (r2 * pdf_a) } else { 0.0 }
+    if scene.segment_clear(p, q, q_err, n) {
+        w.dot(n).abs() * cos_r / (r2 * pdf_a)
+    } else {
+        0.0
+    }
 }
 
-fn irradiance(scene: &Scene, p: Vec3, n: Vec3, est: Estimator, cfg: &Config, s: &mut SampleStream) -> f32 {
+fn irradiance(
+    scene: &Scene,
+    p: Vec3,
+    n: Vec3,
+    est: Estimator,
+    cfg: &Config,
+    s: &mut SampleStream,
+) -> f32 {
     let frame = Frame::from_z(n);
     let uniform = est == Estimator::Uniform;
-    let pdf_dir = |wl: Vec3| if wl.z <= 0.0 { 0.0 } else if uniform { 0.5 / PI } else { wl.z / PI };
-    let mut e = next_event(scene, cfg, p, Vec3::ZERO, &frame, s, |wl| (wl.z.max(0.0), pdf_dir(wl)));
+    let pdf_dir = |wl: Vec3| {
+        if wl.z <= 0.0 {
+            0.0
+        } else if uniform {
+            0.5 / PI
+        } else {
+            wl.z / PI
+        }
+    };
+    let mut e = next_event(scene, cfg, p, Vec3::ZERO, &frame, s, |wl| {
+        (wl.z.max(0.0), pdf_dir(wl))
+    });
     // Continue by cosine (or uniform) sampling unless it can contribute nothing.
     if cfg.bsdf || cfg.max_bounces > 0 {
-        let wl = if uniform { uniform_hemisphere(s.next_2d()) } else { cosine_hemisphere(s.next_2d()) };
+        let wl = if uniform {
+            uniform_hemisphere(s.next_2d())
+        } else {
+            cosine_hemisphere(s.next_2d())
+        };
         let pdf = pdf_dir(wl);
         if pdf > 0.0 {
             let w = frame.to_world(wl);
-            let li = trace(scene, cfg, p, w, Prev { p, pdf, delta: false }, 0, s);
+            let li = trace(
+                scene,
+                cfg,
+                p,
+                w,
+                Prev {
+                    p,
+                    pdf,
+                    delta: false,
+                },
+                0,
+                s,
+            );
             e += li * wl.z / pdf;
         }
     }
@@ -214,9 +287,17 @@ fn irradiance(scene: &Scene, p: Vec3, n: Vec3, est: Estimator, cfg: &Config, s: 
 
 fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
     match &scene.emitters[emitter] {
-        Emitter::Area { shape, radiance, two_sided } => {
+        Emitter::Area {
+            shape,
+            radiance,
+            two_sided,
+        } => {
             let (_, _, _, pdf_a) = shape_area_sample(scene, *shape, s.next_2d());
-            let w = if *two_sided { uniform_sphere(s.next_2d()) } else { uniform_hemisphere(s.next_2d()) };
+            let w = if *two_sided {
+                uniform_sphere(s.next_2d())
+            } else {
+                uniform_hemisphere(s.next_2d())
+            };
             let pdf_w = if *two_sided { 0.25 / PI } else { 0.5 / PI };
             radiance * w.z.abs() / (pdf_a * pdf_w)
         }
@@ -224,7 +305,13 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
             let _ = s.next_2d();
             4.0 * PI * intensity
         }
-        Emitter::Spot { frame, intensity, cos_total, cos_falloff_start, .. } => {
+        Emitter::Spot {
+            frame,
+            intensity,
+            cos_total,
+            cos_falloff_start,
+            ..
+        } => {
             let w = uniform_sphere(s.next_2d());
             4.0 * PI * intensity * spot_falloff(w.dot(frame.n), *cos_total, *cos_falloff_start)
         }
@@ -234,16 +321,24 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
 
 fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStream) -> f32 {
     match &scene.emitters[emitter] {
-        Emitter::Area { shape, radiance, two_sided } => {
+        Emitter::Area {
+            shape,
+            radiance,
+            two_sided,
+        } => {
             let (_, n, _, pdf_a) = shape_area_sample(scene, *shape, s.next_2d());
             let c = n.dot(dir);
             let c = if *two_sided { c.abs() } else { c.max(0.0) };
             radiance * c / pdf_a
         }
         Emitter::Point { intensity, .. } => *intensity,
-        Emitter::Spot { frame, intensity, cos_total, cos_falloff_start, .. } => {
-            intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start)
-        }
+        Emitter::Spot {
+            frame,
+            intensity,
+            cos_total,
+            cos_falloff_start,
+            ..
+        } => intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start),
         _ => f32::NAN,
     }
 }

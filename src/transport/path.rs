@@ -40,7 +40,14 @@ pub struct Config {
 impl Config {
     /// Full simulation: everything on, unbounded depth.
     pub fn full(light: bool, bsdf: bool, heuristic: Heuristic) -> Self {
-        Config { light, bsdf, heuristic, max_bounces: u32::MAX, shadow_rays: true, rr_depth: 3 }
+        Config {
+            light,
+            bsdf,
+            heuristic,
+            max_bounces: u32::MAX,
+            shadow_rays: true,
+            rr_depth: 3,
+        }
     }
 
     /// MIS weight for emission reached by BSDF sampling with density `pdf_bsdf`, where
@@ -85,7 +92,15 @@ pub struct Prev {
 /// Next-event estimation at a point with local frame `frame`: one light sample, weighted.
 /// `f_pdf(wi_local)` returns (f·|cos θi|, BSDF density).
 #[inline]
-pub fn next_event<F>(scene: &Scene, cfg: &Config, p: Vec3, p_error: Vec3, frame: &Frame, stream: &mut SampleStream, f_pdf: F) -> f32
+pub fn next_event<F>(
+    scene: &Scene,
+    cfg: &Config,
+    p: Vec3,
+    p_error: Vec3,
+    frame: &Frame,
+    stream: &mut SampleStream,
+    f_pdf: F,
+) -> f32
 where
     F: Fn(Vec3) -> (f32, f32),
 {
@@ -94,7 +109,9 @@ where
     if !scene.has_emitters() {
         return 0.0;
     }
-    let Some(ls) = scene.sample_light(p, uc, u) else { return 0.0 };
+    let Some(ls) = scene.sample_light(p, uc, u) else {
+        return 0.0;
+    };
     if ls.li <= 0.0 {
         return 0.0;
     }
@@ -118,7 +135,15 @@ where
 
 /// Estimate the radiance arriving at `o` from direction `-d` (that is, along the ray
 /// o + t d), given the previous vertex and that `bounces` scatterings already happened.
-pub fn trace(scene: &Scene, cfg: &Config, mut o: Vec3, mut d: Vec3, mut prev: Prev, mut bounces: u32, stream: &mut SampleStream) -> f32 {
+pub fn trace(
+    scene: &Scene,
+    cfg: &Config,
+    mut o: Vec3,
+    mut d: Vec3,
+    mut prev: Prev,
+    mut bounces: u32,
+    stream: &mut SampleStream,
+) -> f32 {
     let mut l = 0.0f32;
     let mut beta = 1.0f32;
     loop {
@@ -139,10 +164,15 @@ pub fn trace(scene: &Scene, cfg: &Config, mut o: Vec3, mut d: Vec3, mut prev: Pr
         if bounces >= cfg.max_bounces {
             break;
         }
-        let Some(mat) = scene.shapes[sh.shape].material.map(|m| &scene.materials[m]) else { break };
+        let Some(mat) = scene.shapes[sh.shape].material.map(|m| &scene.materials[m]) else {
+            break;
+        };
         let frame = Frame::from_z(sh.hit.n);
         let wo_l = frame.to_local(wo);
-        if mat.flags().intersects(LobeFlags::DIFFUSE | LobeFlags::GLOSSY) {
+        if mat
+            .flags()
+            .intersects(LobeFlags::DIFFUSE | LobeFlags::GLOSSY)
+        {
             l += beta
                 * next_event(scene, cfg, sh.hit.p, sh.hit.p_error, &frame, stream, |wi| {
                     (mat.eval(wo_l, wi) * wi.z.abs(), mat.pdf(wo_l, wi))
@@ -154,13 +184,19 @@ pub fn trace(scene: &Scene, cfg: &Config, mut o: Vec3, mut d: Vec3, mut prev: Pr
         }
         let u = stream.next_2d();
         let uc = stream.next_1d();
-        let Some(s) = mat.sample(wo_l, Vec3::new(u.x, u.y, uc)) else { break };
+        let Some(s) = mat.sample(wo_l, Vec3::new(u.x, u.y, uc)) else {
+            break;
+        };
         if !(s.weight > 0.0) || !s.weight.is_finite() {
             break;
         }
         beta *= s.weight;
         let wi = frame.to_world(s.wi);
-        prev = Prev { p: sh.hit.p, pdf: s.pdf, delta: s.lobe.is_delta() };
+        prev = Prev {
+            p: sh.hit.p,
+            pdf: s.pdf,
+            delta: s.lobe.is_delta(),
+        };
         o = Scene::spawn(sh.hit.p, sh.hit.p_error, sh.hit.n, wi);
         d = wi;
         bounces += 1;
