@@ -281,55 +281,6 @@ fn plot(
     Ok("target/examples/01_photon_flux.svg".into())
 }
 
-// ---- the same few helpers in every example ----
-
-/// The sample count: the first command-line argument, or `default`.
-fn samples(default: u64) -> u64 {
-    match std::env::args().nth(1) {
-        None => default,
-        Some(a) => match a.replace('_', "").parse::<u64>() {
-            Ok(n) if n >= 256 => n,
-            _ => {
-                eprintln!(
-                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
-                );
-                std::process::exit(2)
-            }
-        },
-    }
-}
-
-/// Format a number readably whatever its magnitude.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
-        format!("{x:.6}")
-    } else {
-        format!("{x:.5e}")
-    }
-}
-
-/// Print one verdict line; returns whether it passed.
-fn report(what: &str, v: &Verdict) -> bool {
-    println!(
-        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
-        num(v.estimate),
-        num(v.std_error),
-        num(v.reference),
-        v.z,
-        if v.passed { "PASS" } else { "FAIL" }
-    );
-    if let Some(r) = &v.reason {
-        println!("      ({r})");
-    }
-    v.passed
-}
-
-/// Print the overall verdict and exit non-zero if a check failed.
-fn finish(ok: bool) {
-    if ok {
-        println!("\nverdict: PASS (every estimate agrees with its closed form)");
-    } else {
-        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
-        std::process::exit(1);
-    }
-}
+mod common;
+#[allow(unused_imports)]
+use common::*;

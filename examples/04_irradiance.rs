@@ -26,7 +26,7 @@ use lightproof::sampling::SamplerKind;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, CaseDesc, judge, seed_for};
+use lightproof::verify::{Case, judge, seed_for};
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
@@ -229,77 +229,6 @@ fn plot(points: &[(f64, f64)]) -> Result<String, Box<dyn std::error::Error>> {
     Ok("target/examples/04_inverse_square.svg".into())
 }
 
-// ---- the same few helpers in every example ----
-
-/// The sample count: the first command-line argument, or `default`.
-fn samples(default: u64) -> u64 {
-    match std::env::args().nth(1) {
-        None => default,
-        Some(a) => match a.replace('_', "").parse::<u64>() {
-            Ok(n) if n >= 256 => n,
-            _ => {
-                eprintln!(
-                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
-                );
-                std::process::exit(2)
-            }
-        },
-    }
-}
-
-/// A case from its JSON description (the format of a case file).
-fn load(desc: serde_json::Value) -> Case {
-    let desc: CaseDesc =
-        serde_json::from_value(desc).unwrap_or_else(|e| panic!("invalid case description: {e}"));
-    Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Print a case file and save it under target/examples/ for `lightproof verify`.
-fn show_case_file(name: &str, text: &str) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    let path = dir.join(name);
-    let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
-    println!(
-        "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
-    );
-    if saved.is_ok() {
-        println!(
-            "(saved as target/examples/{name}; check it with `cargo run --release -- verify target/examples/{name}`)\n"
-        );
-    }
-}
-
-/// Format a number readably whatever its magnitude.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
-        format!("{x:.6}")
-    } else {
-        format!("{x:.5e}")
-    }
-}
-
-/// Print one verdict line; returns whether it passed.
-fn report(what: &str, v: &Verdict) -> bool {
-    println!(
-        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
-        num(v.estimate),
-        num(v.std_error),
-        num(v.reference),
-        v.z,
-        if v.passed { "PASS" } else { "FAIL" }
-    );
-    if let Some(r) = &v.reason {
-        println!("      ({r})");
-    }
-    v.passed
-}
-
-/// Print the overall verdict and exit non-zero if a check failed.
-fn finish(ok: bool) {
-    if ok {
-        println!("\nverdict: PASS (every estimate agrees with its closed form)");
-    } else {
-        println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
-        std::process::exit(1);
-    }
-}
+mod common;
+#[allow(unused_imports)]
+use common::*;
