@@ -33,9 +33,6 @@ use plotters::prelude::*;
 use std::f64::consts::PI;
 use std::path::Path;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 /// A photon: a point of phase space (position, direction, wavelength) at a time.
 #[derive(Clone, Copy, Debug)]
 struct Photon {

@@ -33,9 +33,6 @@ const SPHERE_CASE: &str = r#"{
   "estimators": ["uniform", "area"]
 }"#;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 fn main() {
     let n = samples(1 << 20);
     println!(

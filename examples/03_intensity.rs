@@ -28,9 +28,6 @@ use serde_json::json;
 use std::f64::consts::PI;
 use std::path::Path;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 /// A case file: the intensity of a Lambertian disk 60° off its normal.
 const DISK_CASE: &str = r#"{
   "name": "Lambertian disk intensity at 60 degrees",
@@ -148,23 +145,7 @@ fn main() {
 
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
-    let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(
-        est,
-        &RunSpec {
-            samples: n,
-            sampler: SamplerKind::Independent,
-            seed,
-        },
-        false,
-    );
-    judge(
-        &e,
-        SamplerKind::Independent,
-        case.reference.unwrap_or(f64::NAN),
-        ALPHA,
-        1,
-    )
+    judged(case, est, n, 3, case.reference.unwrap_or(f64::NAN))
 }
 
 /// Run, judge against `exact` and report.

@@ -22,18 +22,13 @@
 //!
 //! Run: `cargo run --release --example 04_irradiance -- [SAMPLES]`
 
-use lightproof::sampling::SamplerKind;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, judge, seed_for};
+use lightproof::verify::Case;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
 use std::path::Path;
-
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
 
 /// A case file: irradiance under a uniform disk light, on its axis.
 const DISK_CASE: &str = r#"{
@@ -148,23 +143,7 @@ fn main() {
 
 /// Run one estimator of a case and judge it against the case's closed form.
 fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
-    let seed = seed_for(4, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(
-        est,
-        &RunSpec {
-            samples: n,
-            sampler: SamplerKind::Independent,
-            seed,
-        },
-        false,
-    );
-    judge(
-        &e,
-        SamplerKind::Independent,
-        case.reference.expect("a closed form"),
-        ALPHA,
-        1,
-    )
+    judged(case, est, n, 4, case.reference.expect("a closed form"))
 }
 
 /// Run and report every estimator of a case.

@@ -21,19 +21,15 @@
 
 use glam::Vec3;
 use lightproof::math::Frame;
-use lightproof::sampling::{Sampler, SamplerKind};
+use lightproof::sampling::Sampler;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
 use lightproof::transport::path::{Prev, trace};
-use lightproof::verify::{Case, judge, seed_for};
+use lightproof::verify::Case;
 use lightproof_analytic::geom::Vec3 as V;
 use lightproof_analytic::irradiance::sphere as sphere_irradiance;
 use serde_json::json;
 use std::path::Path;
-
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
 
 /// A case file: a grey sphere under a uniform sky, seen from 30 m.
 const SKY_CASE: &str = r#"{
@@ -139,17 +135,7 @@ fn main() {
 
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64, exact: f64) -> Verdict {
-    let seed = seed_for(5, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(
-        est,
-        &RunSpec {
-            samples: n,
-            sampler: SamplerKind::Independent,
-            seed,
-        },
-        false,
-    );
-    judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
+    judged(case, est, n, 5, exact)
 }
 
 /// Render the grey sphere from distance `d` (64 × 64, 50° field of view, `spp` samples

@@ -30,9 +30,6 @@ use lightproof_analytic::irradiance::disk_on_axis;
 use serde_json::json;
 use std::f64::consts::PI;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 const LAMBERTIAN: &str = r#"{ "type": "lambertian", "albedo": 0.6 }"#;
 const ROUGH_CONDUCTOR: &str =
     r#"{ "type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9 }"#;
@@ -187,17 +184,7 @@ fn main() {
 
 /// Run one estimator of a case and judge it against `exact`.
 fn estimate(case: &Case, est: Estimator, n: u64, exact: f64) -> Verdict {
-    let seed = seed_for(6, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(
-        est,
-        &RunSpec {
-            samples: n,
-            sampler: SamplerKind::Independent,
-            seed,
-        },
-        false,
-    );
-    judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
+    judged(case, est, n, 6, exact)
 }
 
 mod common;

@@ -27,9 +27,6 @@ use lightproof::verify::{judge, seed_for};
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 /// A case file: the radiance inside a closed emitting diffuse sphere.
 const FURNACE_CASE: &str = r#"{
   "name": "closed sphere furnace, albedo 0.8",

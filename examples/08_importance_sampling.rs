@@ -29,9 +29,6 @@ use plotters::prelude::*;
 use serde_json::json;
 use std::path::Path;
 
-/// Per-check significance level: a check fails when |z| > 3.89.
-const ALPHA: f64 = 1e-4;
-
 const ESTIMATORS: [Estimator; 5] = [
     Estimator::Uniform,
     Estimator::Bsdf,

@@ -2,8 +2,11 @@
 //! from its JSON description, printing verdicts and the closing verdict.
 #![allow(dead_code)]
 
+use lightproof::sampling::SamplerKind;
 use lightproof::stats::Verdict;
-use lightproof::verify::{Case, CaseDesc};
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::RunSpec;
+use lightproof::verify::{Case, CaseDesc, judge, seed_for};
 use std::path::Path;
 
 /// The sample count: the first command-line argument, or `default`.
@@ -77,4 +80,20 @@ pub fn finish(ok: bool) {
         println!("\nverdict: FAIL (an estimate disagrees with its closed form)");
         std::process::exit(1);
     }
+}
+
+/// Significance of each example check (α = 1e-4, critical |z| = 3.89).
+pub const ALPHA: f64 = 1e-4;
+
+/// Run one estimator of a case with independent samples (seed derived from `seed_base`
+/// and the case) and judge it against `exact`.
+pub fn judged(case: &Case, est: Estimator, n: u64, seed_base: u64, exact: f64) -> Verdict {
+    let seed = seed_for(seed_base, &case.desc.name, est, SamplerKind::Independent);
+    let spec = RunSpec {
+        samples: n,
+        sampler: SamplerKind::Independent,
+        seed,
+    };
+    let e = case.estimate(est, &spec, false);
+    judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
 }

@@ -284,6 +284,23 @@ pub fn cos_theta(w: Vec3) -> f32 {
     w.z
 }
 
+/// Mirror a local direction through the tangent plane.
+#[inline]
+pub(crate) fn flip_z(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
+/// Mirror a pair of local directions so that `wo` lies in the upper hemisphere (models
+/// that reflect alike from both sides evaluate there).
+#[inline]
+pub(crate) fn to_upper(wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
+    if wo.z < 0.0 {
+        (flip_z(wo), flip_z(wi))
+    } else {
+        (wo, wi)
+    }
+}
+
 /// Whether two local directions lie in the same hemisphere.
 #[inline]
 pub fn same_hemisphere(a: Vec3, b: Vec3) -> bool {

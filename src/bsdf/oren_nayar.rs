@@ -19,8 +19,8 @@
 //! Sampled by the cosine-weighted hemisphere: weight = π f. Two-sided like
 //! [`super::Lambertian`].
 
-use super::rough_conductor::flip_z;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{flip_z, to_upper};
 use crate::math::INV_PI;
 use crate::sampling::hemisphere::cosine_hemisphere;
 use glam::{Vec2, Vec3};
@@ -74,11 +74,7 @@ impl OrenNayar {
 
 impl BsdfModel for OrenNayar {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }
@@ -108,11 +104,7 @@ impl BsdfModel for OrenNayar {
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }

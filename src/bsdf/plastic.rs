@@ -22,8 +22,8 @@
 //! the air above it has no meaning here).
 
 use super::fresnel::{fr_dielectric, fresnel_diffuse_reflectance};
-use super::rough_conductor::flip_z;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{flip_z, to_upper};
 use crate::math::{INV_PI, PI};
 use crate::sampling::hemisphere::cosine_hemisphere;
 use glam::{Vec2, Vec3};
@@ -136,11 +136,7 @@ impl Plastic {
 
 impl BsdfModel for Plastic {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }
@@ -196,11 +192,7 @@ impl BsdfModel for Plastic {
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }

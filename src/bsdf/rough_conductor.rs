@@ -14,7 +14,7 @@
 use super::conductor::validate_complex_ior;
 use super::fresnel::{fr_conductor, reflect};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, check_range, flip_z, to_upper};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -39,12 +39,6 @@ pub struct RoughConductor {
     /// Masking–shadowing form.
     #[serde(default)]
     pub masking: Masking,
-}
-
-/// Mirror a direction through the tangent plane.
-#[inline]
-pub(crate) fn flip_z(w: Vec3) -> Vec3 {
-    Vec3::new(w.x, w.y, -w.z)
 }
 
 impl RoughConductor {
@@ -74,11 +68,7 @@ impl RoughConductor {
 
 impl BsdfModel for RoughConductor {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         let (co, ci) = (wo.z, wi.z);
         if !(co > 0.0 && ci > 0.0) {
             return 0.0;
@@ -132,11 +122,7 @@ impl BsdfModel for RoughConductor {
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = if wo.z < 0.0 {
-            (flip_z(wo), flip_z(wi))
-        } else {
-            (wo, wi)
-        };
+        let (wo, wi) = to_upper(wo, wi);
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }

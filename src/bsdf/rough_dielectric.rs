@@ -30,9 +30,9 @@
 //! stability only.
 
 use super::dielectric::validate_eta;
+use super::flip_z;
 use super::fresnel::{fr_dielectric, reflect, refract, tr_dielectric};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
-use super::rough_conductor::flip_z;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
 use glam::{DVec3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
