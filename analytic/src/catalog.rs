@@ -665,6 +665,22 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "blackbody_band_radiance",
+        ["wavelength_min", "wavelength_max", "temperature"],
+        "blackbody radiance (W/(m²·sr)) between two wavelengths (m): σT⁴/π · band fraction",
+        |p| {
+            let (a, b, t) = (
+                p.positive("wavelength_min")?,
+                p.positive("wavelength_max")?,
+                p.positive("temperature")?,
+            );
+            if b < a {
+                return Err(p.domain("wavelength_max must be ≥ wavelength_min"));
+            }
+            Ok(spectrum::band_radiance(a, b, t))
+        }
+    ),
+    entry!(
         "wien_peak_wavelength",
         ["temperature"],
         "wavelength (m) of maximum blackbody spectral radiance: b/T",
@@ -719,6 +735,44 @@ static ENTRIES: &[Entry] = &[
         ["index"],
         "normal-incidence transmittance (1) of a non-absorbing slab with incoherent inter-reflections: (1−R)/(1+R)",
         |p| { Ok(spectrum::slab_transmittance(p.positive("index")?)) }
+    ),
+    entry!(
+        "bk7_slab_transmittance",
+        ["wavelength_um"],
+        "normal-incidence transmittance (1) of a non-absorbing N-BK7 slab at a wavelength (µm): (1−R)/(1+R) at n(λ)",
+        |p| {
+            Ok(spectrum::bk7_slab_transmittance(
+                p.range("wavelength_um", 0.3, 2.5, false)?,
+            ))
+        }
+    ),
+    entry!(
+        "bk7_slab_band_transmittance",
+        ["wavelength_min_um", "wavelength_max_um"],
+        "mean normal-incidence transmittance (1) of a non-absorbing N-BK7 slab over a band (µm), flat spectrum",
+        |p| {
+            let (a, b) = (
+                p.range("wavelength_min_um", 0.3, 2.5, false)?,
+                p.range("wavelength_max_um", 0.3, 2.5, false)?,
+            );
+            if b < a {
+                return Err(p.domain("wavelength_max_um must be ≥ wavelength_min_um"));
+            }
+            Ok(spectrum::bk7_slab_band_transmittance(a, b))
+        }
+    ),
+    entry!(
+        "cauchy_slab_transmittance",
+        ["a", "b", "wavelength_um"],
+        "normal-incidence transmittance (1) of a non-absorbing slab with Cauchy index a + b/λ² at a wavelength (µm)",
+        |p| {
+            let n = spectrum::cauchy(p.num("a")?, p.num("b")?, p.positive("wavelength_um")?);
+            if n > 0.0 {
+                Ok(spectrum::slab_transmittance(n))
+            } else {
+                Err(p.domain("the Cauchy index must be positive"))
+            }
+        }
     ),
     // ---- time ----
     entry!(
@@ -968,6 +1022,10 @@ mod tests {
             "radiance_across_interface": {"radiance": 1, "n1": 1, "n2": 1.5},
             "planck_radiance": {"wavelength": 5e-7, "temperature": 5778},
             "blackbody_total_radiance": {"temperature": 5778},
+            "blackbody_band_radiance": {"wavelength_min": 3.8e-7, "wavelength_max": 7.8e-7, "temperature": 5778},
+            "bk7_slab_transmittance": {"wavelength_um": 0.55},
+            "bk7_slab_band_transmittance": {"wavelength_min_um": 0.4, "wavelength_max_um": 0.7},
+            "cauchy_slab_transmittance": {"a": 1.5046, "b": 0.0042, "wavelength_um": 0.55},
             "blackbody_band_fraction": {"wavelength_min": 3.8e-7, "wavelength_max": 7.8e-7, "temperature": 5778},
             "wien_peak_wavelength": {"temperature": 5778},
             "blackbody_photon_radiance": {"temperature": 5778},

@@ -159,6 +159,41 @@ pub fn slab_transmittance(index: f64) -> f64 {
     (1.0 - r) / (1.0 + r)
 }
 
+/// Blackbody radiance in the band [λ₁, λ₂] (W/(m²·sr)).
+///
+/// **Formula.** L = σT⁴/π · [F(0→λ₂T) − F(0→λ₁T)] with the series fractions of
+/// [`band_fraction_below`]. **Source.** Siegel & Howell ch. 1–2.
+pub fn band_radiance(l1: f64, l2: f64, temperature: f64) -> f64 {
+    total_radiance(temperature) * band_fraction(l1, l2, temperature)
+}
+
+/// Normal-incidence transmittance of a non-absorbing N-BK7 slab at a wavelength (µm).
+///
+/// **Formula.** T(λ) = (1 − R)/(1 + R), R = ((n(λ) − 1)/(n(λ) + 1))², n from the
+/// Sellmeier formula with Schott's coefficients ([`sellmeier`], [`slab_transmittance`]).
+pub fn bk7_slab_transmittance(wavelength_um: f64) -> f64 {
+    slab_transmittance(sellmeier(&BK7_B, &BK7_C, wavelength_um))
+}
+
+/// Mean normal-incidence transmittance of a non-absorbing N-BK7 slab over the band
+/// [λ₁, λ₂] (µm) under a flat spectrum.
+///
+/// **Formula.** T̄ = (1/(λ₂ − λ₁)) ∫ T(λ) dλ with T from [`bk7_slab_transmittance`];
+/// evaluated by adaptive Gauss–Kronrod quadrature (T is smooth and slowly varying over
+/// the visible, far from BK7's absorption poles).
+pub fn bk7_slab_band_transmittance(l1_um: f64, l2_um: f64) -> f64 {
+    if l2_um <= l1_um {
+        return bk7_slab_transmittance(l1_um);
+    }
+    crate::quadrature::adaptive(bk7_slab_transmittance, l1_um, l2_um, 1e-13) / (l2_um - l1_um)
+}
+
+/// Normal-incidence transmittance of a non-absorbing slab whose index follows Cauchy's
+/// formula n = a + b/λ² (λ in µm, b in µm²): (1 − R)/(1 + R) at n(λ).
+pub fn cauchy_slab_transmittance(a: f64, b: f64, wavelength_um: f64) -> f64 {
+    slab_transmittance(cauchy(a, b, wavelength_um))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,5 +283,18 @@ mod tests {
             .map(|k| (1.0 - r) * (1.0 - r) * r.powi(2 * k))
             .sum();
         assert!(rel(slab_transmittance(n), series) < 1e-14);
+        // The band mean of a slowly varying T lies between its end values, and equals a
+        // 2000-point midpoint rule.
+        let (l1, l2) = (0.4, 0.7);
+        let m = bk7_slab_band_transmittance(l1, l2);
+        let mid: f64 = (0..2000)
+            .map(|i| bk7_slab_transmittance(l1 + (i as f64 + 0.5) * (l2 - l1) / 2000.0))
+            .sum::<f64>()
+            / 2000.0;
+        assert!(rel(m, mid) < 1e-9);
+        assert!(m > bk7_slab_transmittance(l1) && m < bk7_slab_transmittance(l2));
+        assert!(rel(cauchy_slab_transmittance(1.5, 0.0, 0.55), slab_transmittance(1.5)) < 1e-15);
+        let t = 4000.0;
+        assert!(rel(band_radiance(1e-9, 1.0, t), total_radiance(t)) < 1e-6);
     }
 }
