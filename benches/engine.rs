@@ -9,7 +9,7 @@ use lightproof::sampling::{Sampler, SamplerKind};
 use lightproof::scene::accel::Accel;
 use lightproof::scene::shape::Primitive;
 use lightproof::transport::engine::{RunSpec, run};
-use lightproof::verify::Case;
+use lightproof::verify::{Case, CaseDesc};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -87,5 +87,69 @@ fn paths(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bvh, paths);
+/// What spectral sampling and time of flight cost per path: the Cornell-like box grey
+/// (the pruned, scalar tracer), with a blackbody light over 380–780 nm (one wavelength
+/// per path, four hero wavelengths), and time resolved.
+fn phase(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes");
+    let text = std::fs::read_to_string(root.join("cornell.json")).expect("bench scene");
+    let base: serde_json::Value = serde_json::from_str(&text).expect("scene JSON");
+    let variant = |spectral: Option<serde_json::Value>, time: Option<serde_json::Value>| {
+        let mut v = base.clone();
+        if spectral.is_some() {
+            for shape in v["scene"]["shapes"].as_array_mut().expect("shapes") {
+                if let Some(e) = shape.get_mut("emission") {
+                    e["spectrum"] = serde_json::json!({ "blackbody": { "temperature": 4000 } });
+                }
+            }
+            v["spectral"] = spectral.unwrap();
+        }
+        if let Some(t) = time {
+            v["time"] = t;
+        }
+        let desc: CaseDesc = serde_json::from_value(v).expect("case");
+        Case::from_desc(desc, &root.join("cornell.json")).expect("valid variant")
+    };
+    let variants = [
+        ("grey", variant(None, None)),
+        (
+            "spectral, 1 wavelength",
+            variant(
+                Some(serde_json::json!({ "band": [380, 780], "hero": false })),
+                None,
+            ),
+        ),
+        (
+            "spectral, 4 hero wavelengths",
+            variant(
+                Some(serde_json::json!({ "band": [380, 780], "hero": true })),
+                None,
+            ),
+        ),
+        (
+            "time resolved",
+            variant(None, Some(serde_json::json!({ "bin": [0, 1e-8] }))),
+        ),
+    ];
+    let mut g = c.benchmark_group("phase per path");
+    g.sample_size(10);
+    for (name, case) in &variants {
+        let est = case.desc.estimators[0];
+        let spec = RunSpec {
+            samples: 1 << 17,
+            sampler: SamplerKind::Independent,
+            seed: 1,
+        };
+        g.throughput(Throughput::Elements(spec.total()));
+        g.bench_function(*name, |b| {
+            b.iter(|| {
+                let cfg = case.config(est, false);
+                black_box(run(&spec, |s| case.sample(est, &cfg, false, s)))
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bvh, paths, phase);
 criterion_main!(benches);

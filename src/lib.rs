@@ -13,9 +13,11 @@
 //! | [`io`] | atomic file writing |
 //! | [`error`] | located input errors (file, field, reason) |
 //! | [`scene`] | shapes, emitters, materials, BVH, JSON scenes |
+//! | [`spectrum`] | spectra, refractive indices, spectral responses, wavelength sampling |
 //! | [`transport`] | effects analysis, path tracer, measurements, the parallel engine |
 //! | [`suites`] | the chi-square suite of every warp, shared by the CLI and the tests |
 //! | [`verify`] | case files, running estimators, verdicts against the oracle |
+//! | [`report`] | convergence reports: sweeps, shards and merging, JSON, plots, index |
 //! | [`render`] | pinhole-camera EXR images |
 
 // `!(x > 0.0)` is how this crate rejects NaN together with non-positive values.
@@ -26,8 +28,10 @@ pub mod error;
 pub mod io;
 pub mod math;
 pub mod render;
+pub mod report;
 pub mod sampling;
 pub mod scene;
+pub mod spectrum;
 pub mod stats;
 pub mod suites;
 pub mod transport;

@@ -91,6 +91,53 @@ enum Command {
         #[arg(long, default_value = "target/chi2")]
         out: PathBuf,
     },
+    /// Convergence reports: sweep every case × estimator × sampler over N = 2^k samples;
+    /// one JSON report and one SVG per case, and an index, under --out.
+    Report {
+        /// Case files or folders (default: the whole catalog).
+        paths: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Stop, writing everything, before the predicted end of the next point passes
+        /// this many wall seconds.
+        #[arg(long)]
+        budget: Option<f64>,
+        /// Largest sweep point (rounded down to a power of two).
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MAX_SAMPLES)]
+        max_samples: u64,
+        /// Smallest sweep point (rounded up to a power of two; at least 256).
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES)]
+        min_samples: u64,
+        /// Base seed.
+        #[arg(long, default_value_t = DEFAULT_SEED)]
+        seed: u64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Run shard K of N (K from 0) and write its partial file, or `auto` to take the
+        /// shard from a Slurm array or Kubernetes indexed Job.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Only this estimator (repeatable; default: each case's own).
+        #[arg(long = "estimator", value_parser = parse_estimator)]
+        estimators: Vec<Estimator>,
+        /// Only this sampler (repeatable; default: independent, stratified and sobol).
+        #[arg(long = "sampler", value_parser = parse_sampler)]
+        samplers: Vec<SamplerKind>,
+        /// Ignore earlier reports in --out instead of resuming them.
+        #[arg(long)]
+        fresh: bool,
+    },
+    /// Merge the shard partial files of `report --shard` into the single run's reports.
+    Merge {
+        /// Partial files (shard-K-of-N.json) or folders holding them.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+    },
     /// Render a scene with a camera to an EXR image, for looking.
     Render {
         /// Scene file with a `camera`.
@@ -139,7 +186,9 @@ fn main() -> ExitCode {
         no_chi2: false,
     });
     let threads = match &command {
-        Command::Verify { threads, .. } | Command::Estimate { threads, .. } => *threads,
+        Command::Verify { threads, .. }
+        | Command::Estimate { threads, .. }
+        | Command::Report { threads, .. } => *threads,
         _ => None,
     };
     let pool = match rayon::ThreadPoolBuilder::new()
@@ -196,6 +245,50 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             out,
         } => chi2(&bsdf, &wo, samples, seed, &out),
+        Command::Report {
+            paths,
+            out,
+            budget,
+            max_samples,
+            min_samples,
+            seed,
+            shard,
+            estimators,
+            samplers,
+            fresh,
+            ..
+        } => {
+            let shard = match shard.as_deref() {
+                None => None,
+                Some("auto") => Some(lightproof::report::shard::shard_from_env(
+                    &std::env::vars().collect(),
+                )?),
+                Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
+            };
+            let opts = lightproof::report::sweep::Options {
+                paths: if paths.is_empty() {
+                    vec![default_catalog()]
+                } else {
+                    paths
+                },
+                out,
+                budget,
+                min_samples,
+                max_samples,
+                seed,
+                estimators,
+                samplers,
+                shard,
+                fresh,
+            };
+            report(&opts)
+        }
+        Command::Merge { inputs, out } => {
+            let summary =
+                lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
+            print_summary(&out, &summary);
+            Ok(())
+        }
         Command::Render {
             scene,
             spp,
@@ -425,4 +518,58 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
     } else {
         Err(Failure::Verdict)
     }
+}
+
+fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
+    let bar = ProgressBar::new(0);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} points {elapsed} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let summary = lightproof::report::sweep::run(opts, &bar)?;
+    bar.finish_and_clear();
+    for n in &summary.notes {
+        eprintln!("note: {n}");
+    }
+    if let Some(p) = &summary.partial {
+        println!(
+            "wrote {} ({} points computed, {} resumed{})",
+            p.display(),
+            summary.computed,
+            summary.resumed,
+            if summary.budget_cut {
+                ", budget cut"
+            } else {
+                ""
+            }
+        );
+        return Ok(());
+    }
+    print_summary(&opts.out, &summary);
+    Ok(())
+}
+
+fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) {
+    use lightproof::report::index::{cells, row};
+    println!(
+        "{:<44} {:<24} {:>28} {:>14} {:>10}",
+        "case", "best", "time to 0.1%", "slope", "runner-up"
+    );
+    for r in &summary.reports {
+        let [best, time, slope, ratio] = cells(&row(r));
+        let id: String = r.id.chars().take(44).collect();
+        println!("{id:<44} {best:<24} {time:>28} {slope:>14} {ratio:>10}");
+    }
+    println!(
+        "\nwrote {} case reports to {} (index.md), {} points computed, {} resumed{}",
+        summary.reports.len(),
+        out.display(),
+        summary.computed,
+        summary.resumed,
+        if summary.budget_cut {
+            ", stopped by the budget"
+        } else {
+            ""
+        }
+    );
 }

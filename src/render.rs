@@ -7,6 +7,7 @@ use crate::sampling::{Sampler, SamplerKind};
 use crate::transport::Heuristic;
 use crate::transport::effects::analyze;
 use crate::transport::measure::Measure;
+use crate::transport::phase::Grey;
 use crate::transport::path::{Config, Prev, trace};
 use crate::verify::CaseDesc;
 use glam::{DVec3, Vec3};
@@ -112,13 +113,10 @@ pub fn render_file(
                 sum += trace(
                     &scene,
                     &cfg,
+                    &Grey,
                     Vec3::ZERO,
                     d,
-                    Prev {
-                        p: Vec3::ZERO,
-                        pdf: 1.0,
-                        delta: true,
-                    },
+                    Prev::sensor(Vec3::ZERO),
                     0,
                     &mut s,
                 ) as f64;

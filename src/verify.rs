@@ -26,7 +26,8 @@
 
 use crate::bsdf::Bsdf;
 use crate::error::{InputError, check_number, parse_json};
-use crate::sampling::SamplerKind;
+use crate::sampling::{SampleStream, SamplerKind};
+use crate::spectrum::Response;
 use crate::scene::Scene;
 use crate::scene::load::SceneDesc;
 use crate::stats::{MeanTest, Verdict};
@@ -34,6 +35,9 @@ use crate::transport::effects::{Effects, analyze};
 use crate::transport::engine::{BATCHES, Estimate, RunSpec, run};
 use crate::transport::measure::Measure;
 use crate::transport::path::Config;
+use crate::transport::phase::Dimensions;
+mod dimensions;
+use dimensions::dimensions;
 use crate::transport::{Estimator, Heuristic};
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -106,6 +110,75 @@ pub enum MeasureDesc {
         /// Direction.
         direction: [f64; 3],
     },
+    /// Mean free-flight length of a diffuse random walk inside a closed shape (Cauchy's
+    /// 4V/S); divided by c it is the mean time of flight between bounces.
+    MeanPathLength {
+        /// The closed shape.
+        shape: usize,
+        /// Flights averaged per path (default 8).
+        #[serde(default = "default_segments")]
+        segments: u32,
+    },
+}
+
+fn default_segments() -> u32 {
+    8
+}
+
+/// How wavelengths are drawn over a band.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WavelengthSampling {
+    /// Uniformly over the band.
+    Uniform,
+    /// Proportionally to the response times the emitters' (normalised) spectra.
+    #[default]
+    Emitter,
+}
+
+/// Wavelength of a measurement: a band with a response, or one wavelength.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpectralDesc {
+    /// Band [λ₁, λ₂] in nm: the measurement is ∫ R(λ) M(λ) dλ over it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub band: Option<[f64; 2]>,
+    /// One wavelength in nm: the measurement is spectral, M(λ) per nm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wavelength: Option<f64>,
+    /// Response R(λ): "flat" (default), "photopic" or a sampled curve.
+    #[serde(default = "flat")]
+    pub response: Response,
+    /// How wavelengths are drawn (default: by the emitters' spectra).
+    #[serde(default)]
+    pub sampling: WavelengthSampling,
+    /// Four hero wavelengths per path (default true).
+    #[serde(default = "yes")]
+    pub hero: bool,
+    /// Count photons: divide each wavelength's energy by hc/λ.
+    #[serde(default)]
+    pub photons: bool,
+}
+
+fn flat() -> Response {
+    Response::Flat
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Time of a measurement.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeDesc {
+    /// Shutter interval [t₀, t₁] in seconds: the measurement is the average over it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<[f64; 2]>,
+    /// Arrival-time bin [t₁, t₂] in seconds: a time-resolved measurement (radiant
+    /// exposure of light arriving in the bin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bin: Option<[f64; 2]>,
 }
 
 /// A case file.
@@ -121,6 +194,12 @@ pub struct CaseDesc {
     pub scene: SceneDesc,
     /// The measurement.
     pub measure: MeasureDesc,
+    /// Wavelength: a band with a response, or one wavelength (default: grey).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spectral: Option<SpectralDesc>,
+    /// Time: a shutter interval and/or an arrival-time bin (default: static).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeDesc>,
     /// The closed form (`closed_form` plus its parameters).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<serde_json::Map<String, serde_json::Value>>,
@@ -151,6 +230,10 @@ pub struct Case {
     pub reference: Option<f64>,
     /// The effects analysis.
     pub effects: Effects,
+    /// Wavelength and time as the effects analysis prunes them.
+    pub dims: Dimensions,
+    /// Wavelength and time all sampled (for the soundness proof).
+    pub dims_full: Dimensions,
 }
 
 fn unit(file: &str, field: &str, a: [f64; 3]) -> Result<Vec3, InputError> {
@@ -311,6 +394,10 @@ impl Case {
                 emitter: emitter_index(*shape, *emitter)?,
                 direction: unit(f, "measure.direction", *direction)?,
             },
+            MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
+                shape: shape_index("measure.shape", *shape)?,
+                segments: (*segments).clamp(1, 1 << 16),
+            },
         };
         if desc.estimators.is_empty() {
             return Err(InputError::new(
@@ -358,12 +445,24 @@ impl Case {
                     })?;
                 let mut params = map.clone();
                 params.remove("closed_form");
+                // A unit conversion of the closed form's value (e.g. 1e-9 from per metre
+                // to per nanometre of wavelength).
+                let scale = match params.remove("scale") {
+                    None => 1.0,
+                    Some(v) => v.as_f64().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(|| {
+                        InputError::new(f, "reference.scale", "must be a positive finite number")
+                    })?,
+                };
                 let v = lightproof_analytic::catalog::evaluate(name, &params)
                     .map_err(|e| InputError::new(f, "reference", e.to_string()))?;
-                Some(v)
+                Some(v * scale)
             }
         };
-        let effects = analyze(&scene, &measure);
+        let mut effects = analyze(&scene, &measure);
+        let (dims, dims_full, wavelength, time) =
+            dimensions(f, &scene, &measure, desc.spectral.as_ref(), desc.time.as_ref())?;
+        effects.wavelength = wavelength;
+        effects.time = time;
         Ok(Case {
             file: path.to_path_buf(),
             desc,
@@ -371,6 +470,8 @@ impl Case {
             measure,
             reference,
             effects,
+            dims,
+            dims_full,
         })
     }
 
@@ -407,10 +508,16 @@ impl Case {
         }
     }
 
+    /// One sample of estimator `est` (pruned, or with every effect and dimension on).
+    pub fn sample(&self, est: Estimator, cfg: &Config, full: bool, s: &mut SampleStream) -> f32 {
+        let dims = if full { &self.dims_full } else { &self.dims };
+        self.measure.sample_with(&self.scene, est, cfg, dims, s)
+    }
+
     /// Run one estimator with one sampler.
     pub fn estimate(&self, est: Estimator, spec: &RunSpec, full: bool) -> Estimate {
         let cfg = self.config(est, full);
-        run(spec, |s| self.measure.sample(&self.scene, est, &cfg, s))
+        run(spec, |s| self.sample(est, &cfg, full, s))
     }
 }
 

@@ -156,6 +156,20 @@ pub struct LightSample {
     pub infinite: bool,
     /// Whether it is a delta light.
     pub delta: bool,
+    /// Index of the emitter in [`crate::scene::Scene::emitters`].
+    pub emitter: usize,
+}
+
+/// What an emitter does along the wavelength and time dimensions.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EmitterProps {
+    /// Relative spectral distribution S(λ): emitted radiance is L·S(λ). `None`: grey
+    /// (a constant spectrum is folded into L when the scene is loaded).
+    pub spectrum: Option<crate::spectrum::Spectrum>,
+    /// Emission time (s) of a Dirac pulse; `None`: steady emission.
+    pub pulse: Option<f32>,
+    /// Linear velocity (scene units per second): the emitter sits at p + v t.
+    pub velocity: Vec3,
 }
 
 /// Smooth falloff of a spot light (pbrt-v4 §12.1.2): smoothstep in cos θ.
@@ -350,6 +364,7 @@ impl Emitter {
             n: -wi,
             infinite: true,
             delta,
+            emitter: 0,
         };
         match self {
             Emitter::Point {
@@ -371,6 +386,7 @@ impl Emitter {
                     n: -wi,
                     infinite: false,
                     delta: true,
+                    emitter: 0,
                 })
             }
             Emitter::Spot {
@@ -397,6 +413,7 @@ impl Emitter {
                     n: -wi,
                     infinite: false,
                     delta: true,
+                    emitter: 0,
                 })
             }
             Emitter::Directional {

@@ -19,12 +19,14 @@
 //! `envmap` (path to a lat-long EXR, scale). A shape may carry a `transform`
 //! (`scale`, then `rotate` {axis, degrees}, then `translate`). Unknown fields are errors.
 
-use super::emitter::{EnvMap, area_distribution};
+use super::dispersion::SpectralIor;
+use super::emitter::{EmitterProps, EnvMap, area_distribution};
 use super::shape::Primitive;
 use super::{Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
 use crate::error::{InputError, check_number};
 use crate::math::Frame;
+use crate::spectrum::Spectrum;
 use glam::{DQuat, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -43,6 +45,10 @@ pub struct SceneDesc {
     /// Emitters not attached to shapes.
     #[serde(default)]
     pub emitters: Vec<EmitterDesc>,
+    /// Wavelength-dependent index of named materials (dispersion):
+    /// `{"glass": {"eta": {"sellmeier": {"b": [...], "c": [...]}}}}`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub dispersion: BTreeMap<String, SpectralIor>,
 }
 
 /// A shape.
@@ -125,6 +131,14 @@ pub struct EmissionDesc {
     /// Emit from both sides.
     #[serde(default)]
     pub two_sided: bool,
+    /// Relative spectrum S(λ): the emitted spectral radiance is radiance · S(λ)
+    /// (a number, `{"sampled": …}` or `{"blackbody": {"temperature": T}}`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spectrum: Option<Spectrum>,
+    /// Emit one Dirac pulse at this time (s) instead of steadily; `radiance` is then the
+    /// time-integrated radiance (J·m⁻²·sr⁻¹).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pulse_at: Option<f64>,
 }
 
 /// Scale, then rotate, then translate.
@@ -162,6 +176,15 @@ pub enum EmitterDesc {
         position: [f64; 3],
         /// Intensity I (W/sr).
         intensity: f64,
+        /// Relative spectrum S(λ).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spectrum: Option<Spectrum>,
+        /// Dirac pulse time (s).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pulse_at: Option<f64>,
+        /// Linear velocity (units/s): the light sits at position + velocity · t.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        velocity: Option<[f64; 3]>,
     },
     /// Spot light.
     Spot {
@@ -175,6 +198,15 @@ pub enum EmitterDesc {
         cone_angle: f64,
         /// Half-angle where the falloff starts, in degrees.
         falloff_start: f64,
+        /// Relative spectrum S(λ).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spectrum: Option<Spectrum>,
+        /// Dirac pulse time (s).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pulse_at: Option<f64>,
+        /// Linear velocity (units/s).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        velocity: Option<[f64; 3]>,
     },
     /// Distant light.
     Directional {
@@ -182,11 +214,17 @@ pub enum EmitterDesc {
         direction: [f64; 3],
         /// Irradiance on a perpendicular surface.
         irradiance: f64,
+        /// Relative spectrum S(λ).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spectrum: Option<Spectrum>,
     },
     /// Constant environment.
     Constant {
         /// Radiance.
         radiance: f64,
+        /// Relative spectrum S(λ).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spectrum: Option<Spectrum>,
     },
     /// Lat-long environment map (grey: the mean of R, G, B).
     Envmap {
@@ -195,6 +233,9 @@ pub enum EmitterDesc {
         /// Radiance scale.
         #[serde(default = "one")]
         scale: f64,
+        /// Relative spectrum S(λ).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spectrum: Option<Spectrum>,
     },
 }
 
@@ -282,9 +323,29 @@ impl SceneDesc {
             material_index.insert(name.clone(), materials.len());
             materials.push(m.clone());
         }
+        let mut material_ior = vec![None; materials.len()];
+        for (name, d) in &self.dispersion {
+            let f = format!("{field}.dispersion.{name}");
+            let &m = material_index.get(name).ok_or_else(|| {
+                InputError::new(
+                    file,
+                    &f,
+                    format!("no material named `{name}` in `materials`"),
+                )
+            })?;
+            d.validate(&materials[m], crate::spectrum::VISIBLE)
+                .map_err(|r| InputError::new(file, &f, r))?;
+            if d.is_dispersive() {
+                material_ior[m] = Some(d.clone());
+            } else {
+                // A constant index is just the grey material.
+                materials[m] = d.at(&materials[m], 550.0);
+            }
+        }
         let mut prims = Vec::new();
         let mut shapes = Vec::new();
         let mut emitters = Vec::new();
+        let mut props = Vec::new();
         for (i, s) in self.shapes.iter().enumerate() {
             let f = format!("{field}.shapes[{i}]");
             let start = prims.len();
@@ -310,9 +371,16 @@ impl SceneDesc {
                         |x| x >= 0.0,
                         "a non-negative radiance",
                     )?;
+                    let (p, scale) = b.props(
+                        &format!("{f}.emission"),
+                        e.spectrum.as_ref(),
+                        e.pulse_at,
+                        None,
+                    )?;
+                    props.push(p);
                     emitters.push(super::Emitter::Area {
                         shape: shapes.len(),
-                        radiance: e.radiance as f32,
+                        radiance: (e.radiance * scale) as f32,
                         two_sided: e.two_sided,
                     });
                     Some(emitters.len() - 1)
@@ -340,9 +408,11 @@ impl SceneDesc {
         }
         for (i, e) in self.emitters.iter().enumerate() {
             let f = format!("{field}.emitters[{i}]");
-            emitters.push(b.emitter(e, &f)?);
+            let (e, p) = b.emitter(e, &f)?;
+            emitters.push(e);
+            props.push(p);
         }
-        Ok(Scene::new(shapes, prims, materials, emitters))
+        Ok(Scene::new(shapes, prims, materials, emitters).with_phase(props, material_ior))
     }
 }
 
@@ -573,7 +643,41 @@ impl Builder<'_> {
         })
     }
 
-    fn emitter(&self, e: &EmitterDesc, f: &str) -> Result<super::Emitter, InputError> {
+    /// Validate an emitter's spectrum, pulse and velocity. A constant spectrum folds
+    /// into the emitter's strength: the returned factor multiplies it.
+    fn props(
+        &self,
+        f: &str,
+        spectrum: Option<&Spectrum>,
+        pulse_at: Option<f64>,
+        velocity: Option<[f64; 3]>,
+    ) -> Result<(EmitterProps, f64), InputError> {
+        let file = self.file;
+        let mut props = EmitterProps::default();
+        let mut scale = 1.0;
+        if let Some(s) = spectrum {
+            s.validate()
+                .map_err(|r| InputError::new(file, format!("{f}.spectrum"), r))?;
+            match s {
+                Spectrum::Constant(c) => scale = *c as f64,
+                s => props.spectrum = Some(s.clone()),
+            }
+        }
+        if let Some(t) = pulse_at {
+            check_number(file, &format!("{f}.pulse_at"), t, |_| true, "a finite time in seconds")?;
+            props.pulse = Some(t as f32);
+        }
+        if let Some(v) = velocity {
+            props.velocity = finite3(file, &format!("{f}.velocity"), v)?.as_vec3();
+        }
+        Ok((props, scale))
+    }
+
+    fn emitter(
+        &self,
+        e: &EmitterDesc,
+        f: &str,
+    ) -> Result<(super::Emitter, EmitterProps), InputError> {
         use super::Emitter;
         let file = self.file;
         let nonneg = |name: &str, v: f64| {
@@ -589,12 +693,19 @@ impl Builder<'_> {
             EmitterDesc::Point {
                 position,
                 intensity,
+                spectrum,
+                pulse_at,
+                velocity,
             } => {
                 nonneg("intensity", *intensity)?;
-                Emitter::Point {
-                    position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
-                    intensity: *intensity as f32,
-                }
+                let (p, scale) = self.props(f, spectrum.as_ref(), *pulse_at, *velocity)?;
+                (
+                    Emitter::Point {
+                        position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                        intensity: (*intensity * scale) as f32,
+                    },
+                    p,
+                )
             }
             EmitterDesc::Spot {
                 position,
@@ -602,8 +713,12 @@ impl Builder<'_> {
                 intensity,
                 cone_angle,
                 falloff_start,
+                spectrum,
+                pulse_at,
+                velocity,
             } => {
                 nonneg("intensity", *intensity)?;
+                let (p, scale) = self.props(f, spectrum.as_ref(), *pulse_at, *velocity)?;
                 check_number(
                     file,
                     &format!("{f}.cone_angle"),
@@ -619,32 +734,50 @@ impl Builder<'_> {
                     "in [0, cone_angle] degrees",
                 )?;
                 let d = unit3(file, &format!("{f}.direction"), *direction)?;
-                Emitter::Spot {
-                    position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
-                    frame: Frame::from_z(d.as_vec3()),
-                    intensity: *intensity as f32,
-                    cos_total: cone_angle.to_radians().cos() as f32,
-                    cos_falloff_start: falloff_start.to_radians().cos() as f32,
-                }
+                (
+                    Emitter::Spot {
+                        position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                        frame: Frame::from_z(d.as_vec3()),
+                        intensity: (*intensity * scale) as f32,
+                        cos_total: cone_angle.to_radians().cos() as f32,
+                        cos_falloff_start: falloff_start.to_radians().cos() as f32,
+                    },
+                    p,
+                )
             }
             EmitterDesc::Directional {
                 direction,
                 irradiance,
+                spectrum,
             } => {
                 nonneg("irradiance", *irradiance)?;
-                Emitter::Directional {
-                    direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(),
-                    irradiance: *irradiance as f32,
-                }
+                let (p, scale) = self.props(f, spectrum.as_ref(), None, None)?;
+                (
+                    Emitter::Directional {
+                        direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(),
+                        irradiance: (*irradiance * scale) as f32,
+                    },
+                    p,
+                )
             }
-            EmitterDesc::Constant { radiance } => {
+            EmitterDesc::Constant { radiance, spectrum } => {
                 nonneg("radiance", *radiance)?;
-                Emitter::Constant {
-                    radiance: *radiance as f32,
-                }
+                let (p, scale) = self.props(f, spectrum.as_ref(), None, None)?;
+                (
+                    Emitter::Constant {
+                        radiance: (*radiance * scale) as f32,
+                    },
+                    p,
+                )
             }
-            EmitterDesc::Envmap { path, scale } => {
+            EmitterDesc::Envmap {
+                path,
+                scale,
+                spectrum,
+            } => {
                 nonneg("scale", *scale)?;
+                let (p, spectral_scale) = self.props(f, spectrum.as_ref(), None, None)?;
+                let scale = &(*scale * spectral_scale);
                 let full = self.base.join(path);
                 let (w, h, data) = read_exr_grey(&full)
                     .map_err(|r| InputError::new(file, format!("{f}.path"), r))?;
@@ -655,11 +788,14 @@ impl Builder<'_> {
                         format!("holds a negative or non-finite radiance ({bad})"),
                     ));
                 }
-                Emitter::Map(Box::new(EnvMap::new(
-                    w,
-                    h,
-                    data.into_iter().map(|v| v * *scale as f32).collect(),
-                )))
+                (
+                    Emitter::Map(Box::new(EnvMap::new(
+                        w,
+                        h,
+                        data.into_iter().map(|v| v * *scale as f32).collect(),
+                    ))),
+                    p,
+                )
             }
         })
     }

@@ -6,6 +6,7 @@
 //! large worlds do, so a scene 1e5 units from the origin keeps every digit that matters.
 
 pub mod accel;
+pub mod dispersion;
 pub mod emitter;
 pub mod load;
 pub mod shape;
@@ -14,7 +15,8 @@ use crate::bsdf::Bsdf;
 use crate::math::offset_ray_origin;
 use crate::sampling::distribution::Distribution1D;
 use accel::Accel;
-use emitter::{Emitter, LightSample, prim_pdf, sample_prim};
+pub use dispersion::SpectralIor;
+use emitter::{Emitter, EmitterProps, LightSample, prim_pdf, sample_prim};
 use glam::{Vec2, Vec3};
 use shape::{Hit, Primitive};
 use std::ops::Range;
@@ -72,6 +74,13 @@ pub struct Scene {
     pub materials: Vec<Bsdf>,
     /// Emitters (area emitters point at their shape).
     pub emitters: Vec<Emitter>,
+    /// Spectrum, pulse and motion of each emitter (parallel to `emitters`).
+    pub emitter_props: Vec<EmitterProps>,
+    /// Wavelength-dependent refractive index of each material, if dispersive
+    /// (parallel to `materials`).
+    pub material_ior: Vec<Option<SpectralIor>>,
+    /// Whether any emitter moves.
+    moving: bool,
     accel: Accel,
 }
 
@@ -98,10 +107,38 @@ impl Scene {
         Scene {
             shapes,
             prim_shape,
+            emitter_props: vec![EmitterProps::default(); emitters.len()],
+            material_ior: vec![None; materials.len()],
             materials,
             emitters,
+            moving: false,
             accel: Accel::new(prims),
         }
+    }
+
+    /// Attach the wavelength and time properties of emitters and materials.
+    pub fn with_phase(
+        mut self,
+        emitter_props: Vec<EmitterProps>,
+        material_ior: Vec<Option<SpectralIor>>,
+    ) -> Self {
+        assert_eq!(emitter_props.len(), self.emitters.len());
+        assert_eq!(material_ior.len(), self.materials.len());
+        self.moving = emitter_props.iter().any(|p| p.velocity != Vec3::ZERO);
+        self.emitter_props = emitter_props;
+        self.material_ior = material_ior;
+        self
+    }
+
+    /// Whether any emitter moves.
+    pub fn has_motion(&self) -> bool {
+        self.moving
+    }
+
+    /// Whether any emitter's spectrum or material's index varies with wavelength.
+    pub fn is_spectral(&self) -> bool {
+        self.emitter_props.iter().any(|p| p.spectrum.is_some())
+            || self.material_ior.iter().any(|m| m.is_some())
     }
 
     /// All primitives.
@@ -178,6 +215,16 @@ impl Scene {
         self.emitters.iter().map(|e| e.eval_infinite(d)).sum()
     }
 
+    /// Each light at infinity seen along an escaping direction: (emitter, radiance > 0).
+    pub fn escaped_each(&self, d: Vec3) -> impl Iterator<Item = (usize, f32)> + '_ {
+        self.emitters
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.is_infinite())
+            .map(move |(i, e)| (i, e.eval_infinite(d)))
+            .filter(|&(_, l)| l > 0.0)
+    }
+
     /// Probability of choosing one emitter (uniform selection).
     pub fn emitter_choice_pdf(&self) -> f32 {
         if self.emitters.is_empty() {
@@ -185,6 +232,25 @@ impl Scene {
         } else {
             1.0 / self.emitters.len() as f32
         }
+    }
+
+    /// Sample incident light at `p` at time `t`: a moving emitter is sampled from
+    /// p − v t in its rest frame and the sample moved by v t.
+    pub fn sample_light_at(&self, p: Vec3, u_choice: f32, u: Vec2, t: f32) -> Option<LightSample> {
+        if !self.moving {
+            return self.sample_light(p, u_choice, u);
+        }
+        let n = self.emitters.len();
+        let k = ((u_choice * n as f32) as usize).min(n.saturating_sub(1));
+        let shift = self.emitter_props.get(k).map_or(Vec3::ZERO, |e| e.velocity * t);
+        if shift == Vec3::ZERO {
+            return self.sample_light(p, u_choice, u);
+        }
+        let mut ls = self.sample_light(p - shift, u_choice, u)?;
+        if !ls.infinite {
+            ls.p += shift;
+        }
+        Some(ls)
     }
 
     /// Sample incident light at `p` (uniform choice of emitter, then the emitter's best
@@ -237,11 +303,13 @@ impl Scene {
                     n: nq,
                     infinite: false,
                     delta: false,
+                    emitter: k,
                 }
             }
             e => e.sample_non_area(p, u)?,
         };
         ls.pdf *= choice;
+        ls.emitter = k;
         (ls.pdf > 0.0 && ls.pdf.is_finite() && ls.li.is_finite()).then_some(ls)
     }
 

@@ -10,12 +10,15 @@
 //!   roulette) that estimates Li;
 //! - [`measure`]: the measurements (solid angle, irradiance, radiance, albedo, power,
 //!   intensity, image) as one-sample estimators over the sample streams;
+//! - [`phase`]: wavelength and time as dimensions of a sample (hero wavelengths, time
+//!   of flight, motion), sampled only where the effects analysis says they matter;
 //! - [`engine`]: running N samples in parallel, deterministically, into accumulators.
 
 pub mod effects;
 pub mod engine;
 pub mod measure;
 pub mod path;
+pub mod phase;
 
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,323 @@
+//! From batch accumulators to numbers a person reads: point statistics, the slope fits,
+//! efficiency, the time to a relative error, and the best series of a case.
+//!
+//! Every function here is a pure function of its inputs, so a single run and a merge of
+//! shards (which hand it the same accumulators in the same order) write identical
+//! numbers.
+
+use super::{
+    Best, Comparison, ErrorMeasure, Fit, HEADLINE, Point, Series, TARGETS, TimeTo, finite,
+};
+use crate::stats::{Accumulator, BatchMeans, fit_slope};
+
+/// The statistics of one point from its per-batch accumulators, in batch order.
+///
+/// `rms_error = √(Σ_b (m_b − ref)²/B)/√B` over the B batches that hold a finite sample.
+pub fn point_from_batches(
+    samples: u64,
+    seed: u64,
+    batches: &[Accumulator],
+    seconds: f64,
+    wall_seconds: Option<f64>,
+    reference: Option<f64>,
+) -> Point {
+    let bm = BatchMeans::from_batches(batches.to_vec());
+    let estimate = bm.total.mean;
+    let (abs_error, rel_error, rms_error) = match reference {
+        None => (None, None, None),
+        Some(r) => {
+            let abs = (estimate - r).abs();
+            let means: Vec<f64> = bm
+                .batches
+                .iter()
+                .filter(|b| b.count > 0)
+                .map(|b| b.mean)
+                .collect();
+            let rms = if means.is_empty() {
+                None
+            } else {
+                let b = means.len() as f64;
+                let ms = means.iter().map(|m| (m - r) * (m - r)).sum::<f64>() / b;
+                finite((ms / b).sqrt())
+            };
+            (finite(abs), finite(abs / r.abs()), rms)
+        }
+    };
+    Point {
+        samples,
+        seed,
+        estimate,
+        std_error: finite(bm.std_error()),
+        plain_std_error: finite(bm.total.std_error()),
+        rms_error,
+        abs_error,
+        rel_error,
+        non_finite: bm.total.non_finite,
+        seconds,
+        wall_seconds,
+    }
+}
+
+/// The error e a report fits: the RMS error against the reference, or the standard error.
+pub fn error_of(p: &Point, measure: ErrorMeasure) -> Option<f64> {
+    match measure {
+        ErrorMeasure::RmsError => p.rms_error,
+        ErrorMeasure::StdError => p.std_error,
+    }
+}
+
+/// The scale of relative errors: |reference|, else |estimate| at the largest point.
+fn scale(series: &Series, reference: Option<f64>) -> Option<f64> {
+    let s = match reference {
+        Some(r) => r.abs(),
+        None => series.points.last()?.estimate.abs(),
+    };
+    (s > 0.0 && s.is_finite()).then_some(s)
+}
+
+/// Fill the fits, efficiency and times to accuracy of a series from its points.
+///
+/// - `fit_samples`: ln e = a + b ln N; `fit_seconds`: ln e = a′ + b′ ln t, over the points
+///   with e > 0 (a zero-variance estimator has no slope).
+/// - `efficiency = 1/(σ̂² t)` and `seconds_per_sample = t/N` at the largest point.
+/// - `time_to[ε]`: the cheapest point with e/scale ≤ ε (measured), else along the fit
+///   N* = exp((ln(ε·scale) − a)/b), t* = N* · t/N when b < 0 (extrapolated).
+pub fn summarize(series: &mut Series, measure: ErrorMeasure, reference: Option<f64>) {
+    let pts: Vec<(f64, f64, f64)> = series
+        .points
+        .iter()
+        .filter_map(|p| {
+            let e = error_of(p, measure)?;
+            (e > 0.0 && p.seconds > 0.0).then(|| ((p.samples as f64).ln(), p.seconds.ln(), e.ln()))
+        })
+        .collect();
+    let xs: Vec<f64> = pts.iter().map(|p| p.0).collect();
+    let ts: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let ys: Vec<f64> = pts.iter().map(|p| p.2).collect();
+    series.fit_samples = fit_slope(&xs, &ys).map(Fit::from);
+    series.fit_seconds = fit_slope(&ts, &ys).map(Fit::from);
+    let last = series.points.last();
+    series.efficiency = last.and_then(|p| {
+        let se = p.std_error?;
+        (se > 0.0 && p.seconds > 0.0).then(|| 1.0 / (se * se * p.seconds))
+    });
+    series.seconds_per_sample = last.and_then(|p| finite(p.seconds / p.samples as f64));
+    let scale = scale(series, reference);
+    series.time_to = TARGETS
+        .iter()
+        .map(|&eps| time_to(series, measure, scale, eps))
+        .collect();
+}
+
+fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64) -> TimeTo {
+    let none = TimeTo {
+        rel_error: eps,
+        samples: None,
+        seconds: None,
+        extrapolated: false,
+    };
+    let Some(scale) = scale else {
+        return none;
+    };
+    if let Some(p) = series
+        .points
+        .iter()
+        .find(|p| error_of(p, measure).is_some_and(|e| e / scale <= eps))
+    {
+        return TimeTo {
+            samples: Some(p.samples as f64),
+            seconds: Some(p.seconds),
+            ..none
+        };
+    }
+    match (series.fit_samples, series.seconds_per_sample) {
+        (Some(f), Some(sps)) if f.slope < 0.0 => {
+            let n = ((eps * scale).ln() - f.intercept) / f.slope;
+            let n = finite(n.exp());
+            TimeTo {
+                samples: n,
+                seconds: n.and_then(|n| finite(n * sps)),
+                extrapolated: n.is_some(),
+                ..none
+            }
+        }
+        _ => none,
+    }
+}
+
+/// Index of [`HEADLINE`] in [`TARGETS`].
+fn headline_slot() -> usize {
+    TARGETS.iter().position(|&t| t == HEADLINE).unwrap_or(0)
+}
+
+/// The time of a series to [`HEADLINE`].
+pub fn headline_time(s: &Series) -> Option<&TimeTo> {
+    s.time_to
+        .get(headline_slot())
+        .filter(|t| t.seconds.is_some())
+}
+
+/// The most efficient series: the least time to [`HEADLINE`] relative error, else (no
+/// series has one) the highest efficiency; with each other series' ratios.
+pub fn best(series: &[Series]) -> Option<Best> {
+    let by_time = series
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| Some((i, headline_time(s)?.seconds?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i);
+    let by_eff = || {
+        series
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| Some((i, s.efficiency?)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
+    };
+    let i = by_time.or_else(by_eff)?;
+    let b = &series[i];
+    let t_best = headline_time(b).and_then(|t| t.seconds);
+    let others = series
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| *j != i)
+        .map(|(_, s)| Comparison {
+            estimator: s.estimator,
+            sampler: s.sampler,
+            time_ratio: match (headline_time(s).and_then(|t| t.seconds), t_best) {
+                (Some(t), Some(tb)) if tb > 0.0 => finite(t / tb),
+                _ => None,
+            },
+            efficiency_ratio: match (b.efficiency, s.efficiency) {
+                (Some(eb), Some(e)) if e > 0.0 => finite(eb / e),
+                _ => None,
+            },
+        })
+        .collect();
+    Some(Best {
+        estimator: b.estimator,
+        sampler: b.sampler,
+        rel_error: HEADLINE,
+        seconds: t_best,
+        extrapolated: headline_time(b).is_some_and(|t| t.extrapolated),
+        others,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::Status;
+    use crate::sampling::SamplerKind;
+    use crate::transport::Estimator;
+
+    fn series(errors: &[(u64, f64, f64)]) -> Series {
+        Series {
+            estimator: Estimator::Light,
+            sampler: SamplerKind::Independent,
+            seed: 1,
+            status: Status::Complete,
+            points: errors
+                .iter()
+                .map(|&(n, e, t)| Point {
+                    samples: n,
+                    seed: 0,
+                    estimate: 1.0,
+                    std_error: Some(e),
+                    plain_std_error: Some(e),
+                    rms_error: Some(e),
+                    abs_error: Some(e),
+                    rel_error: Some(e),
+                    non_finite: 0,
+                    seconds: t,
+                    wall_seconds: None,
+                })
+                .collect(),
+            fit_samples: None,
+            fit_seconds: None,
+            efficiency: None,
+            seconds_per_sample: None,
+            time_to: vec![],
+        }
+    }
+
+    #[test]
+    fn exact_half_rate_gives_exact_slope_and_extrapolation() {
+        // e = N^-1/2 exactly, t = 1e-6 N.
+        let pts: Vec<(u64, f64, f64)> = (8..=14)
+            .map(|k| {
+                let n = 1u64 << k;
+                (n, (n as f64).powf(-0.5), 1e-6 * n as f64)
+            })
+            .collect();
+        let mut s = series(&pts);
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        let f = s.fit_samples.unwrap();
+        assert!((f.slope + 0.5).abs() < 1e-12);
+        assert!((s.fit_seconds.unwrap().slope + 0.5).abs() < 1e-12);
+        // 1% needs N = 1e4: 2^14 = 16384 reached it (e = 0.0078).
+        assert!(!s.time_to[0].extrapolated);
+        assert_eq!(s.time_to[0].samples, Some(16384.0));
+        // 0.1% needs N = 1e6, extrapolated: t = 1 s.
+        let t = s.time_to[1];
+        assert!(t.extrapolated);
+        assert!((t.samples.unwrap() / 1e6 - 1.0).abs() < 1e-9);
+        assert!((t.seconds.unwrap() - 1.0).abs() < 1e-9);
+        // Efficiency 1/(σ² t) at N = 2^14: 1/(2^-14 · 2^14 · 1e-6) = 1e6.
+        assert!((s.efficiency.unwrap() / 1e6 - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn best_is_the_fastest_to_the_headline() {
+        let mk = |c: f64, sampler| {
+            let pts: Vec<(u64, f64, f64)> = (8..=12)
+                .map(|k| {
+                    let n = 1u64 << k;
+                    (n, c * (n as f64).powf(-0.5), 1e-6 * n as f64)
+                })
+                .collect();
+            let mut s = series(&pts);
+            s.sampler = sampler;
+            summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+            s
+        };
+        let all = [
+            mk(2.0, SamplerKind::Independent),
+            mk(1.0, SamplerKind::Sobol),
+        ];
+        let b = best(&all).unwrap();
+        assert_eq!(b.sampler, SamplerKind::Sobol);
+        // Twice the error at every N: four times the samples, four times the time.
+        let r = b.others[0].time_ratio.unwrap();
+        assert!((r - 4.0).abs() < 1e-9, "{r}");
+        assert!((b.others[0].efficiency_ratio.unwrap() - 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn zero_variance_has_no_slope_and_reaches_every_target_at_once() {
+        let mut s = series(&[(256, 0.0, 1e-5), (512, 0.0, 2e-5), (1024, 0.0, 4e-5)]);
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        assert!(s.fit_samples.is_none());
+        assert!(s.efficiency.is_none());
+        assert!(
+            s.time_to
+                .iter()
+                .all(|t| t.samples == Some(256.0) && !t.extrapolated)
+        );
+    }
+
+    #[test]
+    fn rms_error_of_batches() {
+        let mk = |v: f64| {
+            let mut a = Accumulator::new();
+            a.push(v);
+            a.push(v);
+            a
+        };
+        // Batch means 1 and 3 against 2: √((1 + 1)/2)/√2 = 1/√2.
+        let p = point_from_batches(4, 0, &[mk(1.0), mk(3.0)], 1.0, None, Some(2.0));
+        assert!((p.rms_error.unwrap() - 0.5f64.sqrt()).abs() < 1e-15);
+        assert_eq!(p.abs_error, Some(0.0));
+        assert_eq!(p.estimate, 2.0);
+    }
+}

@@ -1,0 +1,155 @@
+//! The index of a report folder: `index.json` and `index.md`, one row per case report
+//! (those of this run plus those an earlier index listed whose files are still there),
+//! so a person sees at a glance what 0.1% accuracy costs and which estimator buys it.
+
+use super::store::{read_case_report, report_file, write_bytes, write_json};
+use super::{CaseReport, FORMAT, HEADLINE, Index, IndexBest, IndexRow, Kind, Status};
+use crate::error::{InputError, parse_json};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The index row of a report.
+pub fn row(r: &CaseReport) -> IndexRow {
+    let best = r.best.as_ref().map(|b| {
+        let s = r
+            .series
+            .iter()
+            .find(|s| s.estimator == b.estimator && s.sampler == b.sampler);
+        let fit = s.and_then(|s| s.fit_samples);
+        IndexBest {
+            estimator: b.estimator,
+            sampler: b.sampler,
+            seconds: b.seconds,
+            extrapolated: b.extrapolated,
+            slope: fit.map(|f| f.slope),
+            slope_std_error: fit.and_then(|f| f.slope_std_error),
+            runner_up_ratio: b
+                .others
+                .iter()
+                .filter_map(|o| o.time_ratio)
+                .min_by(|a, b| a.total_cmp(b)),
+        }
+    });
+    IndexRow {
+        id: r.id.clone(),
+        name: r.case.name.clone(),
+        report: report_file(&r.id),
+        plot: r.plot.clone(),
+        seed: r.settings.seed,
+        complete: r.series.iter().all(|s| s.status == Status::Complete),
+        best,
+    }
+}
+
+/// Rewrite `index.json` and `index.md` in `out` with `reports` and the rows of the
+/// previous index whose reports are still there.
+pub fn update(out: &Path, reports: &[CaseReport]) -> Result<Index, InputError> {
+    let mut rows: BTreeMap<String, IndexRow> = BTreeMap::new();
+    let path = out.join("index.json");
+    if let Ok(text) = std::fs::read_to_string(&path)
+        && let Ok(old) = parse_json::<Index>(&path.display().to_string(), &text)
+        && old.format == FORMAT
+    {
+        for r in old.cases {
+            if let Ok(Some(rep)) = read_case_report(&out.join(&r.report)) {
+                rows.insert(rep.id.clone(), row(&rep));
+            }
+        }
+    }
+    for r in reports {
+        rows.insert(r.id.clone(), row(r));
+    }
+    let run = match reports.first() {
+        Some(r) => r.run.clone(),
+        None => super::machine::run_info(rayon::current_num_threads(), None),
+    };
+    let index = Index {
+        format: FORMAT.to_string(),
+        kind: Kind::Index,
+        run,
+        cases: rows.into_values().collect(),
+    };
+    write_json(&path, &index, true)?;
+    write_bytes(&out.join("index.md"), markdown(&index).as_bytes())?;
+    Ok(index)
+}
+
+/// Seconds in a short human form.
+pub fn duration(s: f64) -> String {
+    if s < 1e-3 {
+        format!("{:.0} µs", s * 1e6)
+    } else if s < 1.0 {
+        format!("{:.1} ms", s * 1e3)
+    } else if s < 120.0 {
+        format!("{s:.2} s")
+    } else if s < 7200.0 {
+        format!("{:.1} min", s / 60.0)
+    } else if s < 48.0 * 3600.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.1} days", s / 86400.0)
+    }
+}
+
+/// The cells of one index row: best, time to 0.1%, slope, runner-up ratio.
+pub fn cells(r: &IndexRow) -> [String; 4] {
+    match &r.best {
+        None => ["—".into(), "—".into(), "—".into(), "—".into()],
+        Some(b) => [
+            format!("{} / {}", b.estimator.name(), b.sampler.name()),
+            match b.seconds {
+                Some(t) if b.extrapolated => format!("~{} (extrapolated)", duration(t)),
+                Some(t) => duration(t),
+                None => "not reached".into(),
+            },
+            match (b.slope, b.slope_std_error) {
+                (Some(s), Some(e)) => format!("{s:+.2} ± {e:.2}"),
+                (Some(s), None) => format!("{s:+.2}"),
+                _ => "—".into(),
+            },
+            b.runner_up_ratio.map_or("—".into(), |x| format!("{x:.1}×")),
+        ],
+    }
+}
+
+/// The markdown page.
+pub fn markdown(index: &Index) -> String {
+    let run = &index.run;
+    let mut s = String::new();
+    s.push_str("# lightproof convergence reports\n\n");
+    s.push_str(&format!(
+        "lightproof {} ({}), {} threads on {} ({} logical cores), {}.\n\n",
+        run.lightproof_version,
+        run.git_revision,
+        run.threads,
+        run.machine.cpu,
+        run.machine.logical_cores,
+        run.started
+    ));
+    s.push_str(&format!(
+        "Times are core-seconds to reach {}% relative RMS error with the most efficient \
+         estimator / sampler; *extrapolated* times follow the fitted rate past the largest \
+         point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo). Runner-up: how many \
+         times longer the next best series takes.",
+        HEADLINE * 100.0
+    ));
+    if run.budget_cut {
+        s.push_str(" The run's time budget stopped some series early.");
+    }
+    s.push_str("\n\n| case | best | time to 0.1% | slope | runner-up | plot |\n");
+    s.push_str("|---|---|---|---|---|---|\n");
+    for r in &index.cases {
+        let [best, time, slope, ratio] = cells(r);
+        let plot = r
+            .plot
+            .as_ref()
+            .map_or("—".to_string(), |p| format!("[svg]({p})"));
+        s.push_str(&format!(
+            "| [{}]({}){} | {best} | {time} | {slope} | {ratio} | {plot} |\n",
+            r.name.replace('|', "\\|"),
+            r.report,
+            if r.complete { "" } else { " (incomplete)" },
+        ));
+    }
+    s
+}

@@ -1,0 +1,632 @@
+//! Shards: one sweep cut over machines, merged into exactly the single run's report.
+//!
+//! The unit of work is one batch b of one point k of one series (case × estimator ×
+//! sampler). Shard K of N runs the units with
+//! `(b + hash_words([series seed, k])) mod N = K`: every shard gets ⌊128/N⌋ or ⌈128/N⌉
+//! batches of every point (so shards cost alike), and the assignment depends only on the
+//! unit, not on what else is in the run. A shard writes its raw per-batch accumulators to
+//! a partial file (`shard-K-of-N.json`); [`merge`] gathers the 128 batches of each point,
+//! merges them in batch order with the same code as a single run, and writes the same
+//! reports: identical estimates, errors and fits, only the timing fields differ.
+//!
+//! The shard may come from the environment of an array job ([`shard_from_env`]): a Slurm
+//! job array or a Kubernetes indexed Job. No scheduler of our own.
+
+use super::analysis::{best, point_from_batches, summarize};
+use super::store::{check_header, files_in, write_json};
+use super::{
+    BATCHES, CaseInfo, CaseReport, ErrorMeasure, FORMAT, Kind, RunInfo, Series, Settings, ShardRun,
+    Status,
+};
+use crate::error::{InputError, parse_json};
+use crate::sampling::SamplerKind;
+use crate::sampling::sampler::hash_words;
+use crate::stats::Accumulator;
+use crate::transport::Estimator;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Shard K of N (K counts from 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// K.
+    pub index: u32,
+    /// N.
+    pub count: u32,
+}
+
+impl Shard {
+    /// The shard of batch `b` of point `k` of the series with seed `series_seed`.
+    pub fn owner(count: u32, series_seed: u64, k: u32, b: u64) -> u32 {
+        ((b + hash_words(&[series_seed, k as u64])) % count as u64) as u32
+    }
+
+    /// The batches of point `k` of a series that this shard runs, in order.
+    pub fn batches(&self, series_seed: u64, k: u32) -> Vec<u64> {
+        (0..BATCHES)
+            .filter(|&b| Shard::owner(self.count, series_seed, k, b) == self.index)
+            .collect()
+    }
+
+    /// Its partial file name.
+    pub fn file_name(&self) -> String {
+        format!("shard-{}-of-{}.json", self.index, self.count)
+    }
+}
+
+fn shard_err(field: &str, reason: impl Into<String>) -> InputError {
+    InputError::new("<environment>", field, reason)
+}
+
+/// Parse `--shard`: `K/N` with 0 ≤ K < N.
+pub fn parse_shard(s: &str) -> Result<Shard, InputError> {
+    let bad = |r: &str| InputError::new("<command line>", "--shard", format!("{r}, got `{s}`"));
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| bad("expected K/N (K from 0) or `auto`"))?;
+    let k: u32 = k
+        .trim()
+        .parse()
+        .map_err(|_| bad("K must be a whole number"))?;
+    let n: u32 = n
+        .trim()
+        .parse()
+        .map_err(|_| bad("N must be a whole number"))?;
+    if n == 0 || k >= n {
+        return Err(bad("need 0 ≤ K < N"));
+    }
+    Ok(Shard { index: k, count: n })
+}
+
+fn var(env: &BTreeMap<String, String>, name: &str) -> Result<Option<u64>, InputError> {
+    match env.get(name).map(|v| v.trim()).filter(|v| !v.is_empty()) {
+        None => Ok(None),
+        Some(v) => v
+            .parse::<u64>()
+            .map(Some)
+            .map_err(|_| shard_err(name, format!("must be a whole number, got `{v}`"))),
+    }
+}
+
+fn make(index: u64, count: u64, index_var: &str) -> Result<Shard, InputError> {
+    if count == 0 || count > u32::MAX as u64 {
+        return Err(shard_err(
+            index_var,
+            format!("shard count {count} is out of range"),
+        ));
+    }
+    if index >= count {
+        return Err(shard_err(
+            index_var,
+            format!("shard index {index} is not below the shard count {count}"),
+        ));
+    }
+    Ok(Shard {
+        index: index as u32,
+        count: count as u32,
+    })
+}
+
+/// The shard of `--shard auto`, from environment variables (a pure function of the map):
+///
+/// 1. `LIGHTPROOF_SHARD_INDEX` and `LIGHTPROOF_SHARD_COUNT`, if set;
+/// 2. a Kubernetes indexed Job: `JOB_COMPLETION_INDEX` (from 0), with the count in
+///    `LIGHTPROOF_SHARD_COUNT` (the Job's `completions`; Kubernetes does not expose it);
+/// 3. a Slurm job array: K = (`SLURM_ARRAY_TASK_ID` − `SLURM_ARRAY_TASK_MIN`) /
+///    `SLURM_ARRAY_TASK_STEP` and N = `SLURM_ARRAY_TASK_COUNT`, which holds for
+///    `--array=A-B[:S]` (a list such as `1,4,9` is rejected: the tasks are not evenly
+///    spaced). With `LIGHTPROOF_SHARD_COUNT` set, K = `SLURM_ARRAY_TASK_ID` itself: for
+///    re-submitting some tasks of an array that started at 0 (`--array=3,5`).
+pub fn shard_from_env(env: &BTreeMap<String, String>) -> Result<Shard, InputError> {
+    let count = var(env, "LIGHTPROOF_SHARD_COUNT")?;
+    if let Some(i) = var(env, "LIGHTPROOF_SHARD_INDEX")? {
+        let n = count.ok_or_else(|| {
+            shard_err(
+                "LIGHTPROOF_SHARD_COUNT",
+                "must be set with LIGHTPROOF_SHARD_INDEX",
+            )
+        })?;
+        return make(i, n, "LIGHTPROOF_SHARD_INDEX");
+    }
+    if let Some(i) = var(env, "JOB_COMPLETION_INDEX")? {
+        let n = count.ok_or_else(|| {
+            shard_err(
+                "LIGHTPROOF_SHARD_COUNT",
+                "must be set to the Job's completions in an indexed Job",
+            )
+        })?;
+        return make(i, n, "JOB_COMPLETION_INDEX");
+    }
+    if let Some(id) = var(env, "SLURM_ARRAY_TASK_ID")? {
+        if let Some(n) = count {
+            return make(id, n, "SLURM_ARRAY_TASK_ID");
+        }
+        let n = var(env, "SLURM_ARRAY_TASK_COUNT")?
+            .ok_or_else(|| shard_err("SLURM_ARRAY_TASK_COUNT", "is not set"))?;
+        let min = var(env, "SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+        let step = var(env, "SLURM_ARRAY_TASK_STEP")?.unwrap_or(1).max(1);
+        if id < min || (id - min) % step != 0 {
+            return Err(shard_err(
+                "SLURM_ARRAY_TASK_ID",
+                format!("task {id} is not on the array's grid (min {min}, step {step})"),
+            ));
+        }
+        if let Some(max) = var(env, "SLURM_ARRAY_TASK_MAX")?
+            && max >= min
+            && (max - min) / step + 1 != n
+        {
+            return Err(shard_err(
+                "SLURM_ARRAY_TASK_COUNT",
+                format!(
+                    "{n} tasks between {min} and {max} with step {step} are not evenly spaced; set LIGHTPROOF_SHARD_COUNT and number the tasks from 0"
+                ),
+            ));
+        }
+        return make((id - min) / step, n, "SLURM_ARRAY_TASK_ID");
+    }
+    Err(shard_err(
+        "-",
+        "--shard auto: none of LIGHTPROOF_SHARD_INDEX, JOB_COMPLETION_INDEX, SLURM_ARRAY_TASK_ID is set",
+    ))
+}
+
+/// One batch's accumulator and compute time.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BatchRecord {
+    /// Batch index b.
+    pub batch: u64,
+    /// Finite samples.
+    pub count: u64,
+    /// Their mean.
+    pub mean: f64,
+    /// Σ(x − mean)².
+    pub m2: f64,
+    /// Non-finite samples.
+    pub non_finite: u64,
+    /// Compute seconds of the batch.
+    pub seconds: f64,
+}
+
+impl BatchRecord {
+    /// From an accumulator.
+    pub fn new(batch: u64, a: &Accumulator, seconds: f64) -> Self {
+        BatchRecord {
+            batch,
+            count: a.count,
+            mean: a.mean,
+            m2: a.m2,
+            non_finite: a.non_finite,
+            seconds,
+        }
+    }
+
+    /// The accumulator.
+    pub fn accumulator(&self) -> Accumulator {
+        Accumulator {
+            count: self.count,
+            mean: self.mean,
+            m2: self.m2,
+            non_finite: self.non_finite,
+        }
+    }
+}
+
+/// A shard's part of one point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardPoint {
+    /// N.
+    pub samples: u64,
+    /// The point's seed.
+    pub seed: u64,
+    /// This shard's batches, in order.
+    pub batches: Vec<BatchRecord>,
+}
+
+/// A shard's part of one series.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardSeries {
+    /// Estimator.
+    pub estimator: Estimator,
+    /// Sampler.
+    pub sampler: SamplerKind,
+    /// Series seed.
+    pub seed: u64,
+    /// Whether this shard finished its part.
+    pub status: Status,
+    /// Points in increasing N.
+    pub points: Vec<ShardPoint>,
+}
+
+/// A shard's part of one case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardCase {
+    /// Report id.
+    pub id: String,
+    /// The case.
+    pub case: CaseInfo,
+    /// One per estimator × sampler of the plan.
+    pub series: Vec<ShardSeries>,
+}
+
+/// The partial result of one shard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardPartial {
+    /// [`FORMAT`].
+    pub format: String,
+    /// [`Kind::Shard`].
+    pub kind: Kind,
+    /// Which shard.
+    pub shard: Shard,
+    /// Digest of the plan (settings, cases, series): all shards of a sweep share it.
+    pub plan: String,
+    /// The sweep.
+    pub settings: Settings,
+    /// This shard's run.
+    pub run: RunInfo,
+    /// Every case of the plan.
+    pub cases: Vec<ShardCase>,
+}
+
+/// Read a partial file.
+pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new(&file, "-", format!("cannot read: {e}")))?;
+    check_header(&file, &text, Kind::Shard)?;
+    parse_json(&file, &text)
+}
+
+/// Whether a file name is a shard partial's.
+pub fn is_partial_name(name: &str) -> bool {
+    name.starts_with("shard-") && name.ends_with(".json") && name.contains("-of-")
+}
+
+/// Case reports from a complete set of shard partials (one per index 0..N, one plan).
+///
+/// A point is kept when its 128 batches are all present (a shard stopped by its budget
+/// leaves the points it did not finish out, and their series `budget_cut`).
+pub fn merge_partials(
+    partials: &[(PathBuf, ShardPartial)],
+    mut run: RunInfo,
+) -> Result<Vec<CaseReport>, InputError> {
+    let merge_err = |field: &str, r: String| InputError::new("<merge>", field, r);
+    let (first_path, first) = partials.first().ok_or_else(|| {
+        merge_err(
+            "-",
+            "no shard partial files (shard-K-of-N.json) given".into(),
+        )
+    })?;
+    let count = first.shard.count;
+    let mut seen: Vec<Option<&Path>> = vec![None; count as usize];
+    for (path, p) in partials {
+        let f = path.display().to_string();
+        if p.shard.count != count {
+            return Err(InputError::new(
+                f,
+                "shard.count",
+                format!(
+                    "{} shards, but {} has {count}",
+                    p.shard.count,
+                    first_path.display()
+                ),
+            ));
+        }
+        if p.plan != first.plan || p.settings != first.settings {
+            return Err(InputError::new(
+                f,
+                "plan",
+                format!(
+                    "a different sweep (cases, settings or seed) from {}",
+                    first_path.display()
+                ),
+            ));
+        }
+        if p.run.git_revision != first.run.git_revision
+            || p.run.lightproof_version != first.run.lightproof_version
+        {
+            return Err(InputError::new(
+                f,
+                "run.git_revision",
+                format!(
+                    "built from {} {}, but {} from {} {}: shards must run the same build",
+                    p.run.lightproof_version,
+                    p.run.git_revision,
+                    first_path.display(),
+                    first.run.lightproof_version,
+                    first.run.git_revision
+                ),
+            ));
+        }
+        let slot = &mut seen[p.shard.index as usize];
+        if let Some(other) = slot {
+            return Err(InputError::new(
+                f,
+                "shard.index",
+                format!(
+                    "shard {} is also given as {}",
+                    p.shard.index,
+                    other.display()
+                ),
+            ));
+        }
+        *slot = Some(path);
+    }
+    let missing: Vec<String> = seen
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.is_none())
+        .map(|(i, _)| i.to_string())
+        .collect();
+    if !missing.is_empty() {
+        return Err(merge_err(
+            "shards",
+            format!("missing shard(s) {} of {count}", missing.join(", ")),
+        ));
+    }
+    run.budget_cut = partials.iter().any(|(_, p)| p.run.budget_cut);
+    run.shards = partials
+        .iter()
+        .map(|(_, p)| ShardRun {
+            index: p.shard.index,
+            count: p.shard.count,
+            run: p.run.clone(),
+        })
+        .collect();
+    run.shards.sort_by_key(|s| s.index);
+    let settings = &first.settings;
+    let mut reports = vec![];
+    for (ci, case) in first.cases.iter().enumerate() {
+        let measure = error_measure(&case.case);
+        let mut series = vec![];
+        for (si, s) in case.series.iter().enumerate() {
+            // Batches of every point, from every shard.
+            let mut by_samples: BTreeMap<u64, (u64, Vec<BatchRecord>)> = BTreeMap::new();
+            let mut cut = false;
+            for (path, p) in partials {
+                let ps = p
+                    .cases
+                    .get(ci)
+                    .filter(|c| c.id == case.id)
+                    .and_then(|c| c.series.get(si))
+                    .filter(|x| x.estimator == s.estimator && x.sampler == s.sampler)
+                    .ok_or_else(|| {
+                        InputError::new(
+                            path.display().to_string(),
+                            format!("cases[{ci}].series[{si}]"),
+                            "does not match the plan of the other shards",
+                        )
+                    })?;
+                cut |= ps.status == Status::BudgetCut;
+                for pt in &ps.points {
+                    let e = by_samples.entry(pt.samples).or_insert((pt.seed, vec![]));
+                    e.1.extend_from_slice(&pt.batches);
+                }
+            }
+            let mut points = vec![];
+            for k in settings.exponents() {
+                let Some((seed, mut recs)) = by_samples.remove(&(1u64 << k)) else {
+                    continue;
+                };
+                recs.sort_by_key(|r| r.batch);
+                recs.dedup_by_key(|r| r.batch);
+                if recs.len() as u64 != BATCHES
+                    || recs.iter().enumerate().any(|(i, r)| r.batch != i as u64)
+                {
+                    continue;
+                }
+                let accs: Vec<Accumulator> = recs.iter().map(|r| r.accumulator()).collect();
+                let seconds = recs.iter().map(|r| r.seconds).sum();
+                points.push(point_from_batches(
+                    1 << k,
+                    seed,
+                    &accs,
+                    seconds,
+                    None,
+                    case.case.reference,
+                ));
+            }
+            let planned = settings.exponents().count();
+            let status = if points.len() == planned {
+                Status::Complete
+            } else if cut {
+                Status::BudgetCut
+            } else {
+                Status::InProgress
+            };
+            let mut out = Series {
+                estimator: s.estimator,
+                sampler: s.sampler,
+                seed: s.seed,
+                status,
+                points,
+                fit_samples: None,
+                fit_seconds: None,
+                efficiency: None,
+                seconds_per_sample: None,
+                time_to: vec![],
+            };
+            summarize(&mut out, measure, case.case.reference);
+            series.push(out);
+        }
+        run.points_computed += series.iter().map(|s| s.points.len() as u64).sum::<u64>();
+        reports.push(CaseReport {
+            format: FORMAT.to_string(),
+            kind: Kind::Case,
+            id: case.id.clone(),
+            case: case.case.clone(),
+            settings: settings.clone(),
+            error_measure: measure,
+            run: run.clone(),
+            best: best(&series),
+            series,
+            plot: None,
+        });
+    }
+    let total = run.points_computed;
+    for r in &mut reports {
+        r.run.points_computed = total;
+    }
+    Ok(reports)
+}
+
+/// The error measure of a case: RMS error with a reference, standard error without.
+pub fn error_measure(case: &CaseInfo) -> ErrorMeasure {
+    if case.reference.is_some() {
+        ErrorMeasure::RmsError
+    } else {
+        ErrorMeasure::StdError
+    }
+}
+
+/// `lightproof merge`: read the partials in `inputs` (files, or folders holding
+/// `shard-K-of-N.json` files), merge them and write the reports, plots and index to `out`.
+pub fn merge(
+    inputs: &[PathBuf],
+    out: &Path,
+    threads: usize,
+) -> Result<super::sweep::Summary, InputError> {
+    let t0 = std::time::Instant::now();
+    let files = files_in(inputs, is_partial_name)?;
+    let partials = files
+        .iter()
+        .map(|f| Ok((f.clone(), read_partial(f)?)))
+        .collect::<Result<Vec<_>, InputError>>()?;
+    let run = super::machine::run_info(threads, None);
+    let mut reports = merge_partials(&partials, run)?;
+    for r in &mut reports {
+        r.run.wall_seconds = t0.elapsed().as_secs_f64();
+    }
+    let mut summary = super::sweep::finish(out, &mut reports)?;
+    summary.computed = reports.first().map_or(0, |r| r.run.points_computed);
+    Ok(summary)
+}
+
+/// Write a partial (compact JSON: it is for machines).
+pub fn write_partial(path: &Path, p: &ShardPartial) -> Result<(), InputError> {
+    write_json(path, p, false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env(pairs: &[(&str, &str)]) -> BTreeMap<String, String> {
+        pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn every_batch_has_one_owner_and_shards_are_balanced() {
+        for n in [1u32, 2, 3, 7, 128, 200] {
+            let mut counts = vec![0u64; n as usize];
+            for b in 0..BATCHES {
+                counts[Shard::owner(n, 42, 10, b) as usize] += 1;
+            }
+            let (lo, hi) = (BATCHES / n as u64, BATCHES.div_ceil(n as u64));
+            assert!(
+                counts.iter().all(|&c| c == lo || c == hi),
+                "{n}: {counts:?}"
+            );
+            let all: usize = (0..n)
+                .map(|i| Shard { index: i, count: n }.batches(42, 10).len())
+                .sum();
+            assert_eq!(all as u64, BATCHES);
+        }
+    }
+
+    #[test]
+    fn parse() {
+        assert_eq!(parse_shard("2/8").unwrap(), Shard { index: 2, count: 8 });
+        for bad in ["8/8", "1", "a/2", "0/0", "-1/3"] {
+            assert!(parse_shard(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn slurm_arrays() {
+        let s = |p: &[(&str, &str)]| shard_from_env(&env(p));
+        let base = [
+            ("SLURM_ARRAY_TASK_ID", "3"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "7"),
+        ];
+        assert_eq!(s(&base).unwrap(), Shard { index: 3, count: 8 });
+        // --array=1-8: ids from 1.
+        let one = [
+            ("SLURM_ARRAY_TASK_ID", "1"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_MAX", "8"),
+        ];
+        assert_eq!(s(&one).unwrap(), Shard { index: 0, count: 8 });
+        // --array=0-14:2 → 8 tasks.
+        let step = [
+            ("SLURM_ARRAY_TASK_ID", "6"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "14"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ];
+        assert_eq!(s(&step).unwrap(), Shard { index: 3, count: 8 });
+        // --array=1,4,9: not evenly spaced.
+        let sparse = [
+            ("SLURM_ARRAY_TASK_ID", "4"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_MAX", "9"),
+        ];
+        assert!(s(&sparse).is_err());
+        // Re-submitting task 5 of 8: the count comes from LIGHTPROOF_SHARD_COUNT.
+        let resub = [
+            ("SLURM_ARRAY_TASK_ID", "5"),
+            ("SLURM_ARRAY_TASK_COUNT", "1"),
+            ("SLURM_ARRAY_TASK_MIN", "5"),
+            ("LIGHTPROOF_SHARD_COUNT", "8"),
+        ];
+        assert_eq!(s(&resub).unwrap(), Shard { index: 5, count: 8 });
+        assert!(
+            s(&[
+                ("SLURM_ARRAY_TASK_ID", "x"),
+                ("SLURM_ARRAY_TASK_COUNT", "2")
+            ])
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn kubernetes_and_explicit() {
+        let s = |p: &[(&str, &str)]| shard_from_env(&env(p));
+        assert_eq!(
+            s(&[
+                ("JOB_COMPLETION_INDEX", "4"),
+                ("LIGHTPROOF_SHARD_COUNT", "6")
+            ])
+            .unwrap(),
+            Shard { index: 4, count: 6 }
+        );
+        let e = s(&[("JOB_COMPLETION_INDEX", "4")]).unwrap_err();
+        assert_eq!(e.field, "LIGHTPROOF_SHARD_COUNT");
+        assert!(
+            s(&[
+                ("JOB_COMPLETION_INDEX", "6"),
+                ("LIGHTPROOF_SHARD_COUNT", "6")
+            ])
+            .is_err()
+        );
+        // The explicit pair wins over a scheduler's variables.
+        assert_eq!(
+            s(&[
+                ("LIGHTPROOF_SHARD_INDEX", "1"),
+                ("LIGHTPROOF_SHARD_COUNT", "2"),
+                ("JOB_COMPLETION_INDEX", "0"),
+            ])
+            .unwrap(),
+            Shard { index: 1, count: 2 }
+        );
+        assert!(s(&[]).is_err());
+    }
+}

@@ -1,0 +1,184 @@
+//! Report files: stable names, atomic writes, and reading them back.
+//!
+//! A case's report id is its file's path under the folder given on the command line,
+//! without `.json` (`irradiance/disk_on_axis`; a file given by itself: its stem). Reports
+//! lie flat in the output folder, the id's `/` becoming `.`
+//! (`irradiance.disk_on_axis.json`, `irradiance.disk_on_axis.svg`). Every file is written
+//! with [`crate::io::write_atomic`] (temporary file, then rename), so an interrupted run
+//! leaves each file whole: the old version or the new one.
+
+use super::{CaseReport, FORMAT, Kind};
+use crate::error::{InputError, parse_json};
+use serde::Serialize;
+use std::path::{Component, Path, PathBuf};
+
+/// The id of a case file found under `root` (or given by itself when `root` is `None`).
+pub fn case_id(root: Option<&Path>, file: &Path) -> String {
+    let rel = root
+        .and_then(|r| file.strip_prefix(r).ok())
+        .filter(|r| !r.as_os_str().is_empty())
+        .unwrap_or_else(|| Path::new(file.file_name().unwrap_or(file.as_os_str())));
+    let parts: Vec<String> = rel
+        .with_extension("")
+        .components()
+        .filter_map(|c| match c {
+            Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+            _ => None,
+        })
+        .collect();
+    parts.join("/")
+}
+
+/// The file stem of an id: `/` → `.`, and anything but letters, digits, `-`, `_`, `.`
+/// → `_`.
+pub fn stem(id: &str) -> String {
+    id.chars()
+        .map(|c| match c {
+            '/' => '.',
+            c if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') => c,
+            _ => '_',
+        })
+        .collect()
+}
+
+/// The report file of an id.
+pub fn report_file(id: &str) -> String {
+    format!("{}.json", stem(id))
+}
+
+/// The plot file of an id.
+pub fn plot_file(id: &str) -> String {
+    format!("{}.svg", stem(id))
+}
+
+/// Write a value as pretty JSON, atomically.
+pub fn write_json<T: Serialize>(path: &Path, value: &T, pretty: bool) -> Result<(), InputError> {
+    let text = if pretty {
+        serde_json::to_string_pretty(value)
+    } else {
+        serde_json::to_string(value)
+    }
+    .map_err(|e| InputError::new(path.display().to_string(), "-", e.to_string()))?;
+    write_bytes(path, format!("{text}\n").as_bytes())
+}
+
+/// Write bytes atomically, naming the file on failure.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), InputError> {
+    crate::io::write_atomic(path, bytes).map_err(|e| {
+        InputError::new(
+            path.display().to_string(),
+            "-",
+            format!("cannot write: {e}"),
+        )
+    })
+}
+
+/// Read a case report; `Ok(None)` when the file does not exist. A file that is not a
+/// lightproof case report is an error (it is never overwritten silently).
+pub fn read_case_report(path: &Path) -> Result<Option<CaseReport>, InputError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => {
+            return Err(InputError::new(
+                path.display().to_string(),
+                "-",
+                format!("cannot read: {e}"),
+            ));
+        }
+    };
+    let file = path.display().to_string();
+    check_header(&file, &text, Kind::Case)?;
+    parse_json(&file, &text).map(Some)
+}
+
+/// Check the `format` and `kind` of a JSON text before parsing it whole.
+pub fn check_header(file: &str, text: &str, kind: Kind) -> Result<(), InputError> {
+    let v: serde_json::Value = parse_json(file, text)?;
+    let format = v.get("format").and_then(|f| f.as_str());
+    if format != Some(FORMAT) {
+        return Err(InputError::new(
+            file,
+            "format",
+            format!(
+                "not a lightproof report file (expected `{FORMAT}`, got {}); move it or choose another --out",
+                format.map_or("none".to_string(), |f| format!("`{f}`"))
+            ),
+        ));
+    }
+    let want = serde_json::to_value(kind).unwrap_or_default();
+    if v.get("kind") != Some(&want) {
+        return Err(InputError::new(
+            file,
+            "kind",
+            format!(
+                "expected {want}, got {}",
+                v.get("kind").cloned().unwrap_or_default()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every path under `dir` or given directly, with a file name accepted by `keep`, sorted.
+pub fn files_in(
+    paths: &[PathBuf],
+    keep: impl Fn(&str) -> bool,
+) -> Result<Vec<PathBuf>, InputError> {
+    let mut out = vec![];
+    for p in paths {
+        if p.is_dir() {
+            let rd = std::fs::read_dir(p).map_err(|e| {
+                InputError::new(
+                    p.display().to_string(),
+                    "-",
+                    format!("cannot read folder: {e}"),
+                )
+            })?;
+            for e in rd.flatten() {
+                let q = e.path();
+                if q.is_file() && q.file_name().is_some_and(|n| keep(&n.to_string_lossy())) {
+                    out.push(q);
+                }
+            }
+        } else if p.is_file() {
+            out.push(p.clone());
+        } else {
+            return Err(InputError::new(
+                p.display().to_string(),
+                "-",
+                "no such file or folder",
+            ));
+        }
+    }
+    out.sort();
+    out.dedup();
+    Ok(out)
+}
+
+/// FNV-1a 64 of some bytes, as 16 hex digits (stable across builds and platforms).
+pub fn digest(bytes: &[u8]) -> String {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for &b in bytes {
+        h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_and_names() {
+        let root = Path::new("analytic/cases");
+        let f = Path::new("analytic/cases/irradiance/disk_on_axis.json");
+        assert_eq!(case_id(Some(root), f), "irradiance/disk_on_axis");
+        assert_eq!(case_id(None, f), "disk_on_axis");
+        assert_eq!(
+            report_file("irradiance/disk_on_axis"),
+            "irradiance.disk_on_axis.json"
+        );
+        assert_eq!(plot_file("a b/c"), "a_b.c.svg");
+    }
+}

@@ -1,0 +1,710 @@
+//! The sweep: plan every point of every series, run them cheapest first within the
+//! budget, keep what an earlier run left, write as it goes.
+//!
+//! **Plan.** Each case × estimator (the case's, or those of `--estimator`) × sampler
+//! (all three, or those of `--sampler`) is a series; its points are N = 2ᵏ for
+//! k = log₂ min … log₂ max, each with the seed `hash_words([series seed, k])`.
+//!
+//! **Order and budget.** Pending points wait in a queue ordered by predicted wall time:
+//! twice the wall time of the series' previous point per doubling of N (a first point is
+//! predicted free). The cheapest runs next, so every series gets its small points before
+//! any series gets a large one. With `--budget T`, the run stops, writing everything,
+//! as soon as the cheapest pending point is predicted to end after T; the series left
+//! over are marked `budget_cut` and the run records `budget_cut: true`.
+//!
+//! **Resume.** A case report already in the output folder, written by the same build
+//! (version and git revision) for the same case description and seed, gives back its
+//! points: only missing ones run, so a larger `--max-samples` extends a sweep. A shard
+//! resumes from its partial file the same way. `--fresh` ignores what is there.
+//!
+//! **Writing.** Each case report (and a shard's partial) is rewritten atomically after a
+//! point finishes, at most once a second (less often when writing takes more than a
+//! tenth of the time), and once more at the end with the plots and the index, so a
+//! killed run leaves whole, valid files.
+
+use super::analysis::{best, point_from_batches, summarize};
+use super::machine::{GIT_REVISION, VERSION, run_info};
+use super::shard::{
+    BatchRecord, Shard, ShardCase, ShardPartial, ShardPoint, ShardSeries, error_measure,
+    read_partial, write_partial,
+};
+use super::store::{case_id, digest, plot_file, read_case_report, report_file, write_json};
+use super::{
+    BATCHES, CaseInfo, CaseReport, FORMAT, Index, Kind, Point, RunInfo, Series, Settings, Status,
+};
+use crate::error::InputError;
+use crate::sampling::sampler::hash_words;
+use crate::sampling::{SampleStream, SamplerKind};
+use crate::stats::Accumulator;
+use crate::transport::Estimator;
+use crate::transport::engine::{RunSpec, run_batches};
+use crate::verify::{Case, collect_cases, seed_for};
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// What `lightproof report` was asked.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Case files or folders.
+    pub paths: Vec<PathBuf>,
+    /// Output folder.
+    pub out: PathBuf,
+    /// Wall-time budget in seconds.
+    pub budget: Option<f64>,
+    /// Smallest point (rounded up to a power of two).
+    pub min_samples: u64,
+    /// Largest point (rounded down to a power of two).
+    pub max_samples: u64,
+    /// Base seed.
+    pub seed: u64,
+    /// Only these estimators (empty: each case's own).
+    pub estimators: Vec<Estimator>,
+    /// Only these samplers (empty: all three).
+    pub samplers: Vec<SamplerKind>,
+    /// Run one shard and write its partial file.
+    pub shard: Option<Shard>,
+    /// Ignore earlier reports in the output folder.
+    pub fresh: bool,
+}
+
+/// What a run (or a merge) wrote.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// The case reports (not for a shard).
+    pub reports: Vec<CaseReport>,
+    /// The index, after this run.
+    pub index: Option<Index>,
+    /// A shard's partial file.
+    pub partial: Option<PathBuf>,
+    /// Points computed.
+    pub computed: u64,
+    /// Points kept from an earlier run.
+    pub resumed: u64,
+    /// Whether the budget stopped the run.
+    pub budget_cut: bool,
+    /// Things worth telling (a report started afresh, ...).
+    pub notes: Vec<String>,
+}
+
+fn cli_err(field: &str, reason: impl Into<String>) -> InputError {
+    InputError::new("<command line>", field, reason)
+}
+
+/// Check the options and turn them into sweep settings.
+pub fn settings(opts: &Options) -> Result<Settings, InputError> {
+    let min_allowed = 2 * BATCHES;
+    if opts.min_samples < min_allowed {
+        return Err(cli_err(
+            "--min-samples",
+            format!(
+                "must be at least {min_allowed} (two samples per batch), got {}",
+                opts.min_samples
+            ),
+        ));
+    }
+    if opts.max_samples > 1 << 40 {
+        return Err(cli_err(
+            "--max-samples",
+            format!("must be at most 2^40, got {}", opts.max_samples),
+        ));
+    }
+    let min = opts.min_samples.next_power_of_two();
+    let max = if opts.max_samples.is_power_of_two() {
+        opts.max_samples
+    } else {
+        opts.max_samples.next_power_of_two() / 2
+    };
+    if max < min {
+        return Err(cli_err(
+            "--max-samples",
+            format!(
+                "must be at least --min-samples rounded up to a power of two ({min}), got {}",
+                opts.max_samples
+            ),
+        ));
+    }
+    if let Some(b) = opts.budget
+        && !(b.is_finite() && b > 0.0)
+    {
+        return Err(cli_err(
+            "--budget",
+            format!("must be a positive number of seconds, got {b}"),
+        ));
+    }
+    Ok(Settings {
+        seed: opts.seed,
+        min_samples: min,
+        max_samples: max,
+        batches: BATCHES,
+    })
+}
+
+/// One series being swept.
+struct SeriesState {
+    est: Estimator,
+    sampler: SamplerKind,
+    seed: u64,
+    /// Finished points by k (single run).
+    done: BTreeMap<u32, Point>,
+    /// Finished shard parts by k (shard run).
+    parts: BTreeMap<u32, ShardPoint>,
+    /// Known wall time of finished points by k (for predictions).
+    wall: BTreeMap<u32, f64>,
+    /// Points still to run, ascending.
+    pending: Vec<u32>,
+    /// Stopped by the budget.
+    cut: bool,
+}
+
+impl SeriesState {
+    fn status(&self) -> Status {
+        if self.pending.is_empty() {
+            Status::Complete
+        } else if self.cut {
+            Status::BudgetCut
+        } else {
+            Status::InProgress
+        }
+    }
+
+    /// Predicted wall seconds of point k: the nearest smaller known point, scaled by N.
+    fn predict(&self, k: u32) -> f64 {
+        self.wall
+            .range(..k)
+            .next_back()
+            .map_or(0.0, |(&k0, &w)| w * 2f64.powi((k - k0) as i32))
+    }
+}
+
+/// One case being swept.
+struct CaseState {
+    id: String,
+    case: Case,
+    info: CaseInfo,
+    series: Vec<SeriesState>,
+    dirty: bool,
+}
+
+/// The seed of point k of a series.
+pub fn point_seed(series_seed: u64, k: u32) -> u64 {
+    hash_words(&[series_seed, k as u64])
+}
+
+/// Run the given batches of one point: per batch, its accumulator and compute seconds.
+/// Batches run in parallel; each is exactly what the engine computes for it.
+pub fn run_point(
+    case: &Case,
+    est: Estimator,
+    spec: &RunSpec,
+    batches: &[u64],
+) -> Vec<(u64, Accumulator, f64)> {
+    let cfg = case.config(est, false);
+    let f = |s: &mut SampleStream| case.sample(est, &cfg, false, s);
+    batches
+        .par_iter()
+        .map(|&b| {
+            let t = Instant::now();
+            let acc = run_batches(spec, b..b + 1, f)
+                .into_iter()
+                .next()
+                .unwrap_or_default();
+            (b, acc, t.elapsed().as_secs_f64())
+        })
+        .collect()
+}
+
+/// The description digest of a case.
+fn case_digest(case: &Case) -> String {
+    digest(
+        serde_json::to_string(&case.desc)
+            .unwrap_or_default()
+            .as_bytes(),
+    )
+}
+
+/// Load the cases of the paths, with their report ids.
+fn load_cases(paths: &[PathBuf]) -> Result<Vec<(String, Case)>, InputError> {
+    let mut out: Vec<(String, Case)> = vec![];
+    let mut ids: BTreeMap<String, PathBuf> = BTreeMap::new();
+    for p in paths {
+        let root = p.is_dir().then_some(p.as_path());
+        for f in collect_cases(std::slice::from_ref(p))? {
+            let id = case_id(root, &f);
+            if let Some(other) = ids.insert(id.clone(), f.clone()) {
+                if other == f {
+                    continue;
+                }
+                return Err(InputError::new(
+                    f.display().to_string(),
+                    "-",
+                    format!(
+                        "its report id `{id}` is also {}'s: give one of them from another folder",
+                        other.display()
+                    ),
+                ));
+            }
+            out.push((id, Case::load(&f)?));
+        }
+    }
+    Ok(out)
+}
+
+fn plan_digest(settings: &Settings, cases: &[CaseState]) -> String {
+    // (id, case digest, [(estimator, sampler)]) per case.
+    type Plan<'a> = Vec<(&'a str, &'a str, Vec<(&'a str, &'a str)>)>;
+    let plan: Plan = cases
+        .iter()
+        .map(|c| {
+            (
+                c.id.as_str(),
+                c.info.digest.as_str(),
+                c.series
+                    .iter()
+                    .map(|s| (s.est.name(), s.sampler.name()))
+                    .collect(),
+            )
+        })
+        .collect();
+    digest(
+        serde_json::to_string(&(FORMAT, settings, plan))
+            .unwrap_or_default()
+            .as_bytes(),
+    )
+}
+
+/// `lightproof report`: sweep, write the reports, the plots and the index (or, for a
+/// shard, its partial file). Call it inside the rayon pool that sets the thread count.
+pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
+    let t0 = Instant::now();
+    let settings = settings(opts)?;
+    let samplers = if opts.samplers.is_empty() {
+        SamplerKind::ALL.to_vec()
+    } else {
+        opts.samplers.clone()
+    };
+    let mut cases: Vec<CaseState> = vec![];
+    for (id, case) in load_cases(&opts.paths)? {
+        let info = CaseInfo {
+            name: case.desc.name.clone(),
+            file: case.file.display().to_string(),
+            teaches: case.desc.teaches.clone(),
+            measure: case.measure.name().to_string(),
+            reference: case.reference,
+            digest: case_digest(&case),
+        };
+        let mut series = vec![];
+        for &est in case
+            .desc
+            .estimators
+            .iter()
+            .filter(|e| opts.estimators.is_empty() || opts.estimators.contains(e))
+        {
+            for &sampler in &samplers {
+                series.push(SeriesState {
+                    est,
+                    sampler,
+                    seed: seed_for(settings.seed, &case.desc.name, est, sampler),
+                    done: BTreeMap::new(),
+                    parts: BTreeMap::new(),
+                    wall: BTreeMap::new(),
+                    pending: settings.exponents().collect(),
+                    cut: false,
+                });
+            }
+        }
+        if !series.is_empty() {
+            cases.push(CaseState {
+                id,
+                case,
+                info,
+                series,
+                dirty: true,
+            });
+        }
+    }
+    if cases.is_empty() {
+        return Err(cli_err(
+            "--estimator",
+            "nothing to run: no case names any of the estimators asked for",
+        ));
+    }
+    let threads = rayon::current_num_threads();
+    let plan = plan_digest(&settings, &cases);
+    let mut notes = vec![];
+    let mut resumed = 0u64;
+    if !opts.fresh {
+        resumed = match opts.shard {
+            None => resume_reports(&opts.out, &settings, &mut cases, threads, &mut notes)?,
+            Some(sh) => resume_partial(&opts.out, sh, &plan, &mut cases, threads, &mut notes)?,
+        };
+    }
+    let mut run = run_info(threads, opts.budget);
+    run.points_resumed = resumed;
+
+    // The queue: (predicted wall nanoseconds, plan order) → (case, series).
+    let mut queue = BinaryHeap::new();
+    let mut order = 0usize;
+    for (ci, c) in cases.iter().enumerate() {
+        for (si, s) in c.series.iter().enumerate() {
+            if let Some(&k) = s.pending.first() {
+                queue.push(Reverse((nanos(s.predict(k)), order, ci, si)));
+                order += 1;
+            }
+        }
+    }
+    let total: usize = cases
+        .iter()
+        .flat_map(|c| &c.series)
+        .map(|s| s.pending.len())
+        .sum();
+    bar.set_length(total as u64);
+    // Flush at most once a second, and spend at most a tenth of the time writing.
+    let mut last_flush: Option<Instant> = None;
+    let mut flush_every = Duration::from_secs(1);
+    while let Some(Reverse((predicted, _, ci, si))) = queue.pop() {
+        let elapsed = t0.elapsed().as_secs_f64();
+        if let Some(b) = opts.budget
+            && elapsed + predicted as f64 * 1e-9 > b
+        {
+            run.budget_cut = true;
+            for c in &mut cases {
+                for s in c.series.iter_mut().filter(|s| !s.pending.is_empty()) {
+                    s.cut = true;
+                    c.dirty = true;
+                }
+            }
+            break;
+        }
+        let c = &mut cases[ci];
+        let s = &mut c.series[si];
+        let k = s.pending.remove(0);
+        bar.set_message(format!(
+            "{} {}/{} N=2^{k}",
+            c.id,
+            s.est.name(),
+            s.sampler.name()
+        ));
+        let seed = point_seed(s.seed, k);
+        let spec = RunSpec {
+            samples: 1 << k,
+            sampler: s.sampler,
+            seed,
+        };
+        let batches: Vec<u64> = match opts.shard {
+            None => (0..BATCHES).collect(),
+            Some(sh) => sh.batches(s.seed, k),
+        };
+        let tp = Instant::now();
+        let results = run_point(&c.case, s.est, &spec, &batches);
+        let wall = tp.elapsed().as_secs_f64();
+        s.wall.insert(k, wall);
+        match opts.shard {
+            None => {
+                let accs: Vec<Accumulator> = results.iter().map(|r| r.1).collect();
+                let seconds = results.iter().map(|r| r.2).sum();
+                let p =
+                    point_from_batches(1 << k, seed, &accs, seconds, Some(wall), c.case.reference);
+                s.done.insert(k, p);
+            }
+            Some(_) => {
+                let recs = results
+                    .iter()
+                    .map(|(b, a, t)| BatchRecord::new(*b, a, *t))
+                    .collect();
+                s.parts.insert(
+                    k,
+                    ShardPoint {
+                        samples: 1 << k,
+                        seed,
+                        batches: recs,
+                    },
+                );
+            }
+        }
+        run.points_computed += 1;
+        c.dirty = true;
+        if let Some(&next) = s.pending.first() {
+            queue.push(Reverse((nanos(s.predict(next)), order, ci, si)));
+            order += 1;
+        }
+        bar.inc(1);
+        if last_flush.is_none_or(|t| t.elapsed() >= flush_every) {
+            let tf = Instant::now();
+            run.wall_seconds = t0.elapsed().as_secs_f64();
+            flush(opts, &settings, &plan, &mut cases, &run, false)?;
+            flush_every = Duration::from_secs(1).max(tf.elapsed() * 10);
+            last_flush = Some(Instant::now());
+        }
+    }
+    run.wall_seconds = t0.elapsed().as_secs_f64();
+    for c in &mut cases {
+        c.dirty = true;
+    }
+    let written = flush(opts, &settings, &plan, &mut cases, &run, true)?;
+    let mut summary = match opts.shard {
+        None => {
+            let mut reports = written.reports;
+            finish(&opts.out, &mut reports)?
+        }
+        Some(_) => Summary {
+            reports: vec![],
+            index: None,
+            partial: written.partial,
+            computed: 0,
+            resumed: 0,
+            budget_cut: false,
+            notes: vec![],
+        },
+    };
+    summary.computed = run.points_computed;
+    summary.resumed = resumed;
+    summary.budget_cut = run.budget_cut;
+    summary.notes = notes;
+    Ok(summary)
+}
+
+fn nanos(seconds: f64) -> u64 {
+    (seconds.max(0.0) * 1e9).min(u64::MAX as f64) as u64
+}
+
+struct Written {
+    reports: Vec<CaseReport>,
+    partial: Option<PathBuf>,
+}
+
+/// The report of a case as it stands.
+fn case_report(c: &CaseState, settings: &Settings, run: &RunInfo) -> CaseReport {
+    let measure = error_measure(&c.info);
+    let series: Vec<Series> = c
+        .series
+        .iter()
+        .map(|s| {
+            let mut out = Series {
+                estimator: s.est,
+                sampler: s.sampler,
+                seed: s.seed,
+                status: s.status(),
+                points: s.done.values().cloned().collect(),
+                fit_samples: None,
+                fit_seconds: None,
+                efficiency: None,
+                seconds_per_sample: None,
+                time_to: vec![],
+            };
+            summarize(&mut out, measure, c.info.reference);
+            out
+        })
+        .collect();
+    CaseReport {
+        format: FORMAT.to_string(),
+        kind: Kind::Case,
+        id: c.id.clone(),
+        case: c.info.clone(),
+        settings: settings.clone(),
+        error_measure: measure,
+        run: run.clone(),
+        best: best(&series),
+        series,
+        plot: None,
+    }
+}
+
+/// Write the dirty case reports (or the shard's partial). With `all`, return every
+/// case's report.
+fn flush(
+    opts: &Options,
+    settings: &Settings,
+    plan: &str,
+    cases: &mut [CaseState],
+    run: &RunInfo,
+    all: bool,
+) -> Result<Written, InputError> {
+    match opts.shard {
+        None => {
+            let mut reports = vec![];
+            for c in cases.iter_mut() {
+                if !(c.dirty || all) {
+                    continue;
+                }
+                let r = case_report(c, settings, run);
+                if !all {
+                    write_json(&opts.out.join(report_file(&c.id)), &r, true)?;
+                }
+                c.dirty = false;
+                reports.push(r);
+            }
+            Ok(Written {
+                reports,
+                partial: None,
+            })
+        }
+        Some(sh) => {
+            let partial = ShardPartial {
+                format: FORMAT.to_string(),
+                kind: Kind::Shard,
+                shard: sh,
+                plan: plan.to_string(),
+                settings: settings.clone(),
+                run: run.clone(),
+                cases: cases
+                    .iter()
+                    .map(|c| ShardCase {
+                        id: c.id.clone(),
+                        case: c.info.clone(),
+                        series: c
+                            .series
+                            .iter()
+                            .map(|s| ShardSeries {
+                                estimator: s.est,
+                                sampler: s.sampler,
+                                seed: s.seed,
+                                status: s.status(),
+                                points: s.parts.values().cloned().collect(),
+                            })
+                            .collect(),
+                    })
+                    .collect(),
+            };
+            let path = opts.out.join(sh.file_name());
+            write_partial(&path, &partial)?;
+            for c in cases.iter_mut() {
+                c.dirty = false;
+            }
+            Ok(Written {
+                reports: vec![],
+                partial: Some(path),
+            })
+        }
+    }
+}
+
+/// Write the final case reports with their plots, then the index.
+pub fn finish(out: &Path, reports: &mut [CaseReport]) -> Result<Summary, InputError> {
+    for r in reports.iter_mut() {
+        let svg = plot_file(&r.id);
+        r.plot = match super::plot::svg(r) {
+            Ok(text) => {
+                super::store::write_bytes(&out.join(&svg), text.as_bytes())?;
+                Some(svg)
+            }
+            Err(_) => None,
+        };
+        write_json(&out.join(report_file(&r.id)), r, true)?;
+    }
+    let index = super::index::update(out, reports)?;
+    Ok(Summary {
+        reports: reports.to_vec(),
+        index: Some(index),
+        partial: None,
+        computed: 0,
+        resumed: 0,
+        budget_cut: reports.iter().any(|r| r.run.budget_cut),
+        notes: vec![],
+    })
+}
+
+/// Whether a file was written by this build.
+fn same_build(run: &RunInfo) -> bool {
+    run.lightproof_version == VERSION && run.git_revision == GIT_REVISION
+}
+
+/// Take back the points of earlier case reports; returns how many.
+fn resume_reports(
+    out: &Path,
+    settings: &Settings,
+    cases: &mut [CaseState],
+    threads: usize,
+    notes: &mut Vec<String>,
+) -> Result<u64, InputError> {
+    let mut kept = 0;
+    for c in cases.iter_mut() {
+        let path = out.join(report_file(&c.id));
+        let Some(old) = read_case_report(&path)? else {
+            continue;
+        };
+        let why = if old.id != c.id || old.case.digest != c.info.digest {
+            Some("the case changed")
+        } else if old.settings.seed != settings.seed || old.settings.batches != settings.batches {
+            Some("another seed")
+        } else if !same_build(&old.run) {
+            Some("another build of lightproof")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            notes.push(format!("{}: {why}; swept afresh", path.display()));
+            continue;
+        }
+        for s in &mut c.series {
+            let Some(os) = old
+                .series
+                .iter()
+                .find(|o| o.estimator == s.est && o.sampler == s.sampler && o.seed == s.seed)
+            else {
+                continue;
+            };
+            for p in &os.points {
+                let k = p.samples.trailing_zeros();
+                if p.samples.is_power_of_two()
+                    && s.pending.contains(&k)
+                    && p.seed == point_seed(s.seed, k)
+                {
+                    s.pending.retain(|&x| x != k);
+                    s.wall.insert(k, p.seconds / threads as f64);
+                    s.done.insert(k, p.clone());
+                    kept += 1;
+                }
+            }
+        }
+    }
+    Ok(kept)
+}
+
+/// Take back the batches of this shard's earlier partial file; returns the points kept.
+fn resume_partial(
+    out: &Path,
+    shard: Shard,
+    plan: &str,
+    cases: &mut [CaseState],
+    threads: usize,
+    notes: &mut Vec<String>,
+) -> Result<u64, InputError> {
+    let path = out.join(shard.file_name());
+    if !path.exists() {
+        return Ok(0);
+    }
+    let old = read_partial(&path)?;
+    if old.plan != plan || old.shard != shard || !same_build(&old.run) {
+        notes.push(format!(
+            "{}: another sweep or build; run afresh",
+            path.display()
+        ));
+        return Ok(0);
+    }
+    let mut kept = 0;
+    for (c, oc) in cases.iter_mut().zip(&old.cases) {
+        for (s, os) in c.series.iter_mut().zip(&oc.series) {
+            for p in &os.points {
+                let k = p.samples.trailing_zeros();
+                let want = shard.batches(s.seed, k);
+                let have: Vec<u64> = p.batches.iter().map(|b| b.batch).collect();
+                if p.samples.is_power_of_two()
+                    && s.pending.contains(&k)
+                    && p.seed == point_seed(s.seed, k)
+                    && have == want
+                {
+                    s.pending.retain(|&x| x != k);
+                    let secs: f64 = p.batches.iter().map(|b| b.seconds).sum();
+                    s.wall.insert(k, secs / threads as f64);
+                    s.parts.insert(k, p.clone());
+                    kept += 1;
+                }
+            }
+        }
+    }
+    Ok(kept)
+}

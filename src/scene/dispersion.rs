@@ -1,0 +1,87 @@
+//! Dispersion: a material whose refractive index varies with wavelength.
+//!
+//! A dielectric's relative index η(λ) (Cauchy, Sellmeier or tabulated, see
+//! [`crate::spectrum::Ior`]) and a conductor's complex index η(λ) + i k(λ) replace the
+//! grey parameters of the material's BSDF at each path's (hero) wavelength. Because the
+//! refracted direction depends on η, a dispersive surface ends a path's secondary
+//! wavelength lanes ([`crate::transport::phase`]).
+
+use crate::bsdf::Bsdf;
+use crate::spectrum::{Band, Ior, Spectrum};
+use serde::{Deserialize, Serialize};
+
+/// The wavelength-dependent index of one material, as written in a scene's
+/// `dispersion` map: `{"glass": {"eta": {"sellmeier": {...}}}}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpectralIor {
+    /// Real part of the index (relative to the outside medium).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eta: Option<Ior>,
+    /// Extinction coefficient k(λ) of a conductor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<Spectrum>,
+}
+
+impl SpectralIor {
+    /// Check the index over `band` against the material it modifies: only dielectrics
+    /// take `eta`, only conductors take `k`.
+    pub fn validate(&self, bsdf: &Bsdf, band: Band) -> Result<(), String> {
+        let (takes_eta, takes_k) = match bsdf {
+            Bsdf::Dielectric(_) | Bsdf::RoughDielectric(_) => (true, false),
+            Bsdf::Conductor(_) | Bsdf::RoughConductor(_) => (true, true),
+            other => {
+                return Err(format!(
+                    "a `{}` material has no refractive index to vary (use dielectric, rough_dielectric, conductor or rough_conductor)",
+                    other.name()
+                ));
+            }
+        };
+        if self.eta.is_none() && self.k.is_none() {
+            return Err("give `eta`, `k` or both".into());
+        }
+        if let Some(eta) = &self.eta {
+            if !takes_eta {
+                return Err("this material takes no `eta`".into());
+            }
+            eta.validate(band).map_err(|r| format!("eta: {r}"))?;
+        }
+        if let Some(k) = &self.k {
+            if !takes_k {
+                return Err(format!(
+                    "`k` (extinction) applies to conductors, not to a `{}`",
+                    bsdf.name()
+                ));
+            }
+            k.validate().map_err(|r| format!("k: {r}"))?;
+        }
+        Ok(())
+    }
+
+    /// Whether anything varies with wavelength.
+    pub fn is_dispersive(&self) -> bool {
+        self.eta.as_ref().is_some_and(|e| !e.is_constant())
+            || self.k.as_ref().is_some_and(|k| !k.is_constant())
+    }
+
+    /// The material at wavelength `lambda` (nm).
+    pub fn at(&self, bsdf: &Bsdf, lambda: f32) -> Bsdf {
+        let mut b = bsdf.clone();
+        let eta = self.eta.as_ref().map(|e| e.eval(lambda));
+        let k = self.k.as_ref().map(|k| k.eval(lambda).max(0.0));
+        match &mut b {
+            Bsdf::Dielectric(d) => d.eta = eta.unwrap_or(d.eta),
+            Bsdf::RoughDielectric(d) => d.eta = eta.unwrap_or(d.eta),
+            Bsdf::Conductor(c) => {
+                c.eta = eta.unwrap_or(c.eta);
+                c.k = k.unwrap_or(c.k);
+            }
+            Bsdf::RoughConductor(c) => {
+                c.eta = eta.unwrap_or(c.eta);
+                c.k = k.unwrap_or(c.k);
+            }
+            _ => {}
+        }
+        b
+    }
+}

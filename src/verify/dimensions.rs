@@ -1,0 +1,330 @@
+//! From a case's `spectral` and `time` sections to the dimensions its estimator samples,
+//! with the effects analysis's reasons for wavelength and time.
+//!
+//! **Wavelength** is sampled only where the scene varies with it (an emitter with a
+//! non-constant spectrum, a dispersive material). A grey scene measured over a band
+//! gives ∫ R(λ) L dλ = L ∫ R(λ) dλ: the engine estimates L once and multiplies by the
+//! deterministic factor (Gauss–Legendre quadrature of R, or of R λ/(hc) for photons).
+//! **Time** is sampled only where an emitter moves (uniformly over the shutter) and path
+//! lengths are tracked only when the measurement is time resolved. The *full*
+//! dimensions sample everything (wavelength uniformly over the band or the visible
+//! range, time over the shutter or [0, 1] s) for the soundness proof.
+
+use crate::error::InputError;
+use crate::scene::Scene;
+use crate::spectrum::{Band, Response, VISIBLE, WavelengthSampler, photon_energy};
+use crate::transport::effects::Decision;
+use crate::transport::measure::Measure;
+use crate::transport::phase::{Dimensions, SpectralSetup, TimeSetup};
+use crate::verify::{SpectralDesc, TimeDesc, WavelengthSampling};
+
+/// The pruned and the full dimensions of a case, and the effects' decisions for
+/// wavelength and time.
+pub fn dimensions(
+    f: &str,
+    scene: &Scene,
+    measure: &Measure,
+    spectral: Option<&SpectralDesc>,
+    time: Option<&TimeDesc>,
+) -> Result<(Dimensions, Dimensions, Decision, Decision), InputError> {
+    let (pruned_s, full_s, factor, wl) = wavelength(f, scene, measure, spectral)?;
+    let (time_setup, full_time, td) = time_dims(f, scene, time)?;
+    let pruned = Dimensions {
+        spectral: pruned_s,
+        time: time_setup,
+        factor,
+    };
+    let full = Dimensions {
+        spectral: Some(full_s),
+        time: full_time,
+        factor: 1.0,
+    };
+    Ok((pruned, full, wl, td))
+}
+
+fn decision(simulated: bool, why: String) -> Decision {
+    Decision { simulated, why }
+}
+
+/// ∫ g over [a, b] by 256-panel 4-point Gauss–Legendre (exact for cubics per panel).
+fn integrate(a: f64, b: f64, g: impl Fn(f64) -> f64) -> f64 {
+    const X: [f64; 2] = [0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
+    const W: [f64; 2] = [0.652_145_154_862_546_1, 0.347_854_845_137_453_9];
+    let n = 256;
+    let h = (b - a) / n as f64;
+    let mut s = 0.0;
+    for i in 0..n {
+        let m = a + (i as f64 + 0.5) * h;
+        for k in 0..2 {
+            s += W[k] * (g(m - 0.5 * h * X[k]) + g(m + 0.5 * h * X[k]));
+        }
+    }
+    s * 0.5 * h
+}
+
+type WavelengthDims = (Option<SpectralSetup>, SpectralSetup, f32, Decision);
+
+fn wavelength(
+    f: &str,
+    scene: &Scene,
+    measure: &Measure,
+    spectral: Option<&SpectralDesc>,
+) -> Result<WavelengthDims, InputError> {
+    let varies: Vec<String> = scene
+        .emitter_props
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.spectrum.is_some())
+        .map(|(i, _)| format!("emitter {i}'s spectrum"))
+        .chain(
+            scene
+                .material_ior
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.is_some())
+                .map(|(i, _)| format!("material {i}'s refractive index")),
+        )
+        .collect();
+    let spectral_scene = !varies.is_empty();
+    let err = |field: &str, why: String| InputError::new(f, field, why);
+    let Some(sd) = spectral else {
+        if spectral_scene {
+            return Err(err(
+                "spectral",
+                format!(
+                    "{} varies with wavelength: give `spectral.band` (nm) or `spectral.wavelength` (nm)",
+                    varies.join(" and ")
+                ),
+            ));
+        }
+        // Grey scene, grey measurement: the full proof samples the visible range and
+        // divides by its width (the mean over λ of a constant).
+        let full = SpectralSetup {
+            sampler: WavelengthSampler::uniform(VISIBLE),
+            response: Response::Flat,
+            fixed: None,
+            hero: true,
+            photons: false,
+            scale: 1.0 / VISIBLE.width(),
+        };
+        return Ok((
+            None,
+            full,
+            1.0,
+            decision(
+                false,
+                "the scene's spectra are constant and no measurement is spectral: wavelength integrates out".into(),
+            ),
+        ));
+    };
+    if !matches!(
+        measure,
+        Measure::Irradiance { .. }
+            | Measure::Radiance { .. }
+            | Measure::Power { .. }
+            | Measure::Intensity { .. }
+    ) {
+        return Err(err(
+            "spectral",
+            format!(
+                "a {} measurement has no spectrum (use irradiance, radiance, power or intensity)",
+                measure.name()
+            ),
+        ));
+    }
+    if let Response::Sampled(s) = &sd.response {
+        s.validate()
+            .map_err(|r| err("spectral.response", r.to_string()))?;
+    }
+    let photon = |l: f64| if sd.photons { 1.0 / photon_energy(l) } else { 1.0 };
+    match (sd.band, sd.wavelength) {
+        (Some(_), Some(_)) | (None, None) => Err(err(
+            "spectral",
+            "give exactly one of `band` [λ₁, λ₂] or `wavelength` (nm)".into(),
+        )),
+        (None, Some(l)) => {
+            if !(l.is_finite() && l > 0.0) {
+                return Err(err(
+                    "spectral.wavelength",
+                    format!("must be a positive wavelength in nm, got {l}"),
+                ));
+            }
+            let r = sd.response.eval(l as f32) as f64;
+            let setup = SpectralSetup {
+                sampler: WavelengthSampler::uniform(Band {
+                    min: l as f32,
+                    max: l as f32 + 1.0,
+                }),
+                response: sd.response.clone(),
+                fixed: Some(l as f32),
+                hero: false,
+                photons: sd.photons,
+                scale: r as f32,
+            };
+            let why = if spectral_scene {
+                format!(
+                    "{} varies with wavelength; the measurement is monochromatic: evaluated at {l} nm",
+                    varies.join(" and ")
+                )
+            } else {
+                format!("the scene is grey: its value at {l} nm is the grey value")
+            };
+            let factor = (r * photon(l)) as f32;
+            Ok((
+                spectral_scene.then(|| setup.clone()),
+                setup,
+                factor,
+                decision(spectral_scene, why),
+            ))
+        }
+        (Some([a, b]), None) => {
+            let band = Band {
+                min: a as f32,
+                max: b as f32,
+            };
+            if !(a.is_finite() && b.is_finite() && a > 0.0 && b > a) {
+                return Err(err(
+                    "spectral.band",
+                    format!("must be [λ₁, λ₂] in nm with 0 < λ₁ < λ₂, got [{a}, {b}]"),
+                ));
+            }
+            let sampler = match sd.sampling {
+                WavelengthSampling::Uniform => WavelengthSampler::uniform(band),
+                WavelengthSampling::Emitter => {
+                    let spectra: Vec<_> = scene
+                        .emitter_props
+                        .iter()
+                        .map(|p| {
+                            p.spectrum
+                                .as_ref()
+                                .map(|s| (s, s.max_in(band).max(f32::MIN_POSITIVE)))
+                        })
+                        .collect();
+                    let response = sd.response.clone();
+                    let photons = sd.photons;
+                    WavelengthSampler::importance(band, move |l| {
+                        let e: f32 = spectra
+                            .iter()
+                            .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.eval(l) / m))
+                            .sum();
+                        let p = if photons { l / 550.0 } else { 1.0 };
+                        response.eval(l) * e.max(0.0) * p
+                    })
+                }
+            };
+            let setup = SpectralSetup {
+                sampler,
+                response: sd.response.clone(),
+                fixed: None,
+                hero: sd.hero,
+                photons: sd.photons,
+                scale: 1.0,
+            };
+            let mut full = setup.clone();
+            full.hero = true;
+            let how = format!(
+                "{} over [{a}, {b}] nm{}",
+                match sd.sampling {
+                    WavelengthSampling::Uniform => "sampled uniformly",
+                    WavelengthSampling::Emitter => "importance-sampled by response × spectra",
+                },
+                if sd.hero { " with four hero wavelengths per path" } else { "" }
+            );
+            if spectral_scene {
+                Ok((
+                    Some(setup),
+                    full,
+                    1.0,
+                    decision(true, format!("{} varies with wavelength: {how}", varies.join(" and "))),
+                ))
+            } else {
+                let factor = integrate(a, b, |l| sd.response.eval(l as f32) as f64 * photon(l));
+                Ok((
+                    None,
+                    full,
+                    factor as f32,
+                    decision(
+                        false,
+                        format!(
+                            "the scene is grey: the band integral is the grey estimate times ∫R{} dλ = {factor:.6e} over [{a}, {b}] nm",
+                            if sd.photons { "·λ/(hc)" } else { "" }
+                        ),
+                    ),
+                ))
+            }
+        }
+    }
+}
+
+fn time_dims(
+    f: &str,
+    scene: &Scene,
+    time: Option<&TimeDesc>,
+) -> Result<(TimeSetup, TimeSetup, Decision), InputError> {
+    let td = time.cloned().unwrap_or_default();
+    let interval = |field: &str, v: Option<[f64; 2]>| -> Result<Option<(f32, f32)>, InputError> {
+        match v {
+            None => Ok(None),
+            Some([a, b]) if a.is_finite() && b.is_finite() && b > a => {
+                Ok(Some((a as f32, b as f32)))
+            }
+            Some([a, b]) => Err(InputError::new(
+                f,
+                field,
+                format!("must be [t₁, t₂] in seconds with t₁ < t₂, got [{a}, {b}]"),
+            )),
+        }
+    };
+    let shutter = interval("time.shutter", td.shutter)?;
+    let bin = interval("time.bin", td.bin)?;
+    let moving: Vec<usize> = (0..scene.emitter_props.len())
+        .filter(|&i| scene.emitter_props[i].velocity != glam::Vec3::ZERO)
+        .collect();
+    if !moving.is_empty() && shutter.is_none() {
+        return Err(InputError::new(
+            f,
+            "time.shutter",
+            format!("emitter {} moves: give the shutter interval [t₀, t₁] in seconds", moving[0]),
+        ));
+    }
+    let pulsed = scene.emitter_props.iter().any(|p| p.pulse.is_some());
+    let mut why = Vec::new();
+    if !moving.is_empty() {
+        why.push(format!(
+            "emitter(s) {moving:?} move: time is sampled uniformly over the shutter"
+        ));
+    }
+    if let Some((t1, t2)) = bin {
+        why.push(format!(
+            "the measurement is time resolved: path lengths ℓ give arrival times ℓ/c, counted in [{t1:e}, {t2:e}] s"
+        ));
+    }
+    let simulated = !why.is_empty();
+    let decision = if simulated {
+        decision(true, why.join("; "))
+    } else if pulsed {
+        decision(
+            false,
+            "emitters are pulsed but the measurement is not time resolved: it counts the whole pulse".into(),
+        )
+    } else if shutter.is_some() {
+        decision(
+            false,
+            "nothing moves: the shutter average is the static value".into(),
+        )
+    } else {
+        decision(
+            false,
+            "nothing moves and the measurement is not time resolved: time integrates out".into(),
+        )
+    };
+    let pruned = TimeSetup {
+        shutter: if moving.is_empty() { None } else { shutter },
+        bin,
+    };
+    let full = TimeSetup {
+        shutter: Some(shutter.unwrap_or((0.0, 1.0))),
+        bin,
+    };
+    Ok((pruned, full, decision))
+}

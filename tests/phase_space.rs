@@ -1,0 +1,311 @@
+//! Wavelength and time as dimensions of the estimator: Wien's law through a spectral
+//! sweep, hero wavelengths against single wavelengths, pruned against sampled
+//! wavelength and time (soundness), the effects' reasons, hard spectral inputs and bad
+//! input. The closed-form cases themselves live in the catalog
+//! (`analytic/cases/spectral`, `analytic/cases/time`) and are judged by `tests/catalog.rs`.
+
+mod common;
+
+use lightproof::sampling::SamplerKind;
+use lightproof::stats::sidak_alpha;
+use lightproof::transport::Estimator;
+use lightproof::transport::engine::{Estimate, RunSpec};
+use lightproof::verify::{Case, CaseDesc, judge};
+use lightproof_analytic::spectrum::{planck, wien_peak};
+use statrs::distribution::{ContinuousCDF, Normal};
+use std::path::Path;
+
+/// Statistical decisions in this file (Šidák family).
+const FAMILY: usize = 24;
+const ALPHA: f64 = 1e-4;
+
+fn case(json: &str) -> Case {
+    try_case(json).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn try_case(json: &str) -> Result<Case, String> {
+    let desc: CaseDesc = serde_json::from_str(json).map_err(|e| e.to_string())?;
+    Case::from_desc(desc, Path::new("<phase test>")).map_err(|e| e.to_string())
+}
+
+fn spec(samples: u64, salt: u64) -> RunSpec {
+    RunSpec {
+        samples: samples * common::scale(),
+        sampler: SamplerKind::Independent,
+        seed: common::seed() ^ salt,
+    }
+}
+
+fn crit() -> f64 {
+    Normal::standard().inverse_cdf(1.0 - sidak_alpha(ALPHA, FAMILY) / 2.0)
+}
+
+/// Two-sample z of equal means.
+fn z_same(a: &Estimate, b: &Estimate) -> f64 {
+    let (ma, mb) = (&a.batches.total, &b.batches.total);
+    assert_eq!(ma.non_finite + mb.non_finite, 0, "non-finite samples");
+    let se = (ma.std_error().powi(2) + mb.std_error().powi(2)).sqrt();
+    let d = ma.mean - mb.mean;
+    if d == 0.0 {
+        0.0
+    } else {
+        d / se.max(2e-6 * ma.mean.abs())
+    }
+}
+
+fn blackbody_disk(t: f64, spectral: &str) -> Case {
+    case(&format!(
+        r#"{{ "name": "blackbody {t}", "teaches": "Planck",
+        "scene": {{ "shapes": [ {{ "geometry": {{ "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 4 }},
+            "emission": {{ "radiance": 1, "spectrum": {{ "blackbody": {{ "temperature": {t} }} }} }} }} ] }},
+        "measure": {{ "radiance": {{ "at": [0,0,0], "direction": [0,0,1] }} }},
+        "spectral": {spectral},
+        "estimators": ["mis"] }}"#
+    ))
+}
+
+/// Wien's displacement law through a spectral sweep: monochromatic radiance estimates of
+/// a blackbody on a 1 % grid around b/T each match Planck, and a parabola through the
+/// log-estimates peaks at b/T (to a small fraction of the grid step).
+#[test]
+fn wien_peak_by_spectral_sweep() {
+    let t = 4200.0;
+    let peak = wien_peak(t) * 1e9;
+    let grid: Vec<f64> = (-4..=4).map(|k| peak * (1.0 + 0.01 * k as f64)).collect();
+    let mut values = Vec::new();
+    for (i, &l) in grid.iter().enumerate() {
+        let c = blackbody_disk(t, &format!(r#"{{ "wavelength": {l} }}"#));
+        let e = c.estimate(Estimator::Mis, &spec(4096, 10 + i as u64), false);
+        let exact = planck(l * 1e-9, t) * 1e-9;
+        let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
+        assert!(v.passed, "B_λ at {l:.3} nm: {v:?}");
+        values.push(e.batches.total.mean.ln());
+    }
+    let argmax = (0..values.len())
+        .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+        .unwrap();
+    assert_eq!(argmax, 4, "the sweep's maximum is not at the grid point b/T");
+    // Parabola through the three points around the maximum, in ln λ.
+    let (y0, y1, y2) = (values[3], values[4], values[5]);
+    let h = 0.01f64;
+    let offset = 0.5 * h * (y0 - y2) / (y0 - 2.0 * y1 + y2);
+    let found = peak * (1.0 + offset);
+    let rel = (found - peak).abs() / peak;
+    println!("Wien: b/T = {peak:.3} nm, sweep peak {found:.3} nm (relative {rel:.2e})");
+    assert!(rel < 1e-3, "sweep peak {found} nm vs b/T = {peak} nm");
+}
+
+/// Four hero wavelengths and one wavelength per path estimate the same band integral;
+/// the hero estimate is more efficient for a spectrally varying emitter.
+#[test]
+fn hero_wavelengths_agree_and_help() {
+    let hero = blackbody_disk(
+        3000.0,
+        r#"{ "band": [380, 780], "sampling": "uniform", "hero": true }"#,
+    );
+    let single = blackbody_disk(
+        3000.0,
+        r#"{ "band": [380, 780], "sampling": "uniform", "hero": false }"#,
+    );
+    let a = hero.estimate(Estimator::Mis, &spec(1 << 14, 20), false);
+    let b = single.estimate(Estimator::Mis, &spec(1 << 14, 21), false);
+    let z = z_same(&a, &b);
+    assert!(z.abs() <= crit(), "hero vs single wavelength: z = {z}");
+    let (va, vb) = (a.batches.total.variance(), b.batches.total.variance());
+    println!(
+        "band radiance at 3000 K: hero variance {va:.4e}, single {vb:.4e}: hero {:.1}x lower",
+        vb / va
+    );
+    assert!(va < vb, "hero wavelengths did not lower the variance");
+}
+
+/// Importance sampling by the emitter's spectrum beats uniform wavelengths.
+#[test]
+fn emitter_spectrum_importance_helps() {
+    let imp = blackbody_disk(
+        2500.0,
+        r#"{ "band": [360, 830], "sampling": "emitter", "hero": false }"#,
+    );
+    let uni = blackbody_disk(
+        2500.0,
+        r#"{ "band": [360, 830], "sampling": "uniform", "hero": false }"#,
+    );
+    let a = imp.estimate(Estimator::Mis, &spec(1 << 14, 30), false);
+    let b = uni.estimate(Estimator::Mis, &spec(1 << 14, 31), false);
+    let z = z_same(&a, &b);
+    assert!(z.abs() <= crit(), "importance vs uniform: z = {z}");
+    let (va, vb) = (a.batches.total.variance(), b.batches.total.variance());
+    println!("band radiance at 2500 K: importance variance {va:.4e}, uniform {vb:.4e}");
+    assert!(va < 0.1 * vb);
+}
+
+/// Pruning is sound for wavelength and time: a grey scene measured over a band with a
+/// photopic response (pruned: one grey estimate times ∫ȳ) agrees with the sampled
+/// spectral estimate, and a static scene with a shutter agrees with sampled time.
+#[test]
+fn pruned_wavelength_and_time_agree_with_sampled() {
+    let grey = case(
+        r#"{ "name": "grey disk, photopic", "teaches": "pruning",
+        "scene": { "materials": { "w": { "type": "lambertian", "albedo": 0.6 } },
+          "shapes": [ { "geometry": { "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 }, "emission": { "radiance": 2 } },
+                      { "geometry": { "type": "rectangle", "corner": [-2,-2,0], "edge_u": [4,0,0], "edge_v": [0,4,0] }, "material": "w" } ] },
+        "measure": { "irradiance": { "at": [0.3,0,0.5], "normal": [0,0,1] } },
+        "spectral": { "band": [360, 830], "response": "photopic" },
+        "time": { "shutter": [0, 0.01] },
+        "estimators": ["mis"] }"#,
+    );
+    assert!(!grey.effects.wavelength.simulated, "{:?}", grey.effects);
+    assert!(!grey.effects.time.simulated, "{:?}", grey.effects);
+    let pruned = grey.estimate(Estimator::Mis, &spec(1 << 15, 40), false);
+    let full = grey.estimate(Estimator::Mis, &spec(1 << 15, 41), true);
+    let z = z_same(&pruned, &full);
+    println!(
+        "photopic grey: pruned {:.6} ({:.3}s) full {:.6} ({:.3}s), z {z:+.2}, speed-up {:.2}x",
+        pruned.batches.total.mean,
+        pruned.seconds,
+        full.batches.total.mean,
+        full.seconds,
+        full.seconds / pruned.seconds.max(1e-9)
+    );
+    assert!(z.abs() <= crit(), "pruned vs sampled: z = {z}");
+    // ∫ȳ over 360–830 nm is 106.857 nm for the CIE 1931 tables; the analytic fit of the
+    // response is within 1 % of it, so the grey estimate scales by about that.
+    let e_grey = grey.estimate(Estimator::Mis, &spec(1 << 12, 42), false).batches.total.mean;
+    assert!(e_grey > 0.0);
+}
+
+/// Every effects report names the dimensions it samples and why.
+#[test]
+fn effects_say_which_dimensions_are_sampled() {
+    let bb = blackbody_disk(5000.0, r#"{ "band": [400, 700] }"#);
+    assert!(bb.effects.wavelength.simulated);
+    assert!(bb.effects.wavelength.why.contains("spectrum"), "{}", bb.effects.wavelength.why);
+    assert!(!bb.effects.time.simulated);
+    let moving = case(
+        r#"{ "name": "moving", "teaches": "motion",
+        "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1, "velocity": [1,0,0] } ] },
+        "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+        "time": { "shutter": [0, 1] }, "estimators": ["light"] }"#,
+    );
+    assert!(moving.effects.time.simulated);
+    assert!(moving.effects.time.why.contains("move"));
+    assert!(!moving.effects.wavelength.simulated);
+    let pulsed = case(
+        r#"{ "name": "pulsed", "teaches": "transient",
+        "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 },
+                                 "emission": { "radiance": 1, "pulse_at": 0 } } ] },
+        "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+        "time": { "bin": [0, 1e-8] }, "estimators": ["light"] }"#,
+    );
+    assert!(pulsed.effects.time.simulated);
+    assert!(pulsed.effects.time.why.contains("time resolved"));
+}
+
+/// A pulse counted over a bin that holds every arrival gives the steady irradiance of
+/// the same disk (the exposure of a unit pulse), and a bin before the first arrival
+/// gives exactly zero.
+#[test]
+fn time_of_flight_bins() {
+    let disk = |bin: &str| {
+        case(&format!(
+            r#"{{ "name": "pulse", "teaches": "transient",
+            "scene": {{ "shapes": [ {{ "geometry": {{ "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 }},
+                                     "emission": {{ "radiance": 1, "pulse_at": 0 }} }} ] }},
+            "measure": {{ "irradiance": {{ "at": [0,0,0], "normal": [0,0,1] }} }},
+            "time": {{ "bin": {bin} }}, "estimators": ["mis"] }}"#
+        ))
+    };
+    let all = disk("[0, 1]").estimate(Estimator::Mis, &spec(1 << 15, 50), false);
+    let exact = std::f64::consts::PI * 0.5; // π L R²/(h² + R²)
+    let v = judge(&all, SamplerKind::Independent, exact, ALPHA, FAMILY);
+    assert!(v.passed, "{v:?}");
+    let early = disk("[0, 3.3e-9]").estimate(Estimator::Mis, &spec(1 << 12, 51), false);
+    assert_eq!(early.batches.total.mean, 0.0, "light arrived before h/c");
+}
+
+/// Hard spectral inputs: η → 1 (the slab vanishes), a 1 K and a 1e6 K blackbody, a band
+/// 1e-3 nm wide. Nothing non-finite, nothing negative.
+#[test]
+fn hard_spectral_inputs_stay_finite() {
+    let slab = |eta: &str| {
+        format!(
+            r#"{{ "name": "slab", "teaches": "η → 1",
+            "scene": {{ "materials": {{ "g": {{ "type": "dielectric", "eta": 1.5 }} }},
+              "dispersion": {{ "g": {{ "eta": {eta} }} }},
+              "shapes": [ {{ "geometry": {{ "type": "rectangle", "corner": [-5,-5,1], "edge_u": [0,10,0], "edge_v": [10,0,0] }}, "material": "g" }},
+                          {{ "geometry": {{ "type": "rectangle", "corner": [-5,-5,1.2], "edge_u": [10,0,0], "edge_v": [0,10,0] }}, "material": "g" }},
+                          {{ "geometry": {{ "type": "disk", "center": [0,0,2], "normal": [0,0,-1], "radius": 10 }}, "emission": {{ "radiance": 1 }} }} ] }},
+            "measure": {{ "radiance": {{ "at": [0,0,0], "direction": [0,0,1] }} }},
+            "spectral": {{ "band": [400, 700] }}, "estimators": ["mis"] }}"#
+        )
+    };
+    // Cauchy with a = 1, b → 0: η(λ) → 1 over the band, the slab transmits everything.
+    let c = case(&slab(r#"{ "cauchy": { "a": 1.0, "b": 1e-7 } }"#));
+    let e = c.estimate(Estimator::Mis, &spec(1 << 12, 60), false);
+    assert_eq!(e.batches.total.non_finite, 0);
+    let v = judge(&e, SamplerKind::Independent, 300.0, ALPHA, FAMILY);
+    assert!(v.passed, "η → 1 slab: {v:?}");
+    for (t, band) in [(1.0, "[400, 700]"), (1e6, "[10, 1000]"), (5000.0, "[550, 550.001]")] {
+        let c = blackbody_disk(t, &format!(r#"{{ "band": {band} }}"#));
+        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 61), false);
+        let m = &e.batches.total;
+        assert_eq!(m.non_finite, 0, "T = {t}");
+        assert!(m.mean >= 0.0 && m.mean.is_finite(), "T = {t}: {}", m.mean);
+    }
+}
+
+/// Bad spectral and time input: a clear error naming the field, never a panic.
+#[test]
+fn bad_phase_input_is_named() {
+    let cases = [
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 },
+                "emission": { "radiance": 1, "spectrum": { "blackbody": { "temperature": 3000 } } } } ] },
+            "measure": { "radiance": { "at": [0,0,0], "direction": [0,0,1] } }, "estimators": ["mis"] }"#,
+            "spectral",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1, "velocity": [1,0,0] } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } }, "estimators": ["light"] }"#,
+            "time.shutter",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1 } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+            "spectral": { "band": [700, 400] }, "estimators": ["light"] }"#,
+            "spectral.band",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1 } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+            "time": { "bin": [2, 1] }, "estimators": ["light"] }"#,
+            "time.bin",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "materials": { "m": { "type": "lambertian", "albedo": 0.5 } },
+              "dispersion": { "m": { "eta": { "cauchy": { "a": 1.5, "b": 0.004 } } } },
+              "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1 } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } }, "estimators": ["light"] }"#,
+            "dispersion.m",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "materials": { "g": { "type": "dielectric", "eta": 1.5 } },
+              "dispersion": { "g": { "eta": { "cauchy": { "a": -1, "b": 0 } } } },
+              "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1 } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } }, "estimators": ["light"] }"#,
+            "dispersion.g",
+        ),
+    ];
+    for (json, field) in cases {
+        match try_case(json) {
+            Ok(_) => panic!("accepted bad input (expected an error at `{field}`)"),
+            Err(e) => assert!(e.contains(field), "error `{e}` does not name `{field}`"),
+        }
+    }
+}

@@ -1,0 +1,457 @@
+//! Convergence reports (`lightproof report`, `lightproof merge`):
+//!
+//! - the fitted rate of a smooth integrand under independent sampling is −½ within its
+//!   uncertainty, and Sobol's is clearly steeper;
+//! - the shards of a sweep merge into exactly the single run's reports (and the thread
+//!   count changes nothing): only timing fields may differ;
+//! - a killed run leaves only whole, valid JSON, and a re-run resumes from it into the
+//!   same reports as a fresh run;
+//! - `reports/schema.json` validates every file a run writes and the committed examples;
+//! - the shard comes from Slurm or Kubernetes variables as documented; bad input exits 2.
+//!
+//! Small sweeps (≤ 2^18 samples of a disk light): the whole file runs in a few seconds.
+
+mod common;
+
+use indicatif::ProgressBar;
+use lightproof::report::shard::{Shard, merge, shard_from_env};
+use lightproof::report::sweep::{Options, Summary, run};
+use lightproof::report::{CaseReport, DEFAULT_MIN_SAMPLES};
+use lightproof::sampling::SamplerKind;
+use lightproof::transport::Estimator;
+use serde_json::Value;
+use statrs::distribution::{ContinuousCDF, StudentsT};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Significance of each statistical check here.
+const ALPHA: f64 = 1e-4;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn disk_case() -> PathBuf {
+    root().join("analytic/cases/irradiance/disk_on_axis.json")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lightproof-report-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A case without a reference (its reports fit the standard error), in `dir`.
+fn no_reference_case(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(disk_case()).unwrap();
+    let mut v: Value = serde_json::from_str(&text).unwrap();
+    v.as_object_mut().unwrap().remove("reference");
+    v["name"] = "disk light on axis, no reference".into();
+    let p = dir.join("cases/disk_no_reference.json");
+    std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+    std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    p
+}
+
+fn options(paths: Vec<PathBuf>, out: &Path, max: u64) -> Options {
+    Options {
+        paths,
+        out: out.to_path_buf(),
+        budget: None,
+        min_samples: DEFAULT_MIN_SAMPLES,
+        max_samples: max,
+        seed: common::seed(),
+        estimators: vec![],
+        samplers: vec![],
+        shard: None,
+        fresh: false,
+    }
+}
+
+fn sweep(opts: &Options) -> Summary {
+    run(opts, &ProgressBar::hidden()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn validator() -> jsonschema::Validator {
+    let text = std::fs::read_to_string(root().join("reports/schema.json")).unwrap();
+    let schema: Value = serde_json::from_str(&text).unwrap();
+    jsonschema::validator_for(&schema).expect("reports/schema.json is a valid JSON Schema")
+}
+
+/// Every `.json` file in `dir` parses and validates; returns how many.
+fn validate_dir(dir: &Path) -> usize {
+    let v = validator();
+    let mut n = 0;
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.extension().is_some_and(|x| x == "json") {
+            let text = std::fs::read_to_string(&p).unwrap();
+            let value: Value = serde_json::from_str(&text)
+                .unwrap_or_else(|err| panic!("{}: not JSON: {err}", p.display()));
+            let errors: Vec<String> = v
+                .iter_errors(&value)
+                .map(|e| format!("{} at {}", e, e.instance_path()))
+                .take(5)
+                .collect();
+            assert!(errors.is_empty(), "{}: {errors:#?}", p.display());
+            n += 1;
+        }
+    }
+    n
+}
+
+/// A report with the fields that depend on timing removed: every `seconds`,
+/// `wall_seconds`, `fit_seconds`, `efficiency`, `seconds_per_sample`, `best` (chosen by
+/// time) and the `run` record.
+fn untimed(mut v: Value) -> Value {
+    fn strip(v: &mut Value) {
+        match v {
+            Value::Object(m) => {
+                for k in [
+                    "seconds",
+                    "wall_seconds",
+                    "fit_seconds",
+                    "efficiency",
+                    "seconds_per_sample",
+                    "best",
+                    "run",
+                ] {
+                    m.remove(k);
+                }
+                m.values_mut().for_each(strip);
+            }
+            Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    strip(&mut v);
+    v
+}
+
+fn read(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn case_reports(dir: &Path) -> BTreeMap<String, Value> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .map(|p| {
+            let v = read(&p);
+            (p, v)
+        })
+        .filter(|(_, v)| v["kind"] == "case")
+        .map(|(p, v)| (p.file_name().unwrap().to_string_lossy().into_owned(), v))
+        .collect()
+}
+
+/// Two-sided critical value of Student's t with `dof` degrees of freedom at `ALPHA`.
+fn t_crit(dof: usize) -> f64 {
+    StudentsT::new(0.0, 1.0, dof as f64)
+        .unwrap()
+        .inverse_cdf(1.0 - ALPHA / 2.0)
+}
+
+#[test]
+fn independent_rate_is_minus_half_and_sobol_is_steeper() {
+    let out = tmp("rates");
+    let mut opts = options(vec![disk_case()], &out, 1 << 18);
+    opts.estimators = vec![Estimator::Light];
+    opts.samplers = vec![SamplerKind::Independent, SamplerKind::Sobol];
+    let s = sweep(&opts);
+    let r: &CaseReport = &s.reports[0];
+    let fit = |sampler| {
+        r.series
+            .iter()
+            .find(|x| x.sampler == sampler)
+            .and_then(|x| x.fit_samples)
+            .unwrap()
+    };
+    let ind = fit(SamplerKind::Independent);
+    let sob = fit(SamplerKind::Sobol);
+    let (se_i, se_s) = (ind.slope_std_error.unwrap(), sob.slope_std_error.unwrap());
+    let t = t_crit(ind.points - 2);
+    println!(
+        "disk light, light sampling, 2^8..2^18: independent slope {:.3} ± {:.3}, sobol {:.3} ± {:.3} (t crit {t:.2}, seed {})",
+        ind.slope,
+        se_i,
+        sob.slope,
+        se_s,
+        common::seed()
+    );
+    // |b + 1/2| ≤ t·s_b: the fit's residuals give s_b (points are independent runs).
+    assert!(
+        (ind.slope + 0.5).abs() <= t * se_i,
+        "independent slope {} ± {se_i} is not −0.5 (t = {t})",
+        ind.slope
+    );
+    assert!(se_i < 0.03, "the fit is too loose to mean anything: {se_i}");
+    // Sobol: steeper than −½ beyond both uncertainties, and by a clear margin.
+    assert!(
+        ind.slope - sob.slope > t * (se_i * se_i + se_s * se_s).sqrt(),
+        "sobol {} ± {se_s} vs independent {} ± {se_i}",
+        sob.slope,
+        ind.slope
+    );
+    assert!(sob.slope < -0.8, "sobol slope {}", sob.slope);
+    // Time to 1% is measured for both, and Sobol gets there at least as cheaply in samples.
+    for x in &r.series {
+        assert!(!x.time_to[0].extrapolated && x.time_to[0].samples.is_some());
+    }
+    assert_eq!(validate_dir(&out), 2); // the report and index.json
+    assert!(out.join("disk_on_axis.svg").exists());
+    assert!(
+        std::fs::read_to_string(out.join("index.md"))
+            .unwrap()
+            .contains("disk_on_axis.svg")
+    );
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn merged_shards_equal_the_single_run_whatever_the_threads() {
+    let out = tmp("merge");
+    let cases = vec![disk_case(), no_reference_case(&out)];
+    let max = 1 << 12;
+    // The single run, on one thread.
+    let single = out.join("single");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| sweep(&options(cases.clone(), &single, max)));
+    // Three shards on the default pool, then the merge.
+    let shards = out.join("shards");
+    for k in 0..3 {
+        let mut o = options(cases.clone(), &shards, max);
+        o.shard = Some(Shard { index: k, count: 3 });
+        let s = sweep(&o);
+        assert!(s.partial.is_some() && s.reports.is_empty());
+    }
+    let merged = out.join("merged");
+    let m = merge(std::slice::from_ref(&shards), &merged, 2).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.reports.len(), 2);
+    let a = case_reports(&single);
+    let b = case_reports(&merged);
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    assert_eq!(a.len(), 2);
+    for (name, va) in &a {
+        let vb = &b[name];
+        assert_eq!(untimed(va.clone()), untimed(vb.clone()), "{name}");
+        // Merged reports record each shard's run.
+        assert_eq!(vb["run"]["shards"].as_array().unwrap().len(), 3);
+        assert!(vb["series"][0]["points"][0]["wall_seconds"].is_null());
+    }
+    // Without a reference the fits use the standard error.
+    let nr = &a["disk_no_reference.json"];
+    assert_eq!(nr["error_measure"], "std_error");
+    assert!(nr["series"][0]["points"][0]["rms_error"].is_null());
+    for d in [&single, &shards, &merged] {
+        assert!(validate_dir(d) >= 2, "{}", d.display());
+    }
+    // A missing shard is named; exit-2 input error, not a panic.
+    std::fs::remove_file(shards.join("shard-1-of-3.json")).unwrap();
+    let e = merge(std::slice::from_ref(&shards), &out.join("bad"), 1).unwrap_err();
+    assert!(e.to_string().contains("missing shard(s) 1 of 3"), "{e}");
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn a_killed_run_leaves_valid_json_and_resumes() {
+    let out = tmp("killed");
+    let reports = out.join("reports");
+    let case = disk_case();
+    let args = |max: u64, dir: &Path| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_lightproof"));
+        c.arg("report")
+            .arg(&case)
+            .args(["--sampler", "independent", "--sampler", "sobol"])
+            .args(["--max-samples", &max.to_string()])
+            .args(["--seed", &common::seed().to_string()])
+            .arg("--out")
+            .arg(dir);
+        c
+    };
+    // A sweep to 2^30 samples cannot finish; kill it once it has written a report.
+    let mut child = args(1 << 30, &reports)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    let file = reports.join("disk_on_axis.json");
+    while !file.exists() && t0.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(1500));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(file.exists(), "no report written within a minute");
+    assert!(validate_dir(&reports) >= 1);
+    let killed = read(&file);
+    let done: usize = killed["series"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["points"].as_array().unwrap().len())
+        .sum();
+    assert!(done >= 1);
+    assert!(
+        killed["series"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|s| s["status"] == "in_progress")
+    );
+    // Re-run to 2^14: what the killed run finished is taken back, the rest computed.
+    let o = args(1 << 14, &reports).output().unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{stdout}");
+    let resumed: u64 = stdout
+        .split(" resumed")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no resume count in: {stdout}"));
+    assert!(resumed >= 1, "{stdout}");
+    // The same reports as a fresh run.
+    let fresh = out.join("fresh");
+    assert!(args(1 << 14, &fresh).output().unwrap().status.success());
+    assert_eq!(
+        untimed(read(&file)),
+        untimed(read(&fresh.join("disk_on_axis.json")))
+    );
+    assert!(validate_dir(&reports) >= 2);
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn the_budget_cuts_cleanly() {
+    let out = tmp("budget");
+    let mut o = options(vec![disk_case()], &out, 1 << 30);
+    o.budget = Some(0.3);
+    o.samplers = vec![SamplerKind::Independent];
+    let t0 = Instant::now();
+    let s = sweep(&o);
+    assert!(t0.elapsed() < Duration::from_secs(20));
+    assert!(s.budget_cut);
+    let r = &s.reports[0];
+    assert!(r.run.budget_cut);
+    assert!(
+        r.series
+            .iter()
+            .all(|x| x.status == lightproof::report::Status::BudgetCut && !x.points.is_empty())
+    );
+    // Not reached targets are extrapolated from the fit, and say so.
+    let last = r.series[0].time_to.last().unwrap();
+    assert!(last.extrapolated || last.samples.is_some());
+    assert!(validate_dir(&out) >= 2);
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn the_schema_validates_the_committed_examples_and_rejects_a_broken_report() {
+    let examples = root().join("reports/examples");
+    assert!(
+        validate_dir(&examples) >= 2,
+        "reports/examples holds a report and an index"
+    );
+    let v = validator();
+    let report = std::fs::read_dir(&examples)
+        .unwrap()
+        .flatten()
+        .map(|e| read(&e.path()))
+        .find(|v| v.get("kind").is_some_and(|k| k == "case"))
+        .expect("an example case report");
+    let mut broken = report.clone();
+    broken["series"][0]["points"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("std_error");
+    assert!(!v.is_valid(&broken));
+    let mut broken = report;
+    broken["series"][0]["sampler"] = "halton".into();
+    assert!(!v.is_valid(&broken));
+}
+
+#[test]
+fn shards_from_slurm_and_kubernetes() {
+    let env = |pairs: &[(&str, &str)]| -> BTreeMap<String, String> {
+        pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    };
+    // sbatch --array=1-4: tasks 1..4 are shards 0..3.
+    let slurm = env(&[
+        ("SLURM_ARRAY_TASK_ID", "4"),
+        ("SLURM_ARRAY_TASK_MIN", "1"),
+        ("SLURM_ARRAY_TASK_MAX", "4"),
+        ("SLURM_ARRAY_TASK_COUNT", "4"),
+    ]);
+    assert_eq!(
+        shard_from_env(&slurm).unwrap(),
+        Shard { index: 3, count: 4 }
+    );
+    // Indexed Job with completions: 6.
+    let k8s = env(&[
+        ("JOB_COMPLETION_INDEX", "0"),
+        ("LIGHTPROOF_SHARD_COUNT", "6"),
+    ]);
+    assert_eq!(shard_from_env(&k8s).unwrap(), Shard { index: 0, count: 6 });
+    assert!(shard_from_env(&env(&[("JOB_COMPLETION_INDEX", "0")])).is_err());
+    assert!(shard_from_env(&env(&[])).is_err());
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line() {
+    let bad = |args: &[&str], needle: &str| {
+        let o = Command::new(env!("CARGO_BIN_EXE_lightproof"))
+            .args(args)
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env_remove("JOB_COMPLETION_INDEX")
+            .env_remove("LIGHTPROOF_SHARD_INDEX")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: expected `{needle}` in {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    };
+    let out = tmp("bad");
+    let o = out.to_str().unwrap();
+    let case = disk_case();
+    let c = case.to_str().unwrap();
+    bad(
+        &["report", c, "--out", o, "--min-samples", "100"],
+        "--min-samples",
+    );
+    bad(
+        &["report", c, "--out", o, "--max-samples", "200"],
+        "--max-samples",
+    );
+    bad(&["report", c, "--out", o, "--budget=-1"], "--budget");
+    bad(&["report", c, "--out", o, "--shard", "3/3"], "--shard");
+    bad(
+        &["report", c, "--out", o, "--shard", "auto"],
+        "--shard auto",
+    );
+    bad(
+        &["report", "no/such/case.json", "--out", o],
+        "no/such/case.json",
+    );
+    bad(&["merge", o, "--out", o], "no shard partial files");
+    // A foreign file where a report would go is not overwritten.
+    std::fs::write(out.join("disk_on_axis.json"), "{\"mine\": true}").unwrap();
+    bad(&["report", c, "--out", o], "not a lightproof report file");
+    let _ = std::fs::remove_dir_all(out);
+}
