@@ -17,6 +17,13 @@
 //! counts the ones that reach it, with their time of flight, and receives Φ·F (F the
 //! disk-to-disk view factor) once the first photons have had time to arrive.
 //!
+//! Then the same two ideas run through the engine itself, where wavelength and time are
+//! dimensions of the estimator: the photon radiance of a blackbody (each path draws
+//! wavelengths by the emitter's spectrum and divides the energy by hc/λ) against
+//! 4ζ(3)k³T³/(h³c²), and a pulsed disk whose light reaches a receiver spread over time
+//! (each path's length ℓ gives its arrival time ℓ/c), bin by bin against
+//! π L h² (1/r₁² − 1/r₂²).
+//!
 //! Picture: target/examples/01_photon_flux.svg, the power leaving the source and the
 //! power arriving at the detector against time (the detector's ramp is time of flight).
 //!
@@ -197,6 +204,8 @@ fn main() {
         leaving.push((t_ns, emitted as f64 * e / window * 1e9));
         arriving.push((t_ns, cumulative as f64 * e / window * 1e9));
     }
+    ok &= engine_phase_space(n);
+
     match plot(
         &leaving,
         &arriving,
@@ -210,6 +219,55 @@ fn main() {
         Err(err) => println!("\n(could not write the plot: {err})"),
     }
     finish(ok);
+}
+
+/// The engine's own spectral and time machinery: photon counts of a blackbody and the
+/// arrival-time distribution of a pulse.
+fn engine_phase_space(n: u64) -> bool {
+    use lightproof::transport::Estimator;
+    use lightproof_analytic::spectrum::photon_radiance;
+    use lightproof_analytic::time::pulsed_disk_on_axis;
+    let mut ok = true;
+    let samples = (n / 16).max(1 << 12);
+    println!("\nThe engine, with wavelength and time as sampled dimensions:");
+    let t = 3000.0;
+    let photons = load(serde_json::json!({
+        "name": "photon radiance of a 3000 K blackbody",
+        "teaches": "N = ∫ B_λ λ/(hc) dλ",
+        "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 4 },
+            "emission": { "radiance": 1, "spectrum": { "blackbody": { "temperature": t } } } } ] },
+        "measure": { "radiance": { "at": [0, 0, 0], "direction": [0, 0, 1] } },
+        "spectral": { "band": [10, 1e7], "sampling": "emitter", "photons": true },
+        "estimators": ["mis"]
+    }));
+    println!("  effects.wavelength: {}", photons.effects.wavelength.why);
+    ok &= report(
+        "photon radiance of a 3000 K blackbody  vs  4ζ(3)k³T³/(h³c²)",
+        &judged(&photons, Estimator::Mis, samples, 1, photon_radiance(t)),
+    );
+    // A Dirac pulse from a disk of radius R at height h: light arrives between h/c and
+    // √(h² + R²)/c. Eight bins over that spread.
+    let (r, h, l) = (1.0, 1.0, 1.0);
+    let (t0, t1) = (h / SPEED_OF_LIGHT, (h * h + r * r as f64).sqrt() / SPEED_OF_LIGHT);
+    println!("  a pulse at t = 0 from a disk (R = {r} m, h = {h} m) arrives between {t0:.4e} and {t1:.4e} s:");
+    for k in 0..8 {
+        let (a, b) = (t0 + (t1 - t0) * k as f64 / 8.0, t0 + (t1 - t0) * (k + 1) as f64 / 8.0);
+        let case = load(serde_json::json!({
+            "name": format!("pulsed disk bin {k}"),
+            "teaches": "time of flight",
+            "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, h], "normal": [0, 0, -1], "radius": r },
+                "emission": { "radiance": l, "pulse_at": 0 } } ] },
+            "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+            "time": { "bin": [a, b] },
+            "estimators": ["light"]
+        }));
+        let exact = pulsed_disk_on_axis(r, h, l, a, b, SPEED_OF_LIGHT);
+        ok &= report(
+            &format!("exposure in [{:.3}, {:.3}] ns", a * 1e9, b * 1e9),
+            &judged(&case, Estimator::Light, samples, 2 + k, exact),
+        );
+    }
+    ok
 }
 
 /// Judge a Poisson count scaled to a rate: estimate k·scale, standard error √k·scale.

@@ -28,6 +28,9 @@ pub fn row(r: &CaseReport) -> IndexRow {
                 .iter()
                 .filter_map(|o| o.time_ratio)
                 .min_by(|a, b| a.total_cmp(b)),
+            zero_variance: s.is_some_and(|s| {
+                !s.points.is_empty() && s.points.iter().all(|p| p.std_error == Some(0.0))
+            }),
         }
     });
     IndexRow {
@@ -103,6 +106,7 @@ pub fn cells(r: &IndexRow) -> [String; 4] {
                 None => "not reached".into(),
             },
             match (b.slope, b.slope_std_error) {
+                _ if b.zero_variance => "σ = 0 (exact)".into(),
                 (Some(s), Some(e)) => format!("{s:+.2} ± {e:.2}"),
                 (Some(s), None) => format!("{s:+.2}"),
                 _ => "—".into(),
@@ -129,8 +133,9 @@ pub fn markdown(index: &Index) -> String {
     s.push_str(&format!(
         "Times are core-seconds to reach {}% relative RMS error with the most efficient \
          estimator / sampler; *extrapolated* times follow the fitted rate past the largest \
-         point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo). Runner-up: how many \
-         times longer the next best series takes.",
+         point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo; σ = 0: a zero-variance \
+         estimator, exact up to f32 rounding). Runner-up: how many times longer the next best \
+         series takes.",
         HEADLINE * 100.0
     ));
     if run.budget_cut {

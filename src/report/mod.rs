@@ -365,6 +365,9 @@ pub struct IndexBest {
     pub slope_std_error: Option<f64>,
     /// How many times slower the runner-up is (time to [`HEADLINE`]).
     pub runner_up_ratio: Option<f64>,
+    /// Every point has a zero standard error: the estimator is exact up to f32
+    /// rounding, and its error does not fall with N.
+    pub zero_variance: bool,
 }
 
 /// The index of a report folder.

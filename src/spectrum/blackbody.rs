@@ -1,68 +1,195 @@
-//! Planck's law.
+//! Planck's law of blackbody radiation, per nanometre, and its exact band integral.
+//!
+//! Everything is `f64` and in physical units: spectral radiance in W·m⁻²·sr⁻¹·nm⁻¹,
+//! band radiance in W·m⁻²·sr⁻¹. Written independently of the oracle crate
+//! (`lightproof-analytic`), which the tests compare against.
 
-use super::{BOLTZMANN, PLANCK, SPEED_OF_LIGHT};
+use super::photon::{BOLTZMANN, PLANCK, SPEED_OF_LIGHT};
+use super::{finite_f64, gauss_legendre};
+use std::f64::consts::PI;
+
+/// The root x_w of x = 5(1 − e^{−x}) (the maximum of B_λ in x = hc/(λkT)).
+const WIEN_X: f64 = 4.965_114_231_744_276_3;
+
+/// Wien's displacement constant b = hc/(k x_w) = 2.897771955…e-3 m·K (CODATA 2018):
+/// B_λ peaks at λ = b/T.
+pub const WIEN_DISPLACEMENT: f64 = PLANCK * SPEED_OF_LIGHT / (BOLTZMANN * WIEN_X);
+
+/// Second radiation constant c₂ = hc/k in nm·K.
+const C2_NM_K: f64 = PLANCK * SPEED_OF_LIGHT / BOLTZMANN * 1e9;
+
+/// π⁴/15 = ∫₀^∞ t³/(eᵗ − 1) dt.
+const PI4_15: f64 = PI * PI * PI * PI / 15.0;
 
 /// Blackbody spectral radiance per nanometre of wavelength (W·m⁻²·sr⁻¹·nm⁻¹).
 ///
-/// **Formula.** B_λ(λ, T) = 2hc²/λ⁵ · 1/(exp(hc/(λ k T)) − 1) (per metre of λ), times
-/// 1e-9 per nm; `exp_m1` keeps the Rayleigh–Jeans end accurate and an overflowing
-/// exponent gives 0 (Wien end). **Source.** M. Planck, 1901; Siegel & Howell, *Thermal
-/// Radiation Heat Transfer*, ch. 1.
-pub fn planck_per_nm(lambda_nm: f64, temperature: f64) -> f64 {
-    if !(lambda_nm > 0.0 && temperature > 0.0) || !lambda_nm.is_finite() || !temperature.is_finite()
+/// **Formula.** Planck's law per unit wavelength,
+/// B_λ(λ, T) = 2hc²/λ⁵ · 1/(exp(hc/(λkT)) − 1)  (W·m⁻²·sr⁻¹ per metre of λ),
+/// times 10⁻⁹ m/nm. `exp_m1` keeps the Rayleigh–Jeans end (hc/λkT ≪ 1) accurate; where
+/// λ⁵ or the exponential would leave the range of `f64`, the same formula is evaluated
+/// in logarithms, so the result is 0 (deep Wien tail), finite and non-negative for every
+/// input. λ or T not positive and finite gives 0.
+///
+/// **Source.** M. Planck, Ann. Phys. 4, 553 (1901); Siegel & Howell, *Thermal Radiation
+/// Heat Transfer*, ch. 1.
+pub fn planck_radiance(lambda_nm: f64, temperature: f64) -> f64 {
+    if !(lambda_nm > 0.0 && temperature > 0.0 && lambda_nm.is_finite() && temperature.is_finite())
     {
         return 0.0;
     }
-    let l = lambda_nm * 1e-9;
-    let x = PLANCK * SPEED_OF_LIGHT / (l * BOLTZMANN * temperature);
-    if x > 700.0 {
+    let x = C2_NM_K / lambda_nm / temperature;
+    if x > 1e-250 && x < 700.0 && (1e-20..1e20).contains(&lambda_nm) {
+        let l = lambda_nm * 1e-9;
+        let l5 = l * l * l * l * l;
+        let b = 2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT / (l5 * x.exp_m1()) * 1e-9;
+        if b.is_finite() && b > 0.0 {
+            return b;
+        }
+    }
+    // ln B = ln(2hc²) − 5 ln λ − ln(eˣ − 1) + ln 1e-9.
+    let ln_l = lambda_nm.ln() + (1e-9f64).ln();
+    let ln_em1 = if x.is_infinite() {
+        return 0.0;
+    } else if x > 30.0 {
+        x + (-(-x).exp()).ln_1p()
+    } else if x > 1e-8 {
+        x.exp_m1().ln()
+    } else {
+        // eˣ − 1 = x(1 + x/2 + …); ln x from logarithms, immune to underflow.
+        C2_NM_K.ln() - lambda_nm.ln() - temperature.ln() + 0.5 * x
+    };
+    let ln_b = (2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT).ln() - 5.0 * ln_l - ln_em1
+        + (1e-9f64).ln();
+    finite_f64(ln_b.exp())
+}
+
+/// The Stefan–Boltzmann constant σ = 2π⁵k⁴/(15h³c²) = 5.670374419…e-8 W·m⁻²·K⁻⁴, from
+/// the exact SI constants (Stefan 1879, Boltzmann 1884).
+pub fn stefan_boltzmann() -> f64 {
+    2.0 * PI.powi(5) * BOLTZMANN.powi(4) / (15.0 * PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2))
+}
+
+/// Total radiance of a blackbody, ∫₀^∞ B_λ dλ = σT⁴/π (W·m⁻²·sr⁻¹); 0 for T not
+/// positive, clamped to `f64::MAX`.
+pub fn blackbody_total_radiance(temperature: f64) -> f64 {
+    if !(temperature > 0.0) {
         return 0.0;
     }
-    let b = 2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT / l.powi(5) / x.exp_m1() * 1e-9;
-    if b.is_finite() && b > 0.0 { b } else { 0.0 }
+    finite_f64(stefan_boltzmann() * temperature.powi(4) / PI)
+}
+
+/// Wavelength (nm) where B_λ(·, T) peaks: Wien's displacement law λ_max = b/T with
+/// b = [`WIEN_DISPLACEMENT`] (Wien 1893). 0 for T not positive; clamped to `f64::MAX`.
+pub fn wien_peak(temperature: f64) -> f64 {
+    if !(temperature > 0.0) {
+        return 0.0;
+    }
+    finite_f64(WIEN_DISPLACEMENT * 1e9 / temperature)
+}
+
+/// t³/(eᵗ − 1), → t² as t → 0.
+fn bose(t: f64) -> f64 {
+    if t <= 0.0 {
+        0.0
+    } else {
+        t * t * t / t.exp_m1()
+    }
+}
+
+/// F(x) = ∫ₓ^∞ t³/(eᵗ − 1) dt, to about 1e-15 relative.
+///
+/// For x ≥ 2 the series F(x) = Σ_{n≥1} e^{−nx} (x³/n + 3x²/n² + 6x/n³ + 6/n⁴) (expand
+/// 1/(eᵗ − 1) = Σ e^{−nt} and integrate t³e^{−nt} by parts; Siegel & Howell §2, Chang &
+/// Rhee 1984) converges as e^{−2n}. Below 2, F = π⁴/15 − ∫₀ˣ, the integral by
+/// 16-panel Gauss–Legendre quadrature of an integrand analytic within 2π of [0, 2].
+fn tail(x: f64) -> f64 {
+    if x.is_nan() {
+        return 0.0;
+    }
+    if x >= 800.0 {
+        return 0.0;
+    }
+    if x >= 2.0 {
+        let mut s = 0.0;
+        for n in 1..=64 {
+            let nf = n as f64;
+            let term =
+                (-nf * x).exp() / nf * (x * x * x + 3.0 * x * x / nf + 6.0 * x / (nf * nf) + 6.0 / (nf * nf * nf));
+            s += term;
+            if term <= 1e-17 * s {
+                break;
+            }
+        }
+        s
+    } else if x > 0.0 {
+        PI4_15 - gauss_legendre(0.0, x, 16, bose)
+    } else {
+        PI4_15
+    }
+}
+
+/// Blackbody radiance in the band [λ₁, λ₂] (nm), ∫ B_λ dλ (W·m⁻²·sr⁻¹).
+///
+/// **Formula.** With x = hc/(λkT), ∫_{λ₁}^{λ₂} B_λ dλ = (2k⁴T⁴/(h³c²)) ∫_{x₂}^{x₁}
+/// t³/(eᵗ − 1) dt = (2k⁴T⁴/(h³c²)) (F(x₂) − F(x₁)), F the upper incomplete integral
+/// (series above, see `tail`); a band narrower than Δx = 1 is integrated directly
+/// by 8-panel Gauss–Legendre in x, avoiding the cancellation of two close values of F.
+/// [0, ∞] gives σT⁴/π. The relative error is about 1e-14.
+///
+/// **Degenerate input.** λ₁ < 0 counts as 0; an empty, NaN or reversed band, or T not
+/// positive and finite, gives 0; overflow is clamped to `f64::MAX`.
+///
+/// **Source.** Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1–2 (blackbody
+/// fractions).
+pub fn blackbody_band_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f64) -> f64 {
+    let l1 = lambda1_nm.max(0.0);
+    if !(lambda2_nm > l1 && temperature > 0.0 && temperature.is_finite()) {
+        return 0.0;
+    }
+    // x₁ ≥ x₂ (short wavelengths have large x).
+    let x_of = |l: f64| C2_NM_K / l / temperature;
+    let (x1, x2) = (x_of(l1), x_of(lambda2_nm));
+    let c = 2.0 * BOLTZMANN.powi(4) / (PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
+    let integral = if x1.is_finite() && x1 - x2 <= 1.0 {
+        gauss_legendre(x2, x1, 8, bose)
+    } else {
+        tail(x2) - tail(x1)
+    };
+    finite_f64(c * temperature.powi(4) * integral)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spectrum::{Band, Planck, Spectrum};
 
     #[test]
-    fn stefan_boltzmann_and_wien() {
-        let t = 5800.0;
-        let s = Spectrum::Blackbody {
-            blackbody: Planck {
-                temperature: t as f32,
-                scale: 1.0,
-            },
-        };
-        // σT⁴/π with σ = 2π⁵k⁴/(15h³c²).
-        let pi = std::f64::consts::PI;
-        let sigma = 2.0 * pi.powi(5) * BOLTZMANN.powi(4)
-            / (15.0 * PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
-        // Integrate in log λ (wide band) by the same Gauss–Legendre rule.
-        let total = crate::spectrum::gauss_legendre((10.0f64).ln(), (1e7f64).ln(), 4096, |x| {
-            planck_per_nm(x.exp(), t) * x.exp()
-        });
-        let rel = (total - sigma * t.powi(4) / pi).abs() / (sigma * t.powi(4) / pi);
-        assert!(rel < 1e-6, "{rel}");
-        // Wien's peak b/T by golden-section search.
-        let (mut a, mut b) = (300.0, 800.0);
-        for _ in 0..100 {
-            let m1 = b - (b - a) * 0.618_033_988_75;
-            let m2 = a + (b - a) * 0.618_033_988_75;
-            if planck_per_nm(m1, t) < planck_per_nm(m2, t) {
-                a = m1
-            } else {
-                b = m2
-            }
+    fn constants_and_continuity() {
+        assert!((WIEN_DISPLACEMENT / 2.897_771_955e-3 - 1.0).abs() < 1e-9);
+        assert!((stefan_boltzmann() / 5.670_374_419e-8 - 1.0).abs() < 1e-9);
+        // x_w solves x = 5(1 − e^{−x}).
+        assert!((WIEN_X - 5.0 * (1.0 - (-WIEN_X).exp())).abs() < 1e-14);
+        // The two branches of F meet at x = 2: the series (x ≥ 2) against π⁴/15 minus
+        // the quadrature, and both against F(2) = 5.3175968056598313 (mpmath, 30 digits).
+        let series = tail(2.0);
+        let quadrature = PI4_15 - gauss_legendre(0.0, 2.0, 16, bose);
+        assert!((series / 5.317_596_805_659_831 - 1.0).abs() < 1e-15, "{series}");
+        assert!((quadrature / 5.317_596_805_659_831 - 1.0).abs() < 1e-15, "{quadrature}");
+        assert_eq!(tail(0.0), PI4_15);
+        assert_eq!(tail(f64::INFINITY), 0.0);
+    }
+
+    #[test]
+    fn direct_and_logarithmic_paths_agree() {
+        // Just inside the direct path against the log path's formula.
+        for (l, t) in [(500.0, 5800.0), (1e6, 300.0), (10.0, 1e5), (1e-3, 1e9)] {
+            let b = planck_radiance(l, t);
+            let x = C2_NM_K / l / t;
+            let ln_b = (2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT).ln()
+                - 5.0 * (l * 1e-9).ln()
+                - x.exp_m1().ln()
+                + (1e-9f64).ln();
+            assert!((b / ln_b.exp() - 1.0).abs() < 1e-12, "{l} {t}");
         }
-        assert!((0.5 * (a + b) - 2.897_771_955e6 / t).abs() < 0.01);
-        let band = Band {
-            min: 380.0,
-            max: 780.0,
-        };
-        assert!(s.integral(band) > 0.0);
     }
 
     #[test]
@@ -76,9 +203,17 @@ mod tests {
             (500.0, 1e6),
             (1e-3, 1e6),
             (500.0, 0.0),
+            (5e-324, 1e300),
+            (1e300, 1e300),
+            (1e300, 5e-324),
+            (f64::MAX, f64::MAX),
+            (f64::INFINITY, 1.0),
         ] {
-            let b = planck_per_nm(l, t);
+            let b = planck_radiance(l, t);
             assert!(b.is_finite() && b >= 0.0, "{l} {t} {b}");
+            let i = blackbody_band_radiance(l, l * 2.0 + 1.0, t);
+            assert!(i.is_finite() && i >= 0.0, "{l} {t} {i}");
         }
+        assert_eq!(planck_radiance(500.0, 1.0), 0.0); // e^{-28777}
     }
 }

@@ -1,73 +1,184 @@
-//! Tabulated functions of wavelength, linearly interpolated.
+//! Tabulated functions of wavelength {(λᵢ, vᵢ)}: validation, linear interpolation,
+//! exact integrals and maxima. Shared by [`super::Spectrum`] (zero outside the table),
+//! [`super::Ior`] (end values held outside) and [`super::Response`].
+//!
+//! Every function here tolerates malformed tables (unequal lengths, unsorted or NaN
+//! wavelengths) without panicking; `validate` is what rejects them.
 
 use serde::{Deserialize, Serialize};
 
-/// A table {wavelengths (nm, strictly increasing), values}, linearly interpolated and
-/// zero outside.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// What a table is worth outside [λ₀, λₙ₋₁].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Outside {
+    /// Zero (an emission or response spectrum).
+    Zero,
+    /// The nearest end value (a refractive index).
+    Clamp,
+}
+
+/// Linear interpolation: v(λ) = vᵢ₋₁ + t (vᵢ − vᵢ₋₁), t = (λ − λᵢ₋₁)/(λᵢ − λᵢ₋₁), on the
+/// interval holding λ. May return a negative or non-finite value for an unvalidated
+/// table (callers clamp); NaN for NaN λ with [`Outside::Clamp`].
+pub(crate) fn interpolate(w: &[f32], v: &[f32], lambda: f32, outside: Outside) -> f32 {
+    let n = w.len().min(v.len());
+    if n == 0 {
+        return f32::NAN;
+    }
+    let (first, last) = (w[0], w[n - 1]);
+    if !(lambda >= first && lambda <= last) {
+        return match outside {
+            Outside::Zero => 0.0,
+            Outside::Clamp if lambda.is_nan() => f32::NAN,
+            Outside::Clamp if lambda < first => v[0],
+            Outside::Clamp => v[n - 1],
+        };
+    }
+    if n == 1 {
+        return v[0];
+    }
+    let i = w[..n].partition_point(|&x| x <= lambda).clamp(1, n - 1);
+    let (l0, l1) = (w[i - 1], w[i]);
+    let t = if l1 > l0 {
+        ((lambda - l0) / (l1 - l0)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    v[i - 1] + t * (v[i] - v[i - 1])
+}
+
+/// ∫ v(λ) dλ over [a, b] ∩ [λ₀, λₙ₋₁] (zero outside the table), exact for the
+/// piecewise-linear function: Σ over the clipped intervals of (d − c)(v(c) + v(d))/2.
+pub(crate) fn integral(w: &[f32], v: &[f32], a: f64, b: f64) -> f64 {
+    let n = w.len().min(v.len());
+    let mut s = 0.0;
+    for i in 1..n {
+        let (l0, l1) = (w[i - 1] as f64, w[i] as f64);
+        let (c, d) = (l0.max(a), l1.min(b));
+        if !(d > c && l1 > l0) {
+            continue;
+        }
+        let (v0, v1) = (v[i - 1] as f64, v[i] as f64);
+        let at = |x: f64| v0 + (x - l0) / (l1 - l0) * (v1 - v0);
+        s += 0.5 * (d - c) * (at(c) + at(d));
+    }
+    s
+}
+
+/// max v over [a, b] (zero outside the table): the larger of the interpolated ends and
+/// the entries inside, exact for a piecewise-linear function.
+pub(crate) fn max_in(w: &[f32], v: &[f32], a: f32, b: f32) -> f32 {
+    let n = w.len().min(v.len());
+    let mut m = interpolate(w, v, a, Outside::Zero).max(interpolate(w, v, b, Outside::Zero));
+    for i in 0..n {
+        if w[i] >= a && w[i] <= b {
+            m = m.max(v[i]);
+        }
+    }
+    m
+}
+
+/// At least two entries, equal lengths, positive finite strictly increasing
+/// wavelengths, finite values that are non-negative (or positive with `positive`).
+pub(crate) fn validate(w: &[f32], v: &[f32], positive: bool) -> Result<(), String> {
+    if w.len() != v.len() {
+        return Err(format!(
+            "wavelengths and values must have the same length, got {} and {}",
+            w.len(),
+            v.len()
+        ));
+    }
+    if w.len() < 2 {
+        return Err(format!(
+            "a table needs at least 2 wavelengths, got {}",
+            w.len()
+        ));
+    }
+    for (i, &l) in w.iter().enumerate() {
+        if !(l.is_finite() && l > 0.0) {
+            return Err(format!(
+                "wavelengths[{i}] must be a positive finite wavelength in nm, got {l}"
+            ));
+        }
+        if i > 0 && !(l > w[i - 1]) {
+            return Err(format!(
+                "wavelengths must increase strictly: wavelengths[{i}] = {l} does not exceed wavelengths[{}] = {}",
+                i - 1,
+                w[i - 1]
+            ));
+        }
+    }
+    for (i, &x) in v.iter().enumerate() {
+        let ok = x.is_finite() && if positive { x > 0.0 } else { x >= 0.0 };
+        if !ok {
+            return Err(format!(
+                "values[{i}] must be {} and finite, got {x}",
+                if positive { "positive" } else { "non-negative" }
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// JSON body of a table: `{"wavelengths": [...], "values": [...]}`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Table {
-    /// Wavelengths (nm), strictly increasing.
+pub(crate) struct TableBody {
     pub wavelengths: Vec<f32>,
-    /// Values at those wavelengths.
     pub values: Vec<f32>,
 }
 
-impl Table {
-    /// Linear interpolation, zero outside the table (and for NaN).
-    pub fn eval(&self, lambda: f32) -> f32 {
-        let w = &self.wavelengths;
-        if w.is_empty() || !(lambda >= w[0]) || lambda > w[w.len() - 1] {
-            return 0.0;
-        }
-        let i = w.partition_point(|&x| x <= lambda).clamp(1, w.len() - 1);
-        let (l0, l1) = (w[i - 1], w[i]);
-        let t = if l1 > l0 { (lambda - l0) / (l1 - l0) } else { 0.0 };
-        let v = self.values[i - 1] * (1.0 - t) + self.values[i] * t;
-        if v.is_finite() && v > 0.0 { v } else { 0.0 }
+/// Borrowed [`TableBody`] for serialisation.
+#[derive(Serialize)]
+pub(crate) struct TableRef<'a> {
+    pub wavelengths: &'a [f32],
+    pub values: &'a [f32],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: [f32; 4] = [400.0, 500.0, 600.0, 700.0];
+    const V: [f32; 4] = [0.0, 1.0, 3.0, 1.0];
+
+    #[test]
+    fn interpolation_outside_and_ends() {
+        assert_eq!(interpolate(&W, &V, 450.0, Outside::Zero), 0.5);
+        assert_eq!(interpolate(&W, &V, 600.0, Outside::Zero), 3.0);
+        assert_eq!(interpolate(&W, &V, 700.0, Outside::Zero), 1.0);
+        assert_eq!(interpolate(&W, &V, 400.0, Outside::Zero), 0.0);
+        assert_eq!(interpolate(&W, &V, 399.0, Outside::Zero), 0.0);
+        assert_eq!(interpolate(&W, &V, 701.0, Outside::Clamp), 1.0);
+        assert_eq!(interpolate(&W, &V, 10.0, Outside::Clamp), 0.0);
+        assert_eq!(interpolate(&W, &V, f32::NAN, Outside::Zero), 0.0);
+        assert!(interpolate(&W, &V, f32::NAN, Outside::Clamp).is_nan());
+        // Malformed tables never panic.
+        assert_eq!(interpolate(&[], &[], 500.0, Outside::Zero).is_nan(), true);
+        let _ = interpolate(&[500.0, 400.0, 450.0], &[1.0, 2.0], 420.0, Outside::Zero);
+        let _ = interpolate(&[f32::NAN, 400.0], &[1.0, 2.0], 420.0, Outside::Clamp);
     }
 
-    /// At least two entries, equal lengths, strictly increasing positive wavelengths,
-    /// finite non-negative values.
-    pub fn validate(&self) -> Result<(), String> {
-        let (w, v) = (&self.wavelengths, &self.values);
-        if w.len() < 2 || w.len() != v.len() {
-            return Err(format!(
-                "a table needs at least two wavelengths and as many values (got {} and {})",
-                w.len(),
-                v.len()
-            ));
-        }
-        for (i, &l) in w.iter().enumerate() {
-            if !(l.is_finite() && l > 0.0) {
-                return Err(format!("wavelengths[{i}] must be a positive wavelength in nm, got {l}"));
-            }
-            if i > 0 && !(l > w[i - 1]) {
-                return Err(format!(
-                    "wavelengths must increase strictly: wavelengths[{i}] = {l} follows {}",
-                    w[i - 1]
-                ));
-            }
-        }
-        for (i, &x) in v.iter().enumerate() {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!("values[{i}] must be finite and non-negative, got {x}"));
-            }
-        }
-        Ok(())
+    #[test]
+    fn exact_integral_and_max() {
+        // Trapezoids: 50 + 200 + 200 over [400, 700].
+        assert_eq!(integral(&W, &V, 0.0, 1e4), 450.0);
+        // Clipped to [450, 550]: 25·(0.5+1)/... = (0.5+1)/2·50 + (1+2)/2·50 = 37.5 + 75.
+        assert!((integral(&W, &V, 450.0, 550.0) - 112.5).abs() < 1e-12);
+        assert_eq!(max_in(&W, &V, 450.0, 550.0), 2.0);
+        assert_eq!(max_in(&W, &V, 0.0, 1e4), 3.0);
+        assert_eq!(max_in(&W, &V, 800.0, 900.0), 0.0);
     }
 
-    /// Exact ∫ over the band of the piecewise-linear function (trapezoids, clipped).
-    pub fn integral(&self, band: super::Band) -> f64 {
-        let w = &self.wavelengths;
-        let mut s = 0.0f64;
-        for i in 1..w.len() {
-            let a = w[i - 1].max(band.min);
-            let b = w[i].min(band.max);
-            if b > a {
-                s += 0.5 * (self.eval(a) as f64 + self.eval(b) as f64) * (b - a) as f64;
-            }
-        }
-        s
+    #[test]
+    fn validation_messages() {
+        assert!(validate(&W, &V, false).is_ok());
+        assert!(validate(&W, &V, true).unwrap_err().contains("values[0] must be positive"));
+        let e = validate(&[400.0, 400.0], &[1.0, 1.0], false).unwrap_err();
+        assert!(e.contains("wavelengths[1] = 400 does not exceed"), "{e}");
+        let e = validate(&W, &[1.0, 2.0, 3.0, -1.0], false).unwrap_err();
+        assert_eq!(e, "values[3] must be non-negative and finite, got -1");
+        assert!(validate(&[500.0], &[1.0], false).unwrap_err().contains("at least 2"));
+        assert!(validate(&W, &V[..3], false).unwrap_err().contains("same length"));
+        assert!(validate(&[f32::NAN, 1.0], &V[..2], false).unwrap_err().contains("wavelengths[0]"));
     }
 }
