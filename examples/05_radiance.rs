@@ -25,6 +25,7 @@ use lightproof::sampling::Sampler;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
 use lightproof::transport::path::{Prev, trace};
+use lightproof::transport::phase::Grey;
 use lightproof::verify::Case;
 use lightproof_analytic::geom::Vec3 as V;
 use lightproof_analytic::irradiance::sphere as sphere_irradiance;
@@ -176,13 +177,10 @@ fn render(
             sum += trace(
                 &case.scene,
                 &cfg,
+                &Grey,
                 eye,
                 dir,
-                Prev {
-                    p: eye,
-                    pdf: 1.0,
-                    delta: true,
-                },
+                Prev::sensor(eye),
                 0,
                 &mut s,
             ) as f64;

@@ -72,29 +72,31 @@ pub fn hash_words(words: &[u64]) -> u64 {
     h
 }
 
-/// Kensler's hashed permutation of `i` within [0, n) (Kensler 2013, listing 3),
-/// generalised to 64-bit n by cycle-walking.
+/// A seeded pseudo-random permutation of `i` within [0, n), by cycle-walking a bijection
+/// of [0, 2^k) (2^k the power of two at or above n), in the manner of Kensler's hashed
+/// permutations (Kensler 2013, "Correlated multi-jittered sampling").
+///
+/// Each of four rounds applies bijections of [0, 2^k): XOR with a round key, an
+/// odd multiply, an xorshift by ⌈k/2⌉ bits, and the addition of a second key, the keys
+/// being hashes of (seed, round). Every step is invertible modulo 2^k, so the whole is a
+/// permutation for every n, and the shift follows k so that small n mix too (a fixed
+/// shift of 17 bits did nothing for n < 2¹⁷, which left n ≤ 8 with one or two orders for
+/// every seed: sample 0 took the lowest stratum of every dimension).
 fn permute(mut i: u64, n: u64, seed: u64) -> u64 {
     if n <= 1 {
         return 0;
     }
-    let mut w = n - 1;
-    w |= w >> 1;
-    w |= w >> 2;
-    w |= w >> 4;
-    w |= w >> 8;
-    w |= w >> 16;
-    w |= w >> 32;
+    let bits = 64 - (n - 1).leading_zeros();
+    let w = if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 };
+    let shift = bits.div_ceil(2).max(1);
+    let keys: [u64; 8] = std::array::from_fn(|r| hash_words(&[seed, r as u64]));
     loop {
         let mut x = i;
-        for round in 0..4u64 {
-            x ^= seed.wrapping_add(round.wrapping_mul(0x632b_e59b_d9b4_e019));
-            x = x.wrapping_mul(0xe170_893d_6b5a_8a97) & w;
-            x ^= x >> 17 & w;
-            x = (x ^ (seed >> 7)).wrapping_mul(0x0929_eb3f_9a6b_4c0d) & w;
-            x ^= x >> 23 & w;
-            x = x.wrapping_mul(0xaa2d_c7b1_4d1c_a1c1 | 1) & w;
-            x ^= x >> 11 & w;
+        for round in 0..4 {
+            x = (x ^ keys[2 * round]) & w;
+            x = x.wrapping_mul(0xe170_893d_6b5a_8a97 | 1) & w;
+            x ^= x >> shift;
+            x = x.wrapping_add(keys[2 * round + 1]) & w;
         }
         if x < n {
             return x;
@@ -197,6 +199,32 @@ impl SampleStream {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn small_permutations_depend_on_the_seed() {
+        for n in 2..=16u64 {
+            let mut orders = std::collections::HashSet::new();
+            let mut first = std::collections::HashSet::new();
+            for seed in 0..256u64 {
+                let p: Vec<u64> = (0..n).map(|i| permute(i, n, seed)).collect();
+                let mut q = p.clone();
+                q.sort_unstable();
+                assert_eq!(q, (0..n).collect::<Vec<_>>(), "not a permutation");
+                first.insert(p[0]);
+                orders.insert(p);
+            }
+            // Distinct orders expected from 256 uniformly random permutations of n!:
+            // n!(1 − (1 − 1/n!)^256); demand 80% of it.
+            let factorial: f64 = (1..=n).map(|k| k as f64).product();
+            let expected = factorial * (1.0 - (1.0 - 1.0 / factorial).powi(256));
+            assert!(
+                orders.len() as f64 >= 0.8 * expected,
+                "n = {n}: only {} orders over 256 seeds (uniform: {expected:.0})",
+                orders.len()
+            );
+            assert_eq!(first.len() as u64, n, "n = {n}: element 0 does not reach every place");
+        }
+    }
 
     #[test]
     fn permutation_is_a_bijection() {

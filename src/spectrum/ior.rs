@@ -79,6 +79,49 @@ impl Ior {
         }
     }
 
+    /// (min, max) of n over the band (nm), for checking a material's admissible range
+    /// (e.g. a dielectric BSDF's η ∈ [0.01, 100]) at every wavelength: exact for a
+    /// constant, a table (its entries and interpolated ends) and Cauchy (the quadratic in
+    /// 1/λ² at its ends and vertex); on a 1024-interval grid for Sellmeier (monotone
+    /// between poles for positive coefficients). Values are [`Ior::eval`]'s, so always
+    /// positive and finite; a malformed band gives n at its finite end (or (1, 1)).
+    pub fn range_in(&self, band: Band) -> (f32, f32) {
+        let (lo, hi) = (band.min, band.max);
+        if !(lo <= hi) {
+            let l = if lo.is_finite() { lo } else { hi };
+            let n = self.eval(l);
+            return (n, n);
+        }
+        let mut points: Vec<f32> = vec![lo, hi];
+        match self {
+            Ior::Constant(_) => {}
+            Ior::Cauchy { b, c, .. } => {
+                if *c != 0.0 {
+                    // dn/ds = b + 2cs = 0 at s = 1/λ² (µm⁻²).
+                    let s = -(*b as f64) / (2.0 * *c as f64);
+                    if s > 0.0 {
+                        let l = (1e3 / s.sqrt()) as f32;
+                        if band.contains(l) {
+                            points.push(l);
+                        }
+                    }
+                }
+            }
+            Ior::Sellmeier { .. } => {
+                points.extend((1..GRID).map(|k| {
+                    (lo as f64 + (hi as f64 - lo as f64) * k as f64 / GRID as f64) as f32
+                }));
+            }
+            Ior::Sampled { wavelengths, .. } => {
+                points.extend(wavelengths.iter().copied().filter(|&l| band.contains(l)));
+            }
+        }
+        points.iter().fold((f32::MAX, f32::MIN_POSITIVE), |(a, b), &l| {
+            let n = self.eval(l);
+            (a.min(n), b.max(n))
+        })
+    }
+
     /// n(λ), always positive and finite.
     ///
     /// **Formulas.** See the variants: Cauchy a + b/λ² + c/λ⁴; Sellmeier
@@ -112,7 +155,7 @@ impl Ior {
         let (lo, hi) = (band.min, band.max);
         match self {
             Ior::Constant(n) => {
-                if !(n.is_finite() && *n > 0.0) {
+                if physical(*n as f64).is_none() {
                     return Err(format!("must be a positive finite index, got {n}"));
                 }
             }
@@ -163,7 +206,13 @@ impl Ior {
             Ior::Sampled {
                 wavelengths,
                 values,
-            } => table::validate(wavelengths, values, true)?,
+            } => {
+                table::validate(wavelengths, values, true)?;
+                // Interpolation stays between neighbouring entries: checking them suffices.
+                if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| physical(**v as f64).is_none()) {
+                    return Err(format!("values[{i}] must be a positive finite index, got {v}"));
+                }
+            }
         }
         for k in 0..=GRID {
             let l = if k == GRID {
@@ -189,10 +238,11 @@ fn sellmeier_n2(b: &[f32; 3], c: &[f32; 3], l2: f64) -> f64 {
         .sum::<f64>()
 }
 
-/// n as a positive finite `f32`, if it is one.
+/// n as a positive, finite, normal `f32` (≥ `f32::MIN_POSITIVE`, so that 1/n and n² keep
+/// their relative precision), if it is one.
 fn physical(n: f64) -> Option<f32> {
     let f = n as f32;
-    (f.is_finite() && f > 0.0).then_some(f)
+    (f.is_finite() && f >= f32::MIN_POSITIVE).then_some(f)
 }
 
 #[derive(Deserialize, Serialize)]
@@ -332,6 +382,30 @@ mod tests {
         assert!(e.contains("Cauchy"), "{e}");
         assert!(Ior::Constant(0.0).validate(VISIBLE).is_err());
         assert!(Ior::Constant(1.5).validate(Band::new(700.0, 400.0)).is_err());
+    }
+
+    #[test]
+    fn range_over_a_band() {
+        let (lo, hi) = bk7().range_in(VISIBLE);
+        assert_eq!((lo, hi), (bk7().eval(830.0), bk7().eval(360.0)));
+        assert_eq!(Ior::Constant(1.5).range_in(VISIBLE), (1.5, 1.5));
+        // Cauchy with an interior minimum: n = 1.5 − 0.02 s + 0.001 s², minimum at s = 10
+        // (λ = 316.2 nm): 1.4.
+        let c = Ior::Cauchy {
+            a: 1.5,
+            b: -0.02,
+            c: 0.001,
+        };
+        let (lo, _) = c.range_in(Band::new(250.0, 800.0));
+        assert!((lo - 1.4).abs() < 1e-6, "{lo}");
+        let t = Ior::Sampled {
+            wavelengths: vec![400.0, 500.0, 600.0],
+            values: vec![1.5, 1.7, 1.4],
+        };
+        assert_eq!(t.range_in(Band::new(450.0, 550.0)), (1.55, 1.7));
+        // Subnormal indices are not physical: rejected, and eval falls back to 1.
+        let tiny = Ior::Constant(1e-40);
+        assert!(tiny.validate(VISIBLE).is_err() && tiny.eval(500.0) == 1.0);
     }
 
     #[test]

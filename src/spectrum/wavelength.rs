@@ -2,7 +2,6 @@
 //! density, and four hero wavelengths from one random number.
 
 use super::Band;
-use crate::sampling::distribution::Distribution1D;
 
 /// Cells of an importance table.
 const CELLS: usize = 1024;
@@ -22,11 +21,14 @@ const FALLBACK_NM: f32 = 555.0;
 /// when λ₂/λ₁ > 4, e.g. 10 nm–10 mm for a whole blackbody); each cell i of width wᵢ
 /// gets the probability Pᵢ = (1 − δ) Tᵢ/ΣT + δ wᵢ/(λ₂ − λ₁), with Tᵢ = wᵢ · max of
 /// |target| at the cell's ends and middle (a peak inside a cell is not lost) and δ = 0.1,
-/// and λ is uniform within its cell: p(λ) = Pᵢ/wᵢ exactly. The cell is chosen by
-/// inverting the cumulative sums of a [`Distribution1D`] over [0, 1) (its x is mapped
-/// to λ cell by cell, linearly). Cell edges are stored as `f32`, and a sample is kept
-/// inside its cell, so [`WavelengthSampler::pdf`] at a returned λ finds the same cell:
-/// the density `sample` returns equals `pdf(λ)` bit for bit.
+/// and λ is uniform within its cell: p(λ) = Pᵢ/wᵢ exactly (pbrt-v4 §A.4.2's
+/// piecewise-constant 1-D distribution, on cells of unequal width). Sampling inverts the
+/// cumulative sums (in `f64`), starting from a guide table of n cut points so the search
+/// takes O(1) steps on average (Chen & Asau 1974; Devroye, *Non-Uniform Random Variate
+/// Generation*, 1986, §III.2.4); the inverse stays monotone in u, so stratified and Sobol
+/// samples stay stratified in λ. Cell edges are `f32` and a sample is kept inside its
+/// cell, so [`WavelengthSampler::pdf`] at a returned λ finds the same cell: the density
+/// `sample` returns equals `pdf(λ)` bit for bit.
 ///
 /// **Hero wavelengths** (A. Wilkie, S. Nawaz, M. Droske, A. Weidlich, J. Hanika, "Hero
 /// Wavelength Spectral Sampling", EGSR 2014): [`WavelengthSampler::sample_lanes`] maps
@@ -50,11 +52,70 @@ enum Kind {
     Point(f32),
     /// Uniform over the band, with its density.
     Uniform { pdf: f32 },
-    /// Piecewise constant on cells with `f32` edges (n + 1 of them).
-    Table {
-        edges: Vec<f32>,
-        dist: Distribution1D,
-    },
+    /// Piecewise constant on cells.
+    Table(Box<Table>),
+}
+
+#[derive(Clone, Debug)]
+struct Table {
+    /// Cell edges (n + 1), nm, strictly increasing; edges[0] = λ₁, edges[n] = λ₂.
+    edges: Vec<f32>,
+    /// Cumulative probabilities (n + 1): cdf[0] = 0, cdf[n] = 1, strictly increasing.
+    cdf: Vec<f64>,
+    /// Density per nm in each cell, Pᵢ/wᵢ.
+    density: Vec<f32>,
+    /// guide[k] = the cell holding u = k/n.
+    guide: Vec<u32>,
+    /// Cells equal in log λ.
+    log: bool,
+}
+
+impl Table {
+    fn cells(&self) -> usize {
+        self.density.len()
+    }
+
+    /// The cell holding λ ∈ [λ₁, λ₂]: from the cell's formula, corrected against the
+    /// rounded `f32` edges.
+    #[inline]
+    fn cell_of(&self, l: f32) -> usize {
+        let n = self.cells();
+        let (a, b) = (self.edges[0] as f64, self.edges[n] as f64);
+        let x = if self.log {
+            (l as f64 / a).ln() / (b / a).ln()
+        } else {
+            (l as f64 - a) / (b - a)
+        };
+        let mut i = ((x * n as f64).max(0.0) as usize).min(n - 1);
+        while i > 0 && l < self.edges[i] {
+            i -= 1;
+        }
+        while i + 1 < n && l >= self.edges[i + 1] {
+            i += 1;
+        }
+        i
+    }
+
+    #[inline]
+    fn sample(&self, u: f32) -> (f32, f32) {
+        let n = self.cells();
+        let u = u as f64;
+        let mut i = (self.guide[((u * n as f64) as usize).min(n - 1)] as usize).min(n - 1);
+        while i + 1 < n && self.cdf[i + 1] <= u {
+            i += 1;
+        }
+        let p = self.cdf[i + 1] - self.cdf[i];
+        let t = if p > 0.0 {
+            ((u - self.cdf[i]) / p).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        let (e0, e1) = (self.edges[i], self.edges[i + 1]);
+        // Keep λ in cell i (the next cell owns its lower edge).
+        let hi = if i + 1 < n { e1.next_down() } else { e1 };
+        let l = ((e0 as f64 + t * (e1 as f64 - e0 as f64)) as f32).clamp(e0, hi);
+        (l, self.density[i])
+    }
 }
 
 /// u in [0, 1): NaN and negatives give 0, 1 and above the largest float below 1.
@@ -110,36 +171,56 @@ impl WavelengthSampler {
         if edges.windows(2).any(|e| !(e[1] > e[0])) {
             return Self::uniform(band);
         }
+        let width = |i: usize| edges[i + 1] as f64 - edges[i] as f64;
         let f = |l: f32| {
             let v = target(l).abs() as f64;
             if v.is_finite() { v } else { 0.0 }
         };
-        let weights: Vec<f64> = edges
-            .windows(2)
-            .map(|e| {
-                let mid = (0.5 * (e[0] as f64 + e[1] as f64)) as f32;
-                f(e[0]).max(f(mid)).max(f(e[1])) * (e[1] as f64 - e[0] as f64)
+        let weights: Vec<f64> = (0..CELLS)
+            .map(|i| {
+                let mid = (0.5 * (edges[i] as f64 + edges[i + 1] as f64)) as f32;
+                f(edges[i]).max(f(mid)).max(f(edges[i + 1])) * width(i)
             })
             .collect();
         let total: f64 = weights.iter().sum();
         if !(total > 0.0 && total.is_finite()) {
             return Self::uniform(band);
         }
-        let width = b - a;
-        let p: Vec<f32> = weights
-            .iter()
-            .zip(edges.windows(2))
-            .map(|(w, e)| {
-                ((1.0 - DEFENSIVE) * w / total + DEFENSIVE * (e[1] as f64 - e[0] as f64) / width)
+        let p: Vec<f64> = (0..CELLS)
+            .map(|i| (1.0 - DEFENSIVE) * weights[i] / total + DEFENSIVE * width(i) / (b - a))
+            .collect();
+        let sum: f64 = p.iter().sum();
+        let mut cdf = Vec::with_capacity(CELLS + 1);
+        cdf.push(0.0);
+        for (i, pi) in p.iter().enumerate() {
+            cdf.push(cdf[i] + pi / sum);
+        }
+        cdf[CELLS] = 1.0;
+        // The density of what is actually sampled: cell i has probability cdf[i+1] − cdf[i].
+        let density: Vec<f32> = (0..CELLS)
+            .map(|i| {
+                ((cdf[i + 1] - cdf[i]) / width(i)).clamp(f32::MIN_POSITIVE as f64, f32::MAX as f64)
                     as f32
+            })
+            .collect();
+        if cdf.windows(2).any(|c| !(c[1] > c[0])) {
+            return Self::uniform(band);
+        }
+        let guide: Vec<u32> = (0..CELLS)
+            .map(|k| {
+                let u = k as f64 / CELLS as f64;
+                (cdf.partition_point(|&c| c <= u).saturating_sub(1)).min(CELLS - 1) as u32
             })
             .collect();
         WavelengthSampler {
             band,
-            kind: Kind::Table {
-                dist: Distribution1D::new(&p),
+            kind: Kind::Table(Box::new(Table {
                 edges,
-            },
+                cdf,
+                density,
+                guide,
+                log,
+            })),
         }
     }
 
@@ -150,15 +231,7 @@ impl WavelengthSampler {
 
     /// Whether the density is uniform over the band (or the band is degenerate).
     pub fn is_uniform(&self) -> bool {
-        !matches!(self.kind, Kind::Table { .. })
-    }
-
-    /// Density per nm of cell i, from the cell's density in x ∈ [0, 1).
-    #[inline]
-    fn cell_pdf(edges: &[f32], pdf_x: f32, i: usize) -> f32 {
-        let n = (edges.len() - 1) as f64;
-        let p = pdf_x as f64 / (n * (edges[i + 1] as f64 - edges[i] as f64));
-        p.clamp(f32::MIN_POSITIVE as f64, f32::MAX as f64) as f32
+        !matches!(self.kind, Kind::Table(_))
     }
 
     /// Draw λ (nm) from u ∈ [0, 1): (λ, density per nm); λ lies in the band and the
@@ -173,16 +246,7 @@ impl WavelengthSampler {
                 let l = ((a + u as f64 * (b - a)) as f32).clamp(self.band.min, self.band.max);
                 (l, *pdf)
             }
-            Kind::Table { edges, dist } => {
-                let (x, pdf_x, i) = dist.sample(u);
-                let n = edges.len() - 1;
-                let t = (x as f64 * n as f64 - i as f64).clamp(0.0, 1.0);
-                let (e0, e1) = (edges[i], edges[i + 1]);
-                // Keep λ in cell i (the next cell owns its lower edge).
-                let hi = if i + 1 < n { e1.next_down() } else { e1 };
-                let l = ((e0 as f64 + t * (e1 as f64 - e0 as f64)) as f32).clamp(e0, hi);
-                (l, Self::cell_pdf(edges, pdf_x, i))
-            }
+            Kind::Table(t) => t.sample(u),
         }
     }
 
@@ -204,17 +268,12 @@ impl WavelengthSampler {
                     0.0
                 }
             }
-            Kind::Table { edges, dist } => {
-                let n = edges.len() - 1;
-                if !(lambda_nm >= edges[0] && lambda_nm <= edges[n]) {
-                    return 0.0;
+            Kind::Table(t) => {
+                if self.band.contains(lambda_nm) {
+                    t.density[t.cell_of(lambda_nm)]
+                } else {
+                    0.0
                 }
-                let i = edges
-                    .partition_point(|&e| e <= lambda_nm)
-                    .saturating_sub(1)
-                    .min(n - 1);
-                let pdf_x = dist.pdf((i as f32 + 0.5) / n as f32);
-                Self::cell_pdf(edges, pdf_x, i)
             }
         }
     }
@@ -263,6 +322,25 @@ mod tests {
         let u = WavelengthSampler::uniform(Band::new(400.0, 700.0));
         assert!((u.pdf(500.0) - 1.0 / 300.0).abs() < 1e-9);
         assert!(u.is_uniform());
+    }
+
+    #[test]
+    fn guide_table_search_inverts_the_cdf() {
+        let bb = Spectrum::blackbody(3000.0);
+        for band in [VISIBLE, Band::new(10.0, 1e7)] {
+            let s = WavelengthSampler::importance(band, |l| bb.eval(l));
+            let Kind::Table(t) = &s.kind else {
+                panic!("not a table")
+            };
+            for k in 0..100_000 {
+                let u = unit(k as f32 / 100_000.0);
+                let (l, _) = t.sample(u);
+                let i = t.cell_of(l);
+                let j = t.cdf.partition_point(|&c| c <= u as f64) - 1;
+                assert_eq!(i, j, "u {u}");
+                assert!(t.edges[i] <= l && (l < t.edges[i + 1] || i + 1 == t.cells()));
+            }
+        }
     }
 
     #[test]

@@ -21,6 +21,12 @@ use crate::transport::Heuristic;
 use crate::transport::phase::{Lanes, Phase, terminate_secondary};
 use glam::{Vec2, Vec3};
 
+/// A guard against a path that never ends (a broken sampler feeding Russian roulette the
+/// same number forever): paths stop after this many scatterings. Its bias is the energy
+/// of longer paths, below ρ^65536 of the emission for a scene of albedo ρ (< 1e-28 at
+/// ρ = 0.999).
+pub const MAX_PATH_BOUNCES: u32 = 1 << 16;
+
 /// What the path tracer simulates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
@@ -197,7 +203,7 @@ pub fn trace<P: Phase>(
             let e = scene.shapes[sh.shape].emitter.unwrap_or(0);
             l += beta * phase.emission(scene, e, le * w, length);
         }
-        if bounces >= cfg.max_bounces {
+        if bounces >= cfg.max_bounces.min(MAX_PATH_BOUNCES) {
             break;
         }
         let Some(m) = scene.shapes[sh.shape].material else {
