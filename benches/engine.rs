@@ -96,13 +96,13 @@ fn phase(c: &mut Criterion) {
     let base: serde_json::Value = serde_json::from_str(&text).expect("scene JSON");
     let variant = |spectral: Option<serde_json::Value>, time: Option<serde_json::Value>| {
         let mut v = base.clone();
-        if spectral.is_some() {
+        if let Some(spectral) = spectral {
             for shape in v["scene"]["shapes"].as_array_mut().expect("shapes") {
                 if let Some(e) = shape.get_mut("emission") {
                     e["spectrum"] = serde_json::json!({ "blackbody": { "temperature": 4000 } });
                 }
             }
-            v["spectral"] = spectral.unwrap();
+            v["spectral"] = spectral;
         }
         if let Some(t) = time {
             v["time"] = t;

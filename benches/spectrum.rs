@@ -85,7 +85,10 @@ fn sample(c: &mut Criterion) {
         .sample(x));
     per_u!("importance sample (blackbody, 10 nm-10 mm)", |x| wide
         .sample(x));
-    per_u!("importance pdf", |x: f32| (x, importance.pdf(400.0 + 400.0 * x)));
+    per_u!("importance pdf", |x: f32| (
+        x,
+        importance.pdf(400.0 + 400.0 * x)
+    ));
     per_u!("uniform sample_lanes (4 lambdas)", |x| {
         let (l, p) = uniform.sample_lanes(x);
         (l[0] + l[1] + l[2] + l[3], p[0] + p[1] + p[2] + p[3])

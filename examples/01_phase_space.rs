@@ -248,10 +248,15 @@ fn engine_phase_space(n: u64) -> bool {
     // A Dirac pulse from a disk of radius R at height h: light arrives between h/c and
     // √(h² + R²)/c. Eight bins over that spread.
     let (r, h, l) = (1.0, 1.0, 1.0);
-    let (t0, t1) = (h / SPEED_OF_LIGHT, (h * h + r * r as f64).sqrt() / SPEED_OF_LIGHT);
-    println!("  a pulse at t = 0 from a disk (R = {r} m, h = {h} m) arrives between {t0:.4e} and {t1:.4e} s:");
+    let (t0, t1) = (h / SPEED_OF_LIGHT, (h * h + r * r).sqrt() / SPEED_OF_LIGHT);
+    println!(
+        "  a pulse at t = 0 from a disk (R = {r} m, h = {h} m) arrives between {t0:.4e} and {t1:.4e} s:"
+    );
     for k in 0..8 {
-        let (a, b) = (t0 + (t1 - t0) * k as f64 / 8.0, t0 + (t1 - t0) * (k + 1) as f64 / 8.0);
+        let (a, b) = (
+            t0 + (t1 - t0) * k as f64 / 8.0,
+            t0 + (t1 - t0) * (k + 1) as f64 / 8.0,
+        );
         let case = load(serde_json::json!({
             "name": format!("pulsed disk bin {k}"),
             "teaches": "time of flight",

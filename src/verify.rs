@@ -27,9 +27,9 @@
 use crate::bsdf::Bsdf;
 use crate::error::{InputError, check_number, parse_json};
 use crate::sampling::{SampleStream, SamplerKind};
-use crate::spectrum::Response;
 use crate::scene::Scene;
 use crate::scene::load::SceneDesc;
+use crate::spectrum::Response;
 use crate::stats::{MeanTest, Verdict};
 use crate::transport::effects::{Effects, analyze};
 use crate::transport::engine::{BATCHES, Estimate, RunSpec, run};
@@ -37,8 +37,8 @@ use crate::transport::measure::Measure;
 use crate::transport::path::Config;
 use crate::transport::phase::Dimensions;
 mod dimensions;
-use dimensions::dimensions;
 use crate::transport::{Estimator, Heuristic};
+use dimensions::dimensions;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -449,9 +449,16 @@ impl Case {
                 // to per nanometre of wavelength).
                 let scale = match params.remove("scale") {
                     None => 1.0,
-                    Some(v) => v.as_f64().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(|| {
-                        InputError::new(f, "reference.scale", "must be a positive finite number")
-                    })?,
+                    Some(v) => v
+                        .as_f64()
+                        .filter(|x| x.is_finite() && *x > 0.0)
+                        .ok_or_else(|| {
+                            InputError::new(
+                                f,
+                                "reference.scale",
+                                "must be a positive finite number",
+                            )
+                        })?,
                 };
                 let v = lightproof_analytic::catalog::evaluate(name, &params)
                     .map_err(|e| InputError::new(f, "reference", e.to_string()))?;
@@ -459,8 +466,13 @@ impl Case {
             }
         };
         let mut effects = analyze(&scene, &measure);
-        let (dims, dims_full, wavelength, time) =
-            dimensions(f, &scene, &measure, desc.spectral.as_ref(), desc.time.as_ref())?;
+        let (dims, dims_full, wavelength, time) = dimensions(
+            f,
+            &scene,
+            &measure,
+            desc.spectral.as_ref(),
+            desc.time.as_ref(),
+        )?;
         effects.wavelength = wavelength;
         effects.time = time;
         Ok(Case {

@@ -84,7 +84,10 @@ fn wien_peak_by_spectral_sweep() {
     let argmax = (0..values.len())
         .max_by(|&a, &b| values[a].total_cmp(&values[b]))
         .unwrap();
-    assert_eq!(argmax, 4, "the sweep's maximum is not at the grid point b/T");
+    assert_eq!(
+        argmax, 4,
+        "the sweep's maximum is not at the grid point b/T"
+    );
     // Parabola through the three points around the maximum, in ln λ.
     let (y0, y1, y2) = (values[3], values[4], values[5]);
     let h = 0.01f64;
@@ -170,7 +173,11 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
     assert!(z.abs() <= crit(), "pruned vs sampled: z = {z}");
     // ∫ȳ over 360–830 nm is 106.857 nm for the CIE 1931 tables; the analytic fit of the
     // response is within 1 % of it, so the grey estimate scales by about that.
-    let e_grey = grey.estimate(Estimator::Mis, &spec(1 << 12, 42), false).batches.total.mean;
+    let e_grey = grey
+        .estimate(Estimator::Mis, &spec(1 << 12, 42), false)
+        .batches
+        .total
+        .mean;
     assert!(e_grey > 0.0);
 }
 
@@ -179,7 +186,11 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
 fn effects_say_which_dimensions_are_sampled() {
     let bb = blackbody_disk(5000.0, r#"{ "band": [400, 700] }"#);
     assert!(bb.effects.wavelength.simulated);
-    assert!(bb.effects.wavelength.why.contains("spectrum"), "{}", bb.effects.wavelength.why);
+    assert!(
+        bb.effects.wavelength.why.contains("spectrum"),
+        "{}",
+        bb.effects.wavelength.why
+    );
     assert!(!bb.effects.time.simulated);
     let moving = case(
         r#"{ "name": "moving", "teaches": "motion",
@@ -245,7 +256,11 @@ fn hard_spectral_inputs_stay_finite() {
     assert_eq!(e.batches.total.non_finite, 0);
     let v = judge(&e, SamplerKind::Independent, 300.0, ALPHA, FAMILY);
     assert!(v.passed, "η → 1 slab: {v:?}");
-    for (t, band) in [(1.0, "[400, 700]"), (1e6, "[10, 1000]"), (5000.0, "[550, 550.001]")] {
+    for (t, band) in [
+        (1.0, "[400, 700]"),
+        (1e6, "[10, 1000]"),
+        (5000.0, "[550, 550.001]"),
+    ] {
         let c = blackbody_disk(t, &format!(r#"{{ "band": {band} }}"#));
         let e = c.estimate(Estimator::Mis, &spec(1 << 10, 61), false);
         let m = &e.batches.total;

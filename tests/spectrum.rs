@@ -277,7 +277,11 @@ fn densities_integrate_to_one_and_match_sample() {
         for k in 0..100_000u32 {
             let u = (k as f32 + 0.5) / 100_000.0;
             let (l, p) = s.sample(u);
-            assert!(band.contains(l) && p > 0.0 && p.is_finite(), "{}: {l} {p}", c.name);
+            assert!(
+                band.contains(l) && p > 0.0 && p.is_finite(),
+                "{}: {l} {p}",
+                c.name
+            );
             assert_eq!(p, s.pdf(l), "{}: u {u} λ {l}", c.name);
             let (ls, ps) = s.sample_lanes(u);
             for j in 0..4 {
@@ -287,7 +291,11 @@ fn densities_integrate_to_one_and_match_sample() {
         }
         for u in [0.0, 1.0, f32::NAN, -1.0, 2.0, f32::INFINITY, 0.999_999_94] {
             let (l, p) = s.sample(u);
-            assert!(band.contains(l) && p == s.pdf(l) && p > 0.0, "{}: u {u}", c.name);
+            assert!(
+                band.contains(l) && p == s.pdf(l) && p > 0.0,
+                "{}: u {u}",
+                c.name
+            );
         }
     }
 }
@@ -339,7 +347,10 @@ fn planck_integrates_to_stefan_boltzmann() {
             rel(all),
             rel(quad)
         );
-        assert!(rel(wide) < 1e-12 && rel(all) < 1e-13 && rel(quad) < 1e-10, "T {t}");
+        assert!(
+            rel(wide) < 1e-12 && rel(all) < 1e-13 && rel(quad) < 1e-10,
+            "T {t}"
+        );
         assert!((blackbody_total_radiance(t as f64) / exact - 1.0).abs() < 1e-15);
         worst = worst.max(rel(wide)).max(rel(all));
     }
@@ -358,11 +369,17 @@ fn planck_matches_the_oracle_and_quadrature() {
                 assert!(ours < 1e-290, "{l} {t}: {ours} vs {exact}");
                 continue;
             }
-            assert!((ours / exact - 1.0).abs() < 1e-12, "{l} {t}: {ours} vs {exact}");
+            assert!(
+                (ours / exact - 1.0).abs() < 1e-12,
+                "{l} {t}: {ours} vs {exact}"
+            );
             let e = blackbody(t).eval(l as f32) as f64;
             let exact32 = oracle::planck(l as f32 as f64 * 1e-9, t as f64) * 1e-9;
             if exact32 > 1e-30 && exact32 < 1e30 {
-                assert!((e / exact32 - 1.0).abs() < 1e-6, "{l} {t}: {e} vs {exact32}");
+                assert!(
+                    (e / exact32 - 1.0).abs() < 1e-6,
+                    "{l} {t}: {e} vs {exact32}"
+                );
             }
         }
     }
@@ -385,12 +402,21 @@ fn planck_matches_the_oracle_and_quadrature() {
             let rel_oracle = (ours / exact - 1.0).abs();
             let rel_quad = (ours / quad - 1.0).abs();
             worst = worst.max(rel_oracle);
-            assert!(rel_oracle < 1e-9, "T {t} [{a}, {b}]: {ours} vs oracle {exact}");
-            assert!(rel_quad < 1e-10, "T {t} [{a}, {b}]: {ours} vs quadrature {quad}");
+            assert!(
+                rel_oracle < 1e-9,
+                "T {t} [{a}, {b}]: {ours} vs oracle {exact}"
+            );
+            assert!(
+                rel_quad < 1e-10,
+                "T {t} [{a}, {b}]: {ours} vs quadrature {quad}"
+            );
             // The blackbody fraction agrees too.
             let frac = ours / blackbody_total_radiance(t as f64);
             let of = oracle::band_fraction(a as f64 * 1e-9, b as f64 * 1e-9, t as f64);
-            assert!((frac - of).abs() < 1e-9 * of.max(1e-300) + 1e-15, "{frac} {of}");
+            assert!(
+                (frac - of).abs() < 1e-9 * of.max(1e-300) + 1e-15,
+                "{frac} {of}"
+            );
         }
     }
     println!("band radiance vs oracle: worst relative difference {worst:.2e}");
@@ -399,7 +425,10 @@ fn planck_matches_the_oracle_and_quadrature() {
         temperature: 4000.0,
         scale: 2.5,
     };
-    assert_eq!(s.integral(VISIBLE), 2.5 * blackbody(4000.0).integral(VISIBLE));
+    assert_eq!(
+        s.integral(VISIBLE),
+        2.5 * blackbody(4000.0).integral(VISIBLE)
+    );
 }
 
 /// The peak of `eval` found by golden-section search lies within 0.1 nm of Wien's
@@ -451,7 +480,11 @@ fn photon_energy_matches_the_oracle() {
 fn dispersion_matches_the_oracle_and_the_data_sheet() {
     let grid = || (0..=470).map(|k| 360.0 + k as f32);
     // Cauchy (the oracle has no c term; c adds c/λ⁴).
-    for (a, b, c) in [(1.5046f32, 0.004_20f32, 0.0f32), (1.458, 0.003_54, 0.0), (1.6, 0.01, 2e-4)] {
+    for (a, b, c) in [
+        (1.5046f32, 0.004_20f32, 0.0f32),
+        (1.458, 0.003_54, 0.0),
+        (1.6, 0.01, 2e-4),
+    ] {
         let ior = Ior::Cauchy { a, b, c };
         for l in grid() {
             let um = l as f64 * 1e-3;
@@ -468,7 +501,8 @@ fn dispersion_matches_the_oracle_and_the_data_sheet() {
         let ior = Ior::Sellmeier { b, c };
         assert!(ior.validate(VISIBLE).is_ok());
         for l in grid() {
-            let exact = oracle::sellmeier(&b.map(|x| x as f64), &c.map(|x| x as f64), l as f64 * 1e-3);
+            let exact =
+                oracle::sellmeier(&b.map(|x| x as f64), &c.map(|x| x as f64), l as f64 * 1e-3);
             assert!((ior.eval(l) as f64 / exact - 1.0).abs() < 1e-6, "{l}");
         }
     }
@@ -490,7 +524,11 @@ fn dispersion_matches_the_oracle_and_the_data_sheet() {
     assert!((nf - 1.52238).abs() < 2e-5 && (nc - 1.51432).abs() < 2e-5);
     assert!((abbe - 64.17).abs() < 0.05);
     // Normal dispersion: n falls with λ over the visible.
-    assert!(grid().zip(grid().skip(1)).all(|(a, b)| n.eval(a) > n.eval(b)));
+    assert!(
+        grid()
+            .zip(grid().skip(1))
+            .all(|(a, b)| n.eval(a) > n.eval(b))
+    );
     // BK7's UV poles √C₁ = 77.5 nm and √C₂ = 141.5 nm.
     let e = n.validate(Band::new(100.0, 1000.0)).unwrap_err();
     assert!(e.contains("141.5 nm") && e.contains("pole"), "{e}");
@@ -539,7 +577,10 @@ fn photopic_fit_against_the_cie_table() {
     assert!((y555 - 1.0).abs() < 0.005);
     assert!(worst.0 < 0.008, "{worst:?}");
     assert!((fit / 106.857 - 1.0).abs() < 0.002, "{fit}");
-    assert!((table_integral / 106.857 - 1.0).abs() < 0.001, "{table_integral}");
+    assert!(
+        (table_integral / 106.857 - 1.0).abs() < 0.001,
+        "{table_integral}"
+    );
     assert!((fit / quad - 1.0).abs() < 1e-6, "{fit} {quad}");
     assert!((LUMINOUS_EFFICACY - 683.002).abs() < 1e-12);
     // Luminous efficacy of a 555 nm line: K_m ȳ(555) ≈ 683 lm/W.
@@ -550,12 +591,20 @@ fn photopic_fit_against_the_cie_table() {
 fn malformed_data_is_rejected_with_a_reason() {
     let err = |s: Spectrum| s.validate().unwrap_err();
     assert_eq!(
-        err(Spectrum::sampled(vec![400.0, 500.0, 600.0, 700.0], vec![1.0, 2.0, 3.0, -1.0])),
+        err(Spectrum::sampled(
+            vec![400.0, 500.0, 600.0, 700.0],
+            vec![1.0, 2.0, 3.0, -1.0]
+        )),
         "values[3] must be non-negative and finite, got -1"
     );
-    assert!(err(Spectrum::sampled(vec![400.0, 600.0, 500.0], vec![1.0; 3])).contains("increase strictly"));
+    assert!(
+        err(Spectrum::sampled(vec![400.0, 600.0, 500.0], vec![1.0; 3]))
+            .contains("increase strictly")
+    );
     assert!(err(Spectrum::sampled(vec![400.0, 500.0], vec![1.0, f32::NAN])).contains("values[1]"));
-    assert!(err(Spectrum::sampled(vec![400.0, f32::NAN], vec![1.0, 1.0])).contains("wavelengths[1]"));
+    assert!(
+        err(Spectrum::sampled(vec![400.0, f32::NAN], vec![1.0, 1.0])).contains("wavelengths[1]")
+    );
     assert!(err(Spectrum::sampled(vec![400.0], vec![1.0])).contains("at least 2"));
     assert!(err(Spectrum::sampled(vec![400.0, 500.0], vec![1.0])).contains("same length"));
     assert_eq!(
@@ -565,7 +614,13 @@ fn malformed_data_is_rejected_with_a_reason() {
     assert!(err(blackbody(-10.0)).contains("got -10"));
     assert!(err(blackbody(f32::NAN)).contains("got NaN"));
     assert!(err(blackbody(f32::INFINITY)).contains("temperature"));
-    assert!(err(Spectrum::Blackbody { temperature: 5000.0, scale: -1.0 }).contains("scale"));
+    assert!(
+        err(Spectrum::Blackbody {
+            temperature: 5000.0,
+            scale: -1.0
+        })
+        .contains("scale")
+    );
     assert!(err(Spectrum::Constant(-1.0)).contains("non-negative"));
     assert!(err(Spectrum::Constant(f32::NAN)).contains("NaN"));
     assert!(zero_region_table().validate().is_ok() && blackbody(1.0).validate().is_ok());
@@ -574,25 +629,77 @@ fn malformed_data_is_rejected_with_a_reason() {
     assert!(ierr(Ior::Constant(0.0)).contains("positive"));
     assert!(ierr(Ior::Constant(-1.5)).contains("got -1.5"));
     assert!(ierr(Ior::Constant(f32::NAN)).contains("NaN"));
-    assert!(ierr(Ior::Cauchy { a: -0.1, b: 0.01, c: 0.0 }).contains("Cauchy"));
-    assert!(ierr(Ior::Cauchy { a: 1.5, b: f32::INFINITY, c: 0.0 }).contains("cauchy.b"));
-    let e = ierr(Ior::Sellmeier { b: [1.0, 0.0, 0.0], c: [0.36, 0.0, 0.0] });
-    assert!(e.contains("600.0 nm") && e.contains("inside the band"), "{e}");
-    assert!(ierr(Ior::Sellmeier { b: [f32::NAN, 0.0, 0.0], c: [0.0; 3] }).contains("sellmeier.b[0]"));
+    assert!(
+        ierr(Ior::Cauchy {
+            a: -0.1,
+            b: 0.01,
+            c: 0.0
+        })
+        .contains("Cauchy")
+    );
+    assert!(
+        ierr(Ior::Cauchy {
+            a: 1.5,
+            b: f32::INFINITY,
+            c: 0.0
+        })
+        .contains("cauchy.b")
+    );
+    let e = ierr(Ior::Sellmeier {
+        b: [1.0, 0.0, 0.0],
+        c: [0.36, 0.0, 0.0],
+    });
+    assert!(
+        e.contains("600.0 nm") && e.contains("inside the band"),
+        "{e}"
+    );
+    assert!(
+        ierr(Ior::Sellmeier {
+            b: [f32::NAN, 0.0, 0.0],
+            c: [0.0; 3]
+        })
+        .contains("sellmeier.b[0]")
+    );
     // n² < 0 without a pole in the band (a strongly negative term).
-    assert!(ierr(Ior::Sellmeier { b: [-3.0, 0.0, 0.0], c: [0.0; 3] }).contains("positive"));
-    assert!(ierr(Ior::Sampled { wavelengths: vec![400.0, 700.0], values: vec![1.5, 0.0] }).contains("values[1] must be positive"));
-    assert!(Ior::Constant(1.5).validate(Band::new(500.0, 400.0)).unwrap_err().contains("band"));
+    assert!(
+        ierr(Ior::Sellmeier {
+            b: [-3.0, 0.0, 0.0],
+            c: [0.0; 3]
+        })
+        .contains("positive")
+    );
+    assert!(
+        ierr(Ior::Sampled {
+            wavelengths: vec![400.0, 700.0],
+            values: vec![1.5, 0.0]
+        })
+        .contains("values[1] must be positive")
+    );
+    assert!(
+        Ior::Constant(1.5)
+            .validate(Band::new(500.0, 400.0))
+            .unwrap_err()
+            .contains("band")
+    );
 
     // Through the located JSON errors of the scene loader: the path inside the spectrum.
-    let e = lightproof::error::parse_json::<Spectrum>("s.json", r#"{"blackbody": {"temperature": "hot"}}"#)
-        .unwrap_err();
+    let e = lightproof::error::parse_json::<Spectrum>(
+        "s.json",
+        r#"{"blackbody": {"temperature": "hot"}}"#,
+    )
+    .unwrap_err();
     assert_eq!(e.field, "blackbody.temperature", "{e}");
-    let e = lightproof::error::parse_json::<Ior>("i.json", r#"{"sellmeier": {"b": [1, 2, 3], "c": [1, 2]}}"#)
-        .unwrap_err();
+    let e = lightproof::error::parse_json::<Ior>(
+        "i.json",
+        r#"{"sellmeier": {"b": [1, 2, 3], "c": [1, 2]}}"#,
+    )
+    .unwrap_err();
     assert_eq!(e.field, "sellmeier.c", "{e}");
-    let e = lightproof::error::parse_json::<Response>("r.json", r#"{"sampled": {"wavelengths": [1, 2], "values": [1, "x"]}}"#)
-        .unwrap_err();
+    let e = lightproof::error::parse_json::<Response>(
+        "r.json",
+        r#"{"sampled": {"wavelengths": [1, 2], "values": [1, "x"]}}"#,
+    )
+    .unwrap_err();
     assert!(e.field.starts_with("sampled.values"), "{e}");
 }
 
@@ -611,7 +718,16 @@ fn arb_lambda() -> impl Strategy<Value = f32> {
 
 fn arb_temperature() -> impl Strategy<Value = f32> {
     prop_oneof![
-        prop::sample::select(vec![1.0f32, 1e6, 0.0, -1.0, f32::NAN, f32::INFINITY, f32::MAX, 1e-30]),
+        prop::sample::select(vec![
+            1.0f32,
+            1e6,
+            0.0,
+            -1.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::MAX,
+            1e-30
+        ]),
         any::<f32>(),
         (1.0f32..1e6),
     ]
@@ -630,10 +746,8 @@ fn arb_spectrum() -> impl Strategy<Value = Spectrum> {
         (arb_temperature(), prop_oneof![Just(1.0f32), any::<f32>()])
             .prop_map(|(temperature, scale)| Spectrum::Blackbody { temperature, scale }),
         arb_table().prop_map(|(w, v)| Spectrum::sampled(w, v)),
-        (0.0f32..500.0, 1.0f32..400.0).prop_map(|(a, w)| Spectrum::sampled(
-            vec![a + 200.0, a + 200.0 + w],
-            vec![1.0, 0.0]
-        )),
+        (0.0f32..500.0, 1.0f32..400.0)
+            .prop_map(|(a, w)| Spectrum::sampled(vec![a + 200.0, a + 200.0 + w], vec![1.0, 0.0])),
     ]
 }
 
@@ -643,9 +757,15 @@ fn arb_ior() -> impl Strategy<Value = Ior> {
         (any::<f32>(), any::<f32>(), any::<f32>()).prop_map(|(a, b, c)| Ior::Cauchy { a, b, c }),
         (1.0f32..2.0, -0.05f32..0.05, -1e-3f32..1e-3).prop_map(|(a, b, c)| Ior::Cauchy { a, b, c }),
         (any::<[f32; 3]>(), any::<[f32; 3]>()).prop_map(|(b, c)| Ior::Sellmeier { b, c }),
-        ([0.0f32..2.0, 0.0f32..2.0, 0.0f32..2.0], [0.0f32..1.0, 0.0f32..1.0, 0.0f32..200.0])
+        (
+            [0.0f32..2.0, 0.0f32..2.0, 0.0f32..2.0],
+            [0.0f32..1.0, 0.0f32..1.0, 0.0f32..200.0]
+        )
             .prop_map(|(b, c)| Ior::Sellmeier { b, c }),
-        arb_table().prop_map(|(wavelengths, values)| Ior::Sampled { wavelengths, values }),
+        arb_table().prop_map(|(wavelengths, values)| Ior::Sampled {
+            wavelengths,
+            values
+        }),
     ]
 }
 

@@ -741,9 +741,12 @@ static ENTRIES: &[Entry] = &[
         ["wavelength_um"],
         "normal-incidence transmittance (1) of a non-absorbing N-BK7 slab at a wavelength (µm): (1−R)/(1+R) at n(λ)",
         |p| {
-            Ok(spectrum::bk7_slab_transmittance(
-                p.range("wavelength_um", 0.3, 2.5, false)?,
-            ))
+            Ok(spectrum::bk7_slab_transmittance(p.range(
+                "wavelength_um",
+                0.3,
+                2.5,
+                false,
+            )?))
         }
     ),
     entry!(

@@ -293,7 +293,12 @@ mod tests {
             / 2000.0;
         assert!(rel(m, mid) < 1e-9);
         assert!(m > bk7_slab_transmittance(l1) && m < bk7_slab_transmittance(l2));
-        assert!(rel(cauchy_slab_transmittance(1.5, 0.0, 0.55), slab_transmittance(1.5)) < 1e-15);
+        assert!(
+            rel(
+                cauchy_slab_transmittance(1.5, 0.0, 0.55),
+                slab_transmittance(1.5)
+            ) < 1e-15
+        );
         let t = 4000.0;
         assert!(rel(band_radiance(1e-9, 1.0, t), total_radiance(t)) < 1e-6);
     }

@@ -87,7 +87,11 @@ fn permute(mut i: u64, n: u64, seed: u64) -> u64 {
         return 0;
     }
     let bits = 64 - (n - 1).leading_zeros();
-    let w = if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 };
+    let w = if bits >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << bits) - 1
+    };
     let shift = bits.div_ceil(2).max(1);
     let keys: [u64; 8] = std::array::from_fn(|r| hash_words(&[seed, r as u64]));
     loop {
@@ -222,7 +226,11 @@ mod tests {
                 "n = {n}: only {} orders over 256 seeds (uniform: {expected:.0})",
                 orders.len()
             );
-            assert_eq!(first.len() as u64, n, "n = {n}: element 0 does not reach every place");
+            assert_eq!(
+                first.len() as u64,
+                n,
+                "n = {n}: element 0 does not reach every place"
+            );
         }
     }
 

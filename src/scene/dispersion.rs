@@ -45,6 +45,21 @@ impl SpectralIor {
                 return Err("this material takes no `eta`".into());
             }
             eta.validate(band).map_err(|r| format!("eta: {r}"))?;
+            // The BSDF's own bounds on η hold at every wavelength of the band.
+            let (lo, hi) = eta.range_in(band);
+            let (min, max) = if takes_k {
+                (1e-3, 100.0)
+            } else {
+                (0.01, 100.0)
+            };
+            if !(lo >= min && hi <= max) {
+                return Err(format!(
+                    "eta: the index spans [{lo}, {hi}] over [{}, {}] nm; a `{}` needs it within [{min}, {max}]",
+                    band.min,
+                    band.max,
+                    bsdf.name()
+                ));
+            }
         }
         if let Some(k) = &self.k {
             if !takes_k {

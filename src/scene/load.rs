@@ -664,7 +664,13 @@ impl Builder<'_> {
             }
         }
         if let Some(t) = pulse_at {
-            check_number(file, &format!("{f}.pulse_at"), t, |_| true, "a finite time in seconds")?;
+            check_number(
+                file,
+                &format!("{f}.pulse_at"),
+                t,
+                |_| true,
+                "a finite time in seconds",
+            )?;
             props.pulse = Some(t as f32);
         }
         if let Some(v) = velocity {

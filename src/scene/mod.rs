@@ -242,7 +242,10 @@ impl Scene {
         }
         let n = self.emitters.len();
         let k = ((u_choice * n as f32) as usize).min(n.saturating_sub(1));
-        let shift = self.emitter_props.get(k).map_or(Vec3::ZERO, |e| e.velocity * t);
+        let shift = self
+            .emitter_props
+            .get(k)
+            .map_or(Vec3::ZERO, |e| e.velocity * t);
         if shift == Vec3::ZERO {
             return self.sample_light(p, u_choice, u);
         }

@@ -52,8 +52,7 @@ impl Band {
 
     /// 0 < λ₁ < λ₂, both finite.
     pub fn validate(&self) -> Result<(), String> {
-        if self.min.is_finite() && self.max.is_finite() && self.min > 0.0 && self.max > self.min
-        {
+        if self.min.is_finite() && self.max.is_finite() && self.min > 0.0 && self.max > self.min {
             Ok(())
         } else {
             Err(format!(
@@ -82,7 +81,12 @@ mod tests {
         assert_eq!(b.width(), 300.0);
         assert!(b.contains(400.0) && b.contains(700.0) && !b.contains(f32::NAN));
         assert!(b.validate().is_ok() && VISIBLE.validate().is_ok());
-        for bad in [[700.0, 400.0], [0.0, 1.0], [1.0, f32::INFINITY], [f32::NAN, 2.0]] {
+        for bad in [
+            [700.0, 400.0],
+            [0.0, 1.0],
+            [1.0, f32::INFINITY],
+            [f32::NAN, 2.0],
+        ] {
             let b = Band::from(bad);
             assert!(b.validate().is_err(), "{bad:?}");
             assert!(b.width() >= 0.0 && b.width().is_finite());

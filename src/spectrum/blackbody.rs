@@ -9,7 +9,7 @@ use super::{finite_f64, gauss_legendre};
 use std::f64::consts::PI;
 
 /// The root x_w of x = 5(1 − e^{−x}) (the maximum of B_λ in x = hc/(λkT)).
-const WIEN_X: f64 = 4.965_114_231_744_276_3;
+const WIEN_X: f64 = 4.965_114_231_744_276;
 
 /// Wien's displacement constant b = hc/(k x_w) = 2.897771955…e-3 m·K (CODATA 2018):
 /// B_λ peaks at λ = b/T.
@@ -33,8 +33,7 @@ const PI4_15: f64 = PI * PI * PI * PI / 15.0;
 /// **Source.** M. Planck, Ann. Phys. 4, 553 (1901); Siegel & Howell, *Thermal Radiation
 /// Heat Transfer*, ch. 1.
 pub fn planck_radiance(lambda_nm: f64, temperature: f64) -> f64 {
-    if !(lambda_nm > 0.0 && temperature > 0.0 && lambda_nm.is_finite() && temperature.is_finite())
-    {
+    if !(lambda_nm > 0.0 && temperature > 0.0 && lambda_nm.is_finite() && temperature.is_finite()) {
         return 0.0;
     }
     let x = C2_NM_K / lambda_nm / temperature;
@@ -113,8 +112,8 @@ fn tail(x: f64) -> f64 {
         let mut s = 0.0;
         for n in 1..=64 {
             let nf = n as f64;
-            let term =
-                (-nf * x).exp() / nf * (x * x * x + 3.0 * x * x / nf + 6.0 * x / (nf * nf) + 6.0 / (nf * nf * nf));
+            let term = (-nf * x).exp() / nf
+                * (x * x * x + 3.0 * x * x / nf + 6.0 * x / (nf * nf) + 6.0 / (nf * nf * nf));
             s += term;
             if term <= 1e-17 * s {
                 break;
@@ -172,8 +171,14 @@ mod tests {
         // the quadrature, and both against F(2) = 5.3175968056598313 (mpmath, 30 digits).
         let series = tail(2.0);
         let quadrature = PI4_15 - gauss_legendre(0.0, 2.0, 16, bose);
-        assert!((series / 5.317_596_805_659_831 - 1.0).abs() < 1e-15, "{series}");
-        assert!((quadrature / 5.317_596_805_659_831 - 1.0).abs() < 1e-15, "{quadrature}");
+        assert!(
+            (series / 5.317_596_805_659_831 - 1.0).abs() < 1e-15,
+            "{series}"
+        );
+        assert!(
+            (quadrature / 5.317_596_805_659_831 - 1.0).abs() < 1e-15,
+            "{quadrature}"
+        );
         assert_eq!(tail(0.0), PI4_15);
         assert_eq!(tail(f64::INFINITY), 0.0);
     }

@@ -55,7 +55,7 @@ pub enum Ior {
 /// Abbe number ν_d = 64.17.
 pub fn bk7() -> Ior {
     Ior::Sellmeier {
-        b: [1.039_612_1, 0.231_792_34, 1.010_469_5],
+        b: [1.039_612, 0.231_792_34, 1.010_469_5],
         c: [6.000_698_7e-3, 2.001_791_4e-2, 103.560_65],
     }
 }
@@ -116,10 +116,12 @@ impl Ior {
                 points.extend(wavelengths.iter().copied().filter(|&l| band.contains(l)));
             }
         }
-        points.iter().fold((f32::MAX, f32::MIN_POSITIVE), |(a, b), &l| {
-            let n = self.eval(l);
-            (a.min(n), b.max(n))
-        })
+        points
+            .iter()
+            .fold((f32::MAX, f32::MIN_POSITIVE), |(a, b), &l| {
+                let n = self.eval(l);
+                (a.min(n), b.max(n))
+            })
     }
 
     /// n(λ), always positive and finite.
@@ -209,8 +211,14 @@ impl Ior {
             } => {
                 table::validate(wavelengths, values, true)?;
                 // Interpolation stays between neighbouring entries: checking them suffices.
-                if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| physical(**v as f64).is_none()) {
-                    return Err(format!("values[{i}] must be a positive finite index, got {v}"));
+                if let Some((i, v)) = values
+                    .iter()
+                    .enumerate()
+                    .find(|(_, v)| physical(**v as f64).is_none())
+                {
+                    return Err(format!(
+                        "values[{i}] must be a positive finite index, got {v}"
+                    ));
                 }
             }
         }
@@ -317,7 +325,9 @@ impl Serialize for Ior {
                     c: *c,
                 },
             )?,
-            Ior::Sellmeier { b, c } => m.serialize_entry("sellmeier", &SellmeierBody { b: *b, c: *c })?,
+            Ior::Sellmeier { b, c } => {
+                m.serialize_entry("sellmeier", &SellmeierBody { b: *b, c: *c })?
+            }
             Ior::Sampled {
                 wavelengths,
                 values,
@@ -367,7 +377,10 @@ mod tests {
             c: [0.25, 0.0, 0.0],
         };
         let e = pole.validate(VISIBLE).unwrap_err();
-        assert!(e.contains("500.0 nm") && e.contains("inside the band"), "{e}");
+        assert!(
+            e.contains("500.0 nm") && e.contains("inside the band"),
+            "{e}"
+        );
         for l in [500.0, 0.0, -1.0, f32::NAN, f32::INFINITY] {
             let n = pole.eval(l);
             assert!(n.is_finite() && n > 0.0, "{l} {n}");
@@ -381,7 +394,11 @@ mod tests {
         let e = dip.validate(VISIBLE).unwrap_err();
         assert!(e.contains("Cauchy"), "{e}");
         assert!(Ior::Constant(0.0).validate(VISIBLE).is_err());
-        assert!(Ior::Constant(1.5).validate(Band::new(700.0, 400.0)).is_err());
+        assert!(
+            Ior::Constant(1.5)
+                .validate(Band::new(700.0, 400.0))
+                .is_err()
+        );
     }
 
     #[test]
@@ -437,7 +454,15 @@ mod tests {
             assert_eq!(parse(&j).unwrap(), ior, "{j}");
         }
         assert!(parse(r#"{"sellmeier": {"b": [1, 2], "c": [1, 2, 3]}}"#).is_err());
-        assert!(parse(r#"{"cauchy": {"a": 1.5, "d": 1}}"#).unwrap_err().contains("unknown field `d`"));
-        assert!(parse(r#"{"abbe": 64}"#).unwrap_err().contains("unknown variant"));
+        assert!(
+            parse(r#"{"cauchy": {"a": 1.5, "d": 1}}"#)
+                .unwrap_err()
+                .contains("unknown field `d`")
+        );
+        assert!(
+            parse(r#"{"abbe": 64}"#)
+                .unwrap_err()
+                .contains("unknown variant")
+        );
     }
 }

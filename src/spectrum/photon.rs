@@ -31,9 +31,20 @@ mod tests {
         // hc = 1.98644586e-25 J·m; at 550 nm: 3.61172e-19 J.
         let e = photon_energy(550.0);
         assert!((e / 3.611_719_7e-19 - 1.0).abs() < 1e-7, "{e}");
-        for l in [0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e-300, 1e300] {
+        for l in [
+            0.0,
+            -1.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e-300,
+            1e300,
+        ] {
             let e = photon_energy(l);
-            assert!(e.is_finite() && e > 0.0 && (1.0 / e).is_finite(), "{l}: {e}");
+            assert!(
+                e.is_finite() && e > 0.0 && (1.0 / e).is_finite(),
+                "{l}: {e}"
+            );
         }
     }
 }

@@ -35,7 +35,10 @@ pub fn photopic(lambda_nm: f32) -> f32 {
     }
     let mut y = 0.0f32;
     for (w, mu, s1, s2) in LOBES {
-        let (mu, s) = (mu as f32, if (lambda_nm as f64) < mu { s1 } else { s2 } as f32);
+        let (mu, s) = (
+            mu as f32,
+            if (lambda_nm as f64) < mu { s1 } else { s2 } as f32,
+        );
         let t = (lambda_nm - mu) / s;
         y += w as f32 * (-0.5 * t * t).exp();
     }
@@ -72,7 +75,10 @@ pub enum Response {
     Photopic,
     /// Any spectrum, usually a table.
     Sampled(
-        #[serde(deserialize_with = "response_body", serialize_with = "ser_response_body")]
+        #[serde(
+            deserialize_with = "response_body",
+            serialize_with = "ser_response_body"
+        )]
         Spectrum,
     ),
 }
@@ -103,7 +109,10 @@ impl Response {
 
     /// Whether R = 1 everywhere (flat, or a constant spectrum of 1).
     pub fn is_flat(&self) -> bool {
-        matches!(self, Response::Flat | Response::Sampled(Spectrum::Constant(1.0)))
+        matches!(
+            self,
+            Response::Flat | Response::Sampled(Spectrum::Constant(1.0))
+        )
     }
 
     /// Check a sampled response (see [`Spectrum::validate`]).
@@ -206,9 +215,21 @@ mod tests {
             let j = serde_json::to_string(&r).unwrap();
             assert_eq!(parse(&j).unwrap(), r, "{j}");
         }
-        assert!(parse(r#""scotopic""#).unwrap_err().contains("unknown variant"));
-        assert!(parse(r#"{"sampled": {"wavelengths": [1, 2]}}"#).unwrap_err().contains("missing field `values`"));
-        assert!(parse(r#"{"sampled": {"wavelengths": [1, 2], "values": [1, 2], "x": 1}}"#).unwrap_err().contains("unknown field `x`"));
+        assert!(
+            parse(r#""scotopic""#)
+                .unwrap_err()
+                .contains("unknown variant")
+        );
+        assert!(
+            parse(r#"{"sampled": {"wavelengths": [1, 2]}}"#)
+                .unwrap_err()
+                .contains("missing field `values`")
+        );
+        assert!(
+            parse(r#"{"sampled": {"wavelengths": [1, 2], "values": [1, 2], "x": 1}}"#)
+                .unwrap_err()
+                .contains("unknown field `x`")
+        );
         assert!(Response::Sampled(Spectrum::Constant(1.0)).is_flat());
     }
 }

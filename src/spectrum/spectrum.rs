@@ -66,7 +66,9 @@ impl Spectrum {
             Spectrum::Sampled {
                 wavelengths,
                 values,
-            } => finite_f32(table::interpolate(wavelengths, values, lambda_nm, Outside::Zero) as f64),
+            } => {
+                finite_f32(table::interpolate(wavelengths, values, lambda_nm, Outside::Zero) as f64)
+            }
             Spectrum::Blackbody { temperature, scale } => {
                 if !(*scale > 0.0) {
                     return 0.0;
@@ -302,7 +304,11 @@ mod tests {
         let e = parse(r#""hot""#).unwrap_err();
         assert!(e.contains("a spectrum"), "{e}");
         assert!(parse("{}").unwrap_err().contains("empty map"));
-        assert!(parse(r#"{"sampled": {"wavelengths": [1, 2]}}"#).unwrap_err().contains("missing field `values`"));
+        assert!(
+            parse(r#"{"sampled": {"wavelengths": [1, 2]}}"#)
+                .unwrap_err()
+                .contains("missing field `values`")
+        );
     }
 
     #[test]

@@ -153,7 +153,7 @@ mod tests {
         assert_eq!(interpolate(&W, &V, f32::NAN, Outside::Zero), 0.0);
         assert!(interpolate(&W, &V, f32::NAN, Outside::Clamp).is_nan());
         // Malformed tables never panic.
-        assert_eq!(interpolate(&[], &[], 500.0, Outside::Zero).is_nan(), true);
+        assert!(interpolate(&[], &[], 500.0, Outside::Zero).is_nan());
         let _ = interpolate(&[500.0, 400.0, 450.0], &[1.0, 2.0], 420.0, Outside::Zero);
         let _ = interpolate(&[f32::NAN, 400.0], &[1.0, 2.0], 420.0, Outside::Clamp);
     }
@@ -172,13 +172,29 @@ mod tests {
     #[test]
     fn validation_messages() {
         assert!(validate(&W, &V, false).is_ok());
-        assert!(validate(&W, &V, true).unwrap_err().contains("values[0] must be positive"));
+        assert!(
+            validate(&W, &V, true)
+                .unwrap_err()
+                .contains("values[0] must be positive")
+        );
         let e = validate(&[400.0, 400.0], &[1.0, 1.0], false).unwrap_err();
         assert!(e.contains("wavelengths[1] = 400 does not exceed"), "{e}");
         let e = validate(&W, &[1.0, 2.0, 3.0, -1.0], false).unwrap_err();
         assert_eq!(e, "values[3] must be non-negative and finite, got -1");
-        assert!(validate(&[500.0], &[1.0], false).unwrap_err().contains("at least 2"));
-        assert!(validate(&W, &V[..3], false).unwrap_err().contains("same length"));
-        assert!(validate(&[f32::NAN, 1.0], &V[..2], false).unwrap_err().contains("wavelengths[0]"));
+        assert!(
+            validate(&[500.0], &[1.0], false)
+                .unwrap_err()
+                .contains("at least 2")
+        );
+        assert!(
+            validate(&W, &V[..3], false)
+                .unwrap_err()
+                .contains("same length")
+        );
+        assert!(
+            validate(&[f32::NAN, 1.0], &V[..2], false)
+                .unwrap_err()
+                .contains("wavelengths[0]")
+        );
     }
 }

@@ -163,7 +163,11 @@ impl WavelengthSampler {
         let mut edges: Vec<f32> = (0..=CELLS)
             .map(|i| {
                 let t = i as f64 / CELLS as f64;
-                (if log { a * (b / a).powf(t) } else { a + (b - a) * t }) as f32
+                (if log {
+                    a * (b / a).powf(t)
+                } else {
+                    a + (b - a) * t
+                }) as f32
             })
             .collect();
         edges[0] = band.min;
@@ -359,7 +363,10 @@ mod tests {
         ] {
             let s = WavelengthSampler::importance(band, |l| l);
             let (l, p) = s.sample(0.3);
-            assert!(l.is_finite() && l > 0.0 && p == 1.0 && s.pdf(l) == 1.0, "{band:?}");
+            assert!(
+                l.is_finite() && l > 0.0 && p == 1.0 && s.pdf(l) == 1.0,
+                "{band:?}"
+            );
         }
     }
 

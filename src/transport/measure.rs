@@ -202,7 +202,9 @@ impl Measure {
                     }
                 }
             }),
-            Measure::Irradiance { at, normal } => irradiance(scene, *at, *normal, est, cfg, phase, s),
+            Measure::Irradiance { at, normal } => {
+                irradiance(scene, *at, *normal, est, cfg, phase, s)
+            }
             Measure::Radiance { at, direction } => {
                 trace(scene, cfg, phase, *at, *direction, Prev::sensor(*at), 0, s)
             }
@@ -404,17 +406,12 @@ fn mean_path_length(scene: &Scene, shape: usize, segments: u32, s: &mut SampleSt
     let (mut p, mut n, mut p_err, _) = shape_area_sample(scene, shape, s.next_2d());
     let mut total = 0.0f64;
     let segments = segments.max(1);
-    // Leave towards the inside: for a closed shape the inside is where a cosine
-    // direction about ±n finds the shape again; orient n by a first probe.
-    let inward = |p: Vec3, p_err: Vec3, n: Vec3| {
-        let o = Scene::spawn(p, p_err, -n, -n);
-        if scene.intersect(o, -n, f32::INFINITY).is_some() {
-            -n
-        } else {
-            n
-        }
-    };
-    n = inward(p, p_err, n);
+    // Leave towards the inside: for a closed shape the inside is where a ray along ±n
+    // finds the shape again; orient n by a first probe.
+    let probe = Scene::spawn(p, p_err, -n, -n);
+    if scene.intersect(probe, -n, f32::INFINITY).is_some() {
+        n = -n;
+    }
     for _ in 0..segments {
         let w = Frame::from_z(n).to_world(cosine_hemisphere(s.next_2d()));
         let o = Scene::spawn(p, p_err, n, w);
@@ -427,7 +424,11 @@ fn mean_path_length(scene: &Scene, shape: usize, segments: u32, s: &mut SampleSt
         p = h.hit.p;
         p_err = h.hit.p_error;
         // Continue on the side the flight arrived from.
-        n = if h.hit.n.dot(w) < 0.0 { h.hit.n } else { -h.hit.n };
+        n = if h.hit.n.dot(w) < 0.0 {
+            h.hit.n
+        } else {
+            -h.hit.n
+        };
     }
     (total / segments as f64) as f32
 }

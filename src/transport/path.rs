@@ -169,6 +169,7 @@ where
 
 /// Estimate the radiance arriving at `o` from direction `-d` (that is, along the ray
 /// o + t d), given the previous vertex and that `bounces` scatterings already happened.
+#[allow(clippy::too_many_arguments)]
 pub fn trace<P: Phase>(
     scene: &Scene,
     cfg: &Config,

@@ -209,7 +209,10 @@ impl<L: Lanes> Phase for PhaseSample<L> {
     #[inline]
     fn material<'a>(&self, scene: &'a Scene, material: usize) -> (Cow<'a, Bsdf>, bool) {
         match (&scene.material_ior[material], self.spectral) {
-            (Some(ior), true) => (Cow::Owned(ior.at(&scene.materials[material], self.lambda[0])), true),
+            (Some(ior), true) => (
+                Cow::Owned(ior.at(&scene.materials[material], self.lambda[0])),
+                true,
+            ),
             _ => (Cow::Borrowed(&scene.materials[material]), false),
         }
     }
@@ -275,7 +278,9 @@ impl Dimensions {
 
     /// Whether paths carry four wavelength lanes.
     pub fn hero(&self) -> bool {
-        self.spectral.as_ref().is_some_and(|s| s.hero && s.fixed.is_none())
+        self.spectral
+            .as_ref()
+            .is_some_and(|s| s.hero && s.fixed.is_none())
     }
 
     /// Draw this sample's wavelengths and time (consuming two stream dimensions).
@@ -343,5 +348,11 @@ pub fn finish<L: Lanes>(value: L, weight: L) -> f32 {
 /// becomes that of all lanes together (see the module notes).
 #[inline]
 pub fn terminate_secondary<L: Lanes>(beta: L) -> L {
-    L::from_fn(|j| if j == 0 { beta.lane(0) * L::LANES as f32 } else { 0.0 })
+    L::from_fn(|j| {
+        if j == 0 {
+            beta.lane(0) * L::LANES as f32
+        } else {
+            0.0
+        }
+    })
 }

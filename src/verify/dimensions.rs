@@ -136,7 +136,13 @@ fn wavelength(
         s.validate()
             .map_err(|r| err("spectral.response", r.to_string()))?;
     }
-    let photon = |l: f64| if sd.photons { 1.0 / photon_energy(l) } else { 1.0 };
+    let photon = |l: f64| {
+        if sd.photons {
+            1.0 / photon_energy(l)
+        } else {
+            1.0
+        }
+    };
     match (sd.band, sd.wavelength) {
         (Some(_), Some(_)) | (None, None) => Err(err(
             "spectral",
@@ -228,14 +234,21 @@ fn wavelength(
                     WavelengthSampling::Uniform => "sampled uniformly",
                     WavelengthSampling::Emitter => "importance-sampled by response × spectra",
                 },
-                if sd.hero { " with four hero wavelengths per path" } else { "" }
+                if sd.hero {
+                    " with four hero wavelengths per path"
+                } else {
+                    ""
+                }
             );
             if spectral_scene {
                 Ok((
                     Some(setup),
                     full,
                     1.0,
-                    decision(true, format!("{} varies with wavelength: {how}", varies.join(" and "))),
+                    decision(
+                        true,
+                        format!("{} varies with wavelength: {how}", varies.join(" and ")),
+                    ),
                 ))
             } else {
                 let factor = integrate(a, b, |l| sd.response.eval(l as f32) as f64 * photon(l));
@@ -284,7 +297,10 @@ fn time_dims(
         return Err(InputError::new(
             f,
             "time.shutter",
-            format!("emitter {} moves: give the shutter interval [t₀, t₁] in seconds", moving[0]),
+            format!(
+                "emitter {} moves: give the shutter interval [t₀, t₁] in seconds",
+                moving[0]
+            ),
         ));
     }
     let pulsed = scene.emitter_props.iter().any(|p| p.pulse.is_some());
