@@ -324,3 +324,53 @@ fn bad_phase_input_is_named() {
         }
     }
 }
+
+/// A conductor whose complex index varies with wavelength: a mirror under a unit sky,
+/// seen at 40°, shows ∫ F(θ, η(λ), k(λ)) dλ over the band, against an independent
+/// quadrature of the oracle's conductor Fresnel formula over the same linear tables.
+#[test]
+fn spectral_conductor_matches_quadrature() {
+    let (t, band) = (40f64.to_radians(), (400.0, 700.0));
+    let c = case(&format!(
+        r#"{{ "name": "spectral mirror", "teaches": "dispersion of a conductor",
+        "scene": {{ "materials": {{ "metal": {{ "type": "conductor", "eta": 0.5, "k": 3 }} }},
+          "dispersion": {{ "metal": {{
+              "eta": {{ "sampled": {{ "wavelengths": [400, 700], "values": [1.5, 0.15] }} }},
+              "k": {{ "sampled": {{ "wavelengths": [400, 700], "values": [1.9, 4.0] }} }} }} }},
+          "shapes": [ {{ "geometry": {{ "type": "rectangle", "corner": [-10,-10,0], "edge_u": [20,0,0], "edge_v": [0,20,0] }}, "material": "metal" }} ],
+          "emitters": [ {{ "type": "constant", "radiance": 1 }} ] }},
+        "measure": {{ "radiance": {{ "at": [0,0,1], "direction": [{}, 0, {}] }} }},
+        "spectral": {{ "band": [{}, {}], "sampling": "uniform" }},
+        "estimators": ["mis"] }}"#,
+        t.sin(),
+        -t.cos(),
+        band.0,
+        band.1
+    ));
+    assert!(c.effects.wavelength.simulated);
+    let lerp = |a: f64, b: f64, l: f64| a + (b - a) * (l - band.0) / (band.1 - band.0);
+    // Composite Simpson over 3000 intervals of the oracle's Fresnel formula.
+    let n = 3000;
+    let h = (band.1 - band.0) / n as f64;
+    let f = |l: f64| {
+        lightproof_analytic::fresnel::conductor(t.cos(), lerp(1.5, 0.15, l), lerp(1.9, 4.0, l))
+    };
+    let exact = (0..=n)
+        .map(|i| {
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * f(band.0 + i as f64 * h)
+        })
+        .sum::<f64>()
+        * h
+        / 3.0;
+    let e = c.estimate(Estimator::Mis, &spec(1 << 14, 70), false);
+    let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
+    println!("spectral conductor: {:?}", (v.estimate, v.std_error, exact));
+    assert!(v.passed, "{v:?}");
+}
