@@ -374,3 +374,58 @@ fn spectral_conductor_matches_quadrature() {
     println!("spectral conductor: {:?}", (v.estimate, v.std_error, exact));
     assert!(v.passed, "{v:?}");
 }
+
+/// A moving shape: a spherical emitter (radius 0.3, radiance 2) crossing above a
+/// receiver, centre (−1 + 2t, 0, 1.5) over the shutter [0, 1] s. Light sampling, BSDF
+/// sampling and MIS (which evaluates the light density of the moving sphere) each match
+/// the shutter average of the oracle's static sphere irradiance, integrated over time by
+/// Simpson's rule.
+#[test]
+fn moving_sphere_light_matches_time_quadrature() {
+    use lightproof_analytic::geom::Vec3 as V;
+    let c = case(
+        r#"{ "name": "moving sphere light", "teaches": "motion blur of a shape",
+        "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [-1, 0, 1.5], "radius": 0.3 },
+                                 "emission": { "radiance": 2 }, "velocity": [2, 0, 0] } ] },
+        "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+        "time": { "shutter": [0, 1] },
+        "estimators": ["light", "bsdf", "mis"] }"#,
+    );
+    assert!(c.effects.time.simulated, "{:?}", c.effects.time);
+    let e_at = |t: f64| {
+        lightproof_analytic::irradiance::sphere(
+            V::new(0.0, 0.0, 0.0),
+            V::new(0.0, 0.0, 1.0),
+            V::new(-1.0 + 2.0 * t, 0.0, 1.5),
+            0.3,
+            2.0,
+        )
+    };
+    let n = 2000;
+    let exact = (0..=n)
+        .map(|i| {
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * e_at(i as f64 / n as f64)
+        })
+        .sum::<f64>()
+        / (3.0 * n as f64);
+    for (k, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
+        .into_iter()
+        .enumerate()
+    {
+        let e = c.estimate(est, &spec(1 << 16, 80 + k as u64), false);
+        let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
+        println!(
+            "moving sphere, {}: {:?}",
+            est.name(),
+            (v.estimate, v.std_error, exact)
+        );
+        assert!(v.passed, "{}: {v:?}", est.name());
+    }
+}

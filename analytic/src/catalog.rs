@@ -829,6 +829,30 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "moving_sphere_light_average",
+        ["radius", "radiance", "height", "x0", "speed", "t0", "t1"],
+        "shutter-averaged irradiance (W/m²) at the origin (normal +z) from a uniform sphere (radius m, radiance) whose centre moves as (x0 + speed·t, 0, height), over [t0, t1] (s)",
+        |p| {
+            let (r, h) = (p.positive("radius")?, p.positive("height")?);
+            if h <= r {
+                return Err(p.domain("the sphere must stay above the receiver: height > radius"));
+            }
+            let (t0, t1) = (p.num("t0")?, p.num("t1")?);
+            if t1 < t0 {
+                return Err(p.domain("t1 must be ≥ t0"));
+            }
+            Ok(time::moving_sphere_light_average(
+                r,
+                p.non_negative("radiance")?,
+                h,
+                p.num("x0")?,
+                p.num("speed")?,
+                t0,
+                t1,
+            ))
+        }
+    ),
+    entry!(
         "moving_point_light_average",
         ["intensity", "distance", "speed", "t0", "t1"],
         "shutter-averaged irradiance (W/m²) over [t0, t1] (s) from a point light (W/sr) passing at closest distance (m) with speed (m/s), t = 0 at closest approach, receiver facing the line",
@@ -1029,6 +1053,7 @@ mod tests {
             "bk7_slab_transmittance": {"wavelength_um": 0.55},
             "bk7_slab_band_transmittance": {"wavelength_min_um": 0.4, "wavelength_max_um": 0.7},
             "cauchy_slab_transmittance": {"a": 1.5046, "b": 0.0042, "wavelength_um": 0.55},
+            "moving_sphere_light_average": {"radius": 0.3, "radiance": 2, "height": 1.5, "x0": -1, "speed": 2, "t0": 0, "t1": 1},
             "blackbody_band_fraction": {"wavelength_min": 3.8e-7, "wavelength_max": 7.8e-7, "temperature": 5778},
             "wien_peak_wavelength": {"temperature": 5778},
             "blackbody_photon_radiance": {"temperature": 5778},

@@ -30,6 +30,8 @@ fn obvhs_direction(d: Vec3) -> Vec3A {
 pub struct Accel {
     prims: Vec<Primitive>,
     bvh: Option<CwBvh>,
+    /// Primitives the queries skip (moving shapes, which the scene tests itself).
+    skip: Vec<bool>,
 }
 
 impl Accel {
@@ -50,7 +52,14 @@ impl Accel {
                 &mut t,
             )
         });
-        Accel { prims, bvh }
+        let skip = vec![false; prims.len()];
+        Accel { prims, bvh, skip }
+    }
+
+    /// Make the queries skip the primitives marked `true` (moving shapes).
+    pub fn set_skip(&mut self, skip: Vec<bool>) {
+        assert_eq!(skip.len(), self.prims.len());
+        self.skip = skip;
     }
 
     /// The primitives.
@@ -65,6 +74,9 @@ impl Accel {
                 let mut best: Option<(usize, Hit)> = None;
                 let mut tm = tmax;
                 for (i, p) in self.prims.iter().enumerate() {
+                    if self.skip[i] {
+                        continue;
+                    }
                     if let Some(h) = p.intersect(o, d, tmin, tm) {
                         tm = h.t;
                         best = Some((i, h));
@@ -78,6 +90,9 @@ impl Accel {
                 let mut best: Option<(usize, Hit)> = None;
                 bvh.ray_traverse(ray, &mut hit, |r, slot| {
                     let idx = bvh.primitive_indices[slot] as usize;
+                    if self.skip[idx] {
+                        return f32::INFINITY;
+                    }
                     match self.prims[idx].intersect(o, d, tmin, r.tmax) {
                         Some(h) => {
                             best = Some((idx, h));
@@ -97,11 +112,15 @@ impl Accel {
             None => self
                 .prims
                 .iter()
-                .all(|p| p.intersect(o, d, tmin, tmax).is_none()),
+                .zip(&self.skip)
+                .all(|(p, &skip)| skip || p.intersect(o, d, tmin, tmax).is_none()),
             Some(bvh) => {
                 let ray = Ray::new(Vec3A::from(o), obvhs_direction(d), tmin, tmax);
                 bvh.ray_traverse_miss(ray, |_, slot| {
                     let idx = bvh.primitive_indices[slot] as usize;
+                    if self.skip[idx] {
+                        return f32::INFINITY;
+                    }
                     self.prims[idx]
                         .intersect(o, d, tmin, tmax)
                         .map_or(f32::INFINITY, |h| h.t)

@@ -72,6 +72,10 @@ pub struct ShapeDesc {
     /// Transform applied to the geometry.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<TransformDesc>,
+    /// Linear velocity (units/s): the shape sits at its position + velocity · t
+    /// (time sampled over the case's shutter).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<[f64; 3]>,
 }
 
 /// Geometry of a shape.
@@ -404,6 +408,10 @@ impl SceneDesc {
                 emitter,
                 flip_normals: s.flip_normals,
                 kind,
+                velocity: match s.velocity {
+                    None => Vec3::ZERO,
+                    Some(v) => finite3(file, &format!("{f}.velocity"), v)?.as_vec3(),
+                },
             });
         }
         for (i, e) in self.emitters.iter().enumerate() {

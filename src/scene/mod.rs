@@ -51,6 +51,8 @@ pub struct Shape {
     pub flip_normals: bool,
     /// Geometric kind.
     pub kind: ShapeKind,
+    /// Linear velocity (units/s): the shape sits at its rest position + velocity · t.
+    pub velocity: Vec3,
 }
 
 /// A ray's first hit on a shape.
@@ -79,8 +81,11 @@ pub struct Scene {
     /// Wavelength-dependent refractive index of each material, if dispersive
     /// (parallel to `materials`).
     pub material_ior: Vec<Option<SpectralIor>>,
-    /// Whether any emitter moves.
+    /// Whether any emitter or shape moves.
     moving: bool,
+    /// Primitives of moving shapes (the BVH skips them; they are tested one by one,
+    /// the ray moved into the shape's rest frame).
+    moving_prims: Vec<usize>,
     accel: Accel,
 }
 
@@ -112,6 +117,7 @@ impl Scene {
             materials,
             emitters,
             moving: false,
+            moving_prims: Vec::new(),
             accel: Accel::new(prims),
         }
     }
@@ -124,7 +130,28 @@ impl Scene {
     ) -> Self {
         assert_eq!(emitter_props.len(), self.emitters.len());
         assert_eq!(material_ior.len(), self.materials.len());
-        self.moving = emitter_props.iter().any(|p| p.velocity != Vec3::ZERO);
+        let mut emitter_props = emitter_props;
+        // An emitting shape moves with its shape.
+        for (i, e) in self.emitters.iter().enumerate() {
+            if let Emitter::Area { shape, .. } = e {
+                emitter_props[i].velocity = self.shapes[*shape].velocity;
+            }
+        }
+        self.moving_prims = self
+            .shapes
+            .iter()
+            .filter(|s| s.velocity != Vec3::ZERO)
+            .flat_map(|s| s.prims.clone())
+            .collect();
+        if !self.moving_prims.is_empty() {
+            let mut skip = vec![false; self.prim_shape.len()];
+            for &p in &self.moving_prims {
+                skip[p] = true;
+            }
+            self.accel.set_skip(skip);
+        }
+        self.moving =
+            emitter_props.iter().any(|p| p.velocity != Vec3::ZERO) || !self.moving_prims.is_empty();
         self.emitter_props = emitter_props;
         self.material_ior = material_ior;
         self
@@ -146,9 +173,30 @@ impl Scene {
         self.accel.prims()
     }
 
-    /// Closest surface along the unit direction `d` from `o`.
+    /// Closest surface along the unit direction `d` from `o` (at time 0).
     pub fn intersect(&self, o: Vec3, d: Vec3, tmax: f32) -> Option<SurfaceHit> {
-        let (prim, mut hit) = self.accel.intersect(o, d, 0.0, tmax)?;
+        self.intersect_at(o, d, tmax, 0.0)
+    }
+
+    /// Where the primitive `prim` sits at time `t`, relative to its rest position.
+    #[inline]
+    fn shift(&self, prim: usize, t: f32) -> Vec3 {
+        self.shapes[self.prim_shape[prim] as usize].velocity * t
+    }
+
+    /// Closest surface along the unit direction `d` from `o` at time `t`: a moving
+    /// shape is tested against the ray moved into its rest frame, o − v t.
+    pub fn intersect_at(&self, o: Vec3, d: Vec3, tmax: f32, t: f32) -> Option<SurfaceHit> {
+        let mut best = self.accel.intersect(o, d, 0.0, tmax);
+        for &i in &self.moving_prims {
+            let shift = self.shift(i, t);
+            let tm = best.as_ref().map_or(tmax, |b| b.1.t);
+            if let Some(mut h) = self.prims()[i].intersect(o - shift, d, 0.0, tm) {
+                h.p += shift;
+                best = Some((i, h));
+            }
+        }
+        let (prim, mut hit) = best?;
         let shape = self.prim_shape[prim] as usize;
         if self.shapes[shape].flip_normals {
             hit.n = -hit.n;
@@ -164,13 +212,35 @@ impl Scene {
     /// Whether the segment from `from` (a surface point with error `from_error` and normal
     /// `from_n`, or a free point with zero error) to the light sample is clear.
     pub fn visible(&self, from: Vec3, from_error: Vec3, from_n: Vec3, ls: &LightSample) -> bool {
+        self.visible_at(from, from_error, from_n, ls, 0.0)
+    }
+
+    /// Whether nothing crosses the ray o + s d, 0 < s < tmax, at time `t`.
+    fn unoccluded_at(&self, o: Vec3, d: Vec3, tmax: f32, t: f32) -> bool {
+        self.accel.unoccluded(o, d, 0.0, tmax)
+            && self.moving_prims.iter().all(|&i| {
+                self.prims()[i]
+                    .intersect(o - self.shift(i, t), d, 0.0, tmax)
+                    .is_none()
+            })
+    }
+
+    /// [`Scene::visible`] at time `t` (moving shapes where they are then).
+    pub fn visible_at(
+        &self,
+        from: Vec3,
+        from_error: Vec3,
+        from_n: Vec3,
+        ls: &LightSample,
+        t: f32,
+    ) -> bool {
         let o = if from_error == Vec3::ZERO {
             from
         } else {
             offset_ray_origin(from, from_error, from_n, ls.wi)
         };
         if ls.infinite {
-            return self.accel.unoccluded(o, ls.wi, 0.0, f32::INFINITY);
+            return self.unoccluded_at(o, ls.wi, f32::INFINITY, t);
         }
         let target = if ls.p_error == Vec3::ZERO {
             ls.p
@@ -182,8 +252,7 @@ impl Scene {
         if dist <= 0.0 {
             return true;
         }
-        self.accel
-            .unoccluded(o, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+        self.unoccluded_at(o, d / dist, dist * (1.0 - SHADOW_EPSILON), t)
     }
 
     /// Whether the segment from the free point `p` to the surface point `q` (error bound
@@ -192,10 +261,7 @@ impl Scene {
         let target = offset_ray_origin(q, q_error, q_n, p - q);
         let d = target - p;
         let dist = d.length();
-        dist <= 0.0
-            || self
-                .accel
-                .unoccluded(p, d / dist, 0.0, dist * (1.0 - SHADOW_EPSILON))
+        dist <= 0.0 || self.unoccluded_at(p, d / dist, dist * (1.0 - SHADOW_EPSILON), 0.0)
     }
 
     /// Radiance emitted by the surface hit towards `wo` (pointing away from it).
@@ -319,13 +385,21 @@ impl Scene {
     /// Density (solid angle, including the emitter choice) with which
     /// [`Scene::sample_light`] would pick the surface point `sh` from `p`.
     pub fn light_pdf_surface(&self, p: Vec3, sh: &SurfaceHit) -> f32 {
+        self.light_pdf_surface_at(p, sh, 0.0)
+    }
+
+    /// [`Scene::light_pdf_surface`] at time `t`: evaluated in the shape's rest frame.
+    pub fn light_pdf_surface_at(&self, p: Vec3, sh: &SurfaceHit, t: f32) -> f32 {
         let s = &self.shapes[sh.shape];
         if s.emitter.is_none() {
             return 0.0;
         }
         let prim = &self.prims()[sh.prim];
         let n = if s.flip_normals { -sh.hit.n } else { sh.hit.n };
-        prim_pdf(prim, p, sh.hit.p, n) * (prim.area() / s.area) * self.emitter_choice_pdf()
+        let shift = s.velocity * t;
+        prim_pdf(prim, p - shift, sh.hit.p - shift, n)
+            * (prim.area() / s.area)
+            * self.emitter_choice_pdf()
     }
 
     /// Density (including the emitter choice) of sampling the escaping direction `d`.

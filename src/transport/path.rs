@@ -151,7 +151,7 @@ where
     if !(fc > 0.0) {
         return zero;
     }
-    if cfg.shadow_rays && !scene.visible(p, p_error, frame.n, &ls) {
+    if cfg.shadow_rays && !scene.visible_at(p, p_error, frame.n, &ls, phase.time()) {
         return zero;
     }
     let w = cfg.light_weight(&ls, pdf_b);
@@ -187,7 +187,7 @@ pub fn trace<P: Phase>(
     // Whether a dispersive surface already ended the secondary wavelength lanes.
     let mut terminated = false;
     loop {
-        let Some(sh) = scene.intersect(o, d, f32::INFINITY) else {
+        let Some(sh) = scene.intersect_at(o, d, f32::INFINITY, phase.time()) else {
             for (e, le) in scene.escaped_each(d) {
                 let w = cfg.emission_weight(prev.delta, prev.pdf, scene.light_pdf_infinite(d));
                 l += beta * phase.emission(scene, e, le * w, f32::INFINITY);
@@ -200,7 +200,11 @@ pub fn trace<P: Phase>(
         let wo = -d;
         let le = scene.emitted(&sh, wo);
         if le > 0.0 {
-            let w = cfg.emission_weight(prev.delta, prev.pdf, scene.light_pdf_surface(prev.p, &sh));
+            let w = cfg.emission_weight(
+                prev.delta,
+                prev.pdf,
+                scene.light_pdf_surface_at(prev.p, &sh, phase.time()),
+            );
             let e = scene.shapes[sh.shape].emitter.unwrap_or(0);
             l += beta * phase.emission(scene, e, le * w, length);
         }

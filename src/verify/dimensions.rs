@@ -28,7 +28,7 @@ pub fn dimensions(
     time: Option<&TimeDesc>,
 ) -> Result<(Dimensions, Dimensions, Decision, Decision), InputError> {
     let (pruned_s, full_s, factor, wl) = wavelength(f, scene, measure, spectral)?;
-    let (time_setup, full_time, td) = time_dims(f, scene, time)?;
+    let (time_setup, full_time, td) = time_dims(f, scene, measure, time)?;
     let pruned = Dimensions {
         spectral: pruned_s,
         time: time_setup,
@@ -272,6 +272,7 @@ fn wavelength(
 fn time_dims(
     f: &str,
     scene: &Scene,
+    measure: &Measure,
     time: Option<&TimeDesc>,
 ) -> Result<(TimeSetup, TimeSetup, Decision), InputError> {
     let td = time.cloned().unwrap_or_default();
@@ -290,16 +291,39 @@ fn time_dims(
     };
     let shutter = interval("time.shutter", td.shutter)?;
     let bin = interval("time.bin", td.bin)?;
-    let moving: Vec<usize> = (0..scene.emitter_props.len())
-        .filter(|&i| scene.emitter_props[i].velocity != glam::Vec3::ZERO)
+    let moving: Vec<String> = (0..scene.shapes.len())
+        .filter(|&i| scene.shapes[i].velocity != glam::Vec3::ZERO)
+        .map(|i| format!("shape {i}"))
+        .chain(
+            (0..scene.emitter_props.len())
+                .filter(|&i| {
+                    scene.emitter_props[i].velocity != glam::Vec3::ZERO
+                        && !matches!(
+                            scene.emitters[i],
+                            crate::scene::emitter::Emitter::Area { .. }
+                        )
+                })
+                .map(|i| format!("emitter {i}")),
+        )
         .collect();
     if !moving.is_empty() && shutter.is_none() {
         return Err(InputError::new(
             f,
             "time.shutter",
             format!(
-                "emitter {} moves: give the shutter interval [t₀, t₁] in seconds",
+                "{} moves: give the shutter interval [t₀, t₁] in seconds",
                 moving[0]
+            ),
+        ));
+    }
+    if !moving.is_empty() && measure.origin().is_none() {
+        return Err(InputError::new(
+            f,
+            "time.shutter",
+            format!(
+                "{} moves, but a {} measurement is taken at rest: motion applies to irradiance and radiance",
+                moving[0],
+                measure.name()
             ),
         ));
     }
@@ -307,7 +331,8 @@ fn time_dims(
     let mut why = Vec::new();
     if !moving.is_empty() {
         why.push(format!(
-            "emitter(s) {moving:?} move: time is sampled uniformly over the shutter"
+            "{} move(s): time is sampled uniformly over the shutter",
+            moving.join(", ")
         ));
     }
     if let Some((t1, t2)) = bin {
