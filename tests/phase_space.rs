@@ -98,23 +98,27 @@ fn wien_peak_by_spectral_sweep() {
     assert!(rel < 1e-3, "sweep peak {found} nm vs b/T = {peak} nm");
 }
 
+/// Estimate the 3000 K band radiance with two wavelength settings; they must agree.
+/// Returns the two per-sample variances.
+fn compare_wavelength_settings(t: f64, a: &str, b: &str, salt: u64) -> (f64, f64) {
+    let (ca, cb) = (blackbody_disk(t, a), blackbody_disk(t, b));
+    let ea = ca.estimate(Estimator::Mis, &spec(1 << 14, salt), false);
+    let eb = cb.estimate(Estimator::Mis, &spec(1 << 14, salt + 1), false);
+    let z = z_same(&ea, &eb);
+    assert!(z.abs() <= crit(), "{a} vs {b}: z = {z}");
+    (ea.batches.total.variance(), eb.batches.total.variance())
+}
+
 /// Four hero wavelengths and one wavelength per path estimate the same band integral;
 /// the hero estimate is more efficient for a spectrally varying emitter.
 #[test]
 fn hero_wavelengths_agree_and_help() {
-    let hero = blackbody_disk(
+    let (va, vb) = compare_wavelength_settings(
         3000.0,
         r#"{ "band": [380, 780], "sampling": "uniform", "hero": true }"#,
-    );
-    let single = blackbody_disk(
-        3000.0,
         r#"{ "band": [380, 780], "sampling": "uniform", "hero": false }"#,
+        20,
     );
-    let a = hero.estimate(Estimator::Mis, &spec(1 << 14, 20), false);
-    let b = single.estimate(Estimator::Mis, &spec(1 << 14, 21), false);
-    let z = z_same(&a, &b);
-    assert!(z.abs() <= crit(), "hero vs single wavelength: z = {z}");
-    let (va, vb) = (a.batches.total.variance(), b.batches.total.variance());
     println!(
         "band radiance at 3000 K: hero variance {va:.4e}, single {vb:.4e}: hero {:.1}x lower",
         vb / va
@@ -125,19 +129,12 @@ fn hero_wavelengths_agree_and_help() {
 /// Importance sampling by the emitter's spectrum beats uniform wavelengths.
 #[test]
 fn emitter_spectrum_importance_helps() {
-    let imp = blackbody_disk(
+    let (va, vb) = compare_wavelength_settings(
         2500.0,
         r#"{ "band": [360, 830], "sampling": "emitter", "hero": false }"#,
-    );
-    let uni = blackbody_disk(
-        2500.0,
         r#"{ "band": [360, 830], "sampling": "uniform", "hero": false }"#,
+        30,
     );
-    let a = imp.estimate(Estimator::Mis, &spec(1 << 14, 30), false);
-    let b = uni.estimate(Estimator::Mis, &spec(1 << 14, 31), false);
-    let z = z_same(&a, &b);
-    assert!(z.abs() <= crit(), "importance vs uniform: z = {z}");
-    let (va, vb) = (a.batches.total.variance(), b.batches.total.variance());
     println!("band radiance at 2500 K: importance variance {va:.4e}, uniform {vb:.4e}");
     assert!(va < 0.1 * vb);
 }

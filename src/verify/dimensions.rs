@@ -46,22 +46,6 @@ fn decision(simulated: bool, why: String) -> Decision {
     Decision { simulated, why }
 }
 
-/// ∫ g over [a, b] by 256-panel 4-point Gauss–Legendre (exact for cubics per panel).
-fn integrate(a: f64, b: f64, g: impl Fn(f64) -> f64) -> f64 {
-    const X: [f64; 2] = [0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
-    const W: [f64; 2] = [0.652_145_154_862_546_1, 0.347_854_845_137_453_9];
-    let n = 256;
-    let h = (b - a) / n as f64;
-    let mut s = 0.0;
-    for i in 0..n {
-        let m = a + (i as f64 + 0.5) * h;
-        for k in 0..2 {
-            s += W[k] * (g(m - 0.5 * h * X[k]) + g(m + 0.5 * h * X[k]));
-        }
-    }
-    s * 0.5 * h
-}
-
 type WavelengthDims = (Option<SpectralSetup>, SpectralSetup, f32, Decision);
 
 fn wavelength(
@@ -251,7 +235,9 @@ fn wavelength(
                     ),
                 ))
             } else {
-                let factor = integrate(a, b, |l| sd.response.eval(l as f32) as f64 * photon(l));
+                let factor = crate::spectrum::gauss_legendre(a, b, 256, |l| {
+                    sd.response.eval(l as f32) as f64 * photon(l)
+                });
                 Ok((
                     None,
                     full,
