@@ -313,7 +313,31 @@ fn bad_phase_input_is_named() {
             "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } }, "estimators": ["light"] }"#,
             "dispersion.g",
         ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "materials": { "g": { "type": "dielectric", "eta": 1.5 } },
+              "shapes": [ { "geometry": { "type": "sphere", "center": [0,0,3], "radius": 1 }, "material": "g" } ],
+              "emitters": [ { "type": "point", "position": [0,0,6], "intensity": 1, "pulse_at": 0 } ] },
+            "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+            "time": { "bin": [0, 1e-8] }, "estimators": ["light"] }"#,
+            "time.bin",
+        ),
+        (
+            r#"{ "name": "x", "teaches": "x",
+            "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0,0,3], "radius": 1 } } ] },
+            "measure": { "solid_angle": { "from": [0,0,0], "shape": 0 } },
+            "time": { "bin": [0, 1e-8] }, "estimators": ["uniform"] }"#,
+            "time.bin",
+        ),
     ];
+    // A geometric measurement in a spectral scene needs no band: spectra do not enter it.
+    let solid = case(
+        r#"{ "name": "x", "teaches": "x",
+        "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0,0,3], "radius": 1 },
+            "emission": { "radiance": 1, "spectrum": { "blackbody": { "temperature": 3000 } } } } ] },
+        "measure": { "solid_angle": { "from": [0,0,0], "shape": 0 } }, "estimators": ["uniform"] }"#,
+    );
+    assert!(!solid.effects.wavelength.simulated);
     for (json, field) in cases {
         match try_case(json) {
             Ok(_) => panic!("accepted bad input (expected an error at `{field}`)"),

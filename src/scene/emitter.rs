@@ -167,7 +167,7 @@ pub struct EmitterProps {
     /// (a constant spectrum is folded into L when the scene is loaded).
     pub spectrum: Option<crate::spectrum::Spectrum>,
     /// Emission time (s) of a Dirac pulse; `None`: steady emission.
-    pub pulse: Option<f32>,
+    pub pulse: Option<f64>,
     /// Linear velocity (scene units per second): the emitter sits at p + v t.
     pub velocity: Vec3,
 }

@@ -679,7 +679,7 @@ impl Builder<'_> {
                 |_| true,
                 "a finite time in seconds",
             )?;
-            props.pulse = Some(t as f32);
+            props.pulse = Some(t);
         }
         if let Some(v) = velocity {
             props.velocity = finite3(file, &format!("{f}.velocity"), v)?.as_vec3();

@@ -192,6 +192,8 @@ impl Scene {
             let shift = self.shift(i, t);
             let tm = best.as_ref().map_or(tmax, |b| b.1.t);
             if let Some(mut h) = self.prims()[i].intersect(o - shift, d, 0.0, tm) {
+                // Translating adds up to an ulp of the larger magnitude to the error.
+                h.p_error += h.p.abs().max(shift.abs()) * f32::EPSILON;
                 h.p += shift;
                 best = Some((i, h));
             }
@@ -317,6 +319,7 @@ impl Scene {
         }
         let mut ls = self.sample_light(p - shift, u_choice, u)?;
         if !ls.infinite {
+            ls.p_error += ls.p.abs().max(shift.abs()) * f32::EPSILON;
             ls.p += shift;
         }
         Some(ls)

@@ -153,8 +153,11 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
         match s.kind {
             ShapeKind::Planar => false,
             ShapeKind::Mesh => true,
+            // A moving sphere may pass over the measurement point during the shutter.
             ShapeKind::Sphere => {
-                transmits || s.prims.clone().any(|p| inside(&scene.prims()[p], origin))
+                transmits
+                    || s.velocity != glam::Vec3::ZERO
+                    || s.prims.clone().any(|p| inside(&scene.prims()[p], origin))
             }
         }
     };
@@ -195,6 +198,7 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
         && scene.shapes[0].kind != ShapeKind::Mesh
         && only_infinite
         && !transmits
+        && scene.shapes[0].velocity == glam::Vec3::ZERO
         && matches!(measure, Measure::Radiance { .. })
         && !scene.shapes[0]
             .prims

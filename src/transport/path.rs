@@ -156,15 +156,13 @@ where
     }
     let w = cfg.light_weight(&ls, pdf_b);
     let c = fc * w / ls.pdf;
-    if !c.is_finite() {
-        return zero;
-    }
     let dist = if phase.tracks_length() && !ls.infinite {
         (ls.p - p).length()
     } else {
         0.0
     };
-    phase.emission(scene, ls.emitter, ls.li, length + dist) * c
+    let v = phase.emission(scene, ls.emitter, ls.li, length + dist) * c;
+    if v.all_finite() { v } else { zero }
 }
 
 /// Estimate the radiance arriving at `o` from direction `-d` (that is, along the ray

@@ -33,7 +33,7 @@
 //!   (1/(t₁ − t₀)) ∫ M(t) dt.
 //!
 //! The path tracer is generic over [`Phase`]: the grey, static instance [`Grey`]
-//! compiles to exactly the scalar tracer (no wavelength, no time, no extra work), while
+//! compiles to the scalar tracer (no wavelength, no time, no extra work), while
 //! [`PhaseSample`] carries one or four wavelengths and a time.
 
 use crate::bsdf::Bsdf;
@@ -68,6 +68,8 @@ pub trait Lanes:
     fn max_lane(self) -> f32;
     /// Whether any lane is non-zero.
     fn any_nonzero(self) -> bool;
+    /// Whether every lane is finite.
+    fn all_finite(self) -> bool;
 }
 
 impl Lanes for f32 {
@@ -92,6 +94,10 @@ impl Lanes for f32 {
     fn any_nonzero(self) -> bool {
         self != 0.0
     }
+    #[inline]
+    fn all_finite(self) -> bool {
+        self.is_finite()
+    }
 }
 
 impl Lanes for Vec4 {
@@ -115,6 +121,10 @@ impl Lanes for Vec4 {
     #[inline]
     fn any_nonzero(self) -> bool {
         self != Vec4::ZERO
+    }
+    #[inline]
+    fn all_finite(self) -> bool {
+        self.is_finite()
     }
 }
 
@@ -170,8 +180,9 @@ pub struct PhaseSample<L> {
     pub spectral: bool,
     /// Time (s) within the shutter.
     pub time: f32,
-    /// Arrival-time bin (s) of a time-resolved measurement.
-    pub bin: Option<(f32, f32)>,
+    /// Arrival-time bin (s) of a time-resolved measurement (f64: nanosecond bins far
+    /// from t = 0 keep their width).
+    pub bin: Option<(f64, f64)>,
     /// Per-lane weight R(λ)/p(λ)/lanes (photon factor included) applied at the end.
     pub weight: L,
 }
@@ -186,15 +197,11 @@ impl<L: Lanes> Phase for PhaseSample<L> {
             Some((t1, t2)) => match props.pulse {
                 // A Dirac pulse at t₀ arrives at t₀ + ℓ/c.
                 Some(t0) => {
-                    let t = t0 as f64 + length as f64 / SPEED_OF_LIGHT;
-                    if t >= t1 as f64 && t < t2 as f64 {
-                        1.0
-                    } else {
-                        0.0
-                    }
+                    let t = t0 + length as f64 / SPEED_OF_LIGHT;
+                    if t >= t1 && t < t2 { 1.0 } else { 0.0 }
                 }
                 // A steady emitter delivers its rate over the whole bin.
-                None => t2 - t1,
+                None => (t2 - t1) as f32,
             },
         };
         match (&props.spectrum, self.spectral) {
@@ -245,8 +252,9 @@ pub struct SpectralSetup {
 pub struct TimeSetup {
     /// Shutter interval (s) over which time is sampled (moving emitters).
     pub shutter: Option<(f32, f32)>,
-    /// Arrival-time bin (s) of a time-resolved measurement.
-    pub bin: Option<(f32, f32)>,
+    /// Arrival-time bin (s) of a time-resolved measurement (f64: nanosecond bins far
+    /// from t = 0 keep their width).
+    pub bin: Option<(f64, f64)>,
 }
 
 /// The dimensions a case's estimator samples beyond position and direction.

@@ -10,6 +10,7 @@
 //! dimensions sample everything (wavelength uniformly over the band or the visible
 //! range, time over the shutter or [0, 1] s) for the soundness proof.
 
+use crate::bsdf::BsdfModel;
 use crate::error::InputError;
 use crate::scene::Scene;
 use crate::spectrum::{Band, Response, VISIBLE, WavelengthSampler, photon_energy};
@@ -69,8 +70,17 @@ fn wavelength(
                 .map(|(i, _)| format!("material {i}'s refractive index")),
         )
         .collect();
-    let spectral_scene = !varies.is_empty();
     let err = |field: &str, why: String| InputError::new(f, field, why);
+    let radiometric = matches!(
+        measure,
+        Measure::Irradiance { .. }
+            | Measure::Radiance { .. }
+            | Measure::Power { .. }
+            | Measure::Intensity { .. }
+    );
+    // Geometric measurements (solid angle, albedo, path length) carry no radiance: the
+    // scene's spectra do not enter them.
+    let spectral_scene = !varies.is_empty() && radiometric;
     let Some(sd) = spectral else {
         if spectral_scene {
             return Err(err(
@@ -101,13 +111,7 @@ fn wavelength(
             ),
         ));
     };
-    if !matches!(
-        measure,
-        Measure::Irradiance { .. }
-            | Measure::Radiance { .. }
-            | Measure::Power { .. }
-            | Measure::Intensity { .. }
-    ) {
+    if !radiometric {
         return Err(err(
             "spectral",
             format!(
@@ -262,12 +266,10 @@ fn time_dims(
     time: Option<&TimeDesc>,
 ) -> Result<(TimeSetup, TimeSetup, Decision), InputError> {
     let td = time.cloned().unwrap_or_default();
-    let interval = |field: &str, v: Option<[f64; 2]>| -> Result<Option<(f32, f32)>, InputError> {
+    let interval = |field: &str, v: Option<[f64; 2]>| -> Result<Option<(f64, f64)>, InputError> {
         match v {
             None => Ok(None),
-            Some([a, b]) if a.is_finite() && b.is_finite() && b > a => {
-                Ok(Some((a as f32, b as f32)))
-            }
+            Some([a, b]) if a.is_finite() && b.is_finite() && b > a => Ok(Some((a, b))),
             Some([a, b]) => Err(InputError::new(
                 f,
                 field,
@@ -275,8 +277,47 @@ fn time_dims(
             )),
         }
     };
-    let shutter = interval("time.shutter", td.shutter)?;
+    let shutter = interval("time.shutter", td.shutter)?
+        .map(|(a, b)| (a as f32, b as f32))
+        .filter(|(a, b)| b > a);
+    if td.shutter.is_some() && shutter.is_none() {
+        return Err(InputError::new(
+            f,
+            "time.shutter",
+            "is too short to resolve in f32 seconds at this distance from t = 0",
+        ));
+    }
     let bin = interval("time.bin", td.bin)?;
+    if bin.is_some() {
+        if measure.origin().is_none()
+            && !matches!(measure, Measure::Power { .. } | Measure::Intensity { .. })
+        {
+            return Err(InputError::new(
+                f,
+                "time.bin",
+                format!(
+                    "a {} measurement has no time of flight to bin (use irradiance, radiance, power or intensity)",
+                    measure.name()
+                ),
+            ));
+        }
+        // Path length is converted to time at the vacuum speed of light: a transmitting
+        // material (light slower by η inside) would bin arrivals wrongly.
+        let transmits = scene.shapes.iter().any(|s| {
+            s.material.is_some_and(|m| {
+                scene.materials[m]
+                    .flags()
+                    .contains(crate::bsdf::LobeFlags::TRANSMISSION)
+            })
+        });
+        if transmits {
+            return Err(InputError::new(
+                f,
+                "time.bin",
+                "time of flight is computed in vacuum; a transmitting material (light at c/η inside) is not supported in a time-resolved measurement",
+            ));
+        }
+    }
     let moving: Vec<String> = (0..scene.shapes.len())
         .filter(|&i| scene.shapes[i].velocity != glam::Vec3::ZERO)
         .map(|i| format!("shape {i}"))
