@@ -11,6 +11,7 @@ use lightproof::stats::sidak_alpha;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::{Estimate, RunSpec};
 use lightproof::verify::{Case, CaseDesc, judge};
+use lightproof_analytic::quadrature::adaptive;
 use lightproof_analytic::spectrum::{planck, wien_peak};
 use statrs::distribution::{ContinuousCDF, Normal};
 use std::path::Path;
@@ -370,26 +371,11 @@ fn spectral_conductor_matches_quadrature() {
     ));
     assert!(c.effects.wavelength.simulated);
     let lerp = |a: f64, b: f64, l: f64| a + (b - a) * (l - band.0) / (band.1 - band.0);
-    // Composite Simpson over 3000 intervals of the oracle's Fresnel formula.
-    let n = 3000;
-    let h = (band.1 - band.0) / n as f64;
+    // The oracle's adaptive Gauss–Kronrod quadrature of its Fresnel formula.
     let f = |l: f64| {
         lightproof_analytic::fresnel::conductor(t.cos(), lerp(1.5, 0.15, l), lerp(1.9, 4.0, l))
     };
-    let exact = (0..=n)
-        .map(|i| {
-            let w = if i == 0 || i == n {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            w * f(band.0 + i as f64 * h)
-        })
-        .sum::<f64>()
-        * h
-        / 3.0;
+    let exact = adaptive(f, band.0, band.1, 1e-12);
     let e = c.estimate(Estimator::Mis, &spec(1 << 14, 70), false);
     let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
     println!("spectral conductor: {:?}", (v.estimate, v.std_error, exact));
@@ -400,7 +386,7 @@ fn spectral_conductor_matches_quadrature() {
 /// receiver, centre (−1 + 2t, 0, 1.5) over the shutter [0, 1] s. Light sampling, BSDF
 /// sampling and MIS (which evaluates the light density of the moving sphere) each match
 /// the shutter average of the oracle's static sphere irradiance, integrated over time by
-/// Simpson's rule.
+/// the oracle's adaptive quadrature.
 #[test]
 fn moving_sphere_light_matches_time_quadrature() {
     use lightproof_analytic::geom::Vec3 as V;
@@ -422,20 +408,7 @@ fn moving_sphere_light_matches_time_quadrature() {
             2.0,
         )
     };
-    let n = 2000;
-    let exact = (0..=n)
-        .map(|i| {
-            let w = if i == 0 || i == n {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            w * e_at(i as f64 / n as f64)
-        })
-        .sum::<f64>()
-        / (3.0 * n as f64);
+    let exact = adaptive(e_at, 0.0, 1.0, 1e-12);
     for (k, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
         .into_iter()
         .enumerate()

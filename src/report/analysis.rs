@@ -6,8 +6,59 @@
 //! numbers.
 
 use super::{
-    Best, Comparison, ErrorMeasure, Fit, HEADLINE, Point, Series, TARGETS, TimeTo, finite,
+    Best, CaseInfo, CaseReport, Comparison, ErrorMeasure, FORMAT, Fit, HEADLINE, Kind, Point,
+    RunInfo, Series, Settings, Status, TARGETS, TimeTo, finite,
 };
+use crate::sampling::SamplerKind;
+use crate::transport::Estimator;
+
+/// A series from its points, with its fits, efficiency and times filled in
+/// ([`summarize`]).
+pub fn summarized_series(
+    (estimator, sampler, seed): (Estimator, SamplerKind, u64),
+    status: Status,
+    points: Vec<Point>,
+    measure: ErrorMeasure,
+    reference: Option<f64>,
+) -> Series {
+    let mut out = Series {
+        estimator,
+        sampler,
+        seed,
+        status,
+        points,
+        fit_samples: None,
+        fit_seconds: None,
+        efficiency: None,
+        seconds_per_sample: None,
+        time_to: vec![],
+    };
+    summarize(&mut out, measure, reference);
+    out
+}
+
+/// The report of a case from its summarized series (the best series chosen here).
+pub fn assemble_case_report(
+    id: String,
+    case: CaseInfo,
+    settings: &Settings,
+    measure: ErrorMeasure,
+    run: &RunInfo,
+    series: Vec<Series>,
+) -> CaseReport {
+    CaseReport {
+        format: FORMAT.to_string(),
+        kind: Kind::Case,
+        id,
+        case,
+        settings: settings.clone(),
+        error_measure: measure,
+        run: run.clone(),
+        best: best(&series),
+        series,
+        plot: None,
+    }
+}
 use crate::stats::{Accumulator, BatchMeans, fit_slope};
 
 /// The statistics of one point from its per-batch accumulators, in batch order.

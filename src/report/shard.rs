@@ -12,11 +12,10 @@
 //! The shard may come from the environment of an array job ([`shard_from_env`]): a Slurm
 //! job array or a Kubernetes indexed Job. No scheduler of our own.
 
-use super::analysis::{best, point_from_batches, summarize};
+use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
 use super::store::{check_header, files_in, write_json};
 use super::{
-    BATCHES, CaseInfo, CaseReport, ErrorMeasure, FORMAT, Kind, RunInfo, Series, Settings, ShardRun,
-    Status,
+    BATCHES, CaseInfo, CaseReport, ErrorMeasure, Kind, RunInfo, Settings, ShardRun, Status,
 };
 use crate::error::{InputError, parse_json};
 use crate::sampling::SamplerKind;
@@ -434,34 +433,23 @@ pub fn merge_partials(
             } else {
                 Status::InProgress
             };
-            let mut out = Series {
-                estimator: s.estimator,
-                sampler: s.sampler,
-                seed: s.seed,
+            series.push(summarized_series(
+                (s.estimator, s.sampler, s.seed),
                 status,
                 points,
-                fit_samples: None,
-                fit_seconds: None,
-                efficiency: None,
-                seconds_per_sample: None,
-                time_to: vec![],
-            };
-            summarize(&mut out, measure, case.case.reference);
-            series.push(out);
+                measure,
+                case.case.reference,
+            ));
         }
         run.points_computed += series.iter().map(|s| s.points.len() as u64).sum::<u64>();
-        reports.push(CaseReport {
-            format: FORMAT.to_string(),
-            kind: Kind::Case,
-            id: case.id.clone(),
-            case: case.case.clone(),
-            settings: settings.clone(),
-            error_measure: measure,
-            run: run.clone(),
-            best: best(&series),
+        reports.push(assemble_case_report(
+            case.id.clone(),
+            case.case.clone(),
+            settings,
+            measure,
+            &run,
             series,
-            plot: None,
-        });
+        ));
     }
     let total = run.points_computed;
     for r in &mut reports {

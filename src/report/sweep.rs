@@ -22,7 +22,7 @@
 //! tenth of the time), and once more at the end with the plots and the index, so a
 //! killed run leaves whole, valid files.
 
-use super::analysis::{best, point_from_batches, summarize};
+use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
 use super::machine::{GIT_REVISION, VERSION, run_info};
 use super::shard::{
     BatchRecord, Shard, ShardCase, ShardPartial, ShardPoint, ShardSeries, error_measure,
@@ -483,34 +483,16 @@ fn case_report(c: &CaseState, settings: &Settings, run: &RunInfo) -> CaseReport 
         .series
         .iter()
         .map(|s| {
-            let mut out = Series {
-                estimator: s.est,
-                sampler: s.sampler,
-                seed: s.seed,
-                status: s.status(),
-                points: s.done.values().cloned().collect(),
-                fit_samples: None,
-                fit_seconds: None,
-                efficiency: None,
-                seconds_per_sample: None,
-                time_to: vec![],
-            };
-            summarize(&mut out, measure, c.info.reference);
-            out
+            summarized_series(
+                (s.est, s.sampler, s.seed),
+                s.status(),
+                s.done.values().cloned().collect(),
+                measure,
+                c.info.reference,
+            )
         })
         .collect();
-    CaseReport {
-        format: FORMAT.to_string(),
-        kind: Kind::Case,
-        id: c.id.clone(),
-        case: c.info.clone(),
-        settings: settings.clone(),
-        error_measure: measure,
-        run: run.clone(),
-        best: best(&series),
-        series,
-        plot: None,
-    }
+    assemble_case_report(c.id.clone(), c.info.clone(), settings, measure, run, series)
 }
 
 /// Write the dirty case reports (or the shard's partial). With `all`, return every
