@@ -44,7 +44,7 @@ fn main() {
         "6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi);  albedo ∫ f cos θi dωi ≤ 1"
     );
     println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
     );
     let mut ok = true;
 

@@ -47,7 +47,7 @@ fn main() {
         "7. Rendering equation Lo = Le + ∫ f Li cos θi dωi [W/(m²·sr)];  white furnace: L_k = Le (1 − ρ^(k+1)) / (1 − ρ) → Le / (1 − ρ)"
     );
     println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n"
+        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
     );
     show_case_file("07_furnace.json", FURNACE_CASE);
     let case = load(serde_json::from_str(FURNACE_CASE).unwrap());

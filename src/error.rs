@@ -44,7 +44,38 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
     })
 }
 
-/// Check a number is finite and within bounds; `what` describes the bound.
+/// Largest magnitude of a coordinate or length (in scene units): squared distances
+/// (up to (2·10¹⁸)² = 4·10³⁶) then still fit in `f32` (3.4·10³⁸), so no ray test
+/// overflows.
+pub const MAX_COORDINATE: f64 = 1e18;
+
+/// Whether `v` survives the conversion to `f32`: finite there, and not flushed to zero
+/// or to a subnormal (0 itself is fine).
+pub fn fits_f32(v: f64) -> bool {
+    v.is_finite() && v.abs() <= f32::MAX as f64 && (v == 0.0 || v.abs() >= f32::MIN_POSITIVE as f64)
+}
+
+/// Why `v` does not fit in `f32`, if it does not (see [`fits_f32`]).
+pub fn f32_problem(v: f64) -> Option<String> {
+    if !v.is_finite() {
+        Some(format!("must be a finite number, got {v}"))
+    } else if v.abs() > f32::MAX as f64 {
+        Some(format!(
+            "overflows f32 (magnitude at most {:e}), got {v:e}",
+            f32::MAX
+        ))
+    } else if v != 0.0 && v.abs() < f32::MIN_POSITIVE as f64 {
+        Some(format!(
+            "underflows f32 (a non-zero magnitude must be at least {:e}), got {v:e}",
+            f32::MIN_POSITIVE
+        ))
+    } else {
+        None
+    }
+}
+
+/// Check a number is finite, representable in `f32` (the engine computes in `f32`:
+/// see [`fits_f32`]) and within bounds; `what` describes the bound.
 pub fn check_number(
     file: &str,
     field: &str,
@@ -52,12 +83,8 @@ pub fn check_number(
     ok: impl Fn(f64) -> bool,
     what: &str,
 ) -> Result<(), InputError> {
-    if !v.is_finite() {
-        return Err(InputError::new(
-            file,
-            field,
-            format!("must be a finite number, got {v}"),
-        ));
+    if let Some(why) = f32_problem(v) {
+        return Err(InputError::new(file, field, why));
     }
     if !ok(v) {
         return Err(InputError::new(
@@ -67,4 +94,119 @@ pub fn check_number(
         ));
     }
     Ok(())
+}
+
+/// Check a derived quantity (an area, a power, a product of inputs) is finite in `f32`;
+/// `what` names it in the message.
+pub fn check_derived(file: &str, field: &str, v: f64, what: &str) -> Result<(), InputError> {
+    if v.is_finite() && v.abs() <= f32::MAX as f64 {
+        Ok(())
+    } else {
+        Err(InputError::new(
+            file,
+            field,
+            format!(
+                "{what} is {v:e}, which overflows f32 (at most {:e}): use smaller values",
+                f32::MAX
+            ),
+        ))
+    }
+}
+
+/// A point (or a translation, a velocity): three finite numbers of magnitude at most
+/// [`MAX_COORDINATE`].
+pub fn check_point(file: &str, field: &str, a: [f64; 3]) -> Result<glam::DVec3, InputError> {
+    if let Some(x) = a.iter().find(|x| !x.is_finite()) {
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be three finite numbers, got {x} in {a:?}"),
+        ));
+    }
+    if let Some(x) = a.iter().find(|x| x.abs() > MAX_COORDINATE) {
+        return Err(InputError::new(
+            file,
+            field,
+            format!(
+                "coordinate {x:e} is out of range: coordinates must lie within ±{MAX_COORDINATE:e} (so that squared distances fit in f32)"
+            ),
+        ));
+    }
+    Ok(glam::DVec3::from_array(a))
+}
+
+/// A direction, normalised in `f64`: three finite numbers, not all zero, of length at
+/// least `f32::MIN_POSITIVE` (smaller vectors cannot be normalised reliably) and
+/// components at most `f32::MAX`.
+pub fn check_direction(file: &str, field: &str, a: [f64; 3]) -> Result<glam::DVec3, InputError> {
+    if let Some(x) = a.iter().find(|x| !x.is_finite()) {
+        return Err(InputError::new(
+            file,
+            field,
+            format!("must be three finite numbers, got {x} in {a:?}"),
+        ));
+    }
+    let m = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 {
+        return Err(InputError::new(
+            file,
+            field,
+            "must be a non-zero vector, got [0, 0, 0]",
+        ));
+    }
+    if m < f32::MIN_POSITIVE as f64 {
+        return Err(InputError::new(
+            file,
+            field,
+            format!(
+                "is too small to normalise (largest component {m:e} < {:e}): give a direction of ordinary size",
+                f32::MIN_POSITIVE
+            ),
+        ));
+    }
+    if m > f32::MAX as f64 {
+        return Err(InputError::new(
+            file,
+            field,
+            format!(
+                "overflows f32 (component {m:e} > {:e}): give a direction of ordinary size",
+                f32::MAX
+            ),
+        ));
+    }
+    // Scale by the largest component first: the length then neither under- nor overflows.
+    Ok((glam::DVec3::from_array(a) / m).normalize())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_must_fit_f32() {
+        for bad in [1e39, -1e39, 1e308, 1e-40, -1e-320, f64::NAN, f64::INFINITY] {
+            assert!(!fits_f32(bad), "{bad}");
+            assert!(
+                check_number("f", "x", bad, |_| true, "any").is_err(),
+                "{bad}"
+            );
+        }
+        for good in [0.0, -0.0, 1.0, -3e38, 1.2e-38, 1e-30] {
+            assert!(fits_f32(good), "{good}");
+        }
+        assert!(check_derived("f", "x", 1e39, "the power").is_err());
+        assert!(check_derived("f", "x", 1e30, "the power").is_ok());
+    }
+
+    #[test]
+    fn points_and_directions() {
+        assert!(check_point("f", "p", [0.0, 1e18, -1e18]).is_ok());
+        assert!(check_point("f", "p", [0.0, 1e19, 0.0]).is_err());
+        let e = check_direction("f", "d", [0.0, 0.0, 1e-320]).unwrap_err();
+        assert!(e.reason.contains("too small to normalise"), "{e}");
+        assert!(check_direction("f", "d", [0.0; 3]).is_err());
+        assert!(check_direction("f", "d", [0.0, 0.0, 1e39]).is_err());
+        let d = check_direction("f", "d", [3e-30, 0.0, 4e-30]).unwrap();
+        assert!((d.length() - 1.0).abs() < 1e-12);
+    }
 }

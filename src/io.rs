@@ -5,7 +5,56 @@
 use std::io::Write;
 use std::path::Path;
 
-/// Write `bytes` to `path` atomically.
+/// Largest JSON input (a case, scene, report or shard partial file): 64 MiB.
+pub const MAX_JSON_BYTES: u64 = 64 << 20;
+
+/// Largest asset a scene refers to (an OBJ mesh, an EXR environment map): 1 GiB.
+pub const MAX_ASSET_BYTES: u64 = 1 << 30;
+
+/// Check that `path` is a regular file (after following links) of at most `limit`
+/// bytes, and return its length. Devices (`/dev/zero`), FIFOs and folders are refused:
+/// reading them could block or never end.
+pub fn check_input_file(path: &Path, limit: u64) -> Result<u64, String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the file: {e}"))?;
+    if !meta.is_file() {
+        return Err(if meta.is_dir() {
+            "is a folder, not a file".to_string()
+        } else {
+            "is not a regular file (a device, FIFO or socket): refusing to read it".to_string()
+        });
+    }
+    if meta.len() > limit {
+        return Err(format!(
+            "is {} bytes, larger than the limit of {limit} bytes ({} MiB)",
+            meta.len(),
+            limit >> 20
+        ));
+    }
+    Ok(meta.len())
+}
+
+/// Read a UTF-8 input file of at most `limit` bytes (see [`check_input_file`]); the
+/// read itself stops past the limit, should the file grow meanwhile.
+pub fn read_input(path: &Path, limit: u64) -> Result<String, String> {
+    use std::io::Read;
+    check_input_file(path, limit)?;
+    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
+    let mut bytes = Vec::new();
+    f.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the file: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "grew past the limit of {limit} bytes while being read"
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| format!("is not UTF-8 text: {e}"))
+}
+
+/// Write `bytes` to `path` atomically. The temporary file `.NAME.tmpPID` is removed on
+/// every failure (create, write, flush, rename), and temporaries of the same target
+/// left by processes that no longer exist (a kill during an earlier write) are cleaned
+/// up first.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = path
         .parent()
@@ -16,15 +65,44 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    remove_stale_temporaries(dir, &name);
     let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    {
+    let written = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
-    }
-    std::fs::rename(&tmp, path).inspect_err(|_| {
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
-    })
+    }
+    written
+}
+
+/// Remove `.NAME.tmpPID` files in `dir` whose process is gone (Linux: no `/proc/PID`).
+/// Elsewhere nothing is removed (a live writer's temporary must never be).
+fn remove_stale_temporaries(dir: &Path, name: &str) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let prefix = format!(".{name}.tmp");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(pid) = file_name
+            .to_str()
+            .and_then(|n| n.strip_prefix(&prefix))
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
 
 #[cfg(test)]
@@ -40,6 +118,44 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "{\"v\":2}");
         let leftovers = std::fs::read_dir(&dir).unwrap().count();
         assert_eq!(leftovers, 1);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn failures_leave_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-fail-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("target_is_a_folder")).unwrap();
+        // The rename fails (the target is a non-empty folder): the temporary goes.
+        std::fs::write(dir.join("target_is_a_folder/x"), b"x").unwrap();
+        assert!(write_atomic(&dir.join("target_is_a_folder"), b"{}").is_err());
+        // A stale temporary of a dead process is removed by the next write.
+        let stale = dir.join(".a.json.tmp4294967295");
+        std::fs::write(&stale, b"half").unwrap();
+        write_atomic(&dir.join("a.json"), b"{}").unwrap();
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(!names.iter().any(|n| n.contains(".tmp")), "{names:?}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn inputs_must_be_small_regular_files() {
+        assert!(check_input_file(Path::new("/dev/zero"), MAX_JSON_BYTES).is_err());
+        let dir = std::env::temp_dir().join(format!("lightproof-io-in-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(check_input_file(&dir, MAX_JSON_BYTES).is_err());
+        let big = dir.join("big.json");
+        let f = std::fs::File::create(&big).unwrap();
+        f.set_len(MAX_JSON_BYTES + 1).unwrap();
+        assert!(
+            read_input(&big, MAX_JSON_BYTES)
+                .unwrap_err()
+                .contains("limit")
+        );
+        std::fs::write(&big, b"{}").unwrap();
+        assert_eq!(read_input(&big, MAX_JSON_BYTES).unwrap(), "{}");
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -7,6 +7,7 @@
 //! | module | concept |
 //! |---|---|
 //! | [`math`] | frames, spherical coordinates, robust float helpers, ray-origin offsetting |
+//! | [`quadrature`] | the engine's own Gauss–Legendre rules and adaptive quadrature (never the oracle's) |
 //! | [`sampling`] | warps with their densities, and the samplers (independent, stratified, Sobol) |
 //! | [`stats`] | mergeable accumulators, mean tests with power, slope fits, chi-square |
 //! | [`bsdf`] | BSDF models (enum for the hot path, trait for users) |
@@ -27,6 +28,7 @@ pub mod bsdf;
 pub mod error;
 pub mod io;
 pub mod math;
+pub mod quadrature;
 pub mod render;
 pub mod report;
 pub mod sampling;

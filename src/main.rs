@@ -5,13 +5,13 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use lightproof::bsdf::Bsdf;
-use lightproof::bsdf::contract::{chi2_bsdf, direction};
+use lightproof::bsdf::contract::direction;
 use lightproof::error::InputError;
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::sidak_alpha;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, Outcome, collect_cases, count_tests, judge, run_case, seed_for};
+use lightproof::verify::{Case, Outcome, collect_cases, judge_family, run_case, seed_for};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -39,13 +39,14 @@ enum Command {
         /// Case files or folders.
         paths: Vec<PathBuf>,
         /// Base seed.
-        #[arg(long, default_value_t = DEFAULT_SEED)]
+        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
+        /// Worker threads, 1 to 8 × the logical cores (default: all cores).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
         threads: Option<usize>,
-        /// Samples per estimate (default: each case's own).
-        #[arg(long)]
+        /// Samples per estimate, 256 to 2^40, rounded up to a multiple of the 128 batches
+        /// (to 128 × a power of two for stratified and sobol) (default: each case's own).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_samples)]
         samples: Option<u64>,
         /// Write every outcome as JSON to this file.
         #[arg(long)]
@@ -58,14 +59,15 @@ enum Command {
     Estimate {
         /// The case file.
         case: PathBuf,
-        /// Samples.
-        #[arg(long)]
+        /// Samples, 256 to 2^40, rounded up to a multiple of the 128 batches (to 128 × a
+        /// power of two for stratified and sobol) (default: the case's own, else 2^18).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_samples)]
         samples: Option<u64>,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED)]
+        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
-        /// Worker threads.
-        #[arg(long)]
+        /// Worker threads, 1 to 8 × the logical cores (default: all cores).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
         threads: Option<usize>,
         /// Estimator (default: the case's first).
         #[arg(long, value_parser = parse_estimator)]
@@ -78,16 +80,16 @@ enum Command {
     Chi2 {
         /// The BSDF as JSON, e.g. '{"type":"lambertian","albedo":0.5}'.
         bsdf: String,
-        /// Outgoing direction as θ,φ in degrees.
-        #[arg(long, default_value = "30,0")]
+        /// Outgoing direction as θ,φ in degrees, θ in [0, 180], φ in [-360, 360].
+        #[arg(long, default_value = "30,0", allow_hyphen_values = true)]
         wo: String,
-        /// Samples.
-        #[arg(long, default_value_t = 1_000_000)]
+        /// Samples, 40960 (5 per cell of the 64 × 128 grid) to 2^32.
+        #[arg(long, default_value_t = 1_000_000, allow_negative_numbers = true, value_parser = parse_chi2_samples)]
         samples: u64,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED)]
+        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
-        /// Folder for the tables.
+        /// Folder for the tables (also of a failing test's dump), relative to the current one.
         #[arg(long, default_value = "target/chi2")]
         out: PathBuf,
     },
@@ -101,23 +103,23 @@ enum Command {
         out: PathBuf,
         /// Stop, writing everything, before the predicted end of the next point passes
         /// this many wall seconds.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_budget)]
         budget: Option<f64>,
-        /// Largest sweep point (rounded down to a power of two).
-        #[arg(long, default_value_t = lightproof::report::DEFAULT_MAX_SAMPLES)]
+        /// Largest sweep point, 256 to 2^40 (rounded down to a power of two).
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MAX_SAMPLES, allow_negative_numbers = true, value_parser = parse_samples)]
         max_samples: u64,
-        /// Smallest sweep point (rounded up to a power of two; at least 256).
-        #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES)]
+        /// Smallest sweep point, 256 to 2^40 (rounded up to a power of two).
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES, allow_negative_numbers = true, value_parser = parse_samples)]
         min_samples: u64,
         /// Base seed.
-        #[arg(long, default_value_t = DEFAULT_SEED)]
+        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
+        /// Worker threads, 1 to 8 × the logical cores (default: all cores).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
         threads: Option<usize>,
         /// Run shard K of N (K from 0) and write its partial file, or `auto` to take the
         /// shard from a Slurm array or Kubernetes indexed Job.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         shard: Option<String>,
         /// Only this estimator (repeatable; default: each case's own).
         #[arg(long = "estimator", value_parser = parse_estimator)]
@@ -142,16 +144,73 @@ enum Command {
     Render {
         /// Scene file with a `camera`.
         scene: PathBuf,
-        /// Samples per pixel.
-        #[arg(long, default_value_t = 16)]
+        /// Samples per pixel, 1 to 2^20 (and width × height × spp at most 2^40).
+        #[arg(long, default_value_t = 16, allow_negative_numbers = true, value_parser = parse_spp)]
         spp: u64,
         /// Output EXR.
         #[arg(short, long, default_value = "out.exr")]
         output: PathBuf,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED)]
+        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
     },
+}
+
+/// A whole number in [lo, hi], or a message saying the range.
+fn count_in(s: &str, lo: u64, hi: u64, hi_name: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "must be a whole number from {lo} to {hi_name}, got `{s}`"
+        )),
+    }
+}
+
+fn parse_samples(s: &str) -> Result<u64, String> {
+    count_in(
+        s,
+        lightproof::verify::MIN_SAMPLES,
+        lightproof::verify::MAX_SAMPLES,
+        "2^40 (at least two per batch of 128; rounded up to a multiple of 128)",
+    )
+}
+
+/// Fewest chi-square samples: 5 expected per cell of the 64 × 128 sphere grid, so that
+/// the test has the cells it judges with.
+const MIN_CHI2_SAMPLES: u64 = 5 * 64 * 128;
+
+fn parse_chi2_samples(s: &str) -> Result<u64, String> {
+    count_in(
+        s,
+        MIN_CHI2_SAMPLES,
+        1 << 32,
+        "2^32 (fewer than 5 per cell of the 64 × 128 grid cannot be judged)",
+    )
+}
+
+fn parse_spp(s: &str) -> Result<u64, String> {
+    count_in(s, 1, lightproof::render::MAX_SPP, "2^20")
+}
+
+fn parse_seed(s: &str) -> Result<u64, String> {
+    count_in(s, 0, u64::MAX, "2^64 − 1")
+}
+
+/// Most worker threads: 8 × the logical cores.
+fn max_threads() -> usize {
+    8 * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let max = max_threads();
+    count_in(s, 1, max as u64, &format!("{max} (8 × the logical cores)")).map(|v| v as usize)
+}
+
+fn parse_budget(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("must be a positive number of seconds, got `{s}`")),
+    }
 }
 
 fn parse_estimator(s: &str) -> Result<Estimator, String> {
@@ -175,8 +234,59 @@ impl From<InputError> for Failure {
     }
 }
 
+/// Let a closed pipe end the process quietly, as Unix tools do (`lightproof estimate
+/// CASE | head -n 3`): Rust ignores SIGPIPE, which turns the write into a panic.
+fn quiet_on_broken_pipe() {
+    #[cfg(unix)]
+    {
+        unsafe extern "C" {
+            fn signal(signum: i32, handler: usize) -> usize;
+        }
+        const SIGPIPE: i32 = 13;
+        const SIG_DFL: usize = 0;
+        // SAFETY: restores the default disposition of one signal before any thread starts.
+        unsafe {
+            signal(SIGPIPE, SIG_DFL);
+        }
+    }
+}
+
+/// Parse the command line; a usage error is one line on stderr and exit status 2.
+fn parse_cli() -> Result<Cli, ExitCode> {
+    use clap::error::ErrorKind;
+    match Cli::try_parse() {
+        Ok(cli) => Ok(cli),
+        Err(e)
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) =>
+        {
+            let _ = e.print();
+            Err(ExitCode::from(e.exit_code().clamp(0, 255) as u8))
+        }
+        Err(e) => {
+            let text = e.render().to_string();
+            let line: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+                .filter(|l| !l.is_empty())
+                .collect();
+            eprintln!("{} (see --help)", line.join(" "));
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    quiet_on_broken_pipe();
+    let cli = match parse_cli() {
+        Ok(cli) => cli,
+        Err(code) => return code,
+    };
     let command = cli.command.unwrap_or(Command::Verify {
         paths: vec![],
         seed: DEFAULT_SEED,
@@ -220,6 +330,20 @@ fn default_catalog() -> PathBuf {
     }
 }
 
+/// Named files or folders must hold at least one case file: an empty folder is bad input,
+/// not a vacuous pass.
+fn require_cases(paths: &[PathBuf]) -> Result<(), Failure> {
+    for p in paths {
+        if collect_cases(std::slice::from_ref(p))?.is_empty() {
+            return Err(Failure::Input(format!(
+                "{}: -: no case files (*.json) found",
+                p.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn dispatch(command: Command) -> Result<(), Failure> {
     match command {
         Command::Verify {
@@ -229,7 +353,10 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             json,
             no_chi2,
             ..
-        } => verify(paths, seed, samples, json, no_chi2),
+        } => {
+            require_cases(&paths)?;
+            verify(paths, seed, samples, json, no_chi2)
+        }
         Command::Estimate {
             case,
             samples,
@@ -265,6 +392,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 )?),
                 Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
             };
+            require_cases(&paths)?;
             let opts = lightproof::report::sweep::Options {
                 paths: if paths.is_empty() {
                     vec![default_catalog()]
@@ -327,7 +455,6 @@ fn verify(
     } else {
         vec![]
     };
-    let k = count_tests(&cases) + warp_suite.len();
     let t0 = Instant::now();
     let bar = ProgressBar::new((cases.len() + warp_suite.len()) as u64);
     bar.set_style(
@@ -337,9 +464,11 @@ fn verify(
     let mut outcomes: Vec<Outcome> = Vec::new();
     for c in &cases {
         bar.set_message(c.desc.name.clone());
-        outcomes.extend(run_case(c, seed, samples, 1, ALPHA, k));
+        outcomes.extend(run_case(c, seed, samples, 1));
         bar.inc(1);
     }
+    // One family: the statistical verdicts and the chi-square suites (exact ones apart).
+    let k = judge_family(&mut outcomes, warp_suite.len(), ALPHA);
     let mut chi2_rows = Vec::new();
     for (i, (name, test)) in warp_suite.iter().enumerate() {
         bar.set_message(format!("chi2 {name}"));
@@ -377,7 +506,10 @@ fn verify(
                     format!("/{}", o.sampler.name())
                 }
             ),
-            format!("{:.6} ± {:.6}", o.estimate, o.std_error),
+            match o.std_error {
+                Some(se) => format!("{:.6} ± {se:.6}", o.estimate),
+                None => format!("{:.6} (exact)", o.estimate),
+            },
             o.seconds
         );
         if let Some(reason) = o.verdict.as_ref().and_then(|v| v.reason.as_ref()) {
@@ -403,12 +535,19 @@ fn verify(
     let failed = outcomes.iter().filter(|o| !o.passed()).count()
         + chi2_rows.iter().filter(|c| !c.passed).count();
     let total = outcomes.len() + chi2_rows.len();
+    let passed_of = |exact: bool| {
+        outcomes
+            .iter()
+            .filter(|o| o.passed() && o.exact == exact)
+            .count()
+    };
+    let exact = passed_of(true);
+    let statistical = passed_of(false) + chi2_rows.iter().filter(|c| c.passed).count();
     println!(
-        "\n{} passed, {} failed  ({} cases, {} verdicts, Šidák over k = {k} at family α = {ALPHA}, seed {seed}, {:.1}s)",
+        "\n{} passed ({statistical} statistical, {exact} exact), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|; seed {seed}, {:.1}s)",
         total - failed,
-        failed,
         cases.len(),
-        total,
+        lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
     );
     if let Some(path) = json {
@@ -451,34 +590,19 @@ fn estimate(
         seed: run_seed,
     };
     let e = case.estimate(est, &spec, false);
-    let verdict = case.reference.map(|r| judge(&e, sampler, r, ALPHA, 1));
-    let mut obj = serde_json::json!({
-        "case": case.desc.name,
-        "file": path.display().to_string(),
-        "measure": case.measure.name(),
-        "estimator": est,
-        "sampler": sampler,
-        "estimate": e.batches.total.mean,
-        "std_error": verdict.as_ref().map_or(e.batches.total.std_error(), |v| v.std_error),
-        "samples": e.batches.total.count + e.batches.total.non_finite,
-        "seed": run_seed,
-        "threads": rayon::current_num_threads(),
-        "seconds": e.seconds,
-        "effects": case.effects,
-    });
-    if let Some(v) = &verdict {
-        obj["reference"] = serde_json::json!(v.reference);
-        obj["z"] = serde_json::json!(v.z);
-        obj["verdict"] = serde_json::to_value(v).unwrap_or_default();
-    }
+    let mut outcome = Outcome::new(&case, est, sampler, run_seed, &e);
+    outcome.judge(ALPHA, 1);
+    let mut obj = serde_json::to_value(&outcome).map_err(|e| Failure::Input(e.to_string()))?;
+    obj["threads"] = serde_json::json!(rayon::current_num_threads());
     println!(
         "{}",
         serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?
     );
-    if verdict.is_some_and(|v| !v.passed) {
-        Err(Failure::Verdict)
-    } else {
+    // A failed verdict, or non-finite samples without a reference, exit 1.
+    if outcome.passed() {
         Ok(())
+    } else {
+        Err(Failure::Verdict)
     }
 }
 
@@ -492,17 +616,30 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
         .map_err(|_| Failure::Input(format!("--wo: expected θ,φ in degrees, got `{wo}`")))?;
     if parts.len() != 2 || parts.iter().any(|x| !x.is_finite()) {
         return Err(Failure::Input(format!(
-            "--wo: expected two finite numbers θ,φ in degrees, got `{wo}`"
+            "<command line>: --wo: expected two finite numbers θ,φ in degrees, got `{wo}`"
+        )));
+    }
+    if !((0.0..=180.0).contains(&parts[0]) && (-360.0..=360.0).contains(&parts[1])) {
+        return Err(Failure::Input(format!(
+            "<command line>: --wo: θ must lie in [0, 180] and φ in [-360, 360] degrees, got `{wo}`"
+        )));
+    }
+    if out.exists() && !out.is_dir() {
+        return Err(Failure::Input(format!(
+            "<command line>: --out: `{}` is a file, not a folder: name a folder for the tables",
+            out.display()
         )));
     }
     let w = direction(parts[0].to_radians() as f32, parts[1].to_radians() as f32);
-    let o = chi2_bsdf(&bsdf, bsdf.name(), w, samples, seed, ALPHA);
+    // A failing test's dump goes under --out too, never into the build's own tree.
     let test = lightproof::stats::chi2::Chi2Test::new(
         lightproof::stats::chi2::Domain::Sphere,
         samples,
         seed,
         ALPHA,
-    );
+    )
+    .with_dump_dir(out.join("chi2-failures"));
+    let o = lightproof::bsdf::contract::chi2_bsdf_with(&test, &bsdf, bsdf.name(), w);
     let tables = lightproof::bsdf::contract::chi2_tables(&test, &bsdf, w);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
         .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", out.display())))?;

@@ -10,10 +10,19 @@ use crate::transport::measure::Measure;
 use crate::transport::path::{Config, Prev, trace};
 use crate::transport::phase::Grey;
 use crate::verify::CaseDesc;
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// Largest image: 2²⁶ pixels (64 Mpixel).
+pub const MAX_PIXELS: usize = 1 << 26;
+
+/// Most samples per pixel.
+pub const MAX_SPP: u64 = 1 << 20;
+
+/// Most samples of a whole image (pixels × spp): 2⁴⁰, as for an estimate.
+pub const MAX_RENDER_SAMPLES: u64 = 1 << 40;
 
 /// A pinhole camera.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -45,8 +54,8 @@ pub fn render_file(
     seed: u64,
 ) -> Result<(usize, usize, Vec<f32>), InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
+    let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+        .map_err(|e| InputError::new(&file, "-", e))?;
     let desc: CaseDesc = parse_json(&file, &text)?;
     let Some(c) = &desc.camera else {
         return Err(InputError::new(
@@ -55,29 +64,52 @@ pub fn render_file(
             "a file to render needs a `camera`",
         ));
     };
-    let eye = DVec3::from_array(c.position);
-    let look = DVec3::from_array(c.look_at) - eye;
-    if !eye.is_finite() || !(look.length() > 0.0) {
+    let eye = crate::error::check_point(&file, "camera.position", c.position)?;
+    let look = crate::error::check_point(&file, "camera.look_at", c.look_at)? - eye;
+    if !(look.length() > 0.0) {
         return Err(InputError::new(
             &file,
             "camera.look_at",
             "must differ from camera.position",
         ));
     }
-    if c.width == 0 || c.height == 0 || c.width * c.height > 1 << 26 {
+    crate::error::check_direction(&file, "camera.up", c.up)?;
+    for (field, v) in [("camera.width", c.width), ("camera.height", c.height)] {
+        if v == 0 {
+            return Err(InputError::new(
+                &file,
+                field,
+                "must be a positive number of pixels, got 0",
+            ));
+        }
+    }
+    let pixels = c.width.checked_mul(c.height).filter(|&n| n <= MAX_PIXELS);
+    let Some(pixels) = pixels else {
         return Err(InputError::new(
             &file,
             "camera.width",
-            "width and height must be positive (and the image at most 64 Mpixel)",
+            format!(
+                "camera.width × camera.height = {} × {} is more than {MAX_PIXELS} pixels (64 Mpixel)",
+                c.width, c.height
+            ),
         ));
-    }
-    if !(c.fov_degrees > 0.0 && c.fov_degrees < 180.0) {
+    };
+    if !(1..=MAX_SPP).contains(&spp) || (pixels as u64).saturating_mul(spp) > MAX_RENDER_SAMPLES {
         return Err(InputError::new(
-            &file,
-            "camera.fov_degrees",
-            format!("must lie in (0, 180), got {}", c.fov_degrees),
+            "<command line>",
+            "--spp",
+            format!(
+                "must be 1 to {MAX_SPP} samples per pixel, with pixels × spp at most 2^40; got {spp} for {pixels} pixels"
+            ),
         ));
     }
+    crate::error::check_number(
+        &file,
+        "camera.fov_degrees",
+        c.fov_degrees,
+        |x| x > 0.0 && x < 180.0,
+        "in (0, 180) degrees",
+    )?;
     let scene = desc
         .scene
         .build(&file, "scene", path.parent().unwrap_or(Path::new(".")), eye)?;
@@ -129,11 +161,22 @@ pub fn render_file(
 
 /// Write grey radiance as an RGB EXR, atomically.
 pub fn write_exr(path: &Path, w: usize, h: usize, data: &[f32]) -> std::io::Result<()> {
+    if w.checked_mul(h) != Some(data.len()) {
+        return Err(std::io::Error::other(format!(
+            "an image of {w} × {h} pixels needs {} values, got {}",
+            w.saturating_mul(h),
+            data.len()
+        )));
+    }
     let tmp = path.with_extension(format!("tmp{}.exr", std::process::id()));
-    exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
+    let written = exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
         let v = data[y * w + x];
         (v, v, v)
     })
-    .map_err(|e| std::io::Error::other(e.to_string()))?;
-    std::fs::rename(&tmp, path)
+    .map_err(|e| std::io::Error::other(e.to_string()))
+    .and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

@@ -18,11 +18,9 @@
 //! The reference names a closed form of `lightproof-analytic` (the independent oracle)
 //! with its parameters; a case without one is simply estimated.
 //!
-//! **Verdict.** With independent samples the z test uses the plain standard error,
-//! unless the batch-means error exceeds it by half (heavy tails), when the batch-means
-//! t test (127 degrees of freedom) decides; quasi-random samplers are always judged by
-//! batch means, each batch being an independent randomisation. A zero-variance
-//! estimator is compared at the resolution of f32 evaluation (2e-6 relative).
+//! **Verdict** ([`verdict`]): a z or batch-means t test for estimates with variance, in
+//! one Šidák family per run; an exact comparison within the stated f32 error bound for
+//! estimates without variance, outside the family.
 
 use crate::bsdf::Bsdf;
 use crate::error::{InputError, check_number, parse_json};
@@ -30,21 +28,37 @@ use crate::sampling::{SampleStream, SamplerKind};
 use crate::scene::Scene;
 use crate::scene::load::SceneDesc;
 use crate::spectrum::Response;
-use crate::stats::{MeanTest, Verdict};
+use crate::stats::Verdict;
 use crate::transport::effects::{Effects, analyze};
 use crate::transport::engine::{BATCHES, Estimate, RunSpec, run};
 use crate::transport::measure::Measure;
 use crate::transport::path::Config;
 use crate::transport::phase::Dimensions;
 mod dimensions;
+pub mod verdict;
 use crate::transport::{Estimator, Heuristic};
 use dimensions::dimensions;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+pub use verdict::{ErrorBar, judge};
 
 /// Default samples per estimate.
 pub const DEFAULT_SAMPLES: u64 = 1 << 18;
+
+/// Fewest samples per estimate: two per batch (the batch-means error needs them).
+pub const MIN_SAMPLES: u64 = 2 * BATCHES;
+
+/// Most samples per estimate: 2⁴⁰ ≈ 1.1·10¹² (days of work; no count wraps below it).
+pub const MAX_SAMPLES: u64 = 1 << 40;
+
+/// Longest wavelength of a `spectral` section (nm): 1 cm. Far past the thermal
+/// infrared, and λ + 1 nm is still a different `f32`.
+pub const MAX_WAVELENGTH_NM: f64 = 1e7;
+
+/// Narrowest band, relative to its longer end: (λ₂ − λ₁) ≥ 10⁻⁴·λ₂ (0.05 nm at
+/// 500 nm), so that `f32` wavelengths resolve the band into ~10³ values or more.
+pub const MIN_RELATIVE_BANDWIDTH: f64 = 1e-4;
 
 /// A measurement as written in a case file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -211,6 +225,10 @@ pub struct CaseDesc {
     /// Samples per estimate (default 2¹⁸).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<u64>,
+    /// Why every estimator of this case is exact (samples without variance), when they
+    /// all are: a catalog case must have an estimator with variance or say why not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exact: Option<String>,
     /// A camera for `lightproof render` (see [`crate::render::CameraDesc`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<crate::render::CameraDesc>,
@@ -237,35 +255,118 @@ pub struct Case {
 }
 
 fn unit(file: &str, field: &str, a: [f64; 3]) -> Result<Vec3, InputError> {
-    let v = DVec3::from_array(a);
-    if !v.is_finite() || !(v.length() > 0.0) {
-        return Err(InputError::new(
-            file,
-            field,
-            format!("must be a finite non-zero vector, got {a:?}"),
-        ));
-    }
-    Ok(v.normalize().as_vec3())
+    Ok(crate::error::check_direction(file, field, a)?.as_vec3())
 }
 
 fn point(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    let v = DVec3::from_array(a);
-    if !v.is_finite() {
-        return Err(InputError::new(
-            file,
+    crate::error::check_point(file, field, a)
+}
+
+/// The `spectral` and `time` sections as `f32` sees them: wavelengths in
+/// (0, [`MAX_WAVELENGTH_NM`]], a band at least [`MIN_RELATIVE_BANDWIDTH`] wide, every
+/// dispersive index valid over the band actually measured (a Sellmeier pole inside it is
+/// refused, not only inside the visible range), and moving geometry staying within
+/// range over the shutter.
+fn check_spectral_and_time(f: &str, desc: &CaseDesc) -> Result<(), InputError> {
+    use crate::spectrum::Band;
+    let wl = |field: &str, l: f64| {
+        check_number(
+            f,
             field,
-            format!("must be three finite numbers, got {a:?}"),
-        ));
+            l,
+            |x| x > 0.0 && x <= MAX_WAVELENGTH_NM,
+            "a wavelength in (0, 1e7] nm",
+        )
+    };
+    let band = match desc.spectral.as_ref().map(|s| (s.band, s.wavelength)) {
+        Some((Some([a, b]), None)) => {
+            wl("spectral.band", a)?;
+            wl("spectral.band", b)?;
+            if !(b > a) {
+                return Err(InputError::new(
+                    f,
+                    "spectral.band",
+                    format!("must be [λ₁, λ₂] in nm with 0 < λ₁ < λ₂, got [{a}, {b}]"),
+                ));
+            }
+            let (a32, b32) = (a as f32, b as f32);
+            if !((b32 as f64 - a32 as f64) >= MIN_RELATIVE_BANDWIDTH * b) {
+                return Err(InputError::new(
+                    f,
+                    "spectral.band",
+                    format!(
+                        "[{a}, {b}] nm is too narrow for f32 wavelengths: λ₂ − λ₁ must be at least {MIN_RELATIVE_BANDWIDTH}·λ₂ ({:.3e} nm here); for one wavelength use `spectral.wavelength`",
+                        MIN_RELATIVE_BANDWIDTH * b
+                    ),
+                ));
+            }
+            Some(Band::new(a32, b32))
+        }
+        Some((None, Some(l))) => {
+            wl("spectral.wavelength", l)?;
+            Some(Band::new(l as f32, l as f32 + 1.0))
+        }
+        _ => None,
+    };
+    if let Some(band) = band {
+        for (name, d) in &desc.scene.dispersion {
+            if let Some(m) = desc.scene.materials.get(name) {
+                d.validate(m, band)
+                    .map_err(|r| InputError::new(f, format!("scene.dispersion.{name}"), r))?;
+            }
+        }
     }
-    Ok(v)
+    for (field, v) in [
+        ("time.shutter", desc.time.as_ref().and_then(|t| t.shutter)),
+        ("time.bin", desc.time.as_ref().and_then(|t| t.bin)),
+    ] {
+        for x in v.into_iter().flatten() {
+            check_number(f, field, x, |_| true, "a time in seconds")?;
+        }
+    }
+    if let Some([t0, t1]) = desc.time.as_ref().and_then(|t| t.shutter) {
+        let t = t0.abs().max(t1.abs());
+        let speeds = desc
+            .scene
+            .shapes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| {
+                s.velocity
+                    .map(|v| (format!("scene.shapes[{i}].velocity"), v))
+            })
+            .chain(desc.scene.emitters.iter().enumerate().filter_map(|(i, e)| {
+                use crate::scene::load::EmitterDesc;
+                match e {
+                    EmitterDesc::Point { velocity, .. } | EmitterDesc::Spot { velocity, .. } => {
+                        velocity.map(|v| (format!("scene.emitters[{i}].velocity"), v))
+                    }
+                    _ => None,
+                }
+            }));
+        for (field, v) in speeds {
+            let travel = DVec3::from_array(v).length() * t;
+            if travel.is_finite() && travel > crate::error::MAX_COORDINATE {
+                return Err(InputError::new(
+                    f,
+                    field,
+                    format!(
+                        "moves {travel:e} over the shutter [{t0}, {t1}] s, out of range: positions must stay within ±{:e}",
+                        crate::error::MAX_COORDINATE
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 impl Case {
     /// Load and validate a case file.
     pub fn load(path: &Path) -> Result<Case, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(&file, "-", format!("cannot read the file: {e}")))?;
+        let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+            .map_err(|e| InputError::new(&file, "-", e))?;
         let desc: CaseDesc = parse_json(&file, &text)?;
         Case::from_desc(desc, path)
     }
@@ -396,7 +497,16 @@ impl Case {
             },
             MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
                 shape: shape_index("measure.shape", *shape)?,
-                segments: (*segments).clamp(1, 1 << 16),
+                segments: {
+                    if !(1..=1 << 16).contains(segments) {
+                        return Err(InputError::new(
+                            f,
+                            "measure.mean_path_length.segments",
+                            format!("must be 1 to 65536 flights per path, got {segments}"),
+                        ));
+                    }
+                    *segments
+                },
             },
         };
         if desc.estimators.is_empty() {
@@ -422,14 +532,17 @@ impl Case {
             }
         }
         if let Some(n) = desc.samples
-            && n < 2 * BATCHES
+            && !(MIN_SAMPLES..=MAX_SAMPLES).contains(&n)
         {
             return Err(InputError::new(
                 f,
                 "samples",
-                format!("must be at least {} (two per batch), got {n}", 2 * BATCHES),
+                format!(
+                    "must be {MIN_SAMPLES} to 2^40 = {MAX_SAMPLES} (at least two per batch of {BATCHES}; rounded up to a multiple of {BATCHES}), got {n}"
+                ),
             ));
         }
+        check_spectral_and_time(f, &desc)?;
         let reference = match &desc.reference {
             None => None,
             Some(map) => {
@@ -462,6 +575,16 @@ impl Case {
                 };
                 let v = lightproof_analytic::catalog::evaluate(name, &params)
                     .map_err(|e| InputError::new(f, "reference", e.to_string()))?;
+                if !(v * scale).is_finite() {
+                    return Err(InputError::new(
+                        f,
+                        "reference",
+                        format!(
+                            "the closed form `{name}` evaluates to {} with these parameters: give parameters where it is finite",
+                            v * scale
+                        ),
+                    ));
+                }
                 Some(v * scale)
             }
         };
@@ -533,35 +656,6 @@ impl Case {
     }
 }
 
-/// Judge an estimate against a reference within a family of `tests` tests at level `alpha`.
-pub fn judge(
-    est: &Estimate,
-    sampler: SamplerKind,
-    reference: f64,
-    alpha: f64,
-    tests: usize,
-) -> Verdict {
-    let t = MeanTest::new(alpha, tests);
-    let total = &est.batches.total;
-    let plain = total.std_error();
-    let batch = est.batches.std_error();
-    let use_batches = sampler != SamplerKind::Independent || batch > 1.5 * plain;
-    let (se, dof) = if use_batches {
-        (batch, Some(est.batches.dof()))
-    } else {
-        (plain, None)
-    };
-    let floor = 2e-6 * total.mean.abs();
-    t.judge_parts(
-        total.mean,
-        se.max(floor),
-        reference,
-        dof,
-        total.non_finite,
-        total.count,
-    )
-}
-
 /// The outcome of one estimator × sampler of a case.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Outcome {
@@ -581,8 +675,17 @@ pub struct Outcome {
     pub seed: u64,
     /// Mean.
     pub estimate: f64,
-    /// Standard error used by the verdict (plain or batch means).
-    pub std_error: f64,
+    /// Standard error a verdict uses (plain or batch means, see [`verdict`]); absent
+    /// when the estimate is exact.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std_error: Option<f64>,
+    /// Degrees of freedom of the batch-means t test, when it decides.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dof: Option<u64>,
+    /// Whether the samples have no variance (judged within the f32 error bound).
+    pub exact: bool,
+    /// Non-finite samples (any one fails the outcome, reference or not).
+    pub non_finite: u64,
     /// Wall seconds.
     pub seconds: f64,
     /// What was simulated, and why.
@@ -599,9 +702,64 @@ pub struct Outcome {
 }
 
 impl Outcome {
-    /// Whether it passed (a case without reference passes unless a sample was non-finite).
+    /// An unjudged outcome of estimate `e` of estimator `est` × `sampler` on `case`.
+    pub fn new(
+        case: &Case,
+        est: Estimator,
+        sampler: SamplerKind,
+        seed: u64,
+        e: &Estimate,
+    ) -> Outcome {
+        let total = &e.batches.total;
+        let bar = ErrorBar::of(e, sampler);
+        Outcome {
+            case: case.desc.name.clone(),
+            file: case.file.display().to_string(),
+            measure: case.measure.name().to_string(),
+            estimator: est,
+            sampler,
+            samples: total.count + total.non_finite,
+            seed,
+            estimate: total.mean,
+            std_error: bar.std_error,
+            dof: bar.dof,
+            exact: bar.exact(),
+            non_finite: total.non_finite,
+            seconds: e.seconds,
+            effects: case.effects.clone(),
+            reference: case.reference,
+            z: None,
+            verdict: None,
+        }
+    }
+
+    /// Whether the outcome will be a member of the statistical (Šidák) family.
+    pub fn is_statistical(&self) -> bool {
+        self.reference.is_some() && !self.exact
+    }
+
+    /// Judge against the reference (if any) in a family of `tests` statistical tests.
+    pub fn judge(&mut self, alpha: f64, tests: usize) {
+        if let Some(r) = self.reference {
+            let bar = ErrorBar {
+                std_error: self.std_error,
+                dof: self.dof,
+            };
+            let count = self.samples - self.non_finite;
+            let v =
+                verdict::judge_parts(self.estimate, &bar, r, self.non_finite, count, alpha, tests);
+            self.z = Some(v.z);
+            self.verdict = Some(v);
+        }
+    }
+
+    /// Whether it passed. Without a reference there is nothing to compare, but a
+    /// non-finite sample still fails.
     pub fn passed(&self) -> bool {
-        self.verdict.as_ref().is_none_or(|v| v.passed)
+        match &self.verdict {
+            Some(v) => v.passed,
+            None => self.non_finite == 0 && self.samples > 0,
+        }
     }
 }
 
@@ -619,15 +777,9 @@ pub fn seed_for(base: u64, case: &str, est: Estimator, sampler: SamplerKind) -> 
     crate::sampling::sampler::hash_words(&[base, h])
 }
 
-/// Run every estimator × sampler of a case and judge them in a family of `tests` tests.
-pub fn run_case(
-    case: &Case,
-    base_seed: u64,
-    samples: Option<u64>,
-    scale: u64,
-    alpha: f64,
-    tests: usize,
-) -> Vec<Outcome> {
+/// Run every estimator × sampler of a case; the outcomes are not yet judged (see
+/// [`judge_family`]).
+pub fn run_case(case: &Case, base_seed: u64, samples: Option<u64>, scale: u64) -> Vec<Outcome> {
     let mut out = Vec::new();
     for sampler in case.samplers() {
         for &est in &case.desc.estimators {
@@ -639,28 +791,22 @@ pub fn run_case(
                 seed,
             };
             let e = case.estimate(est, &spec, false);
-            let verdict = case.reference.map(|r| judge(&e, sampler, r, alpha, tests));
-            out.push(Outcome {
-                case: case.desc.name.clone(),
-                file: case.file.display().to_string(),
-                measure: case.measure.name().to_string(),
-                estimator: est,
-                sampler,
-                samples: e.batches.total.count + e.batches.total.non_finite,
-                seed,
-                estimate: e.batches.total.mean,
-                std_error: verdict
-                    .as_ref()
-                    .map_or(e.batches.total.std_error(), |v| v.std_error),
-                seconds: e.seconds,
-                effects: case.effects.clone(),
-                reference: case.reference,
-                z: verdict.as_ref().map(|v| v.z),
-                verdict,
-            });
+            out.push(Outcome::new(case, est, sampler, seed, &e));
         }
     }
     out
+}
+
+/// Judge every outcome of a run as one family: the statistical ones (and `others`
+/// further statistical tests of the same run, e.g. chi-square suites) share the Šidák
+/// correction at family-wise level `alpha`; exact ones are judged outside it. Returns
+/// the family size k.
+pub fn judge_family(outcomes: &mut [Outcome], others: usize, alpha: f64) -> usize {
+    let k = outcomes.iter().filter(|o| o.is_statistical()).count() + others;
+    for o in outcomes.iter_mut() {
+        o.judge(alpha, k);
+    }
+    k
 }
 
 /// Every `.json` case file under the given files or folders, sorted.
@@ -698,13 +844,4 @@ pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
     }
     out.sort();
     Ok(out)
-}
-
-/// Number of verdicts a list of cases will produce (for the Šidák correction).
-pub fn count_tests(cases: &[Case]) -> usize {
-    cases
-        .iter()
-        .filter(|c| c.reference.is_some())
-        .map(|c| c.desc.estimators.len() * c.samplers().len())
-        .sum()
 }

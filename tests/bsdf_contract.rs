@@ -17,7 +17,6 @@ mod common;
 
 use glam::Vec3;
 use lightproof::bsdf::contract::{self, direction};
-use lightproof::bsdf::fresnel::fresnel_diffuse_reflectance;
 use lightproof::bsdf::microfacet::{Distribution, Masking, Microfacet};
 use lightproof::bsdf::*;
 use lightproof::stats::chi2::{Chi2Test, Domain};
@@ -350,7 +349,8 @@ fn promised(b: &Bsdf, wo: Vec3) -> Option<f64> {
         Bsdf::Plastic(p) => {
             let eta = p.eta as f64;
             let f = fresnel_oracle(c, eta, 0.0);
-            let fdr = fresnel_diffuse_reflectance(1.0 / eta);
+            // The internal diffuse reflectance from the oracle, never from the engine.
+            let fdr = lightproof_analytic::fresnel::dielectric_average_inside(eta);
             let rho = p.albedo as f64;
             Some(f + (1.0 - f) * rho * (1.0 - fdr) / (1.0 - rho * fdr))
         }

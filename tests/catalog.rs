@@ -10,7 +10,7 @@
 
 mod common;
 
-use lightproof::verify::{Case, Outcome, collect_cases, count_tests, run_case};
+use lightproof::verify::{Case, Outcome, collect_cases, judge_family, run_case};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -70,7 +70,7 @@ fn row(o: &Outcome) -> String {
         o.file.rsplit("analytic/cases/").next().unwrap_or(&o.file),
         o.estimator.name(),
         o.estimate,
-        o.std_error,
+        o.std_error.unwrap_or(0.0),
         o.reference.unwrap_or(f64::NAN),
         o.z.unwrap_or(f64::NAN),
         v.map_or(f64::NAN, |v| v.detectable_relative_bias),
@@ -82,7 +82,6 @@ fn row(o: &Outcome) -> String {
 #[test]
 fn catalog_matches_closed_forms() {
     let cases = load_catalog();
-    let tests = count_tests(&cases);
     let (seed, scale) = (common::seed(), common::scale());
     let filter = std::env::var("LIGHTPROOF_CATALOG_FILTER").unwrap_or_default();
     let header = format!(
@@ -90,40 +89,123 @@ fn catalog_matches_closed_forms() {
         "case", "estimator", "estimate", "SE", "reference", "z", "det", "time"
     );
     let start = Instant::now();
-    let mut lines = vec![header.clone()];
     let mut failures = Vec::new();
-    let mut ran = 0;
+    let mut outcomes = Vec::new();
     for c in cases
         .iter()
         .filter(|c| c.file.display().to_string().contains(&filter))
     {
-        for o in run_case(c, seed, None, scale, ALPHA, tests) {
-            ran += 1;
-            let r = row(&o);
-            let v = o.verdict.as_ref();
-            let weak = v.is_some_and(|v| {
-                v.detectable_relative_bias.is_nan() || v.detectable_relative_bias > MAX_DETECTABLE
-            });
-            if !o.passed() {
-                failures.push(r.clone());
-            } else if weak {
-                failures.push(format!("{r}detectable relative bias above {MAX_DETECTABLE}: the test cannot see a 0.5 % error"));
-            } else if v.is_none() {
-                failures.push(format!("{r}no reference"));
-            }
-            lines.push(r);
+        let mine = run_case(c, seed, None, scale);
+        // Exact cases say why; the others must hold an estimator with variance.
+        let all_exact = mine.iter().all(|o| o.exact);
+        match (&c.desc.exact, all_exact) {
+            (None, true) => failures.push(format!(
+                "{}: every estimator is exact (no variance): add an estimator with variance or state the reason in `exact`",
+                c.file.display()
+            )),
+            (Some(_), false) => failures.push(format!(
+                "{}: `exact` claims no variance, but an estimator has some",
+                c.file.display()
+            )),
+            (Some(why), true) if why.trim().len() < 20 || why.contains("reads back") => failures
+                .push(format!("{}: `exact` must give a reason that is not reading back an input", c.file.display())),
+            _ => {}
         }
+        outcomes.extend(mine);
     }
+    // The family: every statistical verdict of the run. A filtered run cannot know the
+    // whole catalog's count, so it uses every estimator × sampler of the catalog (an
+    // upper bound: conservative).
+    let tests = if filter.is_empty() {
+        judge_family(&mut outcomes, 0, ALPHA)
+    } else {
+        let k = cases
+            .iter()
+            .map(|c| c.desc.estimators.len() * c.samplers().len())
+            .sum();
+        outcomes.iter_mut().for_each(|o| o.judge(ALPHA, k));
+        k
+    };
+    let mut lines = vec![header.clone()];
+    for o in &outcomes {
+        let r = row(o);
+        let v = o.verdict.as_ref();
+        let weak = v.is_some_and(|v| {
+            v.detectable_relative_bias.is_nan() || v.detectable_relative_bias > MAX_DETECTABLE
+        });
+        if !o.passed() {
+            failures.push(r.clone());
+        } else if weak {
+            failures.push(format!("{r}detectable relative bias above {MAX_DETECTABLE}: the test cannot see a 0.5 % error"));
+        } else if v.is_none() {
+            failures.push(format!("{r}no reference"));
+        }
+        lines.push(r);
+    }
+    let ran = outcomes.len();
+    let exact = outcomes.iter().filter(|o| o.exact).count();
     let total = start.elapsed().as_secs_f64();
     println!("{}", lines.join("\n"));
     println!(
-        "catalog: {} cases, {ran} verdicts of a family of {tests}, seed {seed}, scale {scale}, total {total:.2}s",
-        cases.len()
+        "catalog: {} cases, {ran} verdicts ({} statistical in a Šidák family of {tests}, {exact} exact), seed {seed}, scale {scale}, total {total:.2}s",
+        cases.len(),
+        ran - exact
     );
     assert!(
         failures.is_empty(),
         "{} of {ran} catalog verdicts failed (seed {seed}, scale {scale}; rerun with LIGHTPROOF_SEED={seed}):\n{header}\n{}",
         failures.len(),
         failures.join("\n")
+    );
+}
+
+/// The oracle never shares code with what it judges, in either direction: the oracle
+/// crate depends on nothing of the engine, and in the engine only the harness that
+/// looks references up (`src/verify*`) names the oracle.
+#[test]
+fn oracle_and_engine_share_no_code() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    fn rust_files(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir)
+            .expect("readable source folder")
+            .flatten()
+        {
+            let p = e.path();
+            if p.is_dir() {
+                rust_files(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let mut bad = Vec::new();
+    let manifest = std::fs::read_to_string(root.join("analytic/Cargo.toml")).unwrap();
+    if manifest.contains("lightproof =") || manifest.contains("path = \"..\"") {
+        bad.push("analytic/Cargo.toml depends on the engine".to_string());
+    }
+    let mut oracle = Vec::new();
+    rust_files(&root.join("analytic/src"), &mut oracle);
+    assert!(oracle.len() > 5);
+    for f in &oracle {
+        let text = std::fs::read_to_string(f).unwrap();
+        if text.contains("lightproof::") || text.contains("extern crate lightproof") {
+            bad.push(format!("{} uses the engine", f.display()));
+        }
+    }
+    let mut engine = Vec::new();
+    rust_files(&root.join("src"), &mut engine);
+    assert!(engine.len() > 20);
+    for f in &engine {
+        let rel = f.strip_prefix(&root).unwrap().display().to_string();
+        let harness = rel == "src/verify.rs" || rel.starts_with("src/verify/");
+        let text = std::fs::read_to_string(f).unwrap();
+        if !harness && text.contains("lightproof_analytic") {
+            bad.push(format!("{rel} (engine code) uses the oracle"));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "the oracle and the engine share code:\n{}",
+        bad.join("\n")
     );
 }

@@ -114,7 +114,10 @@ fn a_passing_case_exits_0_and_prints_the_table() {
         "{stdout}{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("2 passed, 0 failed"), "{stdout}");
+    assert!(
+        stdout.contains("2 passed (2 statistical, 0 exact), 0 failed"),
+        "{stdout}"
+    );
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(doc["outcomes"].as_array().unwrap().len(), 2);

@@ -277,3 +277,149 @@ fn a_wrong_reference_is_rejected() {
     let v = MeanTest::new(ALPHA, FAMILY).judge(&e.batches.total, 2.0 * 1.01);
     assert!(!v.passed, "{v:?}");
 }
+
+// ---------------------------------------------------------------------------------
+// Nothing is masked: a NaN injected through each path of the engine reaches the
+// accumulator as a non-finite sample and fails the verdict (README: "Non-finite
+// samples fail a verdict outright; they are never dropped").
+// ---------------------------------------------------------------------------------
+
+/// A disk light of radiance 1 at height 2 over a Lambertian floor, measured as
+/// irradiance on the floor (next-event and BSDF-found emission) or as the floor's
+/// radiance (one scattering: BSDF evaluation and sampling).
+fn lit_floor(measure: &str) -> Case {
+    case(&format!(
+        r#"{{ "name": "nan injection", "teaches": "nothing is masked",
+        "scene": {{ "materials": {{ "floor": {{ "type": "lambertian", "albedo": 0.5 }} }},
+          "shapes": [
+            {{ "geometry": {{ "type": "disk", "center": [0,0,2], "normal": [0,0,-1], "radius": 1 }},
+               "emission": {{ "radiance": 1 }} }},
+            {{ "geometry": {{ "type": "rectangle", "corner": [-5,-5,0], "edge_u": [10,0,0], "edge_v": [0,10,0] }},
+               "material": "floor" }} ] }},
+        "measure": {measure},
+        "reference": {{ "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 }},
+        "estimators": ["light", "bsdf", "mis"] }}"#
+    ))
+}
+
+const IRRADIANCE: &str = r#"{ "irradiance": { "at": [0,0,0], "normal": [0,0,1] } }"#;
+const FLOOR_RADIANCE: &str = r#"{ "radiance": { "at": [0.3,0.2,1], "direction": [0.1,0.2,-1] } }"#;
+
+/// Run `est` on `c` and require non-finite samples and a failed verdict.
+fn assert_counted(c: &Case, est: Estimator, what: &str) {
+    let e = c.estimate(est, &spec(1 << 12, 0x7a7a), false);
+    let nf = e.batches.total.non_finite;
+    assert!(
+        nf > 0,
+        "{what} ({}): the NaN was masked, non_finite = 0",
+        est.name()
+    );
+    let v = judge(&e, SamplerKind::Independent, 1.0, ALPHA, 1);
+    assert!(
+        !v.passed && v.reason.as_deref().unwrap_or("").contains("non-finite"),
+        "{what} ({}): {v:?}",
+        est.name()
+    );
+}
+
+#[test]
+fn nan_emission_is_counted_on_every_strategy() {
+    use lightproof::scene::emitter::Emitter;
+    let mut c = lit_floor(IRRADIANCE);
+    let Emitter::Area { radiance, .. } = &mut c.scene.emitters[0] else {
+        panic!("the disk is the first emitter")
+    };
+    *radiance = f32::NAN;
+    // Next-event estimation (light), emission found by BSDF sampling (bsdf), both (mis).
+    for est in [Estimator::Light, Estimator::Bsdf, Estimator::Mis] {
+        assert_counted(&c, est, "NaN area radiance");
+    }
+    // A negative radiance is as wrong as a NaN: counted, never silently dropped.
+    let mut neg = lit_floor(IRRADIANCE);
+    if let Emitter::Area { radiance, .. } = &mut neg.scene.emitters[0] {
+        *radiance = -1.0;
+    }
+    assert_counted(&neg, Estimator::Light, "negative area radiance");
+}
+
+#[test]
+fn nan_light_density_is_counted() {
+    let mut c = lit_floor(IRRADIANCE);
+    // The shape's area enters the light-sampling density (choice of primitive by area).
+    c.scene.shapes[0].area = f32::NAN;
+    assert_counted(&c, Estimator::Light, "NaN light density");
+    let mut inf = lit_floor(IRRADIANCE);
+    inf.scene.shapes[0].area = 0.0;
+    assert_counted(&inf, Estimator::Light, "infinite light density");
+}
+
+#[test]
+fn nan_bsdf_is_counted_in_evaluation_and_sampling() {
+    use lightproof::bsdf::{Bsdf, lambertian::Lambertian};
+    let mut c = lit_floor(FLOOR_RADIANCE);
+    c.scene.materials[0] = Bsdf::Lambertian(Lambertian { albedo: f32::NAN });
+    // light: the BSDF value in next-event estimation; bsdf: the sampled weight.
+    for est in [Estimator::Light, Estimator::Bsdf, Estimator::Mis] {
+        assert_counted(&c, est, "NaN BSDF");
+    }
+}
+
+#[test]
+fn nan_environment_and_spectrum_are_counted() {
+    use lightproof::scene::emitter::Emitter;
+    use lightproof::spectrum::{Response, Spectrum};
+    // A constant environment of NaN radiance seen by an escaping ray.
+    let mut env = case(
+        r#"{ "name": "nan environment", "teaches": "nothing is masked",
+        "scene": { "emitters": [ { "type": "constant", "radiance": 1 } ] },
+        "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
+        "reference": { "closed_form": "constant_environment_irradiance", "radiance": 1 },
+        "estimators": ["light", "bsdf", "mis"] }"#,
+    );
+    if let Some(Emitter::Constant { radiance }) = env.scene.emitters.last_mut() {
+        *radiance = f32::NAN;
+    } else {
+        panic!("a constant emitter");
+    }
+    for est in [Estimator::Light, Estimator::Bsdf, Estimator::Mis] {
+        assert_counted(&env, est, "NaN environment");
+    }
+    // A blackbody disk over a band. Spectra and responses clamp out-of-domain data to
+    // finite values by contract (tests/spectrum.rs), so the spectral path's non-finite
+    // values are overflows: a response or an emission spectrum at f32::MAX makes
+    // R(λ)/p(λ) or L·S(λ)·weight infinite, which must be counted, not dropped.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/spectral");
+    let load = || Case::load(&root.join("blackbody_visible_band_3000K.json")).unwrap();
+    let mut c = load();
+    let sp = c.dims.spectral.as_mut().expect("a spectral case");
+    sp.response = Response::Sampled(Spectrum::Constant(f32::MAX));
+    for &est in &c.desc.estimators.clone() {
+        assert_counted(&c, est, "overflowing response");
+    }
+    let mut c = load();
+    c.scene.emitter_props[0].spectrum = Some(Spectrum::Constant(f32::MAX));
+    for &est in &c.desc.estimators.clone() {
+        assert_counted(&c, est, "overflowing emission spectrum");
+    }
+}
+
+#[test]
+fn an_outcome_without_reference_fails_on_nan() {
+    use lightproof::verify::Outcome;
+    let mut c = lit_floor(IRRADIANCE);
+    c.reference = None;
+    c.scene.shapes[0].area = f32::NAN;
+    let e = c.estimate(Estimator::Light, &spec(1 << 10, 0x7a7b), false);
+    let mut o = Outcome::new(&c, Estimator::Light, SamplerKind::Independent, 1, &e);
+    o.judge(ALPHA, 1);
+    assert!(o.verdict.is_none() && o.non_finite > 0);
+    assert!(
+        !o.passed(),
+        "a case without reference passed with NaN samples"
+    );
+    // The same case with finite samples passes.
+    let ok = lit_floor(IRRADIANCE);
+    let e = ok.estimate(Estimator::Light, &spec(1 << 10, 0x7a7c), false);
+    let o = Outcome::new(&ok, Estimator::Light, SamplerKind::Independent, 1, &e);
+    assert!(o.passed() && o.non_finite == 0);
+}

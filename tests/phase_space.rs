@@ -257,7 +257,7 @@ fn hard_spectral_inputs_stay_finite() {
     for (t, band) in [
         (1.0, "[400, 700]"),
         (1e6, "[10, 1000]"),
-        (5000.0, "[550, 550.001]"),
+        (5000.0, "[550, 550.06]"),
     ] {
         let c = blackbody_disk(t, &format!(r#"{{ "band": {band} }}"#));
         let e = c.estimate(Estimator::Mis, &spec(1 << 10, 61), false);
@@ -265,6 +265,26 @@ fn hard_spectral_inputs_stay_finite() {
         assert_eq!(m.non_finite, 0, "T = {t}");
         assert!(m.mean >= 0.0 && m.mean.is_finite(), "T = {t}: {}", m.mean);
     }
+    // A band narrower than 1e-4·λ₂ collapses in f32 wavelengths: refused, not estimated.
+    let spectral = r#"{ "band": [550, 550.001] }"#;
+    let e = try_case(&blackbody_case_json(5000.0, spectral))
+        .err()
+        .unwrap_or_default();
+    assert!(
+        e.contains("spectral.band") && e.contains("too narrow"),
+        "{e}"
+    );
+}
+
+fn blackbody_case_json(t: f64, spectral: &str) -> String {
+    format!(
+        r#"{{ "name": "blackbody {t}", "teaches": "Planck",
+        "scene": {{ "shapes": [ {{ "geometry": {{ "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 4 }},
+            "emission": {{ "radiance": 1, "spectrum": {{ "blackbody": {{ "temperature": {t} }} }} }} }} ] }},
+        "measure": {{ "radiance": {{ "at": [0,0,0], "direction": [0,0,1] }} }},
+        "spectral": {spectral},
+        "estimators": ["mis"] }}"#
+    )
 }
 
 /// Bad spectral and time input: a clear error naming the field, never a panic.

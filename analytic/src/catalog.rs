@@ -630,6 +630,17 @@ static ENTRIES: &[Entry] = &[
             ))
         }
     ),
+    entry!(
+        "radiance_at_dielectric_sphere_centre",
+        ["radiance", "eta"],
+        "radiance (W/(m²·sr)) seen from the centre of a smooth dielectric sphere of index eta looking at an emitter of radiance L, black behind: η² L/(1 + R₀)",
+        |p| {
+            Ok(radiometry::radiance_at_dielectric_sphere_centre(
+                p.non_negative("radiance")?,
+                p.positive("eta")?,
+            ))
+        }
+    ),
     // ---- spectrum ----
     entry!(
         "planck_radiance",
@@ -1047,6 +1058,7 @@ mod tests {
             "lambertian_intensity": {"radiance": 1, "area": 2, "theta": 0.5},
             "photon_energy": {"wavelength": 5.5e-7},
             "radiance_across_interface": {"radiance": 1, "n1": 1, "n2": 1.5},
+            "radiance_at_dielectric_sphere_centre": {"radiance": 1, "eta": 1.5},
             "planck_radiance": {"wavelength": 5e-7, "temperature": 5778},
             "blackbody_total_radiance": {"temperature": 5778},
             "blackbody_band_radiance": {"wavelength_min": 3.8e-7, "wavelength_max": 7.8e-7, "temperature": 5778},

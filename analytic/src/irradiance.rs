@@ -508,3 +508,109 @@ mod tests {
         assert!(rel(constant_environment(1.0), q) < 1e-12);
     }
 }
+
+/// The sphere formula [`sphere`] for receivers almost touching the sphere (issue 13),
+/// against an independent quadrature over the sphere's surface.
+#[cfg(test)]
+mod near_surface_sphere {
+    use super::*;
+    use crate::quadrature::adaptive;
+
+    /// E = L ∫ max(0, n·v) (m·(−v)) / |v|⁴ dA over the visible cap (v = x − p, m the
+    /// outward normal at x), in polar coordinates (α, φ) about the axis from the centre
+    /// to `p`; the azimuths are restricted to the part above the receiver's horizon,
+    /// and the polar range is split geometrically from the gap h = (d − r)/r upwards,
+    /// since for a small gap the integrand peaks within α ≲ h of the pole.
+    fn sphere_by_area(p: Vec3, n: Vec3, c: Vec3, r: f64) -> f64 {
+        let w = p - c;
+        let d = w.length();
+        let ez = w * (1.0 / d);
+        let (e1, e2) = ez.orthonormal_basis();
+        let (nz, n1, n2) = (n.dot(ez), n.dot(e1), n.dot(e2));
+        let q = n1.hypot(n2);
+        let phi0 = n2.atan2(n1);
+        let alpha_max = (r / d).acos();
+        let integrand = |a: f64, phi: f64| {
+            let (sa, ca) = a.sin_cos();
+            let (sp, cp) = phi.sin_cos();
+            let m = e1 * (sa * cp) + e2 * (sa * sp) + ez * ca;
+            let v = c + m * r - p;
+            let t2 = v.length_squared();
+            let cos_r = n.dot(v).max(0.0);
+            let cos_l = -m.dot(v);
+            cos_r * cos_l.max(0.0) / (t2 * t2) * r * r * sa
+        };
+        // Half-width of the visible azimuths at polar angle a: r sin a q cos(φ − φ0) ≥
+        // n_z (d − r cos a).
+        let half = |a: f64| {
+            let den = r * a.sin() * q;
+            let num = nz * (d - r * a.cos());
+            if den <= 0.0 {
+                return if num <= 0.0 { PI } else { 0.0 };
+            }
+            (num / den).clamp(-1.0, 1.0).acos()
+        };
+        let h = (d - r) / r;
+        let mut edges = vec![0.0];
+        let mut e = h;
+        while e < alpha_max {
+            edges.push(e);
+            e *= 4.0;
+        }
+        edges.push(alpha_max);
+        // Where the horizon starts (k = −1) or stops (k = +1) cutting the circles of
+        // constant α, k = n_z (d − r cos α)/(r sin α q) being monotone on (0, α_max]: the
+        // azimuth range has a square-root onset there, so it becomes an edge too.
+        let k = |a: f64| nz * (d - r * a.cos()) / (r * a.sin() * q);
+        for target in [-1.0, 1.0] {
+            let (mut lo, mut hi) = (alpha_max * 1e-12, alpha_max);
+            if q > 0.0 && (k(lo) - target) * (k(hi) - target) < 0.0 {
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if (k(lo) - target) * (k(mid) - target) <= 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                edges.push(0.5 * (lo + hi));
+            }
+        }
+        edges.sort_by(f64::total_cmp);
+        edges
+            .windows(2)
+            .map(|ab| {
+                adaptive(
+                    |a| {
+                        let hw = half(a);
+                        adaptive(|phi| integrand(a, phi), phi0 - hw, phi0 + hw, 1e-9)
+                    },
+                    ab[0],
+                    ab[1],
+                    1e-8,
+                )
+            })
+            .sum()
+    }
+
+    #[test]
+    fn sphere_matches_area_quadrature_near_the_surface() {
+        let c = Vec3::new(0.3, -0.2, 0.1);
+        let r = 0.5;
+        for gap in [1e-5, 1e-4, 1e-3, 1e-2] {
+            for theta in [0.0f64, 0.6, 0.9273, 1.4, PI / 2.0, 2.2143, 2.8] {
+                // The receiver above the sphere's top; its normal tilted by θ from the
+                // direction to the centre (−z) towards +x.
+                let p = Vec3::new(c.x, c.y, c.z + r * (1.0 + gap));
+                let n = Vec3::new(theta.sin(), 0.0, -theta.cos());
+                let got = sphere(p, n, c, r, 1.0);
+                let q = sphere_by_area(p, n, c, r);
+                let err = (got - q).abs() / q.abs().max(1e-300);
+                assert!(
+                    err < 1e-7,
+                    "gap {gap}, θ = {theta}: {got} vs quadrature {q}"
+                );
+            }
+        }
+    }
+}

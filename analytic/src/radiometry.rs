@@ -46,10 +46,50 @@ pub fn radiance_across_interface(radiance: f64, n1: f64, n2: f64) -> f64 {
     radiance * (n2 / n1) * (n2 / n1)
 }
 
+/// Radiance seen from the centre of a smooth dielectric sphere (relative index η, in
+/// vacuum) looking at an emitter of radiance L that fills the forward direction, with
+/// nothing (black) behind.
+///
+/// **Formula.** L_c = η² L / (1 + R₀), R₀ = ((η − 1)/(η + 1))².
+///
+/// **Derivation.** Every ray from the centre meets the sphere at normal incidence, so it
+/// is not bent, and its reflection returns through the centre along the same line. The
+/// forward ray leaves with transmittance T = 1 − R₀ and gains the factor η² of
+/// [`radiance_across_interface`] (from vacuum into the glass, seen from inside); its
+/// reflection reaches the back of the sphere, whose exit sees black, and comes back
+/// forward after a second reflection. Summing the bounces,
+/// L_c = η² L T (1 + R₀² + R₀⁴ + …) = η² L (1 − R₀)/(1 − R₀²) = η² L/(1 + R₀).
+/// At η = 1 it is L (radiance invariance in vacuum).
+///
+/// **Source.** Normal-incidence Fresnel reflectance (Born & Wolf §1.5.3), radiance
+/// across an interface (Nicodemus 1963), the multiple-reflection series of a lossless
+/// plate (Hecht, *Optics*, §9.6).
+pub fn radiance_at_dielectric_sphere_centre(radiance: f64, eta: f64) -> f64 {
+    let r0 = crate::fresnel::normal_reflectance(eta);
+    radiance * eta * eta / (1.0 + r0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::quadrature::{adaptive, adaptive_2d};
+
+    #[test]
+    fn dielectric_sphere_centre_sums_the_bounce_series() {
+        for eta in [1.0, 1.0001, 1.33, 1.5, 2.4, 4.0] {
+            // The series bounce by bounce, with the reflectance from the oracle's full
+            // Fresnel formula at normal incidence (not the R₀ shortcut).
+            let r = crate::fresnel::dielectric(1.0, eta);
+            let sum: f64 = (0..400).map(|k| (1.0 - r) * r.powi(2 * k)).sum();
+            let want = radiance_across_interface(2.0, 1.0, eta) * sum;
+            let got = radiance_at_dielectric_sphere_centre(2.0, eta);
+            assert!(
+                (got - want).abs() < 1e-12 * want,
+                "η = {eta}: {got} vs {want}"
+            );
+        }
+        assert_eq!(radiance_at_dielectric_sphere_centre(3.0, 1.0), 3.0);
+    }
 
     #[test]
     fn power_and_intensity_by_quadrature() {

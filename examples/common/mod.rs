@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use lightproof::sampling::SamplerKind;
-use lightproof::stats::Verdict;
+use lightproof::stats::{Verdict, VerdictClass};
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
 use lightproof::verify::{Case, CaseDesc, judge, seed_for};
@@ -57,13 +57,23 @@ pub fn num(x: f64) -> String {
 }
 
 /// Print one verdict line; returns whether it passed.
+/// An estimate without variance (a delta light, cosine-sampled Lambertian) is judged
+/// exactly, within the f32 error bound, and says so instead of "± 0".
 pub fn report(what: &str, v: &Verdict) -> bool {
+    let (spread, score) = match v.class {
+        VerdictClass::Statistical => (
+            format!("± {:<11}", num(v.std_error)),
+            format!("z {:+6.2}", v.z),
+        ),
+        VerdictClass::Exact => (
+            format!("{:<13}", "(no variance)"),
+            format!("{:>8}", "f32 bound"),
+        ),
+    };
     println!(
-        "  {what:<50} {:>12} ± {:<11} exact {:>12}  z {:+6.2}  verdict {}",
+        "  {what:<50} {:>12} {spread} exact {:>12}  {score}  verdict {}",
         num(v.estimate),
-        num(v.std_error),
         num(v.reference),
-        v.z,
         if v.passed { "PASS" } else { "FAIL" }
     );
     if let Some(r) = &v.reason {

@@ -536,30 +536,18 @@ pub fn albedo(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> Albed
     })
 }
 
-/// Floor on the standard error standing for the `f32` rounding of a weight (about 10
-/// ulps of the O(1) terms it is computed from), relative to max(|reference|, 1):
-/// zero-variance estimators (delta lobes, Lambertian) are then judged to rounding
-/// instead of bit-exactly. It adds ~7e-6 to the detectable relative bias.
-pub const FLOAT_REL: f64 = 1e-6;
-
-fn with_float_floor(acc: &Accumulator, scale: f64) -> Accumulator {
-    let mut a = *acc;
-    if a.count > 1 {
-        let n = a.count as f64;
-        let floor = FLOAT_REL * scale.abs().max(1.0);
-        a.m2 += floor * floor * n * (n - 1.0);
-    }
-    a
-}
-
-/// One-sided test that an albedo estimate is not above `bound` (usually 1).
+/// One-sided test that an albedo estimate is not above `bound` (usually 1). A
+/// zero-variance estimate (delta lobes, a Lambertian's cosine sampling) is judged
+/// exactly, within the stated f32 error bound ([`crate::stats::mean_test`]) of the O(1)
+/// terms a BSDF weight is computed from (term scale 1).
 pub fn judge_at_most(test: &MeanTest, acc: &Accumulator, bound: f64) -> Verdict {
-    test.judge_at_most(&with_float_floor(acc, bound), bound)
+    test.with_term_scale(1.0).judge_at_most(acc, bound)
 }
 
-/// Two-sided test that an estimate equals `reference` (a promised reflectance).
+/// Two-sided test that an estimate equals `reference` (a promised reflectance), or the
+/// exact comparison for a zero-variance estimate.
 pub fn judge_equal(test: &MeanTest, acc: &Accumulator, reference: f64) -> Verdict {
-    test.judge(&with_float_floor(acc, reference), reference)
+    test.with_term_scale(1.0).judge(acc, reference)
 }
 
 // ---------------------------------------------------------------------------------
@@ -601,7 +589,7 @@ pub fn integrate_microfacet_with(
     phi_panels: usize,
     f: impl Fn(Vec3) -> f64 + Sync,
 ) -> f64 {
-    use lightproof_analytic::quadrature::GaussLegendre;
+    use crate::quadrature::GaussLegendre;
     let rule = GaussLegendre::new(8);
     let a = alpha as f64;
     let tau = std::f64::consts::TAU;

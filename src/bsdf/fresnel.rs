@@ -148,10 +148,10 @@ pub fn fr_dielectric_f64(cos_i: f64, eta: f64) -> f64 {
 pub fn fresnel_diffuse_reflectance(eta: f64) -> f64 {
     let f = |mu: f64| fr_dielectric_f64(mu, eta) * 2.0 * mu;
     if eta >= 1.0 {
-        lightproof_analytic::quadrature::adaptive(f, 0.0, 1.0, 1e-12)
+        crate::quadrature::adaptive(f, 0.0, 1.0, 1e-12, 1e-15)
     } else {
         let mu_c = (1.0 - eta * eta).max(0.0).sqrt();
-        mu_c * mu_c + lightproof_analytic::quadrature::adaptive(f, mu_c, 1.0, 1e-12)
+        mu_c * mu_c + crate::quadrature::adaptive(f, mu_c, 1.0, 1e-12, 1e-15)
     }
 }
 

@@ -61,6 +61,13 @@ pub fn svg(r: &CaseReport) -> Result<String, String> {
     let headline = super::HEADLINE;
     let (x0, x1) = (x0 / 2.0, x1 * 2.0);
     let (y0, y1) = (y0.min(headline) / 3.0, y1.max(headline) * 3.0);
+    // A log axis over an infinite range never finishes its ticks (a hostile partial
+    // file's `seconds: 1e308`): refuse instead of hanging.
+    if !([x0, x1, y0, y1].iter().all(|v| v.is_finite() && *v > 0.0) && x0 < x1 && y0 < y1) {
+        return Err(format!(
+            "axis range [{x0:e}, {x1:e}] × [{y0:e}, {y1:e}] cannot be plotted"
+        ));
+    }
     let mut buf = String::new();
     {
         let e = |e: DrawingAreaErrorKind<std::io::Error>| e.to_string();

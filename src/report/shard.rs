@@ -270,8 +270,8 @@ pub struct ShardPartial {
 /// Read a partial file.
 pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "-", format!("cannot read: {e}")))?;
+    let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+        .map_err(|e| InputError::new(&file, "-", e))?;
     check_header(&file, &text, Kind::Shard)?;
     parse_json(&file, &text)
 }
@@ -297,7 +297,15 @@ pub fn merge_partials(
         )
     })?;
     let count = first.shard.count;
-    let mut seen: Vec<Option<&Path>> = vec![None; count as usize];
+    if count == 0 {
+        return Err(InputError::new(
+            first_path.display().to_string(),
+            "shard.count",
+            "must be at least 1, got 0",
+        ));
+    }
+    // By index, not a slot per shard: a file claiming 2³² − 1 shards allocates nothing.
+    let mut seen: BTreeMap<u32, &Path> = BTreeMap::new();
     for (path, p) in partials {
         let f = path.display().to_string();
         if p.shard.count != count {
@@ -337,8 +345,17 @@ pub fn merge_partials(
                 ),
             ));
         }
-        let slot = &mut seen[p.shard.index as usize];
-        if let Some(other) = slot {
+        if p.shard.index >= count {
+            return Err(InputError::new(
+                f,
+                "shard.index",
+                format!(
+                    "shard index {} is not below the shard count {count}",
+                    p.shard.index
+                ),
+            ));
+        }
+        if let Some(other) = seen.insert(p.shard.index, path) {
             return Err(InputError::new(
                 f,
                 "shard.index",
@@ -349,18 +366,23 @@ pub fn merge_partials(
                 ),
             ));
         }
-        *slot = Some(path);
     }
-    let missing: Vec<String> = seen
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.is_none())
-        .map(|(i, _)| i.to_string())
+    // The first ten missing indices (bounded work whatever the claimed count).
+    let missing: Vec<String> = (0..count)
+        .filter(|i| !seen.contains_key(i))
+        .take(10)
+        .map(|i| i.to_string())
         .collect();
     if !missing.is_empty() {
+        let absent = count as u64 - seen.len() as u64;
+        let more = if absent > 10 {
+            format!(" and {} more", absent - 10)
+        } else {
+            String::new()
+        };
         return Err(merge_err(
             "shards",
-            format!("missing shard(s) {} of {count}", missing.join(", ")),
+            format!("missing shard(s) {}{more} of {count}", missing.join(", ")),
         ));
     }
     run.budget_cut = partials.iter().any(|(_, p)| p.run.budget_cut);

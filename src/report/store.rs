@@ -76,17 +76,11 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), InputError> {
 /// Read a case report; `Ok(None)` when the file does not exist. A file that is not a
 /// lightproof case report is an error (it is never overwritten silently).
 pub fn read_case_report(path: &Path) -> Result<Option<CaseReport>, InputError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => {
-            return Err(InputError::new(
-                path.display().to_string(),
-                "-",
-                format!("cannot read: {e}"),
-            ));
-        }
-    };
+    if !path.exists() && path.symlink_metadata().is_err() {
+        return Ok(None);
+    }
+    let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+        .map_err(|e| InputError::new(path.display().to_string(), "-", e))?;
     let file = path.display().to_string();
     check_header(&file, &text, Kind::Case)?;
     parse_json(&file, &text).map(Some)

@@ -106,6 +106,12 @@ pub fn settings(opts: &Options) -> Result<Settings, InputError> {
             ),
         ));
     }
+    if opts.min_samples > 1 << 40 {
+        return Err(cli_err(
+            "--min-samples",
+            format!("must be at most 2^40, got {}", opts.min_samples),
+        ));
+    }
     if opts.max_samples > 1 << 40 {
         return Err(cli_err(
             "--max-samples",

@@ -10,6 +10,9 @@ use crate::bsdf::Bsdf;
 use crate::spectrum::{Band, Ior, Spectrum};
 use serde::{Deserialize, Serialize};
 
+/// Largest extinction coefficient k a conductor accepts (as its BSDF's own check).
+const MAX_K: f32 = 100.0;
+
 /// The wavelength-dependent index of one material, as written in a scene's
 /// `dispersion` map: `{"glass": {"eta": {"sellmeier": {...}}}}`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -69,6 +72,16 @@ impl SpectralIor {
                 ));
             }
             k.validate().map_err(|r| format!("k: {r}"))?;
+            // The conductor's own bound on k (as in `materials`) holds over the band.
+            let kmax = k.max_in(band);
+            if !(kmax <= MAX_K) {
+                return Err(format!(
+                    "k: the extinction coefficient reaches {kmax} over [{}, {}] nm; a `{}` needs it within [0, {MAX_K}]",
+                    band.min,
+                    band.max,
+                    bsdf.name()
+                ));
+            }
         }
         Ok(())
     }

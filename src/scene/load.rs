@@ -24,7 +24,7 @@ use super::emitter::{EmitterProps, EnvMap, area_distribution};
 use super::shape::Primitive;
 use super::{Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
-use crate::error::{InputError, check_number};
+use crate::error::{InputError, MAX_COORDINATE, check_derived, check_number};
 use crate::math::Frame;
 use crate::spectrum::Spectrum;
 use glam::{DQuat, DVec3, Vec3};
@@ -252,24 +252,53 @@ fn v3(a: [f64; 3]) -> DVec3 {
 }
 
 fn finite3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    if a.iter().all(|x| x.is_finite()) {
-        Ok(v3(a))
+    crate::error::check_point(file, field, a)
+}
+
+fn unit3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
+    crate::error::check_direction(file, field, a)
+}
+
+/// A point after its shape's transform: still within ±[`MAX_COORDINATE`].
+fn placed(file: &str, field: &str, p: DVec3) -> Result<DVec3, InputError> {
+    match p
+        .to_array()
+        .into_iter()
+        .find(|x| !(x.abs() <= MAX_COORDINATE))
+    {
+        None => Ok(p),
+        Some(x) => Err(InputError::new(
+            file,
+            field,
+            format!(
+                "after the transform a coordinate is {x:e}, out of range: coordinates must lie within ±{MAX_COORDINATE:e}"
+            ),
+        )),
+    }
+}
+
+/// A length after the transform's scale: at most [`MAX_COORDINATE`].
+fn length_in_range(file: &str, field: &str, v: f64, scale: f64) -> Result<f64, InputError> {
+    let l = v * scale;
+    if l <= MAX_COORDINATE {
+        Ok(l)
+    } else if scale == 1.0 {
+        Err(InputError::new(
+            file,
+            field,
+            format!(
+                "{v:e} is too large: lengths must be at most {MAX_COORDINATE:e} (its area would overflow f32)"
+            ),
+        ))
     } else {
         Err(InputError::new(
             file,
             field,
-            format!("must be three finite numbers, got {a:?}"),
+            format!(
+                "{v:e} times the transform's scale {scale:e} is {l:e}, too large: lengths must be at most {MAX_COORDINATE:e}"
+            ),
         ))
     }
-}
-
-fn unit3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    let v = finite3(file, field, a)?;
-    let l = v.length();
-    if !(l > 0.0) {
-        return Err(InputError::new(file, field, "must be a non-zero vector"));
-    }
-    Ok(v / l)
 }
 
 /// Everything needed to turn the f64 description into f32 geometry.
@@ -381,10 +410,12 @@ impl SceneDesc {
                         e.pulse_at,
                         None,
                     )?;
+                    let radiance =
+                        b.strength(&format!("{f}.emission.radiance"), e.radiance, scale, &p)?;
                     props.push(p);
                     emitters.push(super::Emitter::Area {
                         shape: shapes.len(),
-                        radiance: (e.radiance * scale) as f32,
+                        radiance,
                         two_sided: e.two_sided,
                     });
                     Some(emitters.len() - 1)
@@ -392,12 +423,33 @@ impl SceneDesc {
             };
             let area_dist = area_distribution(&prims[range.clone()]);
             let area = prims[range.clone()].iter().map(|p| p.area()).sum::<f32>();
-            if !(area > 0.0) || !area.is_finite() {
+            if !area.is_finite() {
                 return Err(InputError::new(
                     file,
                     format!("{f}.geometry"),
-                    "is degenerate: its area is zero",
+                    "is too large: its area overflows f32 (keep lengths well below 1e18)",
                 ));
+            }
+            if !(area > 0.0) {
+                return Err(InputError::new(
+                    file,
+                    format!("{f}.geometry"),
+                    "is degenerate: its area is zero (or too small for f32)",
+                ));
+            }
+            if let Some(super::Emitter::Area {
+                radiance,
+                two_sided,
+                ..
+            }) = emitter.map(|i| &emitters[i])
+            {
+                let sides = if *two_sided { 2.0 } else { 1.0 };
+                check_derived(
+                    file,
+                    &format!("{f}.emission.radiance"),
+                    *radiance as f64 * std::f64::consts::PI * area as f64 * sides,
+                    "the emitted power π·L·area",
+                )?;
             }
             shapes.push(Shape {
                 name: s.name.clone(),
@@ -483,9 +535,11 @@ impl Builder<'_> {
                     |r| r > 0.0,
                     "a positive radius",
                 )?;
+                let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
+                let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
                 prims.push(Primitive::Sphere {
-                    center: self.to_f32(xf(c)),
-                    radius: (radius * scale) as f32,
+                    center: self.to_f32(c2),
+                    radius: r as f32,
                 });
                 Ok(ShapeKind::Sphere)
             }
@@ -504,7 +558,11 @@ impl Builder<'_> {
                         "is degenerate: edge_u and edge_v are parallel or zero",
                     ));
                 }
-                let (c2, u2, v2) = (xf(c), xf(c + u), xf(c + v));
+                let (c2, u2, v2) = (
+                    placed(file, &format!("{gf}.corner"), xf(c))?,
+                    placed(file, &format!("{gf}.edge_u"), xf(c + u))?,
+                    placed(file, &format!("{gf}.edge_v"), xf(c + v))?,
+                );
                 prims.push(Primitive::Rectangle {
                     corner: self.to_f32(c2),
                     u: (u2 - c2).as_vec3(),
@@ -526,19 +584,21 @@ impl Builder<'_> {
                     |r| r > 0.0,
                     "a positive radius",
                 )?;
-                let c2 = xf(c);
+                let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
+                let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
                 let n2 = (xf(c + n) - c2).normalize();
                 prims.push(Primitive::Disk {
                     center: self.to_f32(c2),
                     normal: n2.as_vec3(),
-                    radius: (radius * scale) as f32,
+                    radius: r as f32,
                 });
                 Ok(ShapeKind::Planar)
             }
             GeometryDesc::Triangle { vertices } => {
                 let mut p = [Vec3::ZERO; 3];
                 for (k, v) in vertices.iter().enumerate() {
-                    p[k] = self.to_f32(xf(finite3(file, &format!("{gf}.vertices[{k}]"), *v)?));
+                    let field = format!("{gf}.vertices[{k}]");
+                    p[k] = self.to_f32(placed(file, &field, xf(finite3(file, &field, *v)?))?);
                 }
                 if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
                     return Err(InputError::new(
@@ -554,12 +614,22 @@ impl Builder<'_> {
                 let vs: Vec<DVec3> = vertices
                     .iter()
                     .enumerate()
-                    .map(|(k, v)| finite3(file, &format!("{gf}.vertices[{k}]"), *v).map(&xf))
+                    .map(|(k, v)| {
+                        let field = format!("{gf}.vertices[{k}]");
+                        placed(file, &field, xf(finite3(file, &field, *v)?))
+                    })
                     .collect::<Result<_, _>>()?;
                 self.mesh(&vs, indices, &gf, prims)
             }
             GeometryDesc::Obj { path } => {
                 let full = self.base.join(path);
+                crate::io::check_input_file(&full, crate::io::MAX_ASSET_BYTES).map_err(|r| {
+                    InputError::new(
+                        file,
+                        format!("{gf}.path"),
+                        format!("OBJ `{}` {r}", full.display()),
+                    )
+                })?;
                 let opts = tobj::LoadOptions {
                     triangulate: true,
                     single_index: true,
@@ -577,7 +647,9 @@ impl Builder<'_> {
                 for m in models {
                     let base = all.len() as u32;
                     for c in m.mesh.positions.chunks(3) {
-                        all.push(xf(DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)));
+                        let p = [c[0] as f64, c[1] as f64, c[2] as f64];
+                        let field = format!("{gf}.path");
+                        all.push(placed(file, &field, xf(finite3(file, &field, p)?))?);
                     }
                     for t in m.mesh.indices.chunks(3) {
                         idx.push([base + t[0], base + t[1], base + t[2]]);
@@ -651,6 +723,43 @@ impl Builder<'_> {
         })
     }
 
+    /// An emitter's strength (radiance, intensity, irradiance) times its constant
+    /// spectrum, as `f32`: the product must fit, and so must its product with the peak
+    /// of a varying spectrum.
+    fn strength(
+        &self,
+        field: &str,
+        value: f64,
+        scale: f64,
+        props: &EmitterProps,
+    ) -> Result<f32, InputError> {
+        let v = value * scale;
+        if let Some(why) = crate::error::f32_problem(v) {
+            return Err(InputError::new(
+                self.file,
+                field,
+                format!("times the constant spectrum ({scale}) is {v:e}, which {why}"),
+            ));
+        }
+        if let Some(s) = &props.spectrum {
+            let peak = s.max_in(crate::spectrum::Band::new(1.0, 1e7)) as f64;
+            if peak >= f32::MAX as f64 {
+                return Err(InputError::new(
+                    self.file,
+                    field,
+                    "the spectrum's peak overflows f32: use a smaller scale",
+                ));
+            }
+            check_derived(
+                self.file,
+                field,
+                v * peak,
+                "this value times the spectrum's peak",
+            )?;
+        }
+        Ok(v as f32)
+    }
+
     /// Validate an emitter's spectrum, pulse and velocity. A constant spectrum folds
     /// into the emitter's strength: the returned factor multiplies it.
     fn props(
@@ -713,10 +822,18 @@ impl Builder<'_> {
             } => {
                 nonneg("intensity", *intensity)?;
                 let (p, scale) = self.props(f, spectrum.as_ref(), *pulse_at, *velocity)?;
+                let field = format!("{f}.intensity");
+                let intensity = self.strength(&field, *intensity, scale, &p)?;
+                check_derived(
+                    file,
+                    &field,
+                    4.0 * std::f64::consts::PI * intensity as f64,
+                    "the emitted power 4π·I",
+                )?;
                 (
                     Emitter::Point {
                         position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
-                        intensity: (*intensity * scale) as f32,
+                        intensity,
                     },
                     p,
                 )
@@ -748,11 +865,19 @@ impl Builder<'_> {
                     "in [0, cone_angle] degrees",
                 )?;
                 let d = unit3(file, &format!("{f}.direction"), *direction)?;
+                let field = format!("{f}.intensity");
+                let intensity = self.strength(&field, *intensity, scale, &p)?;
+                check_derived(
+                    file,
+                    &field,
+                    4.0 * std::f64::consts::PI * intensity as f64,
+                    "the emitted power (at most 4π·I)",
+                )?;
                 (
                     Emitter::Spot {
                         position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
                         frame: Frame::from_z(d.as_vec3()),
-                        intensity: (*intensity * scale) as f32,
+                        intensity,
                         cos_total: cone_angle.to_radians().cos() as f32,
                         cos_falloff_start: falloff_start.to_radians().cos() as f32,
                     },
@@ -769,7 +894,12 @@ impl Builder<'_> {
                 (
                     Emitter::Directional {
                         direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(),
-                        irradiance: (*irradiance * scale) as f32,
+                        irradiance: self.strength(
+                            &format!("{f}.irradiance"),
+                            *irradiance,
+                            scale,
+                            &p,
+                        )?,
                     },
                     p,
                 )
@@ -777,12 +907,15 @@ impl Builder<'_> {
             EmitterDesc::Constant { radiance, spectrum } => {
                 nonneg("radiance", *radiance)?;
                 let (p, scale) = self.props(f, spectrum.as_ref(), None, None)?;
-                (
-                    Emitter::Constant {
-                        radiance: (*radiance * scale) as f32,
-                    },
-                    p,
-                )
+                let field = format!("{f}.radiance");
+                let radiance = self.strength(&field, *radiance, scale, &p)?;
+                check_derived(
+                    file,
+                    &field,
+                    4.0 * std::f64::consts::PI * radiance as f64,
+                    "the radiance integrated over the sphere, 4π·L,",
+                )?;
+                (Emitter::Constant { radiance }, p)
             }
             EmitterDesc::Envmap {
                 path,
@@ -802,11 +935,27 @@ impl Builder<'_> {
                         format!("holds a negative or non-finite radiance ({bad})"),
                     ));
                 }
+                let field = format!("{f}.scale");
+                let scale = self.strength(&field, *scale, 1.0, &p)?;
+                let peak = data.iter().fold(0.0f32, |m, &v| m.max(v)) as f64;
+                let sum: f64 = data.iter().map(|&v| v as f64).sum();
+                check_derived(
+                    file,
+                    &field,
+                    peak * scale as f64,
+                    "the map's brightest pixel × scale",
+                )?;
+                check_derived(
+                    file,
+                    &field,
+                    4.0 * std::f64::consts::PI * sum * scale as f64,
+                    "the map's total radiance × 4π × scale",
+                )?;
                 (
                     Emitter::Map(Box::new(EnvMap::new(
                         w,
                         h,
-                        data.into_iter().map(|v| v * *scale as f32).collect(),
+                        data.into_iter().map(|v| v * scale).collect(),
                     ))),
                     p,
                 )
@@ -815,26 +964,71 @@ impl Builder<'_> {
     }
 }
 
-/// Read an EXR's first RGBA layer as grey values (mean of R, G, B).
+/// Largest environment map: 2²⁶ pixels (64 Mpixel, e.g. 11585 × 5792).
+pub const MAX_ENVMAP_PIXELS: usize = 1 << 26;
+
+/// Read an EXR's first RGBA layer as grey values (mean of R, G, B). Before anything is
+/// allocated the file must be a regular file of at most [`crate::io::MAX_ASSET_BYTES`],
+/// its header must claim at most [`MAX_ENVMAP_PIXELS`] pixels, and the file must be long
+/// enough to hold the header's chunk offset table (a 200-byte file claiming 200000²
+/// pixels is refused, not allocated). Every channel of every pixel must be finite and
+/// non-negative (not only their mean).
 pub fn read_exr_grey(path: &Path) -> Result<(usize, usize, Vec<f32>), String> {
     use exr::prelude::*;
+    let name = path.display();
+    let len = crate::io::check_input_file(path, crate::io::MAX_ASSET_BYTES)
+        .map_err(|r| format!("EXR `{name}` {r}"))?;
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| format!("cannot read EXR `{name}`: {e}"))?;
+    let Some(header) = meta.headers.first() else {
+        return Err(format!("EXR `{name}` has no layer"));
+    };
+    let (w, h) = (header.layer_size.width(), header.layer_size.height());
+    let pixels = w.checked_mul(h).filter(|&n| n <= MAX_ENVMAP_PIXELS);
+    if pixels.is_none() {
+        return Err(format!(
+            "EXR `{name}` claims {w} × {h} pixels, more than the limit of {MAX_ENVMAP_PIXELS} (64 Mpixel)"
+        ));
+    }
+    let table: u64 = meta.headers.iter().map(|h| h.chunk_count as u64 * 8).sum();
+    if table > len {
+        return Err(format!(
+            "EXR `{name}` is truncated or corrupt: its header claims {w} × {h} pixels in {} chunks, but the file is only {len} bytes",
+            header.chunk_count
+        ));
+    }
+    type Bad = Option<(usize, usize, f32)>;
     let image = read_first_rgba_layer_from_file(
         path,
-        |res, _| {
-            (
-                res.width(),
-                res.height(),
-                vec![0.0f32; res.width() * res.height()],
-            )
+        |res, _| -> (usize, usize, Vec<f32>, Bad) {
+            let n = res
+                .width()
+                .saturating_mul(res.height())
+                .min(MAX_ENVMAP_PIXELS);
+            (res.width(), res.height(), vec![0.0f32; n], None)
         },
-        |(w, _, data), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            data[pos.y() * *w + pos.x()] = (r + g + b) / 3.0;
+        |(w, _, data, bad), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            if bad.is_none()
+                && let Some(c) = [r, g, b]
+                    .into_iter()
+                    .find(|c| !(c.is_finite() && *c >= 0.0))
+            {
+                *bad = Some((pos.x(), pos.y(), c));
+            }
+            if let Some(v) = data.get_mut(pos.y() * *w + pos.x()) {
+                *v = (r + g + b) / 3.0;
+            }
         },
     )
-    .map_err(|e| format!("cannot read EXR `{}`: {e}", path.display()))?;
-    let (w, h, data) = image.layer_data.channel_data.pixels;
-    if w == 0 || h == 0 {
-        return Err(format!("EXR `{}` is empty", path.display()));
+    .map_err(|e| format!("cannot read EXR `{name}`: {e}"))?;
+    let (w, h, data, bad) = image.layer_data.channel_data.pixels;
+    if w == 0 || h == 0 || data.len() != w * h {
+        return Err(format!("EXR `{name}` is empty"));
+    }
+    if let Some((x, y, c)) = bad {
+        return Err(format!(
+            "holds a negative or non-finite radiance: pixel ({x}, {y}) has a channel {c}"
+        ));
     }
     Ok((w, h, data))
 }

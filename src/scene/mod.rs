@@ -283,14 +283,15 @@ impl Scene {
         self.emitters.iter().map(|e| e.eval_infinite(d)).sum()
     }
 
-    /// Each light at infinity seen along an escaping direction: (emitter, radiance > 0).
+    /// Each light at infinity seen along an escaping direction: (emitter, radiance ≠ 0).
     pub fn escaped_each(&self, d: Vec3) -> impl Iterator<Item = (usize, f32)> + '_ {
         self.emitters
             .iter()
             .enumerate()
             .filter(|(_, e)| e.is_infinite())
             .map(move |(i, e)| (i, e.eval_infinite(d)))
-            .filter(|&(_, l)| l > 0.0)
+            // `!= 0`, not `> 0`: a NaN or negative radiance must reach the accumulator.
+            .filter(|&(_, l)| l != 0.0)
     }
 
     /// Probability of choosing one emitter (uniform selection).
@@ -382,7 +383,9 @@ impl Scene {
         };
         ls.pdf *= choice;
         ls.emitter = k;
-        (ls.pdf > 0.0 && ls.pdf.is_finite() && ls.li.is_finite()).then_some(ls)
+        // Only a zero density means "no sample"; a NaN or infinite density or radiance
+        // is returned as it is, so that next-event estimation counts it (never masked).
+        (ls.pdf != 0.0).then_some(ls)
     }
 
     /// Density (solid angle, including the emitter choice) with which

@@ -69,16 +69,5 @@ pub(crate) fn finite_f64(v: f64) -> f64 {
 /// ∫ f over [a, b] by `panels` composite 4-point Gauss–Legendre panels (exact for
 /// polynomials of degree 7 on each panel; Abramowitz & Stegun 25.4.29).
 pub(crate) fn gauss_legendre(a: f64, b: f64, panels: usize, f: impl Fn(f64) -> f64) -> f64 {
-    const X: [f64; 2] = [0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
-    const W: [f64; 2] = [0.652_145_154_862_546_1, 0.347_854_845_137_453_9];
-    let panels = panels.max(1);
-    let h = (b - a) / panels as f64;
-    let mut s = 0.0;
-    for i in 0..panels {
-        let m = a + (i as f64 + 0.5) * h;
-        for k in 0..2 {
-            s += W[k] * (f(m - 0.5 * h * X[k]) + f(m + 0.5 * h * X[k]));
-        }
-    }
-    s * 0.5 * h
+    crate::quadrature::GaussLegendre::new(4).composite(&mut |x| f(x), a, b, panels)
 }

@@ -125,6 +125,8 @@ pub struct Chi2Test {
     pub seed: u64,
     /// Per-test significance (already Šidák-corrected for the suite).
     pub alpha: f64,
+    /// Folder for the failure tables (default [`failure_dir`]).
+    pub dump_dir: PathBuf,
 }
 
 /// The outcome of a chi-square test.
@@ -173,7 +175,14 @@ impl Chi2Test {
             samples,
             seed,
             alpha,
+            dump_dir: failure_dir(),
         }
+    }
+
+    /// Write failure tables into `dir` instead of [`failure_dir`].
+    pub fn with_dump_dir(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.dump_dir = dir.into();
+        self
     }
 
     /// Set the resolution.
@@ -372,6 +381,17 @@ impl Chi2Test {
                 _ => pooled.push((po, pe)),
             }
         }
+        // Too few samples to fill two pooled cells: there is nothing to judge with, and
+        // a statistic of 0 with p = 1 would pass vacuously.
+        if pooled.iter().filter(|(_, e)| *e >= 5.0).count() < 2 {
+            reasons.push(format!(
+                "too few samples to judge: {} samples fill fewer than two cells with an expected count ≥ 5 (give at least {} for the {} × {} grid)",
+                self.samples,
+                5 * self.rows * self.cols,
+                self.rows,
+                self.cols
+            ));
+        }
         let statistic: f64 = pooled
             .iter()
             .filter(|(_, e)| *e > 0.0)
@@ -447,8 +467,8 @@ impl Chi2Test {
         expected: &[f64],
         outcome: &Chi2Outcome,
     ) -> std::io::Result<Vec<PathBuf>> {
-        let dir = failure_dir();
-        std::fs::create_dir_all(&dir)?;
+        let dir = &self.dump_dir;
+        std::fs::create_dir_all(dir)?;
         let stem: String = name
             .chars()
             .map(|c| {
@@ -534,11 +554,13 @@ impl Chi2Test {
 /// A pixel of a table image, by cell index.
 type PixelFn<'a> = Box<dyn Fn(usize) -> (f32, f32, f32) + Sync + 'a>;
 
-/// Where failure tables go: `$CARGO_TARGET_DIR/chi2-failures` or `target/chi2-failures`.
+/// Where failure tables go by default: `$CARGO_TARGET_DIR/chi2-failures`, else
+/// `target/chi2-failures` under the current folder (where `cargo test` runs), decided at
+/// run time — never a path fixed when the binary was built.
 pub fn failure_dir() -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target"));
+        .unwrap_or_else(|| PathBuf::from("target"));
     target.join("chi2-failures")
 }
 
@@ -643,6 +665,25 @@ mod tests {
         let t = Chi2Test::new(Domain::Disk, 1000, 1, 0.01).with_resolution(8, 16);
         let total: f64 = t.integrate_pdf(&|_| 1.0 / PI).iter().map(|c| c.0).sum();
         assert!((total - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn too_few_samples_refuse_to_judge() {
+        let dir = std::env::temp_dir().join(format!("lightproof-chi2-few-{}", std::process::id()));
+        let uniform = |u: Vec3| Some(crate::sampling::sphere::uniform_sphere(u.truncate()));
+        let pdf = |_: Vec3| 1.0 / (4.0 * PI);
+        for n in [0, 10] {
+            let t = Chi2Test::new(Domain::Sphere, n, 1, 0.01)
+                .with_resolution(8, 16)
+                .with_dump_dir(&dir);
+            let o = t.run("few", uniform, pdf);
+            assert!(!o.passed, "{n} samples judged: {o:?}");
+            assert!(o.reason.unwrap().contains("too few samples"));
+            assert!(o.dump.iter().all(|p| p.starts_with(&dir)), "{:?}", o.dump);
+        }
+        let t = Chi2Test::new(Domain::Sphere, 20_000, 1, 0.01).with_resolution(8, 16);
+        assert!(t.run("enough", uniform, pdf).passed);
+        let _ = std::fs::remove_dir_all(dir);
     }
 
     #[test]

@@ -5,12 +5,29 @@
 //! batch means). A suite of k tests at family-wise level α uses the Šidák per-test level
 //! α₁ = 1 − (1 − α)^{1/k} (Šidák 1967), exact for independent tests.
 //!
+//! **Rounding allowance.** Engine arithmetic is f32, so even an unbiased estimator's
+//! mean carries a rounding error of order γₙ·|μ| (see *Exact estimates* below) that
+//! does not shrink with N. The null hypothesis of a statistical verdict is therefore
+//! |x̄ − μ| ≤ τ = γₙ·|μ|: the p value is that of the excess (|x̄ − μ| − τ)⁺/s, while the
+//! reported z is the plain (x̄ − μ)/s. τ ≈ 7.6e-6 relative, far below any bias the
+//! suite claims to see.
+//!
 //! **Power.** The smallest bias δ that the two-sided test at level α₁ detects with
-//! probability 1 − β is δ = (q₁₋α₁/₂ + q₁₋β)·s; with β = 0.01 this is the test's
+//! probability 1 − β is δ = τ + (q₁₋α₁/₂ + q₁₋β)·s; with β = 0.01 this is the test's
 //! "detectable bias", reported relative to |μ|. A test whose detectable bias is larger
 //! than the error you care about proves nothing about that error.
 //!
 //! **Non-finite samples** make the verdict fail regardless of the statistic.
+//!
+//! **Exact estimates.** An estimator whose samples agree to f32 rounding (a delta
+//! light, a smooth mirror, cosine sampling of a Lambertian albedo) has no variance to
+//! test: a floored standard error would make it pose as a statistic and pass the power
+//! guard by construction. Such an estimate is judged in its own class,
+//! [`VerdictClass::Exact`]: it passes when |x̄ − μ| ≤ γₙ·|μ|, the forward error bound of
+//! a chain of n = [`EXACT_OPERATIONS`] f32 operations, γₙ = n·u/(1 − n·u) with unit
+//! roundoff u = 2⁻²⁴ (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd
+//! ed., Lemma 3.1). Exact verdicts have no false-alarm probability, so they are not
+//! members of the Šidák family.
 
 use crate::stats::Accumulator;
 use serde::{Deserialize, Serialize};
@@ -26,6 +43,46 @@ pub fn sidak_alpha(alpha: f64, k: usize) -> f64 {
 /// The power the detectable bias is quoted at.
 pub const POWER: f64 = 0.99;
 
+/// Unit roundoff of f32, u = 2⁻²⁴.
+pub const F32_UNIT_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
+
+/// The longest chain of f32 operations an exact estimate is allowed to have rounded
+/// through (a sample's evaluation: ray set-up, intersection, BSDF, weights).
+pub const EXACT_OPERATIONS: f64 = 128.0;
+
+/// γₙ = n·u/(1 − n·u) for n = [`EXACT_OPERATIONS`]: the relative tolerance of an exact
+/// verdict (≈ 7.63e-6).
+pub fn exact_relative_tolerance() -> f64 {
+    let nu = EXACT_OPERATIONS * F32_UNIT_ROUNDOFF;
+    nu / (1.0 - nu)
+}
+
+/// Whether an accumulator's samples agree to f32 rounding: their standard deviation is
+/// at most γₙ·|x̄| (all-zero samples included). Such an estimate has no variance to test
+/// and is judged by [`MeanTest::judge_exact`].
+pub fn is_exact(acc: &Accumulator) -> bool {
+    is_exact_at(acc, 0.0)
+}
+
+/// [`is_exact`] for an estimate computed from terms of magnitude `scale`: the spread
+/// allowed is γₙ·max(|x̄|, scale).
+pub fn is_exact_at(acc: &Accumulator, scale: f64) -> bool {
+    acc.count >= 1
+        && acc.non_finite == 0
+        && acc.variance().sqrt() <= exact_relative_tolerance() * acc.mean.abs().max(scale)
+}
+
+/// How a verdict was reached.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VerdictClass {
+    /// A z or t test at a Šidák-corrected level, with a stated power.
+    #[default]
+    Statistical,
+    /// Samples without variance, compared within the stated f32 error bound γₙ·|μ|.
+    Exact,
+}
+
 /// Configuration of a (family of) mean test(s).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MeanTest {
@@ -33,6 +90,11 @@ pub struct MeanTest {
     pub alpha: f64,
     /// Number of tests in the family (Šidák).
     pub tests: usize,
+    /// Magnitude of the terms an estimate is computed from (0: the reference itself):
+    /// the f32 allowance is γₙ·max(|μ|, term_scale). A reflectance near 0 computed from
+    /// O(1) Fresnel terms, for example, rounds at γₙ·1, not γₙ·|μ|.
+    #[serde(default)]
+    pub term_scale: f64,
 }
 
 impl Default for MeanTest {
@@ -40,20 +102,28 @@ impl Default for MeanTest {
         MeanTest {
             alpha: 1e-4,
             tests: 1,
+            term_scale: 0.0,
         }
     }
 }
 
 /// Outcome of a mean test.
+///
+/// For an [`VerdictClass::Exact`] verdict the statistical fields take their exact
+/// meaning: `std_error` is 0, `z` is the error in units of the tolerance (x̄ − μ)/τ,
+/// `critical` is 1, `alpha` is 0 (no false alarms), `p_value` is 1 on a pass and 0 on a
+/// failure, and `detectable_bias` is the tolerance τ (every larger error fails).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Verdict {
+    /// Statistical (z/t test) or exact (f32 error bound).
+    pub class: VerdictClass,
     /// The estimate x̄.
     pub estimate: f64,
-    /// Its standard error.
+    /// Its standard error (0 for an exact verdict).
     pub std_error: f64,
     /// The reference μ.
     pub reference: f64,
-    /// (x̄ − μ)/s.
+    /// (x̄ − μ)/s; for an exact verdict (x̄ − μ)/τ.
     pub z: f64,
     /// Two-sided p value (one-sided where the test is one-sided).
     pub p_value: f64,
@@ -61,7 +131,7 @@ pub struct Verdict {
     pub alpha: f64,
     /// Critical |z|.
     pub critical: f64,
-    /// Smallest absolute bias detected with 99% power.
+    /// Smallest absolute bias detected with 99% power (an exact verdict: its tolerance).
     pub detectable_bias: f64,
     /// `detectable_bias / |μ|`.
     pub detectable_relative_bias: f64,
@@ -96,7 +166,24 @@ fn upper_tail(z: f64, dof: Option<u64>) -> f64 {
 impl MeanTest {
     /// A family of `tests` tests at family-wise level `alpha`.
     pub fn new(alpha: f64, tests: usize) -> Self {
-        MeanTest { alpha, tests }
+        MeanTest {
+            alpha,
+            tests,
+            term_scale: 0.0,
+        }
+    }
+
+    /// The same family, for estimates computed from terms of magnitude `scale`.
+    pub fn with_term_scale(self, scale: f64) -> Self {
+        MeanTest {
+            term_scale: scale.abs(),
+            ..self
+        }
+    }
+
+    /// The f32 allowance τ = γₙ·max(|x|, term_scale) around a value x.
+    pub fn rounding_allowance(&self, x: f64) -> f64 {
+        exact_relative_tolerance() * x.abs().max(self.term_scale)
     }
 
     /// The per-test level.
@@ -104,8 +191,12 @@ impl MeanTest {
         sidak_alpha(self.alpha, self.tests)
     }
 
-    /// Two-sided test of an accumulator's mean against `reference` (z test).
+    /// Two-sided test of an accumulator's mean against `reference` (z test), or the
+    /// exact comparison when its samples have no variance ([`is_exact`]).
     pub fn judge(&self, acc: &Accumulator, reference: f64) -> Verdict {
+        if is_exact_at(acc, self.term_scale) {
+            return self.judge_exact(acc.mean, reference, acc.non_finite, acc.count);
+        }
         self.judge_parts(
             acc.mean,
             acc.std_error(),
@@ -130,15 +221,25 @@ impl MeanTest {
         let critical = quantile(1.0 - alpha / 2.0, dof);
         let power_q = quantile(POWER, dof);
         let diff = estimate - reference;
+        // The null hypothesis is |bias| ≤ τ, the f32 rounding of the evaluation (see
+        // the module notes): only the excess over τ is tested, so rounding alone never
+        // fails a statistical verdict, and τ is part of the detectable bias.
+        let tau = self.rounding_allowance(reference);
+        let excess = (diff.abs() - tau).max(0.0);
         let (z, p_value) = if std_error > 0.0 && std_error.is_finite() {
-            let z = diff / std_error;
-            (z, (2.0 * upper_tail(z.abs(), dof)).min(1.0))
+            (
+                diff / std_error,
+                (2.0 * upper_tail(excess / std_error, dof)).min(1.0),
+            )
         } else if diff == 0.0 {
             (0.0, 1.0)
         } else {
-            (f64::INFINITY.copysign(diff), 0.0)
+            (
+                f64::INFINITY.copysign(diff),
+                if excess == 0.0 { 1.0 } else { 0.0 },
+            )
         };
-        let detectable_bias = (critical + power_q) * std_error;
+        let detectable_bias = tau + (critical + power_q) * std_error;
         let detectable_relative_bias = if reference != 0.0 {
             detectable_bias / reference.abs()
         } else {
@@ -154,10 +255,11 @@ impl MeanTest {
         } else if p_value < alpha || !estimate.is_finite() {
             reason = Some(format!(
                 "|z| = {:.2} exceeds the critical value {critical:.2} (p = {p_value:.2e} < α = {alpha:.2e})",
-                z.abs()
+                (excess / std_error).abs()
             ));
         }
         Verdict {
+            class: VerdictClass::Statistical,
             estimate,
             std_error,
             reference,
@@ -174,29 +276,125 @@ impl MeanTest {
         }
     }
 
+    /// Exact comparison of an estimate without variance: passes when
+    /// |x̄ − μ| ≤ τ = γₙ·|μ| ([`exact_relative_tolerance`]), every sample was finite and
+    /// there was at least one. Not a member of the family: it has no false alarms.
+    pub fn judge_exact(
+        &self,
+        estimate: f64,
+        reference: f64,
+        non_finite: u64,
+        count: u64,
+    ) -> Verdict {
+        let tolerance = self.rounding_allowance(reference);
+        self.exact_verdict(
+            estimate,
+            reference,
+            estimate - reference,
+            tolerance,
+            non_finite,
+            count,
+        )
+    }
+
+    fn exact_verdict(
+        &self,
+        estimate: f64,
+        reference: f64,
+        excess: f64,
+        tolerance: f64,
+        non_finite: u64,
+        count: u64,
+    ) -> Verdict {
+        let z = if tolerance > 0.0 {
+            excess / tolerance
+        } else if excess == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY.copysign(excess)
+        };
+        let reason = if non_finite > 0 {
+            Some(format!("{non_finite} non-finite samples (NaN or Inf)"))
+        } else if count < 1 {
+            Some("no finite sample".into())
+        } else if !reference.is_finite() {
+            Some("reference is not finite".into())
+        } else if !estimate.is_finite() || !(z.abs() <= 1.0) {
+            Some(format!(
+                "exact estimate off by {excess:.3e}, beyond the f32 error bound {tolerance:.3e} (γ{} · |μ|)",
+                EXACT_OPERATIONS
+            ))
+        } else {
+            None
+        };
+        Verdict {
+            class: VerdictClass::Exact,
+            estimate,
+            std_error: 0.0,
+            reference,
+            z,
+            p_value: if reason.is_none() { 1.0 } else { 0.0 },
+            alpha: 0.0,
+            critical: 1.0,
+            detectable_bias: tolerance,
+            detectable_relative_bias: if reference != 0.0 {
+                tolerance / reference.abs()
+            } else {
+                tolerance
+            },
+            dof: None,
+            non_finite,
+            passed: reason.is_none(),
+            reason,
+        }
+    }
+
     /// One-sided test that the mean is not above `bound` (e.g. albedo ≤ 1): fails
     /// when (x̄ − bound)/s exceeds the one-sided critical value.
     pub fn judge_at_most(&self, acc: &Accumulator, bound: f64) -> Verdict {
+        if is_exact_at(acc, self.term_scale) {
+            // One-sided exact check: x̄ ≤ bound + τ.
+            let tolerance = self.rounding_allowance(bound);
+            let excess = (acc.mean - bound).max(0.0);
+            return self.exact_verdict(
+                acc.mean,
+                bound,
+                excess,
+                tolerance,
+                acc.non_finite,
+                acc.count,
+            );
+        }
         let alpha = self.per_test_alpha();
         let critical = quantile(1.0 - alpha, None);
         let power_q = quantile(POWER, None);
         let s = acc.std_error();
         let diff = acc.mean - bound;
-        let z = if s > 0.0 && s.is_finite() {
-            diff / s
+        // As in the two-sided test, rounding within τ = γₙ·|bound| is allowed for.
+        let tau = self.rounding_allowance(bound);
+        let excess = diff - tau;
+        let (z, z_excess) = if s > 0.0 && s.is_finite() {
+            (diff / s, excess / s)
         } else if diff > 0.0 {
-            f64::INFINITY
+            (
+                f64::INFINITY,
+                if excess > 0.0 { f64::INFINITY } else { 0.0 },
+            )
         } else {
-            f64::NEG_INFINITY
+            (f64::NEG_INFINITY, f64::NEG_INFINITY)
         };
-        let p_value = upper_tail(z, None);
-        let detectable_bias = (critical + power_q) * s;
+        let p_value = upper_tail(z_excess, None);
+        let detectable_bias = tau + (critical + power_q) * s;
         let mut reason = None;
         if acc.non_finite > 0 {
             reason = Some(format!(
                 "{} non-finite samples (NaN or Inf)",
                 acc.non_finite
             ));
+        } else if acc.count < 2 {
+            reason = Some("fewer than two finite samples".into());
+        } else if !bound.is_finite() {
+            reason = Some("bound is not finite".into());
         } else if p_value < alpha {
             reason = Some(format!(
                 "mean {:.6} exceeds the bound {bound} by z = {z:.2} (p = {p_value:.2e})",
@@ -204,6 +402,7 @@ impl MeanTest {
             ));
         }
         Verdict {
+            class: VerdictClass::Statistical,
             estimate: acc.mean,
             std_error: s,
             reference: bound,
@@ -224,44 +423,301 @@ impl MeanTest {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
+
+    /// An accumulator holding `xs`.
+    fn acc_of(xs: impl IntoIterator<Item = f64>) -> Accumulator {
+        let mut a = Accumulator::new();
+        xs.into_iter().for_each(|x| a.push(x));
+        a
+    }
+
+    /// Two values alternating: mean m, sample sd ≈ h.
+    fn spread(m: f64, h: f64, n: usize) -> Accumulator {
+        acc_of((0..n).map(|i| if i % 2 == 0 { m - h } else { m + h }))
+    }
 
     #[test]
     fn sidak_matches_definition() {
         let a = sidak_alpha(0.01, 10);
         assert!((a - (1.0 - 0.99f64.powf(0.1))).abs() < 1e-15);
         assert!((sidak_alpha(1e-4, 1) - 1e-4).abs() < 1e-18);
+        // k = 0 counts as one test.
+        assert_eq!(sidak_alpha(1e-4, 0), sidak_alpha(1e-4, 1));
+        assert!(MeanTest::new(1e-4, 100).per_test_alpha() < 1.01e-6);
+        assert_eq!(MeanTest::default(), MeanTest::new(1e-4, 1));
     }
 
     #[test]
     fn detects_a_shift_and_accepts_truth() {
-        let mut acc = Accumulator::new();
-        for i in 0..10_000 {
-            acc.push(((i * 7919) % 1000) as f64 / 1000.0);
-        }
+        let acc = acc_of((0..10_000).map(|i| ((i * 7919) % 1000) as f64 / 1000.0));
         let t = MeanTest::new(1e-4, 1);
-        assert!(t.judge(&acc, acc.mean).passed);
+        let ok = t.judge(&acc, acc.mean);
+        assert!(ok.passed && ok.class == VerdictClass::Statistical && ok.reason.is_none());
+        assert_eq!(ok.p_value, 1.0);
         let shifted = acc.mean + 10.0 * acc.std_error();
         let v = t.judge(&acc, shifted);
         assert!(!v.passed && v.p_value < 1e-10);
-        // Detectable bias: (3.89 + 2.33) s.
-        assert!((v.detectable_bias / acc.std_error() - 6.22).abs() < 0.02);
+        assert!((v.z + 10.0).abs() < 1e-9, "{}", v.z);
+        // Critical value q(1 − α/2) = 3.8906 and detectable bias τ + (3.8906 + 2.3263) s.
+        assert!((v.critical - 3.8906).abs() < 1e-3, "{}", v.critical);
+        let tau = exact_relative_tolerance() * shifted;
+        assert!(((v.detectable_bias - tau) / acc.std_error() - 6.2169).abs() < 1e-3);
+        assert!((v.detectable_relative_bias - v.detectable_bias / shifted).abs() < 1e-15);
+        // Just inside and just outside the critical value.
+        let inside = t.judge(&acc, acc.mean + 3.85 * acc.std_error());
+        let outside = t.judge(&acc, acc.mean - 3.93 * acc.std_error());
+        assert!(inside.passed && !outside.passed);
+        // Two-sided p value: 2 Φ(−|z|) at |z| = 3.85.
+        // (slightly above 2 Φ(−3.85) = 1.1812e-4: the excess over τ is tested).
+        assert!(
+            (inside.p_value - 1.1812e-4).abs() < 2e-6,
+            "{}",
+            inside.p_value
+        );
+    }
+
+    /// Student's t quantiles and tails have closed forms at 1 and 2 degrees of
+    /// freedom: F⁻¹(p) = tan(π(p − ½)) (Cauchy) and (2p − 1)/√(2p(1 − p)).
+    #[test]
+    fn student_t_branch_is_used_for_batch_means() {
+        let t = MeanTest::new(1e-2, 1);
+        let p = 1.0 - 0.01 / 2.0;
+        let v1 = t.judge_parts(1.0, 1.0, 1.0, Some(1), 0, 10);
+        assert!((v1.critical - (PI * (p - 0.5)).tan()).abs() < 1e-6 * v1.critical);
+        let v2 = t.judge_parts(1.0, 1.0, 1.0, Some(2), 0, 10);
+        let q2 = (2.0 * p - 1.0) / (2.0 * p * (1.0 - p)).sqrt();
+        assert!((v2.critical - q2).abs() < 1e-6 * q2, "{} {q2}", v2.critical);
+        // Power quantile q(0.99) at 2 dof: 6.9646.
+        let q99 = (2.0f64 * 0.99 - 1.0) / (2.0f64 * 0.99 * 0.01).sqrt();
+        assert!((v2.detectable_bias - (q2 + q99)).abs() < 1e-6 * q2);
+        // Tail: p = 2 (½ − atan(z)/π) for one degree of freedom, z = 3.
+        // (A zero reference has no rounding allowance.)
+        let v = t.judge_parts(3.0, 1.0, 0.0, Some(1), 0, 10);
+        assert!(
+            (v.p_value - 2.0 * (0.5 - 3f64.atan() / PI)).abs() < 1e-9,
+            "{}",
+            v.p_value
+        );
+        assert!(
+            v.passed,
+            "z = 3 is well inside the t(1) critical value 63.66"
+        );
+        assert!(
+            !t.judge_parts(3.0, 1.0, 0.0, None, 0, 10).passed,
+            "but not the normal one"
+        );
+        assert_eq!(v.dof, Some(1));
+        // Zero degrees of freedom fall back to the normal quantile.
+        let v0 = t.judge_parts(1.0, 1.0, 1.0, Some(0), 0, 10);
+        let vn = t.judge_parts(1.0, 1.0, 1.0, None, 0, 10);
+        assert_eq!(v0.critical, vn.critical);
+        assert!((vn.critical - 2.5758).abs() < 1e-3);
+        let w0 = t.judge_parts(4.0, 1.0, 1.0, Some(0), 0, 10);
+        assert_eq!(
+            w0.p_value,
+            t.judge_parts(4.0, 1.0, 1.0, None, 0, 10).p_value
+        );
+    }
+
+    #[test]
+    fn degenerate_inputs_fail_or_decide_exactly() {
+        let t = MeanTest::default();
+        // No standard error: equality passes, any difference fails with infinite z.
+        let same = t.judge_parts(2.0, 0.0, 2.0, None, 0, 10);
+        assert!(same.passed && same.z == 0.0 && same.p_value == 1.0);
+        let off = t.judge_parts(2.0, 0.0, 1.0, None, 0, 10);
+        assert!(!off.passed && off.z == f64::INFINITY && off.p_value == 0.0);
+        let below = t.judge_parts(0.0, f64::INFINITY, 1.0, None, 0, 10);
+        assert!(!below.passed && below.z == f64::NEG_INFINITY);
+        // Fewer than two samples, a non-finite reference or estimate fail.
+        assert!(!t.judge_parts(1.0, 0.1, 1.0, None, 0, 1).passed);
+        assert!(t.judge_parts(1.0, 0.1, 1.0, None, 0, 2).passed);
+        let r = t.judge_parts(1.0, 0.1, f64::NAN, None, 0, 10);
+        assert!(!r.passed && r.reason.unwrap().contains("reference"));
+        assert!(!t.judge_parts(f64::NAN, 0.1, 1.0, None, 0, 10).passed);
+        assert!(!t.judge_parts(f64::INFINITY, 1e300, 1.0, None, 0, 10).passed);
+        // A zero reference quotes the absolute detectable bias.
+        let z = t.judge_parts(0.0, 0.5, 0.0, None, 0, 10);
+        assert_eq!(z.detectable_relative_bias, z.detectable_bias);
+        assert!(z.passed);
+        let neg = t.judge_parts(-2.0, 0.5, -2.0, None, 0, 10);
+        assert!((neg.detectable_relative_bias - neg.detectable_bias / 2.0).abs() < 1e-15);
     }
 
     #[test]
     fn nan_fails() {
-        let mut acc = Accumulator::new();
-        (0..100).for_each(|i| acc.push(i as f64));
+        let mut acc = acc_of((0..100).map(|i| i as f64));
         acc.push(f64::NAN);
         let v = MeanTest::default().judge(&acc, acc.mean);
         assert!(!v.passed);
+        assert_eq!(v.non_finite, 1);
         assert!(v.reason.unwrap().contains("non-finite"));
+        // Non-finite samples fail an exact estimate too.
+        let mut flat = acc_of([1.0; 10]);
+        flat.push(f64::INFINITY);
+        assert!(!MeanTest::default().judge(&flat, 1.0).passed);
+        assert!(!MeanTest::default().judge_at_most(&flat, 1.0).passed);
     }
 
     #[test]
     fn one_sided_bound() {
-        let mut acc = Accumulator::new();
-        (0..1000).for_each(|i| acc.push(0.9 + 0.2 * ((i % 10) as f64 / 10.0)));
-        assert!(!MeanTest::default().judge_at_most(&acc, 0.95).passed);
-        assert!(MeanTest::default().judge_at_most(&acc, 1.0).passed);
+        let acc = acc_of((0..1000).map(|i| 0.9 + 0.2 * ((i % 10) as f64 / 10.0)));
+        let t = MeanTest::default();
+        assert!(!t.judge_at_most(&acc, 0.95).passed);
+        let v = t.judge_at_most(&acc, 1.0);
+        assert!(v.passed && v.class == VerdictClass::Statistical);
+        // A bound other than 1, above and below the mean.
+        assert!(
+            t.judge_at_most(&acc, acc.mean + 1.0 * acc.std_error())
+                .passed
+        );
+        assert!(
+            !t.judge_at_most(&acc, acc.mean - 4.0 * acc.std_error())
+                .passed
+        );
+        // Critical value q(1 − α) = 3.7190 (one-sided) and power τ + (3.7190 + 2.3263) s.
+        assert!((v.critical - 3.7190).abs() < 1e-3, "{}", v.critical);
+        let tau = exact_relative_tolerance();
+        assert!(((v.detectable_bias - tau) / acc.std_error() - 6.0453).abs() < 1e-3);
+        assert!((v.detectable_relative_bias - v.detectable_bias).abs() < 1e-15);
+        let half = t.judge_at_most(&acc, 2.0);
+        assert!((half.detectable_relative_bias - half.detectable_bias / 2.0).abs() < 1e-15);
+        // z and its one-sided p value.
+        let at = t.judge_at_most(&acc, acc.mean - 3.0 * acc.std_error());
+        assert!((at.z - 3.0).abs() < 1e-9 && (at.p_value - 1.3499e-3).abs() < 2e-5);
+        assert!(at.passed, "z = 3 < 3.72");
+        let at4 = t.judge_at_most(&acc, acc.mean - 3.8 * acc.std_error());
+        assert!(!at4.passed);
+        // Non-finite samples fail whatever the mean.
+        let mut bad = acc;
+        bad.non_finite = 1;
+        let vb = t.judge_at_most(&bad, 10.0);
+        assert!(!vb.passed && vb.reason.unwrap().contains("non-finite"));
+        // Too few samples and a non-finite bound fail.
+        assert!(!t.judge_at_most(&Accumulator::new(), 1.0).passed);
+        let two = acc_of([0.1, 0.2]);
+        assert!(t.judge_at_most(&two, 1.0).passed);
+        assert!(!t.judge_at_most(&acc, f64::NAN).passed);
+    }
+
+    #[test]
+    fn exact_class_has_a_stated_f32_tolerance() {
+        let g = exact_relative_tolerance();
+        assert!((g - 128.0 / 16_777_216.0 / (1.0 - 128.0 / 16_777_216.0)).abs() < 1e-18);
+        assert!((7.6e-6..7.7e-6).contains(&g), "{g}");
+        let t = MeanTest::new(1e-4, 1000);
+        // A constant estimate is exact: within the bound it passes, beyond it fails.
+        let flat = acc_of([2.0; 64]);
+        assert!(is_exact(&flat));
+        let ok = t.judge(&flat, 2.0 * (1.0 + 0.9 * g));
+        assert!(ok.passed && ok.class == VerdictClass::Exact, "{ok:?}");
+        assert_eq!(
+            (ok.std_error, ok.alpha, ok.critical, ok.p_value),
+            (0.0, 0.0, 1.0, 1.0)
+        );
+        assert!((ok.z + 0.9 / (1.0 + 0.9 * g)).abs() < 1e-6, "{}", ok.z);
+        assert!((ok.detectable_bias - g * 2.0 * (1.0 + 0.9 * g)).abs() < 1e-15);
+        assert!((ok.detectable_relative_bias - g).abs() < 1e-20);
+        let miss = t.judge(&flat, 2.0 * (1.0 + 1.1 * g));
+        assert!(!miss.passed && miss.p_value == 0.0 && miss.reason.unwrap().contains("f32"));
+        assert!(!t.judge(&flat, 2.0 * (1.0 - 1.1 * g)).passed);
+        assert!(t.judge(&flat, 2.0 * (1.0 - 0.9 * g)).passed);
+        // A zero reference needs an exact zero.
+        let zero = acc_of([0.0; 8]);
+        assert!(is_exact(&zero) && t.judge(&zero, 0.0).passed);
+        let z = t.judge(&flat, 0.0);
+        assert!(!z.passed && z.z == f64::INFINITY);
+        let zn = t.judge(&acc_of([-1.0; 8]), 0.0);
+        assert!(!zn.passed && zn.z == f64::NEG_INFINITY);
+        // A single sample is enough for an exact verdict, none is not.
+        assert!(is_exact(&acc_of([3.0])) && t.judge(&acc_of([3.0]), 3.0).passed);
+        assert!(!is_exact(&Accumulator::new()));
+        assert!(!t.judge_exact(3.0, 3.0, 0, 0).passed);
+        assert!(!t.judge_exact(3.0, f64::NAN, 0, 5).passed);
+        assert!(!t.judge_exact(f64::NAN, 3.0, 0, 5).passed);
+        assert!(!t.judge_exact(3.0, 3.0, 1, 5).passed);
+        // Spread at the rounding level is exact; beyond it the test is statistical.
+        assert!(is_exact(&spread(1.0, 0.5 * g, 100)));
+        assert!(!is_exact(&spread(1.0, 2.0 * g, 100)));
+        assert!(!is_exact(&spread(-1.0, 2.0 * g, 100)));
+        assert!(is_exact(&spread(-1.0, 0.5 * g, 100)));
+        let mut nf = acc_of([1.0; 4]);
+        nf.non_finite = 1;
+        assert!(!is_exact(&nf));
+        let stat = t.judge(&spread(1.0, 0.01, 100), 1.0);
+        assert_eq!(stat.class, VerdictClass::Statistical);
+    }
+
+    /// A mean off by less than the f32 allowance τ passes however small the standard
+    /// error; beyond τ the excess is tested.
+    #[test]
+    fn rounding_allowance_of_statistical_verdicts() {
+        let t = MeanTest::default();
+        let g = exact_relative_tolerance();
+        let (mu, se) = (2.0, 1e-9);
+        let within = t.judge_parts(mu * (1.0 + 0.9 * g), se, mu, None, 0, 100);
+        assert!(within.passed && within.z > 1e3, "{within:?}");
+        let below = t.judge_parts(mu * (1.0 - 0.9 * g), se, mu, None, 0, 100);
+        assert!(below.passed && below.z < -1e3);
+        let beyond = t.judge_parts(mu * (1.0 + g) + 4.0 * se, se, mu, None, 0, 100);
+        assert!(!beyond.passed, "{beyond:?}");
+        let inside = t.judge_parts(mu * (1.0 + g) + 3.8 * se, se, mu, None, 0, 100);
+        assert!(inside.passed, "{inside:?}");
+        let under = t.judge_parts(mu * (1.0 - g) - 4.0 * se, se, mu, None, 0, 100);
+        assert!(!under.passed);
+        assert!((within.detectable_bias - (g * mu + 6.2169 * se)).abs() < 1e-3 * se);
+        // With no standard error at all, the allowance decides.
+        assert!(
+            t.judge_parts(mu * (1.0 + 0.5 * g), 0.0, mu, None, 0, 100)
+                .passed
+        );
+        assert!(
+            !t.judge_parts(mu * (1.0 + 2.0 * g), 0.0, mu, None, 0, 100)
+                .passed
+        );
+        // One-sided: the bound gets the same allowance.
+        let mut a = Accumulator::new();
+        for i in 0..1000 {
+            a.push(1.0 + 3.0 * g + 2e-5 * ((i % 2) as f64 - 0.5));
+        }
+        assert!(!is_exact(&a));
+        assert!(!t.judge_at_most(&a, 1.0).passed);
+        assert!(t.judge_at_most(&a, 1.0 + 2.5 * g).passed);
+    }
+
+    #[test]
+    fn term_scale_sets_the_allowance_of_small_values() {
+        let g = exact_relative_tolerance();
+        let t = MeanTest::default().with_term_scale(-1.0);
+        assert_eq!(t.term_scale, 1.0);
+        assert_eq!(t.rounding_allowance(1e-20), g);
+        assert_eq!(t.rounding_allowance(3.0), 3.0 * g);
+        // A reflectance of ~1e-29 computed as 2e-7 from O(1) terms: exact and within γ·1.
+        let tiny = acc_of([2e-7; 16]);
+        assert!(t.judge(&tiny, 1e-29).passed);
+        assert!(!MeanTest::default().judge(&tiny, 1e-29).passed);
+        assert!(!t.judge(&acc_of([2e-5; 16]), 1e-29).passed);
+        // The spread allowed scales too.
+        let noisy = spread(1e-6, 1e-6, 64);
+        assert!(is_exact_at(&noisy, 1.0) && !is_exact(&noisy));
+        assert_eq!(t.judge(&noisy, 1e-6).class, VerdictClass::Exact);
+        assert!(t.judge_at_most(&acc_of([1.0 + 0.5 * g; 4]), 1.0).passed);
+    }
+
+    #[test]
+    fn exact_bound_is_one_sided() {
+        let t = MeanTest::default();
+        let g = exact_relative_tolerance();
+        let under = t.judge_at_most(&acc_of([0.5; 16]), 1.0);
+        assert!(under.passed && under.class == VerdictClass::Exact && under.z == 0.0);
+        let at = t.judge_at_most(&acc_of([1.0 + 0.5 * g; 16]), 1.0);
+        assert!(at.passed, "{at:?}");
+        let over = t.judge_at_most(&acc_of([1.0 + 2.0 * g; 16]), 1.0);
+        assert!(!over.passed && over.class == VerdictClass::Exact);
+        assert!((over.z - 2.0).abs() < 1e-6, "{}", over.z);
+        // A bound of 0.25: the tolerance scales with the bound.
+        assert!(!t.judge_at_most(&acc_of([0.25 + 0.5 * g; 16]), 0.25).passed);
+        assert!(t.judge_at_most(&acc_of([0.25 + 0.2 * g; 16]), 0.25).passed);
     }
 }

@@ -15,5 +15,7 @@ pub mod mean_test;
 pub mod slope;
 
 pub use accumulator::{Accumulator, BatchMeans};
-pub use mean_test::{MeanTest, Verdict, sidak_alpha};
+pub use mean_test::{
+    MeanTest, Verdict, VerdictClass, exact_relative_tolerance, is_exact, is_exact_at, sidak_alpha,
+};
 pub use slope::{SlopeFit, fit_slope};

@@ -138,7 +138,13 @@ where
     let Some(ls) = scene.sample_light_at(p, uc, u, phase.time()) else {
         return zero;
     };
-    if ls.li <= 0.0 {
+    // Never masked: an emitter radiance or light density that is not a finite,
+    // non-negative number is a bug; it becomes a NaN sample that the accumulator counts
+    // and the verdict fails on.
+    if !(ls.li >= 0.0 && ls.li.is_finite() && ls.pdf > 0.0 && ls.pdf.is_finite()) {
+        return P::L::splat(f32::NAN);
+    }
+    if ls.li == 0.0 {
         return zero;
     }
     let w = cfg.light_weight(&ls, 0.0);
@@ -148,8 +154,12 @@ where
     }
     let wi_l = frame.to_local(ls.wi);
     let (fc, pdf_b) = f_pdf(wi_l);
-    if !(fc > 0.0) {
+    if fc == 0.0 {
         return zero;
+    }
+    if !(fc > 0.0 && fc.is_finite() && pdf_b >= 0.0 && pdf_b.is_finite()) {
+        // A BSDF value or density that is negative or not finite: counted, never masked.
+        return P::L::splat(f32::NAN);
     }
     if cfg.shadow_rays && !scene.visible_at(p, p_error, frame.n, &ls, phase.time()) {
         return zero;
@@ -161,8 +171,8 @@ where
     } else {
         0.0
     };
-    let v = phase.emission(scene, ls.emitter, ls.li, length + dist) * c;
-    if v.all_finite() { v } else { zero }
+    // Not masked: a non-finite product reaches the accumulator, which counts it.
+    phase.emission(scene, ls.emitter, ls.li, length + dist) * c
 }
 
 /// Estimate the radiance arriving at `o` from direction `-d` (that is, along the ray
@@ -197,7 +207,8 @@ pub fn trace<P: Phase>(
         }
         let wo = -d;
         let le = scene.emitted(&sh, wo);
-        if le > 0.0 {
+        // `!= 0`, not `> 0`: a NaN or negative emission must reach the accumulator.
+        if le != 0.0 {
             let w = cfg.emission_weight(
                 prev.delta,
                 prev.pdf,
@@ -245,7 +256,13 @@ pub fn trace<P: Phase>(
         let Some(s) = mat.sample(wo_l, Vec3::new(u.x, u.y, uc)) else {
             break;
         };
-        if !(s.weight > 0.0) || !s.weight.is_finite() {
+        if s.weight == 0.0 {
+            break;
+        }
+        if !(s.weight > 0.0 && s.weight.is_finite() && s.pdf >= 0.0 && !s.pdf.is_nan()) {
+            // A sampled weight or density that is negative or not finite: the path's
+            // value becomes NaN, counted by the accumulator (never a silent end).
+            l = P::L::splat(f32::NAN);
             break;
         }
         beta *= s.weight;

@@ -335,14 +335,12 @@ impl Dimensions {
     }
 }
 
-/// R(λ)/p(λ), zero where the density is zero.
+/// R(λ)/p(λ); zero where the response is zero. Never masked: a non-finite response,
+/// or a response where the density is zero, gives a non-finite weight that the
+/// accumulator counts.
 #[inline]
 fn lane_weight(r: f32, pdf: f32) -> f32 {
-    if pdf > 0.0 && r.is_finite() {
-        r / pdf
-    } else {
-        0.0
-    }
+    if r == 0.0 { 0.0 } else { r / pdf }
 }
 
 /// Reduce a path's lanes to the sample value: Σⱼ lane · weightⱼ.

@@ -1,0 +1,509 @@
+#!/usr/bin/env python3
+"""Regenerate the hostile-input corpus of tests/hostile.rs: case files under cases/,
+assets (EXR images, a shard partial) under assets/, hostile shard partials under merge/,
+and manifest.json listing every input with its expected outcome.
+
+    python3 tests/corpus/generate.py
+
+Each manifest entry: name, class (crash | hang | wrong | unclear | leftover | f32 |
+baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per entry,
+{empty_dir} an empty folder, {big} a sparse file past the input size limit, {file} an
+existing regular file), and either expect 2 with `field` (and optionally `contains`), a
+substring the one stderr line must hold, or expect "valid" (exit 0 or 1; for estimate a
+finite `estimate` on stdout). `pre_files` are created in {tmp} first; `no_leftovers`
+asks that no `.tmp` file remain in {tmp} afterwards.
+"""
+import copy, json, os, struct, shutil
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SAMPLES = ["--samples", "4096"]
+
+# ---------------------------------------------------------------- assets
+def exr(width, height, pixels, claim=None, offsets=True):
+    """An uncompressed scanline RGB float EXR; `claim` overrides the data window."""
+    def attr(name, typ, data):
+        return name.encode() + b"\0" + typ.encode() + b"\0" + struct.pack("<i", len(data)) + data
+    ch = b"".join(c.encode() + b"\0" + struct.pack("<i", 2) + b"\0\0\0\0" + struct.pack("<ii", 1, 1)
+                  for c in "BGR") + b"\0"
+    w, h = claim or (width, height)
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    header = (b"\x76\x2f\x31\x01" + struct.pack("<i", 2)
+              + attr("channels", "chlist", ch)
+              + attr("compression", "compression", b"\0")
+              + attr("dataWindow", "box2i", box)
+              + attr("displayWindow", "box2i", box)
+              + attr("lineOrder", "lineOrder", b"\0")
+              + attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1.0))
+              + b"\0")
+    if not offsets:
+        return header
+    chunks = []
+    for y in range(height):
+        row = pixels[y * width:(y + 1) * width]
+        data = b"".join(struct.pack("<%df" % width, *[p[c] for p in row]) for c in (2, 1, 0))
+        chunks.append(struct.pack("<ii", y, len(data)) + data)
+    start = len(header) + 8 * height
+    table, pos = b"", start
+    for c in chunks:
+        table += struct.pack("<Q", pos)
+        pos += len(c)
+    return header + table + b"".join(chunks)
+
+def write(path, data):
+    path = os.path.join(HERE, path)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    mode = "wb" if isinstance(data, bytes) else "w"
+    with open(path, mode) as f:
+        f.write(data)
+
+# ---------------------------------------------------------------- base cases
+DISK = {
+    "name": "disk on axis", "teaches": "E = pi L R^2/(R^2 + h^2)",
+    "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 2], "normal": [0, 0, -1], "radius": 1},
+                          "emission": {"radiance": 1}}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "estimators": ["light", "mis"]}
+POINT = {
+    "name": "point light", "teaches": "E = I cos/r^2",
+    "scene": {"emitters": [{"type": "point", "position": [0.5, -0.4, 2], "intensity": 3}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0.3, 0.2, 1]}},
+    "estimators": ["light"]}
+SPOT = {
+    "name": "spot light", "teaches": "inside the inner cone a spot is a point light",
+    "scene": {"emitters": [{"type": "spot", "position": [0.2, 0.1, 3], "direction": [0, 0, -1], "intensity": 5,
+                            "cone_angle": 30, "falloff_start": 20}]},
+    "measure": {"irradiance": {"at": [0.5, -0.3, 0], "normal": [0, 0.2, 1]}},
+    "estimators": ["light"]}
+SKY = {
+    "name": "sky and sun", "teaches": "E = pi L + E_sun cos",
+    "scene": {"emitters": [{"type": "constant", "radiance": 1.25},
+                           {"type": "directional", "direction": [0, 0, -1], "irradiance": 2}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "estimators": ["mis"]}
+ENV = {
+    "name": "envmap sky", "teaches": "a lat-long map of radiance 1 gives E = pi",
+    "scene": {"emitters": [{"type": "envmap", "path": "../assets/env_ok.exr", "scale": 1}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "estimators": ["mis"]}
+SHAPES = {
+    "name": "shapes", "teaches": "every geometry type, transformed",
+    "scene": {"materials": {"white": {"type": "lambertian", "albedo": 0.5}},
+              "shapes": [
+                  {"geometry": {"type": "sphere", "center": [0, 0, 3], "radius": 0.5}, "material": "white",
+                   "emission": {"radiance": 1}},
+                  {"geometry": {"type": "rectangle", "corner": [-1, -1, 4], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0]},
+                   "material": "white"},
+                  {"geometry": {"type": "triangle", "vertices": [[2, 0, 2], [3, 0, 2], [2, 1, 2]]},
+                   "emission": {"radiance": 2, "two_sided": True}},
+                  {"geometry": {"type": "mesh", "vertices": [[-3, 0, 2], [-2, 0, 2], [-2, 1, 2], [-3, 1, 2]],
+                                "indices": [[0, 1, 2], [0, 2, 3]]}, "material": "white"},
+                  {"geometry": {"type": "disk", "center": [0, 3, 2], "normal": [0, 0, -1], "radius": 0.5},
+                   "transform": {"scale": 2, "rotate": {"axis": [0, 0, 1], "degrees": 30}, "translate": [0, 0, 1]},
+                   "emission": {"radiance": 1}}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "estimators": ["mis"]}
+SPECTRAL = {
+    "name": "blackbody band", "teaches": "band radiance of a blackbody disk",
+    "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 4},
+                          "emission": {"radiance": 1, "spectrum": {"blackbody": {"temperature": 3000}}}}]},
+    "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+    "spectral": {"band": [380, 780], "sampling": "uniform", "hero": True},
+    "estimators": ["light"]}
+BK7 = {
+    "name": "bk7 slab", "teaches": "a dispersive slab",
+    "scene": {"materials": {"glass": {"type": "dielectric", "eta": 1.5}},
+              "dispersion": {"glass": {"eta": {"sellmeier": {"b": [1.03961212, 0.231792344, 1.01046945],
+                                                              "c": [0.00600069867, 0.0200179144, 103.560653]}}}},
+              "shapes": [
+                  {"geometry": {"type": "rectangle", "corner": [-10, -10, 1], "edge_u": [0, 20, 0], "edge_v": [20, 0, 0]},
+                   "material": "glass"},
+                  {"geometry": {"type": "rectangle", "corner": [-10, -10, 1.1], "edge_u": [20, 0, 0], "edge_v": [0, 20, 0]},
+                   "material": "glass"},
+                  {"geometry": {"type": "disk", "center": [0, 0, 2], "normal": [0, 0, -1], "radius": 20},
+                   "emission": {"radiance": 1}}]},
+    "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+    "spectral": {"band": [400, 700], "sampling": "uniform"},
+    "estimators": ["mis"]}
+METAL = {
+    "name": "metal mirror", "teaches": "a conductor under a sky",
+    "scene": {"materials": {"metal": {"type": "conductor", "eta": 0.2, "k": 3.9}},
+              "dispersion": {"metal": {"k": 3.9}},
+              "shapes": [{"geometry": {"type": "rectangle", "corner": [-5, -5, 1], "edge_u": [10, 0, 0], "edge_v": [0, 10, 0]},
+                          "material": "metal"}],
+              "emitters": [{"type": "constant", "radiance": 1}]},
+    "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+    "estimators": ["mis"]}
+PULSE = {
+    "name": "pulsed disk", "teaches": "arrivals in a time bin",
+    "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 1},
+                          "emission": {"radiance": 1, "pulse_at": 0}}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "time": {"bin": [3.6692050471796728e-09, 4.336333237575977e-09]},
+    "estimators": ["light"]}
+MOVING = {
+    "name": "moving point light", "teaches": "shutter average",
+    "scene": {"emitters": [{"type": "point", "position": [0, 0, 2], "intensity": 3, "velocity": [1.5, 0, 0]}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "time": {"shutter": [-0.5, 2]},
+    "estimators": ["light"]}
+ALBEDO = {
+    "name": "albedo", "teaches": "a rough conductor's albedo",
+    "measure": {"albedo": {"bsdf": {"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9}, "theta_degrees": 60}},
+    "estimators": ["bsdf"]}
+CHORD = {
+    "name": "mean chord", "teaches": "4V/S",
+    "scene": {"shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1.5}}]},
+    "measure": {"mean_path_length": {"shape": 0, "segments": 8}},
+    "estimators": ["cosine"]}
+POWER = {
+    "name": "sphere power", "teaches": "Phi = pi L A",
+    "scene": {"shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1}, "emission": {"radiance": 1}}]},
+    "measure": {"power": {"shape": 0}},
+    "estimators": ["uniform"]}
+REF = dict(DISK, reference={"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1})
+CAMERA = dict(DISK, camera={"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 60,
+                            "width": 8, "height": 6})
+
+ENTRIES = []
+
+def case(name, cls, base, edits, expect, field=None, contains=None, cmd="estimate", extra=None, raw=None):
+    """A case file: `base` with `edits` ((path, value) pairs; value DELETE removes the key)."""
+    doc = copy.deepcopy(base)
+    for path, value in edits:
+        keys = path.split(".")
+        node = doc
+        for k in keys[:-1]:
+            node = node[int(k)] if isinstance(node, list) else node[k]
+        last = keys[-1]
+        if isinstance(node, list):
+            node[int(last)] = value
+        elif value is DELETE:
+            del node[last]
+        else:
+            node[last] = value
+    text = raw if raw is not None else json.dumps(doc, indent=1)
+    write("cases/%s.json" % name, text)
+    args = [cmd, "{corpus}/cases/%s.json" % name]
+    if cmd == "estimate":
+        args += SAMPLES
+    elif cmd == "verify":
+        args += ["--samples", "4096", "--no-chi2"]
+    elif cmd == "render":
+        args += ["--spp", "1", "-o", "{tmp}/out.exr"]
+    entry(name, cls, args + (extra or []), expect, field, contains)
+
+def entry(name, cls, args, expect, field=None, contains=None, **more):
+    e = {"name": name, "class": cls, "args": args, "expect": expect}
+    if field:
+        e["field"] = field
+    if contains:
+        e["contains"] = contains
+    e.update(more)
+    ENTRIES.append(e)
+
+class Delete:
+    pass
+DELETE = Delete()
+
+SUB = 5e-324        # the smallest subnormal
+EXTREMES = [("m1", -1), ("zero", 0), ("sub", SUB), ("e39", 1e39), ("e308", 1e308), ("str", "NaN")]
+
+def sweep(prefix, base, path, field, outcomes, cls_of=None, cmd="estimate", vec=None, str_field=None):
+    """Numeric field `path` at -1, 0, subnormal, 1e39, 1e308 and a string. `outcomes` maps
+    each label to 2 or "valid"; `vec` = (index, vector) puts the value in one component."""
+    for label, v in EXTREMES:
+        exp = outcomes.get(label)
+        if exp is None:
+            continue
+        value = v
+        if vec is not None:
+            i, base_vec = vec
+            value = list(base_vec)
+            value[i] = v
+        cls = (cls_of or {}).get(label, "f32" if label in ("sub", "e39", "e308") else "baseline")
+        f = str_field if (label == "str" and str_field) else field
+        case("%s_%s" % (prefix, label), cls, base, [(path, value)], exp,
+             f if exp == 2 else None, cmd=cmd)
+
+ALL2 = {k: 2 for k, _ in EXTREMES}
+NONNEG = {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2}
+POS = ALL2
+COORD = {"m1": "valid", "zero": "valid", "sub": "valid", "e39": 2, "e308": 2, "str": 2}
+
+# ---------------------------------------------------------------- scene.shapes
+sweep("emission_radiance", DISK, "scene.shapes.0.emission.radiance", "scene.shapes[0].emission.radiance", NONNEG)
+sweep("disk_radius", DISK, "scene.shapes.0.geometry.radius", "scene.shapes[0].geometry", POS)
+sweep("disk_center", DISK, "scene.shapes.0.geometry.center", "scene.shapes[0].geometry",
+      {"m1": "valid", "e39": 2, "e308": 2, "str": 2}, vec=(2, [0, 0, 2]))
+sweep("disk_normal", DISK, "scene.shapes.0.geometry.normal", "scene.shapes[0].geometry",
+      {"e39": 2, "e308": 2, "str": 2}, vec=(2, [0, 0, -1]))
+sweep("sphere_radius", SHAPES, "scene.shapes.0.geometry.radius", "scene.shapes[0].geometry", POS)
+case("radius_1e308_message", "unclear", DISK, [("scene.shapes.0.geometry.radius", 1e308)], 2,
+     "scene.shapes[0].geometry.radius", "overflows")
+case("radius_1e30_message", "unclear", SHAPES, [("scene.shapes.0.geometry.radius", 1e30)], 2,
+     "scene.shapes[0].geometry.radius", "too large")
+sweep("sphere_center", SHAPES, "scene.shapes.0.geometry.center", "scene.shapes[0].geometry", COORD, vec=(0, [0, 0, 3]))
+sweep("rect_edge", SHAPES, "scene.shapes.1.geometry.edge_u", "scene.shapes[1].geometry",
+      {"zero": "valid", "e39": 2, "e308": 2, "str": 2}, vec=(1, [2, 0, 0]))
+sweep("triangle_vertex", SHAPES, "scene.shapes.2.geometry.vertices.1", "scene.shapes[2].geometry",
+      {"e39": 2, "e308": 2, "str": 2}, vec=(0, [3, 0, 2]))
+sweep("mesh_vertex", SHAPES, "scene.shapes.3.geometry.vertices.0", "scene.shapes[3].geometry",
+      {"e39": 2, "e308": 2, "str": 2}, vec=(1, [-3, 0, 2]))
+sweep("transform_scale", SHAPES, "scene.shapes.4.transform.scale", "scene.shapes[4].transform.scale", POS)
+sweep("transform_translate", SHAPES, "scene.shapes.4.transform.translate", "scene.shapes[4].transform.translate",
+      COORD, vec=(2, [0, 0, 1]))
+sweep("rotate_degrees", SHAPES, "scene.shapes.4.transform.rotate.degrees", "scene.shapes[4].transform.rotate.degrees",
+      {"m1": "valid", "zero": "valid", "e39": 2, "e308": 2, "str": 2})
+case("transform_scale_1e20", "f32", SHAPES, [("scene.shapes.4.transform.scale", 1e20)], 2,
+     "scene.shapes[4].geometry.radius", "too large")
+case("radius_3e38_power", "f32", DISK, [("scene.shapes.0.emission.radiance", 3e38)], 2,
+     "scene.shapes[0].emission.radiance", "power")
+case("shape_velocity_e39", "f32", MOVING, [("scene.shapes", [{"geometry": {"type": "sphere", "center": [0, 0, 5], "radius": 1},
+                                                             "velocity": [1e39, 0, 0]}])], 2, "scene.shapes[0].velocity")
+case("mesh_index_out_of_range", "baseline", SHAPES, [("scene.shapes.3.geometry.indices", [[0, 1, 9]])], 2,
+     "scene.shapes[3].geometry.indices[0]")
+case("mesh_index_negative", "baseline", SHAPES, [("scene.shapes.3.geometry.indices", [[0, 1, -1]])], 2,
+     "scene.shapes[3].geometry")
+case("obj_dev_zero", "hang", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "/dev/zero"})], 2,
+     "scene.shapes[3].geometry.path", "regular file")
+case("obj_missing", "baseline", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "nope.obj"})], 2,
+     "scene.shapes[3].geometry.path")
+case("pulse_at_e39", "f32", PULSE, [("scene.shapes.0.emission.pulse_at", 1e39)], 2, "scene.shapes[0].emission.pulse_at")
+case("material_unknown", "baseline", SHAPES, [("scene.shapes.0.material", "nope")], 2, "scene.shapes[0].material")
+
+# ---------------------------------------------------------------- scene.emitters
+sweep("point_intensity", POINT, "scene.emitters.0.intensity", "scene.emitters[0].intensity", NONNEG, str_field="scene.emitters[0]")
+sweep("point_position", POINT, "scene.emitters.0.position", "scene.emitters[0].position",
+      {"m1": "valid", "sub": "valid", "e39": 2, "e308": 2, "str": 2}, vec=(1, [0.5, -0.4, 2]), str_field="scene.emitters[0]")
+case("point_intensity_1e38_power", "f32", POINT, [("scene.emitters.0.intensity", 1e38)], 2,
+     "scene.emitters[0].intensity", "power")
+sweep("spot_intensity", SPOT, "scene.emitters.0.intensity", "scene.emitters[0].intensity",
+      {"m1": 2, "e39": 2, "e308": 2, "str": 2}, str_field="scene.emitters[0]")
+sweep("spot_cone", SPOT, "scene.emitters.0.cone_angle", "scene.emitters[0].cone_angle", ALL2, str_field="scene.emitters[0]")
+sweep("directional_irradiance", SKY, "scene.emitters.1.irradiance", "scene.emitters[1].irradiance",
+      {"m1": 2, "sub": 2, "e39": 2, "e308": 2, "str": 2}, str_field="scene.emitters[1]")
+sweep("constant_radiance", SKY, "scene.emitters.0.radiance", "scene.emitters[0].radiance", NONNEG, str_field="scene.emitters[0]")
+sweep("envmap_scale", ENV, "scene.emitters.0.scale", "scene.emitters[0].scale", NONNEG, str_field="scene.emitters[0]")
+case("envmap_ok", "baseline", ENV, [], "valid")
+case("envmap_huge_header", "crash", ENV, [("scene.emitters.0.path", "../assets/env_huge_header.exr")], 2,
+     "scene.emitters[0].path", "200000")
+case("envmap_negative_channel", "wrong", ENV, [("scene.emitters.0.path", "../assets/env_negative_channel.exr")], 2,
+     "scene.emitters[0].path", "negative")
+case("envmap_dev_urandom", "hang", ENV, [("scene.emitters.0.path", "/dev/urandom")], 2, "scene.emitters[0].path")
+case("envmap_not_exr", "baseline", ENV, [("scene.emitters.0.path", "../cases/envmap_ok.json")], 2, "scene.emitters[0].path")
+case("emitter_unknown_type", "baseline", POINT, [("scene.emitters.0.type", "laser")], 2, "scene.emitters[0]")
+case("moving_light_velocity_e39", "f32", MOVING, [("scene.emitters.0.velocity", [1e39, 0, 0])], 2, "scene.emitters[0].velocity")
+
+# ---------------------------------------------------------------- spectra
+case("spectrum_constant_e39", "f32", DISK, [("scene.shapes.0.emission.spectrum", 1e39)], 2,
+     "scene.shapes[0].emission.spectrum")
+case("spectrum_constant_m1", "baseline", DISK, [("scene.shapes.0.emission.spectrum", -1)], 2,
+     "scene.shapes[0].emission.spectrum")
+case("blackbody_temperature_e39", "f32", SPECTRAL, [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 1e39}})],
+     2, "scene.shapes[0].emission.spectrum")
+case("blackbody_temperature_zero", "baseline", SPECTRAL, [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 0}})],
+     2, "scene.shapes[0].emission.spectrum")
+case("blackbody_scale_1e37", "f32", SPECTRAL, [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 3000, "scale": 1e37}})],
+     2, "scene.shapes[0].emission")
+case("sampled_spectrum_value_e39", "f32", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [380, 780], "values": [1, 1e39]}})],
+     2, "scene.shapes[0].emission.spectrum")
+case("sampled_spectrum_unsorted", "baseline", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [780, 380], "values": [1, 1]}})],
+     2, "scene.shapes[0].emission.spectrum")
+
+# ---------------------------------------------------------------- materials and dispersion
+case("albedo_e39", "f32", SHAPES, [("scene.materials.white.albedo", 1e39)], 2, "scene.materials.white")
+case("albedo_m1", "baseline", SHAPES, [("scene.materials.white.albedo", -1)], 2, "scene.materials.white")
+case("albedo_str", "baseline", SHAPES, [("scene.materials.white.albedo", "NaN")], 2, "scene.materials.white")
+case("eta_e308", "f32", BK7, [("scene.materials.glass.eta", 1e308)], 2, "scene.materials.glass")
+case("sellmeier_c_e39", "f32", BK7, [("scene.dispersion.glass.eta.sellmeier.c", [0.006, 0.02, 1e39])], 2,
+     "scene.dispersion.glass")
+case("sellmeier_pole_in_band", "wrong", BK7, [("spectral.band", [400, 20000])], 2, "scene.dispersion.glass", "pole")
+case("sellmeier_wavelength_at_pole", "wrong", BK7, [("spectral", {"wavelength": 10176.5})], 2,
+     "scene.dispersion.glass", "pole")
+case("conductor_k_via_dispersion", "wrong", METAL, [("scene.dispersion.metal.k", 1000)], 2, "scene.dispersion.metal", "100")
+case("conductor_k_via_dispersion_e39", "f32", METAL, [("scene.dispersion.metal.k", 1e39)], 2, "scene.dispersion.metal")
+case("conductor_k_via_dispersion_ok", "baseline", METAL, [], "valid")
+case("cauchy_a_m1", "baseline", BK7, [("scene.dispersion.glass.eta", {"cauchy": {"a": -1}})], 2, "scene.dispersion.glass")
+
+# ---------------------------------------------------------------- spectral and time sections
+case("band_too_narrow", "wrong", SPECTRAL, [("spectral.band", [500, 500.00000001])], 2, "spectral.band", "narrow")
+case("band_1e39", "f32", SPECTRAL, [("spectral.band", [500, 1e39])], 2, "spectral.band")
+case("band_m1", "baseline", SPECTRAL, [("spectral.band", [-1, 500])], 2, "spectral.band")
+case("band_str", "baseline", SPECTRAL, [("spectral.band", ["NaN", 500])], 2, "spectral.band")
+case("wavelength_e308", "f32", SPECTRAL, [("spectral", {"wavelength": 1e308})], 2, "spectral.wavelength")
+case("wavelength_zero", "baseline", SPECTRAL, [("spectral", {"wavelength": 0})], 2, "spectral.wavelength")
+case("wavelength_sub", "f32", SPECTRAL, [("spectral", {"wavelength": SUB})], 2, "spectral.wavelength")
+case("shutter_e39", "f32", MOVING, [("time.shutter", [0, 1e39])], 2, "time.shutter")
+case("shutter_reversed", "baseline", MOVING, [("time.shutter", [2, -0.5])], 2, "time.shutter")
+case("bin_e308", "f32", PULSE, [("time.bin", [0, 1e308])], 2, "time.bin")
+case("bin_str", "baseline", PULSE, [("time.bin", [0, "NaN"])], 2, "time.bin")
+
+# ---------------------------------------------------------------- measure
+sweep("measure_at", DISK, "measure.irradiance.at", "measure.at", COORD, vec=(0, [0, 0, 0]),
+      str_field="measure.irradiance.at")
+case("measure_normal_zero", "baseline", DISK, [("measure.irradiance.normal", [0, 0, 0])], 2, "measure.normal")
+case("measure_normal_tiny", "unclear", DISK, [("measure.irradiance.normal", [0, 0, 1e-320])], 2, "measure.normal",
+     "too small to normalise")
+case("measure_normal_e39", "f32", DISK, [("measure.irradiance.normal", [0, 0, 1e39])], 2, "measure.normal")
+sweep("albedo_theta", ALBEDO, "measure.albedo.theta_degrees", "measure.albedo.theta_degrees",
+      {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2})
+case("albedo_bsdf_alpha_e39", "f32", ALBEDO, [("measure.albedo.bsdf.alpha", 1e39)], 2, "measure.albedo.bsdf")
+case("segments_zero", "wrong", CHORD, [("measure.mean_path_length.segments", 0)], 2, "measure.mean_path_length.segments")
+case("segments_huge", "hang", CHORD, [("measure.mean_path_length.segments", 4294967295)], 2,
+     "measure.mean_path_length.segments")
+case("measure_shape_missing", "baseline", CHORD, [("measure.mean_path_length.shape", 7)], 2, "measure.shape")
+case("power_shape_m1", "baseline", POWER, [("measure.power.shape", -1)], 2, "measure")
+case("power_ok", "baseline", POWER, [], "valid")
+case("measure_unknown", "baseline", DISK, [("measure", {"flux": {}})], 2, "measure")
+case("measure_missing", "baseline", DISK, [("measure", DELETE)], 2, "measure")
+
+# ---------------------------------------------------------------- reference, samples, estimators, top level
+case("reference_scale_m1", "baseline", REF, [("reference.scale", -1)], 2, "reference.scale")
+case("reference_scale_e308", "baseline", REF, [("reference.scale", 1e308)], "valid")
+case("reference_radius_e308", "f32", REF, [("reference.radius", 1e308), ("reference.height", 1e308)], 2, "reference")
+case("reference_unknown", "baseline", REF, [("reference.closed_form", "nope")], 2, "reference")
+case("samples_zero", "baseline", DISK, [("samples", 0)], 2, "samples")
+case("samples_huge", "hang", DISK, [("samples", 18446744073709551615)], 2, "samples", "2^40")
+case("samples_e39", "baseline", DISK, [("samples", 1e39)], 2, "samples")
+case("samples_str", "baseline", DISK, [("samples", "many")], 2, "samples")
+case("estimators_empty", "baseline", DISK, [("estimators", [])], 2, "estimators")
+case("estimator_unknown", "baseline", DISK, [("estimators", ["magic"])], 2, "estimators")
+case("estimator_wrong_measure", "baseline", DISK, [("estimators", ["area"])], 2, "estimators[0]")
+case("unknown_field", "baseline", DISK, [("colour", 1)], 2, "colour")
+case("malformed_json", "baseline", DISK, [], 2, "EOF", raw='{ "name": ')
+case("not_an_object", "baseline", DISK, [], 2, "invalid type", raw='[1, 2, 3]')
+case("deep_nesting", "baseline", DISK, [], 2, "deep_nesting.json", raw="[" * 100000 + "]" * 100000)
+case("valid_disk", "baseline", DISK, [], "valid")
+case("valid_spectral", "baseline", SPECTRAL, [], "valid")
+case("valid_pulse", "baseline", PULSE, [], "valid")
+case("valid_moving", "baseline", MOVING, [], "valid")
+case("valid_bk7", "baseline", BK7, [], "valid")
+case("valid_albedo", "baseline", ALBEDO, [], "valid")
+case("valid_shapes_tiny_coordinates", "baseline", SHAPES, [("scene.shapes.1.geometry.corner", [-1, -1, 4 + 1e-300])], "valid")
+case("valid_far_point_light", "baseline", POINT, [("scene.emitters.0.position", [1e17, 0, 1e17]),
+                                                   ("scene.emitters.0.intensity", 1e30)], "valid")
+
+# ---------------------------------------------------------------- verify
+case("verify_f32_radiance", "f32", DISK, [("scene.shapes.0.emission.radiance", 1e39)], 2,
+     "scene.shapes[0].emission.radiance", cmd="verify")
+case("verify_valid", "baseline", REF, [], "valid", cmd="verify")
+entry("verify_empty_folder", "wrong", ["verify", "{empty_dir}", "--no-chi2"], 2, "no case files")
+entry("verify_dev_zero", "hang", ["verify", "/dev/zero", "--no-chi2"], 2, "regular file")
+entry("verify_missing", "baseline", ["verify", "{corpus}/nope.json"], 2, "no such file")
+entry("verify_samples_one", "wrong", ["verify", "{corpus}/cases/verify_valid.json", "--samples", "1"], 2, "--samples", "256")
+entry("verify_samples_max", "hang", ["verify", "{corpus}/cases/verify_valid.json", "--samples", "18446744073709551615"], 2,
+      "--samples")
+entry("verify_seed_negative", "unclear", ["verify", "{corpus}/cases/verify_valid.json", "--seed", "-1"], 2, "--seed")
+entry("verify_threads_negative", "unclear", ["verify", "{corpus}/cases/verify_valid.json", "--threads", "-1"], 2, "--threads")
+entry("verify_json_leftover", "leftover",
+      ["verify", "{corpus}/cases/verify_valid.json", "--samples", "4096", "--no-chi2", "--json", "{tmp}/out.json"],
+      "valid", pre_files=[".out.json.tmp4294967294"], no_leftovers=True)
+
+# ---------------------------------------------------------------- estimate (command line)
+V = "{corpus}/cases/valid_disk.json"
+entry("estimate_samples_zero", "wrong", ["estimate", V, "--samples", "0"], 2, "--samples", "256")
+entry("estimate_samples_one", "wrong", ["estimate", V, "--samples", "1"], 2, "--samples", "256")
+entry("estimate_samples_max", "hang", ["estimate", V, "--samples", "18446744073709551615"], 2, "--samples")
+entry("estimate_samples_2p40_plus_1", "hang", ["estimate", V, "--samples", "1099511627777"], 2, "--samples")
+entry("estimate_samples_negative", "unclear", ["estimate", V, "--samples", "-1"], 2, "--samples", "256")
+entry("estimate_samples_text", "baseline", ["estimate", V, "--samples", "lots"], 2, "--samples")
+entry("estimate_seed_negative", "unclear", ["estimate", V, "--seed", "-1"], 2, "--seed")
+entry("estimate_threads_huge", "hang", ["estimate", V, "--threads", "1000000000"], 2, "--threads")
+entry("estimate_threads_zero", "baseline", ["estimate", V, "--threads", "0", "--samples", "4096"], 2, "--threads")
+entry("estimate_threads_negative", "unclear", ["estimate", V, "--threads", "-1"], 2, "--threads")
+entry("estimate_dev_zero", "hang", ["estimate", "/dev/zero"], 2, "regular file")
+entry("estimate_dev_urandom", "hang", ["estimate", "/dev/urandom"], 2, "regular file")
+entry("estimate_big_file", "hang", ["estimate", "{big}"], 2, "limit")
+entry("estimate_folder", "baseline", ["estimate", "{empty_dir}"], 2, "folder")
+entry("estimate_estimator_unknown", "baseline", ["estimate", V, "--estimator", "magic"], 2, "--estimator")
+entry("estimate_estimator_wrong", "baseline", ["estimate", V, "--estimator", "area", "--samples", "4096"], 2, "--estimator")
+entry("estimate_sampler_unknown", "baseline", ["estimate", V, "--sampler", "halton"], 2, "--sampler")
+entry("estimate_valid_sobol", "baseline", ["estimate", V, "--sampler", "sobol", "--samples", "256"], "valid")
+
+# ---------------------------------------------------------------- chi2
+L = '{"type":"lambertian","albedo":0.5}'
+entry("chi2_samples_zero", "wrong", ["chi2", L, "--samples", "0", "--out", "{tmp}"], 2, "--samples", "40960")
+entry("chi2_samples_ten", "wrong", ["chi2", L, "--samples", "10", "--out", "{tmp}"], 2, "--samples", "40960")
+entry("chi2_samples_max", "hang", ["chi2", L, "--samples", "18446744073709551615", "--out", "{tmp}"], 2, "--samples")
+entry("chi2_wo_e308", "wrong", ["chi2", L, "--wo", "1e308,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo")
+entry("chi2_wo_theta_200", "wrong", ["chi2", L, "--wo", "200,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo")
+entry("chi2_wo_negative", "unclear", ["chi2", L, "--wo", "-30,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo", "[0, 180]")
+entry("chi2_wo_text", "baseline", ["chi2", L, "--wo", "up", "--out", "{tmp}"], 2, "--wo")
+entry("chi2_out_is_file", "unclear", ["chi2", L, "--samples", "40960", "--out", "{file}"], 2, "--out", "not a folder")
+entry("chi2_bsdf_bad_json", "baseline", ["chi2", "{", "--out", "{tmp}"], 2, "bsdf")
+entry("chi2_bsdf_albedo_e39", "f32", ["chi2", '{"type":"lambertian","albedo":1e39}', "--out", "{tmp}"], 2, "albedo")
+entry("chi2_bsdf_unknown", "baseline", ["chi2", '{"type":"velvet"}', "--out", "{tmp}"], 2, "bsdf")
+entry("chi2_seed_negative", "unclear", ["chi2", L, "--seed", "-1", "--out", "{tmp}"], 2, "--seed")
+entry("chi2_valid", "baseline", ["chi2", L, "--samples", "40960", "--out", "{tmp}"], "valid")
+
+# ---------------------------------------------------------------- render
+case("render_valid", "baseline", CAMERA, [], "valid", cmd="render")
+case("render_width_2p63", "crash", CAMERA, [("camera.width", 9223372036854775808), ("camera.height", 2)], 2,
+     "camera.width", cmd="render")
+case("render_width_height_overflow", "unclear", CAMERA, [("camera.width", 4294967296), ("camera.height", 4294967296)], 2,
+     "camera.width", "×", cmd="render")
+case("render_width_zero", "baseline", CAMERA, [("camera.width", 0)], 2, "camera.width", cmd="render")
+case("render_width_m1", "baseline", CAMERA, [("camera.width", -1)], 2, "camera.width", cmd="render")
+case("render_fov_e39", "f32", CAMERA, [("camera.fov_degrees", 1e39)], 2, "camera.fov_degrees", cmd="render")
+case("render_position_e39", "f32", CAMERA, [("camera.position", [0, 0, 1e39])], 2, "camera.position", cmd="render")
+case("render_no_camera", "baseline", DISK, [], 2, "camera", cmd="render")
+entry("render_spp_zero", "wrong", ["render", "{corpus}/cases/render_valid.json", "--spp", "0", "-o", "{tmp}/o.exr"], 2, "--spp")
+entry("render_spp_max", "hang", ["render", "{corpus}/cases/render_valid.json", "--spp", "18446744073709551615",
+                                 "-o", "{tmp}/o.exr"], 2, "--spp")
+entry("render_spp_negative", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "-1", "-o", "{tmp}/o.exr"],
+      2, "--spp")
+entry("render_dev_zero", "hang", ["render", "/dev/zero", "-o", "{tmp}/o.exr"], 2, "regular file")
+
+# ---------------------------------------------------------------- report
+R = "{corpus}/cases/valid_disk.json"
+REP = ["--max-samples", "256", "--sampler", "independent", "--out", "{tmp}/rep"]
+entry("report_min_samples_overflow", "wrong", ["report", R, "--min-samples", "9223372036854775809"] + REP, 2, "--min-samples")
+entry("report_max_samples_max", "baseline", ["report", R, "--max-samples", "18446744073709551615", "--out", "{tmp}/rep"], 2,
+      "--max-samples")
+entry("report_budget_negative", "unclear", ["report", R, "--budget", "-5"] + REP, 2, "--budget")
+entry("report_budget_zero", "baseline", ["report", R, "--budget", "0"] + REP, 2, "--budget")
+entry("report_threads_huge", "hang", ["report", R, "--threads", "1000000"] + REP, 2, "--threads")
+entry("report_shard_bad", "baseline", ["report", R, "--shard", "3/2"] + REP, 2, "--shard")
+entry("report_shard_negative", "unclear", ["report", R, "--shard", "-1/2"] + REP, 2, "--shard")
+entry("report_empty_folder", "wrong", ["report", "{empty_dir}"] + REP, 2, "no case files")
+entry("report_f32_case", "f32", ["report", "{corpus}/cases/emission_radiance_e39.json"] + REP, 2,
+      "scene.shapes[0].emission.radiance")
+entry("report_valid", "baseline", ["report", R] + REP, "valid")
+entry("report_leftover", "leftover", ["report", R, "--max-samples", "256", "--sampler", "independent", "--out", "{tmp}"],
+      "valid", pre_files=[".index.json.tmp4294967294"], no_leftovers=True)
+
+# ---------------------------------------------------------------- merge
+partial = json.load(open(os.path.join(HERE, "assets/shard-0-of-1.json")))
+def merge_case(name, cls, edit, expect, field=None, contains=None):
+    doc = copy.deepcopy(partial)
+    edit(doc)
+    write("merge/%s/shard-0-of-1.json" % name, json.dumps(doc))
+    entry(name, cls, ["merge", "{corpus}/merge/%s" % name, "--out", "{tmp}/rep"], expect, field, contains)
+merge_case("merge_index_out_of_range", "crash", lambda d: d["shard"].update(index=7), 2, "shard.index")
+merge_case("merge_count_zero", "crash", lambda d: d["shard"].update(count=0), 2, "shard.count")
+merge_case("merge_count_huge", "hang", lambda d: d["shard"].update(count=4294967295), 2, "missing shard(s) 1, 2")
+merge_case("merge_count_string", "baseline", lambda d: d["shard"].update(count="one"), 2, "shard.count")
+merge_case("merge_wrong_format", "baseline", lambda d: d.update(format="other/1"), 2, "format")
+merge_case("merge_valid", "baseline", lambda d: None, "valid")
+merge_case("merge_seconds_e308", "hang",
+           lambda d: d["cases"][0]["series"][0]["points"][0]["batches"][0].update(seconds=1e308), "valid")
+entry("merge_dev_zero", "hang", ["merge", "{corpus}/merge/devzero", "--out", "{tmp}/rep"], 2, "no shard partial")
+entry("merge_nothing", "baseline", ["merge", "{empty_dir}", "--out", "{tmp}/rep"], 2, "shard")
+
+if __name__ == "__main__":
+    write("assets/env_ok.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 8))
+    write("assets/env_negative_channel.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 7 + [(-1.0, 2.0, 2.0)]))
+    write("assets/env_huge_header.exr", exr(1, 1, [], claim=(200000, 200000), offsets=False))
+    link = os.path.join(HERE, "merge/devzero/shard-0-of-1.json")
+    os.makedirs(os.path.dirname(link), exist_ok=True)
+    if os.path.lexists(link):
+        os.remove(link)
+    os.symlink("/dev/zero", link)
+    names = [e["name"] for e in ENTRIES]
+    assert len(names) == len(set(names)), "duplicate names"
+    write("manifest.json", json.dumps({"entries": ENTRIES}, indent=1) + "\n")
+    print(len(ENTRIES), "entries")
