@@ -113,7 +113,7 @@ impl SphereCone {
         self.pdf
     }
 
-    fn to_world(&self, v: DVec3) -> DVec3 {
+    fn to_world(self, v: DVec3) -> DVec3 {
         self.axis_s * v.x + self.axis_t * v.y + self.axis * v.z
     }
 

@@ -251,7 +251,7 @@ pub(crate) mod tests {
             let vd: Vec<DVec3> = v.iter().map(|x| x.as_dvec3()).collect();
             let (_, omega) = polygon_moments(p.as_dvec3(), &vd);
             assert!(
-                (t.solid_angle as f64 / omega - 1.0).abs() < 1e-7,
+                (t.solid_angle / omega - 1.0).abs() < 1e-7,
                 "{name}: Ω = {} vs {omega}",
                 t.solid_angle
             );
