@@ -783,7 +783,10 @@ pub fn run_case(case: &Case, base_seed: u64, samples: Option<u64>, scale: u64) -
     let mut out = Vec::new();
     for sampler in case.samplers() {
         for &est in &case.desc.estimators {
-            let n = samples.or(case.desc.samples).unwrap_or(DEFAULT_SAMPLES) * scale.max(1);
+            let n = samples
+                .or(case.desc.samples)
+                .unwrap_or(DEFAULT_SAMPLES)
+                .saturating_mul(scale.max(1));
             let seed = seed_for(base_seed, &case.desc.name, est, sampler);
             let spec = RunSpec {
                 samples: n,
