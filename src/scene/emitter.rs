@@ -197,11 +197,18 @@ pub enum PrimSampling {
 /// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
 pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
     match *prim {
-        // A point on the sphere itself (a self-lit sphere) is ambiguous in f32: only a point
-        // clearly outside uses the cone; on or inside, every point of the sphere is visible
-        // and area sampling is exact.
+        // A point on the sphere itself (a hit on it, error γ₅|p − c| + γ₁|c| per component)
+        // may round to just outside, where the cone's near root would be the point itself:
+        // only a point outside that band (4× the bound) uses the cone, which is exact
+        // however thin the gap beyond it (it works in f64). On or inside, every point of
+        // the sphere is visible and area sampling is exact.
         Primitive::Sphere { center, radius }
-            if (p - center).length_squared() > radius * radius * (1.0 + 1e-4) =>
+            if (p.as_dvec3() - center.as_dvec3()).length()
+                > radius as f64
+                    + 4.0
+                        * (crate::math::gamma(5) as f64 * radius as f64
+                            + crate::math::gamma(1) as f64
+                                * (center.abs().max_element() + p.abs().max_element()) as f64) =>
         {
             SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
         }
