@@ -812,6 +812,18 @@ impl Builder<'_> {
                 "non-negative",
             )
         };
+        // A point or spot light's intensity, representable, with a finite power 4π·I.
+        let intensity_of = |raw: f64, scale: f64, p: &EmitterProps, what: &str| {
+            let field = format!("{f}.intensity");
+            let intensity = self.strength(&field, raw, scale, p)?;
+            check_derived(
+                file,
+                &field,
+                4.0 * std::f64::consts::PI * intensity as f64,
+                what,
+            )?;
+            Ok::<f32, InputError>(intensity)
+        };
         Ok(match e {
             EmitterDesc::Point {
                 position,
@@ -822,14 +834,7 @@ impl Builder<'_> {
             } => {
                 nonneg("intensity", *intensity)?;
                 let (p, scale) = self.props(f, spectrum.as_ref(), *pulse_at, *velocity)?;
-                let field = format!("{f}.intensity");
-                let intensity = self.strength(&field, *intensity, scale, &p)?;
-                check_derived(
-                    file,
-                    &field,
-                    4.0 * std::f64::consts::PI * intensity as f64,
-                    "the emitted power 4π·I",
-                )?;
+                let intensity = intensity_of(*intensity, scale, &p, "the emitted power 4π·I")?;
                 (
                     Emitter::Point {
                         position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
@@ -865,14 +870,8 @@ impl Builder<'_> {
                     "in [0, cone_angle] degrees",
                 )?;
                 let d = unit3(file, &format!("{f}.direction"), *direction)?;
-                let field = format!("{f}.intensity");
-                let intensity = self.strength(&field, *intensity, scale, &p)?;
-                check_derived(
-                    file,
-                    &field,
-                    4.0 * std::f64::consts::PI * intensity as f64,
-                    "the emitted power (at most 4π·I)",
-                )?;
+                let intensity =
+                    intensity_of(*intensity, scale, &p, "the emitted power (at most 4π·I)")?;
                 (
                     Emitter::Spot {
                         position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
