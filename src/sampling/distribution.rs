@@ -91,7 +91,25 @@ impl Distribution1D {
             0.5
         };
         let x = ((i as f64 + du) / n as f64).min(1.0 - f64::EPSILON) as f32;
-        (x, self.pdf_cell(i), i)
+        (self.keep_in_cell(x, i), self.pdf_cell(i), i)
+    }
+
+    /// The cell [`Distribution1D::pdf`] reads for x.
+    fn cell_of(&self, x: f32) -> usize {
+        ((x * self.func.len() as f32) as usize).min(self.func.len() - 1)
+    }
+
+    /// Rounding (i + du)/n to `f32` can land x on the far side of a cell boundary, in a
+    /// neighbour whose density may be zero; step x back by ulps until `pdf` reads cell i,
+    /// so a sample never lies where its own pdf is zero.
+    fn keep_in_cell(&self, mut x: f32, i: usize) -> f32 {
+        while self.cell_of(x) > i && x > 0.0 {
+            x = x.next_down();
+        }
+        while self.cell_of(x) < i && x < 1.0 {
+            x = x.next_up();
+        }
+        x.min(1.0f32.next_down())
     }
 
     fn pdf_cell(&self, i: usize) -> f32 {
@@ -107,8 +125,7 @@ impl Distribution1D {
         if !(0.0..1.0).contains(&x) {
             return 0.0;
         }
-        let i = ((x * self.func.len() as f32) as usize).min(self.func.len() - 1);
-        self.pdf_cell(i)
+        self.pdf_cell(self.cell_of(x))
     }
 
     /// Inverse of [`Distribution1D::sample`].
@@ -194,6 +211,30 @@ mod tests {
             prop_assert!((pdf - d.pdf(p)).abs() <= 1e-4 * pdf);
             let back = d.invert(p);
             prop_assert!((back - Vec2::new(u, v)).abs().max_element() < 1e-3);
+        }
+    }
+
+    /// Every cell boundary k/7 rounds to an f32 above or below it; a sample drawn at the
+    /// top of a cell (du = 1) must stay in that cell, not land in a zero-density neighbour.
+    /// This failed before `keep_in_cell` (chi-square at LIGHTPROOF_SEED=19).
+    #[test]
+    fn samples_at_cell_edges_stay_in_their_cell() {
+        let values = [1.0, 0.0, 2.0, 0.0, 3.0, 0.0, 1.0];
+        let d = Distribution1D::new(&values);
+        for k in 0..=4096u32 {
+            let u = k as f32 / 4096.0;
+            for u in [u, u.next_down(), u.next_up()] {
+                let (x, pdf, i) = d.sample(u);
+                assert!(values[i] > 0.0, "u {u} chose empty cell {i}");
+                assert!((0.0..1.0).contains(&x), "u {u}: x {x}");
+                assert_eq!(d.pdf(x), pdf, "u {u}: x {x} left cell {i}");
+            }
+        }
+        for i in [0usize, 2, 4, 6] {
+            for edge in [i as f64 / 7.0, (i + 1) as f64 / 7.0] {
+                let x = d.keep_in_cell(edge as f32, i);
+                assert_eq!(d.cell_of(x), i, "edge {edge} of cell {i}");
+            }
         }
     }
 
