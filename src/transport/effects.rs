@@ -230,3 +230,245 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
         max_bounces,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! One scene per rule, each on both sides of the rule, so a rule that prunes too much
+    //! (unsound) or too little (wasted work) is seen.
+    use super::*;
+    use crate::scene::load::SceneDesc;
+    use glam::{DVec3, Vec3};
+    use serde_json::json;
+
+    fn scene(v: serde_json::Value) -> Scene {
+        let d: SceneDesc = serde_json::from_value(v).unwrap();
+        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
+            .unwrap()
+    }
+
+    fn radiance_at(at: Vec3) -> Measure {
+        Measure::Radiance {
+            at,
+            direction: Vec3::Z,
+        }
+    }
+
+    fn irradiance_at(at: Vec3) -> Measure {
+        Measure::Irradiance {
+            at,
+            normal: Vec3::Z,
+        }
+    }
+
+    fn grey(albedo: f64) -> serde_json::Value {
+        json!({ "type": "lambertian", "albedo": albedo })
+    }
+
+    fn sphere(material: Option<&str>, emits: bool) -> serde_json::Value {
+        let mut s = json!({ "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 } });
+        if let Some(m) = material {
+            s["material"] = json!(m);
+        }
+        if emits {
+            s["emission"] = json!({ "radiance": 1 });
+        }
+        s
+    }
+
+    fn disk(z: f64, material: Option<&str>) -> serde_json::Value {
+        let mut s = json!({ "geometry": { "type": "disk", "center": [0, 0, z], "normal": [0, 0, 1], "radius": 1 } });
+        if let Some(m) = material {
+            s["material"] = json!(m);
+        }
+        s
+    }
+
+    fn point_light() -> serde_json::Value {
+        json!({ "type": "point", "position": [0, 0, 5], "intensity": 1 })
+    }
+
+    fn env() -> serde_json::Value {
+        json!({ "type": "constant", "radiance": 1 })
+    }
+
+    #[test]
+    fn a_black_surface_does_not_scatter() {
+        for (albedo, scatters) in [(0.0, false), (0.5, true)] {
+            let s = scene(json!({
+                "materials": { "m": grey(albedo) },
+                "shapes": [disk(0.0, Some("m"))],
+                "emitters": [point_light()]
+            }));
+            let e = analyze(&s, &irradiance_at(Vec3::new(0.0, 0.0, 2.0)));
+            assert_eq!(e.single_scattering.simulated, scatters, "albedo {albedo}");
+            assert_eq!(e.max_bounces, Some(scatters as u32), "albedo {albedo}");
+            assert!(e.direct_emission.simulated);
+        }
+    }
+
+    #[test]
+    fn nothing_emits_nothing_scatters() {
+        let s = scene(json!({ "materials": { "m": grey(0.5) }, "shapes": [disk(0.0, Some("m"))] }));
+        let e = analyze(&s, &irradiance_at(Vec3::new(0.0, 0.0, 2.0)));
+        assert!(!e.direct_emission.simulated && !e.single_scattering.simulated);
+        assert!(!e.multiple_scattering.simulated);
+        assert_eq!(e.max_bounces, Some(0));
+    }
+
+    #[test]
+    fn a_sphere_sees_itself_only_from_inside() {
+        for (at, multiple) in [
+            (Vec3::new(0.0, 0.0, 0.5), true),
+            (Vec3::new(0.0, 0.0, 3.0), false),
+        ] {
+            let s = scene(json!({
+                "materials": { "m": grey(0.5) },
+                "shapes": [sphere(Some("m"), false)],
+                "emitters": [point_light()]
+            }));
+            let e = analyze(&s, &irradiance_at(at));
+            assert_eq!(e.multiple_scattering.simulated, multiple, "at {at}");
+            assert_eq!(e.max_bounces, if multiple { None } else { Some(1) });
+        }
+    }
+
+    #[test]
+    fn a_moving_or_transmitting_sphere_may_see_itself() {
+        let mut moving = sphere(Some("m"), false);
+        moving["velocity"] = json!([1, 0, 0]);
+        let glass = json!({ "type": "dielectric", "eta": 1.5 });
+        for (material, shape) in [(grey(0.5), moving), (glass, sphere(Some("m"), false))] {
+            let s = scene(json!({
+                "materials": { "m": material },
+                "shapes": [shape],
+                "emitters": [point_light()]
+            }));
+            let e = analyze(&s, &irradiance_at(Vec3::new(0.0, 0.0, 3.0)));
+            assert!(e.multiple_scattering.simulated, "{e:?}");
+            assert!(e.occlusion.simulated);
+        }
+    }
+
+    #[test]
+    fn two_scatterers_or_a_folded_mesh_exchange_light_a_plane_does_not() {
+        let two = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [disk(0.0, Some("m")), disk(1.0, Some("m"))],
+            "emitters": [point_light()]
+        }));
+        let one = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [disk(0.0, Some("m")), disk(1.0, None)],
+            "emitters": [point_light()]
+        }));
+        let mesh = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [{ "geometry": { "type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], "indices": [[0, 1, 2], [0, 3, 1]] }, "material": "m" }],
+            "emitters": [point_light()]
+        }));
+        let at = irradiance_at(Vec3::new(0.2, 0.2, 3.0));
+        assert!(analyze(&two, &at).multiple_scattering.simulated);
+        assert!(!analyze(&one, &at).multiple_scattering.simulated);
+        assert!(analyze(&mesh, &at).multiple_scattering.simulated);
+    }
+
+    #[test]
+    fn lobes_decide_specular_chains_and_transmission() {
+        for (m, specular, transmits) in [
+            (grey(0.5), false, false),
+            (
+                json!({ "type": "conductor", "eta": 0.2, "k": 3.9 }),
+                true,
+                false,
+            ),
+            (json!({ "type": "dielectric", "eta": 1.5 }), true, true),
+        ] {
+            let s = scene(json!({
+                "materials": { "m": m },
+                "shapes": [disk(0.0, Some("m"))],
+                "emitters": [point_light()]
+            }));
+            let e = analyze(&s, &irradiance_at(Vec3::new(0.0, 0.0, 2.0)));
+            assert_eq!(e.specular_chains.simulated, specular, "{m}");
+            assert_eq!(e.transmission.simulated, transmits, "{m}");
+        }
+    }
+
+    #[test]
+    fn occlusion_needs_something_between() {
+        let at = irradiance_at(Vec3::new(0.0, 0.0, 0.5));
+        // No shapes at all.
+        let empty = scene(json!({ "emitters": [point_light()] }));
+        assert!(!analyze(&empty, &at).occlusion.simulated);
+        // One emitting sphere, the only emitter: nothing else to cross.
+        let lone =
+            scene(json!({ "materials": { "m": grey(0.5) }, "shapes": [sphere(Some("m"), true)] }));
+        assert!(!analyze(&lone, &at).occlusion.simulated);
+        // ... but a second emitter makes its segments cross the sphere.
+        let two_lights = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [sphere(Some("m"), true)],
+            "emitters": [point_light()]
+        }));
+        assert!(analyze(&two_lights, &at).occlusion.simulated);
+        // A second shape may block.
+        let second = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [sphere(Some("m"), true), disk(0.2, None)]
+        }));
+        assert!(analyze(&second, &at).occlusion.simulated);
+    }
+
+    #[test]
+    fn a_convex_reflector_lit_from_infinity_needs_no_shadow_rays_only_from_outside() {
+        let s = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [sphere(Some("m"), false)],
+            "emitters": [env()]
+        }));
+        let outside = Vec3::new(0.0, 0.0, -3.0);
+        assert!(!analyze(&s, &radiance_at(outside)).occlusion.simulated);
+        assert!(
+            analyze(&s, &radiance_at(Vec3::new(0.0, 0.0, 0.5)))
+                .occlusion
+                .simulated
+        );
+        // Irradiance at an outside point integrates over directions the sphere can block.
+        assert!(analyze(&s, &irradiance_at(outside)).occlusion.simulated);
+        // A finite light can be hidden by the sphere's own far side.
+        let lit = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [sphere(Some("m"), false)],
+            "emitters": [point_light()]
+        }));
+        assert!(analyze(&lit, &radiance_at(outside)).occlusion.simulated);
+        let mut moving = sphere(Some("m"), false);
+        moving["velocity"] = json!([0, 1, 0]);
+        let moving = scene(
+            json!({ "materials": { "m": grey(0.5) }, "shapes": [moving], "emitters": [env()] }),
+        );
+        assert!(analyze(&moving, &radiance_at(outside)).occlusion.simulated);
+    }
+
+    #[test]
+    fn object_properties_are_not_transport() {
+        let one = scene(json!({ "shapes": [disk(0.0, None)] }));
+        let two = scene(json!({ "shapes": [disk(0.0, None), disk(1.0, None)] }));
+        let from = Vec3::new(0.0, 0.0, 3.0);
+        for m in [
+            Measure::SolidAngle { from, shape: 0 },
+            Measure::ProjectedSolidAngle {
+                from,
+                normal: -Vec3::Z,
+                shape: 0,
+            },
+        ] {
+            let e = analyze(&one, &m);
+            assert!(!e.occlusion.simulated && !e.direct_emission.simulated);
+            assert_eq!(e.max_bounces, Some(0));
+            assert!(analyze(&two, &m).occlusion.simulated, "{m:?}");
+        }
+        let e = analyze(&two, &Measure::Power { emitter: 0 });
+        assert!(!e.occlusion.simulated && !e.single_scattering.simulated);
+    }
+}
