@@ -2,8 +2,9 @@
 //! then rename it over the target, so a reader (or an interrupted run) sees either the
 //! old file whole or the new one whole, never a half-written one.
 
+use crate::error::InputError;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Largest JSON input (a case, scene, report or shard partial file): 64 MiB.
 pub const MAX_JSON_BYTES: u64 = 64 << 20;
@@ -51,36 +52,110 @@ pub fn read_input(path: &Path, limit: u64) -> Result<String, String> {
     String::from_utf8(bytes).map_err(|e| format!("is not UTF-8 text: {e}"))
 }
 
+/// The files among `paths` and in the folders among them (and their sub-folders when
+/// `recursive`) that `keep` accepts, sorted, each once. Files given directly are kept
+/// whatever their name; a path that does not exist is an error naming it.
+pub fn collect_files(
+    paths: &[PathBuf],
+    recursive: bool,
+    keep: impl Fn(&Path) -> bool,
+) -> Result<Vec<PathBuf>, InputError> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut stack = vec![p.clone()];
+            while let Some(d) = stack.pop() {
+                let rd = std::fs::read_dir(&d).map_err(|e| {
+                    InputError::new(
+                        d.display().to_string(),
+                        "-",
+                        format!("cannot read folder: {e}"),
+                    )
+                })?;
+                for entry in rd.flatten() {
+                    let q = entry.path();
+                    if q.is_dir() {
+                        if recursive {
+                            stack.push(q);
+                        }
+                    } else if q.is_file() && keep(&q) {
+                        out.push(q);
+                    }
+                }
+            }
+        } else if p.exists() {
+            out.push(p.clone());
+        } else {
+            return Err(InputError::new(
+                p.display().to_string(),
+                "-",
+                "no such file or folder",
+            ));
+        }
+    }
+    out.sort();
+    out.dedup();
+    Ok(out)
+}
+
 /// Write `bytes` to `path` atomically. The temporary file `.NAME.tmpPID` is removed on
 /// every failure (create, write, flush, rename), and temporaries of the same target
 /// left by processes that no longer exist (a kill during an earlier write) are cleaned
 /// up first.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    write_via_temporary(path, &name, "", |tmp| {
+        let mut f = std::fs::File::create(tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()
+    })
+}
+
+/// Write a `w` × `h` RGB EXR atomically, as [`write_atomic`] does (the temporary is
+/// `.STEM.tmpPID.exr`: the exr crate picks its format by the extension);
+/// `pixel(x, y)` gives the colour of column x of row y, row 0 at the top.
+pub fn write_exr_atomic(
+    path: &Path,
+    w: usize,
+    h: usize,
+    pixel: impl Fn(usize, usize) -> (f32, f32, f32) + Sync,
+) -> std::io::Result<()> {
+    let stem = path
+        .file_stem()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    write_via_temporary(path, &stem, ".exr", |tmp| {
+        exr::prelude::write_rgb_file(tmp, w, h, pixel)
+            .map_err(|e| std::io::Error::other(e.to_string()))
+    })
+}
+
+/// Run `write` on the temporary `.NAME.tmpPID{suffix}` beside `path`, then rename it
+/// over `path`; on any failure the temporary is removed.
+fn write_via_temporary(
+    path: &Path,
+    name: &str,
+    suffix: &str,
+    write: impl FnOnce(&Path) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    remove_stale_temporaries(dir, &name);
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let written = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
+    remove_stale_temporaries(dir, name);
+    let tmp = dir.join(format!(".{name}.tmp{}{suffix}", std::process::id()));
+    let written = write(&tmp).and_then(|()| std::fs::rename(&tmp, path));
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     written
 }
 
-/// Remove `.NAME.tmpPID` files in `dir` whose process is gone (Linux: no `/proc/PID`).
+/// Remove `.NAME.tmpPID` (or `.NAME.tmpPID.exr`) files in `dir` whose process is gone (Linux: no `/proc/PID`).
 /// Elsewhere nothing is removed (a live writer's temporary must never be).
 fn remove_stale_temporaries(dir: &Path, name: &str) {
     if !Path::new("/proc/self").exists() {
@@ -95,6 +170,7 @@ fn remove_stale_temporaries(dir: &Path, name: &str) {
         let Some(pid) = file_name
             .to_str()
             .and_then(|n| n.strip_prefix(&prefix))
+            .map(|p| p.strip_suffix(".exr").unwrap_or(p))
             .and_then(|p| p.parse::<u32>().ok())
         else {
             continue;
@@ -108,6 +184,33 @@ fn remove_stale_temporaries(dir: &Path, name: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn collects_files_sorted_once_recursively_or_not() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-walk-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        for f in ["b.json", "a.json", "c.txt", "sub/d.json"] {
+            std::fs::write(dir.join(f), b"{}").unwrap();
+        }
+        let json = |p: &Path| p.extension().is_some_and(|x| x == "json");
+        let names = |v: Vec<PathBuf>| -> Vec<String> {
+            v.iter()
+                .map(|p| p.strip_prefix(&dir).unwrap().display().to_string())
+                .collect()
+        };
+        let given = [dir.clone(), dir.join("a.json"), dir.join("c.txt")];
+        assert_eq!(
+            names(collect_files(&given, true, json).unwrap()),
+            ["a.json", "b.json", "c.txt", "sub/d.json"]
+        );
+        assert_eq!(
+            names(collect_files(&[dir.clone()], false, json).unwrap()),
+            ["a.json", "b.json"]
+        );
+        let missing = collect_files(&[dir.join("nope")], true, json).unwrap_err();
+        assert!(missing.reason.contains("no such file"), "{missing}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 
     #[test]
     fn replaces_whole_file() {
@@ -132,6 +235,32 @@ mod tests {
         let stale = dir.join(".a.json.tmp4294967295");
         std::fs::write(&stale, b"half").unwrap();
         write_atomic(&dir.join("a.json"), b"{}").unwrap();
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(!names.iter().any(|n| n.contains(".tmp")), "{names:?}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn exr_is_written_whole_or_not_at_all() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-exr-{}", std::process::id()));
+        let p = dir.join("img.exr");
+        write_exr_atomic(&p, 2, 1, |x, _| (x as f32, 0.0, 1.0)).unwrap();
+        let img = exr::prelude::read_first_rgba_layer_from_file(
+            &p,
+            |r, _| vec![(0.0f32, 0.0f32, 0.0f32); r.width() * r.height()],
+            |px: &mut Vec<(f32, f32, f32)>, pos, (r, g, b, _): (f32, f32, f32, f32)| {
+                px[pos.y() * 2 + pos.x()] = (r, g, b)
+            },
+        )
+        .unwrap();
+        assert_eq!(img.layer_data.channel_data.pixels[1], (1.0, 0.0, 1.0));
+        // A target that is a non-empty folder: the rename fails, no temporary stays.
+        std::fs::create_dir_all(dir.join("busy.exr")).unwrap();
+        std::fs::write(dir.join("busy.exr/x"), b"x").unwrap();
+        assert!(write_exr_atomic(&dir.join("busy.exr"), 1, 1, |_, _| (0.0, 0.0, 0.0)).is_err());
         let names: Vec<String> = std::fs::read_dir(&dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -168,15 +168,8 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[f32]) -> std::io::Resu
             data.len()
         )));
     }
-    let tmp = path.with_extension(format!("tmp{}.exr", std::process::id()));
-    let written = exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
+    crate::io::write_exr_atomic(path, w, h, |x, y| {
         let v = data[y * w + x];
         (v, v, v)
     })
-    .map_err(|e| std::io::Error::other(e.to_string()))
-    .and_then(|()| std::fs::rename(&tmp, path));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written
 }

@@ -23,7 +23,7 @@
 //! estimates without variance, outside the family.
 
 use crate::bsdf::Bsdf;
-use crate::error::{InputError, check_number, parse_json};
+use crate::error::{InputError, check_direction, check_number, check_point, parse_json};
 use crate::sampling::{SampleStream, SamplerKind};
 use crate::scene::Scene;
 use crate::scene::load::SceneDesc;
@@ -38,7 +38,7 @@ mod dimensions;
 pub mod verdict;
 use crate::transport::{Estimator, Heuristic};
 use dimensions::dimensions;
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 pub use verdict::{ErrorBar, judge};
@@ -254,14 +254,6 @@ pub struct Case {
     pub dims_full: Dimensions,
 }
 
-fn unit(file: &str, field: &str, a: [f64; 3]) -> Result<Vec3, InputError> {
-    Ok(crate::error::check_direction(file, field, a)?.as_vec3())
-}
-
-fn point(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    crate::error::check_point(file, field, a)
-}
-
 /// The `spectral` and `time` sections as `f32` sees them: wavelengths in
 /// (0, [`MAX_WAVELENGTH_NM`]], a band at least [`MIN_RELATIVE_BANDWIDTH`] wide, every
 /// dispersive index valid over the band actually measured (a Sellmeier pole inside it is
@@ -377,9 +369,11 @@ impl Case {
         let f = file.as_str();
         let origin = match &desc.measure {
             MeasureDesc::SolidAngle { from, .. }
-            | MeasureDesc::ProjectedSolidAngle { from, .. } => point(f, "measure.from", *from)?,
+            | MeasureDesc::ProjectedSolidAngle { from, .. } => {
+                check_point(f, "measure.from", *from)?
+            }
             MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
-                point(f, "measure.at", *at)?
+                check_point(f, "measure.at", *at)?
             }
             _ => desc.scene.any_point(),
         };
@@ -436,7 +430,7 @@ impl Case {
         let rebased = |p: DVec3| (p - origin).as_vec3();
         let measure = match &desc.measure {
             MeasureDesc::SolidAngle { from, shape } => Measure::SolidAngle {
-                from: rebased(point(f, "measure.from", *from)?),
+                from: rebased(check_point(f, "measure.from", *from)?),
                 shape: shape_index("measure.shape", *shape)?,
             },
             MeasureDesc::ProjectedSolidAngle {
@@ -444,17 +438,17 @@ impl Case {
                 normal,
                 shape,
             } => Measure::ProjectedSolidAngle {
-                from: rebased(point(f, "measure.from", *from)?),
-                normal: unit(f, "measure.normal", *normal)?,
+                from: rebased(check_point(f, "measure.from", *from)?),
+                normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
                 shape: shape_index("measure.shape", *shape)?,
             },
             MeasureDesc::Irradiance { at, normal } => Measure::Irradiance {
-                at: rebased(point(f, "measure.at", *at)?),
-                normal: unit(f, "measure.normal", *normal)?,
+                at: rebased(check_point(f, "measure.at", *at)?),
+                normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
             },
             MeasureDesc::Radiance { at, direction } => Measure::Radiance {
-                at: rebased(point(f, "measure.at", *at)?),
-                direction: unit(f, "measure.direction", *direction)?,
+                at: rebased(check_point(f, "measure.at", *at)?),
+                direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
             },
             MeasureDesc::Albedo {
                 bsdf,
@@ -493,7 +487,7 @@ impl Case {
                 direction,
             } => Measure::Intensity {
                 emitter: emitter_index(*shape, *emitter)?,
-                direction: unit(f, "measure.direction", *direction)?,
+                direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
             },
             MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
                 shape: shape_index("measure.shape", *shape)?,
@@ -766,15 +760,12 @@ impl Outcome {
 /// Per-test seed: the base seed mixed with the case, estimator and sampler, so tests are
 /// independent (Šidák is exact) and reproducible.
 pub fn seed_for(base: u64, case: &str, est: Estimator, sampler: SamplerKind) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for b in case
+    use crate::sampling::sampler::{fnv1a, hash_words};
+    let names = case
         .bytes()
         .chain(est.name().bytes())
-        .chain(sampler.name().bytes())
-    {
-        h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-    }
-    crate::sampling::sampler::hash_words(&[base, h])
+        .chain(sampler.name().bytes());
+    hash_words(&[base, fnv1a(names)])
 }
 
 /// Run every estimator × sampler of a case; the outcomes are not yet judged (see
@@ -812,39 +803,7 @@ pub fn judge_family(outcomes: &mut [Outcome], others: usize, alpha: f64) -> usiz
     k
 }
 
-/// Every `.json` case file under the given files or folders, sorted.
+/// Every `.json` case file under the given files or folders (recursively), sorted.
 pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut stack = vec![p.clone()];
-            while let Some(d) = stack.pop() {
-                let rd = std::fs::read_dir(&d).map_err(|e| {
-                    InputError::new(
-                        d.display().to_string(),
-                        "-",
-                        format!("cannot read folder: {e}"),
-                    )
-                })?;
-                for entry in rd.flatten() {
-                    let q = entry.path();
-                    if q.is_dir() {
-                        stack.push(q);
-                    } else if q.extension().is_some_and(|x| x == "json") {
-                        out.push(q);
-                    }
-                }
-            }
-        } else if p.exists() {
-            out.push(p.clone());
-        } else {
-            return Err(InputError::new(
-                p.display().to_string(),
-                "-",
-                "no such file or folder",
-            ));
-        }
-    }
-    out.sort();
-    Ok(out)
+    crate::io::collect_files(paths, true, |q| q.extension().is_some_and(|x| x == "json"))
 }

@@ -367,24 +367,7 @@ mod tests {
 
     /// E = L ∫ max(0, n·ω) over the triangle, by area quadrature.
     fn triangle_by_area(p: Vec3, nrm: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f64 {
-        let (e1, e2) = (b - a, c - a);
-        let nn = e1.cross(e2);
-        let area2 = nn.length();
-        let ne = nn * (1.0 / area2);
-        let w = a - p;
-        adaptive_2d(
-            |s, t| {
-                let x = w + e1 * s + e2 * t;
-                let r2 = x.length_squared();
-                let r = r2.sqrt();
-                (nrm.dot(x) / r).max(0.0) * ne.dot(x).abs() / r / r2
-            },
-            0.0,
-            1.0,
-            |_| 0.0,
-            |s| 1.0 - s,
-            1e-12,
-        ) * area2
+        crate::solid_angle::tests::triangle_integral_by_area(p, a, b, c, |d| nrm.dot(d).max(0.0))
     }
 
     #[test]

@@ -130,7 +130,7 @@ pub fn rectangle(p: Vec3, corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::quadrature::{adaptive, adaptive_2d};
 
@@ -180,16 +180,30 @@ mod tests {
 
     /// Ω = ∫_T |n·(x−p)| / |x−p|³ dA over the triangle, in barycentric coordinates.
     pub(crate) fn triangle_by_area(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f64 {
+        triangle_integral_by_area(p, a, b, c, |_| 1.0)
+    }
+
+    /// ∫_T w(ω) dω for the directions ω = (x − p)/|x − p| of the triangle's points x,
+    /// as the area integral ∫_T w(ω) |n·(x−p)| / |x−p|³ dA in barycentric coordinates
+    /// (adaptive, relative tolerance 1e-12). Irradiance takes w(ω) = max(0, n_r·ω).
+    pub(crate) fn triangle_integral_by_area(
+        p: Vec3,
+        a: Vec3,
+        b: Vec3,
+        c: Vec3,
+        w: impl Fn(Vec3) -> f64,
+    ) -> f64 {
         let (e1, e2) = (b - a, c - a);
         let nn = e1.cross(e2);
         let area2 = nn.length();
         let n = nn * (1.0 / area2);
-        let w = a - p;
+        let o = a - p;
         adaptive_2d(
             |s, t| {
-                let x = w + e1 * s + e2 * t;
+                let x = o + e1 * s + e2 * t;
                 let r2 = x.length_squared();
-                n.dot(x).abs() / (r2 * r2.sqrt())
+                let r = r2.sqrt();
+                w(x * (1.0 / r)) * n.dot(x).abs() / (r2 * r)
             },
             0.0,
             1.0,

@@ -102,21 +102,9 @@ pub struct Chi2Tables {
 }
 
 impl Chi2Tables {
-    /// (O − E)/√E per cell (0 where both vanish, ±large where E = 0 < O).
+    /// Pearson residuals (O − E)/√E per cell ([`crate::stats::chi2::residuals`]).
     pub fn residual(&self) -> Vec<f64> {
-        self.observed
-            .iter()
-            .zip(&self.expected)
-            .map(|(&o, &e)| {
-                if e > 0.0 {
-                    (o as f64 - e) / e.sqrt()
-                } else if o > 0 {
-                    1e6
-                } else {
-                    0.0
-                }
-            })
-            .collect()
+        crate::stats::chi2::residuals(&self.observed, &self.expected)
     }
 }
 
@@ -150,18 +138,8 @@ pub fn write_chi2_images(
     dir: &Path,
     stem: &str,
 ) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)?;
-    let residual = tables.residual();
-    let max = tables.expected.iter().cloned().fold(1.0, f64::max).max(
-        tables
-            .observed
-            .iter()
-            .map(|&o| o as f64)
-            .fold(1.0, f64::max),
-    );
-    let (w, h) = (tables.cols, tables.rows);
     let json_path = dir.join(format!("{stem}.json"));
-    let json = serde_json::json!({ "tables": tables, "residual": residual });
+    let json = serde_json::json!({ "tables": tables, "residual": tables.residual() });
     crate::io::write_atomic(
         &json_path,
         serde_json::to_string(&json)
@@ -169,40 +147,14 @@ pub fn write_chi2_images(
             .as_bytes(),
     )?;
     let mut files = vec![json_path];
-    type Pixel<'a> = Box<dyn Fn(usize) -> (f32, f32, f32) + Sync + 'a>;
-    let images: [(&str, Pixel); 3] = [
-        (
-            "observed",
-            Box::new(|i| {
-                let v = (tables.observed[i] as f64 / max) as f32;
-                (v, v, v)
-            }),
-        ),
-        (
-            "expected",
-            Box::new(|i| {
-                let v = (tables.expected[i] / max) as f32;
-                (v, v, v)
-            }),
-        ),
-        (
-            "residual",
-            Box::new(|i| {
-                let r = residual[i] as f32;
-                if r > 0.0 {
-                    (r, 0.0, 0.0)
-                } else {
-                    (0.0, 0.0, -r)
-                }
-            }),
-        ),
-    ];
-    for (label, f) in images.iter() {
-        let path = dir.join(format!("{stem}-{label}.exr"));
-        exr::prelude::write_rgb_file(&path, w, h, |x, y| f((h - 1 - y) * w + x))
-            .map_err(|e| std::io::Error::other(e.to_string()))?;
-        files.push(path);
-    }
+    files.extend(crate::stats::chi2::write_table_images(
+        dir,
+        stem,
+        tables.rows,
+        tables.cols,
+        &tables.observed,
+        &tables.expected,
+    )?);
     Ok(files)
 }
 

@@ -114,49 +114,23 @@ pub fn check_header(file: &str, text: &str, kind: Kind) -> Result<(), InputError
     Ok(())
 }
 
-/// Every path under `dir` or given directly, with a file name accepted by `keep`, sorted.
+/// Every file directly in the folders among `paths` (not their sub-folders) with a file
+/// name accepted by `keep`, and the files given directly, sorted, each once.
 pub fn files_in(
     paths: &[PathBuf],
     keep: impl Fn(&str) -> bool,
 ) -> Result<Vec<PathBuf>, InputError> {
-    let mut out = vec![];
-    for p in paths {
-        if p.is_dir() {
-            let rd = std::fs::read_dir(p).map_err(|e| {
-                InputError::new(
-                    p.display().to_string(),
-                    "-",
-                    format!("cannot read folder: {e}"),
-                )
-            })?;
-            for e in rd.flatten() {
-                let q = e.path();
-                if q.is_file() && q.file_name().is_some_and(|n| keep(&n.to_string_lossy())) {
-                    out.push(q);
-                }
-            }
-        } else if p.is_file() {
-            out.push(p.clone());
-        } else {
-            return Err(InputError::new(
-                p.display().to_string(),
-                "-",
-                "no such file or folder",
-            ));
-        }
-    }
-    out.sort();
-    out.dedup();
-    Ok(out)
+    crate::io::collect_files(paths, false, |q| {
+        q.file_name().is_some_and(|n| keep(&n.to_string_lossy()))
+    })
 }
 
 /// FNV-1a 64 of some bytes, as 16 hex digits (stable across builds and platforms).
 pub fn digest(bytes: &[u8]) -> String {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for &b in bytes {
-        h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-    }
-    format!("{h:016x}")
+    format!(
+        "{:016x}",
+        crate::sampling::sampler::fnv1a(bytes.iter().copied())
+    )
 }
 
 #[cfg(test)]

@@ -24,7 +24,9 @@ use super::emitter::{EmitterProps, EnvMap, area_distribution};
 use super::shape::Primitive;
 use super::{Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
-use crate::error::{InputError, MAX_COORDINATE, check_derived, check_number};
+use crate::error::{
+    InputError, MAX_COORDINATE, check_derived, check_direction, check_number, check_point,
+};
 use crate::math::Frame;
 use crate::spectrum::Spectrum;
 use glam::{DQuat, DVec3, Vec3};
@@ -251,14 +253,6 @@ fn v3(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
 }
 
-fn finite3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    crate::error::check_point(file, field, a)
-}
-
-fn unit3(file: &str, field: &str, a: [f64; 3]) -> Result<DVec3, InputError> {
-    crate::error::check_direction(file, field, a)
-}
-
 /// A point after its shape's transform: still within ±[`MAX_COORDINATE`].
 fn placed(file: &str, field: &str, p: DVec3) -> Result<DVec3, InputError> {
     match p
@@ -462,7 +456,7 @@ impl SceneDesc {
                 kind,
                 velocity: match s.velocity {
                     None => Vec3::ZERO,
-                    Some(v) => finite3(file, &format!("{f}.velocity"), v)?.as_vec3(),
+                    Some(v) => check_point(file, &format!("{f}.velocity"), v)?.as_vec3(),
                 },
             });
         }
@@ -497,7 +491,8 @@ impl Builder<'_> {
                 scale = s;
             }
             if let Some(r) = &t.rotate {
-                let axis = unit3(self.file, &format!("{f}.transform.rotate.axis"), r.axis)?;
+                let axis =
+                    check_direction(self.file, &format!("{f}.transform.rotate.axis"), r.axis)?;
                 check_number(
                     self.file,
                     &format!("{f}.transform.rotate.degrees"),
@@ -508,7 +503,7 @@ impl Builder<'_> {
                 rot = DQuat::from_axis_angle(axis, r.degrees.to_radians());
             }
             if let Some(t) = t.translate {
-                tr = finite3(self.file, &format!("{f}.transform.translate"), t)?;
+                tr = check_point(self.file, &format!("{f}.transform.translate"), t)?;
             }
         }
         Ok(move |p: DVec3| rot * (p * scale) + tr)
@@ -527,7 +522,7 @@ impl Builder<'_> {
         let gf = format!("{f}.geometry");
         match g {
             GeometryDesc::Sphere { center, radius } => {
-                let c = finite3(file, &format!("{gf}.center"), *center)?;
+                let c = check_point(file, &format!("{gf}.center"), *center)?;
                 check_number(
                     file,
                     &format!("{gf}.radius"),
@@ -548,9 +543,9 @@ impl Builder<'_> {
                 edge_u,
                 edge_v,
             } => {
-                let c = finite3(file, &format!("{gf}.corner"), *corner)?;
-                let u = finite3(file, &format!("{gf}.edge_u"), *edge_u)?;
-                let v = finite3(file, &format!("{gf}.edge_v"), *edge_v)?;
+                let c = check_point(file, &format!("{gf}.corner"), *corner)?;
+                let u = check_point(file, &format!("{gf}.edge_u"), *edge_u)?;
+                let v = check_point(file, &format!("{gf}.edge_v"), *edge_v)?;
                 if !(u.cross(v).length() > 0.0) {
                     return Err(InputError::new(
                         file,
@@ -575,8 +570,8 @@ impl Builder<'_> {
                 normal,
                 radius,
             } => {
-                let c = finite3(file, &format!("{gf}.center"), *center)?;
-                let n = unit3(file, &format!("{gf}.normal"), *normal)?;
+                let c = check_point(file, &format!("{gf}.center"), *center)?;
+                let n = check_direction(file, &format!("{gf}.normal"), *normal)?;
                 check_number(
                     file,
                     &format!("{gf}.radius"),
@@ -598,7 +593,7 @@ impl Builder<'_> {
                 let mut p = [Vec3::ZERO; 3];
                 for (k, v) in vertices.iter().enumerate() {
                     let field = format!("{gf}.vertices[{k}]");
-                    p[k] = self.to_f32(placed(file, &field, xf(finite3(file, &field, *v)?))?);
+                    p[k] = self.to_f32(placed(file, &field, xf(check_point(file, &field, *v)?))?);
                 }
                 if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
                     return Err(InputError::new(
@@ -616,7 +611,7 @@ impl Builder<'_> {
                     .enumerate()
                     .map(|(k, v)| {
                         let field = format!("{gf}.vertices[{k}]");
-                        placed(file, &field, xf(finite3(file, &field, *v)?))
+                        placed(file, &field, xf(check_point(file, &field, *v)?))
                     })
                     .collect::<Result<_, _>>()?;
                 self.mesh(&vs, indices, &gf, prims)
@@ -649,7 +644,7 @@ impl Builder<'_> {
                     for c in m.mesh.positions.chunks(3) {
                         let p = [c[0] as f64, c[1] as f64, c[2] as f64];
                         let field = format!("{gf}.path");
-                        all.push(placed(file, &field, xf(finite3(file, &field, p)?))?);
+                        all.push(placed(file, &field, xf(check_point(file, &field, p)?))?);
                     }
                     for t in m.mesh.indices.chunks(3) {
                         idx.push([base + t[0], base + t[1], base + t[2]]);
@@ -791,7 +786,7 @@ impl Builder<'_> {
             props.pulse = Some(t);
         }
         if let Some(v) = velocity {
-            props.velocity = finite3(file, &format!("{f}.velocity"), v)?.as_vec3();
+            props.velocity = check_point(file, &format!("{f}.velocity"), v)?.as_vec3();
         }
         Ok((props, scale))
     }
@@ -837,7 +832,11 @@ impl Builder<'_> {
                 let intensity = intensity_of(*intensity, scale, &p, "the emitted power 4π·I")?;
                 (
                     Emitter::Point {
-                        position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                        position: self.to_f32(check_point(
+                            file,
+                            &format!("{f}.position"),
+                            *position,
+                        )?),
                         intensity,
                     },
                     p,
@@ -869,12 +868,16 @@ impl Builder<'_> {
                     |x| x >= 0.0 && x <= *cone_angle,
                     "in [0, cone_angle] degrees",
                 )?;
-                let d = unit3(file, &format!("{f}.direction"), *direction)?;
+                let d = check_direction(file, &format!("{f}.direction"), *direction)?;
                 let intensity =
                     intensity_of(*intensity, scale, &p, "the emitted power (at most 4π·I)")?;
                 (
                     Emitter::Spot {
-                        position: self.to_f32(finite3(file, &format!("{f}.position"), *position)?),
+                        position: self.to_f32(check_point(
+                            file,
+                            &format!("{f}.position"),
+                            *position,
+                        )?),
                         frame: Frame::from_z(d.as_vec3()),
                         intensity,
                         cos_total: cone_angle.to_radians().cos() as f32,
@@ -892,7 +895,8 @@ impl Builder<'_> {
                 let (p, scale) = self.props(f, spectrum.as_ref(), None, None)?;
                 (
                     Emitter::Directional {
-                        direction: unit3(file, &format!("{f}.direction"), *direction)?.as_vec3(),
+                        direction: check_direction(file, &format!("{f}.direction"), *direction)?
+                            .as_vec3(),
                         irradiance: self.strength(
                             &format!("{f}.irradiance"),
                             *irradiance,

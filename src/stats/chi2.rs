@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::f64::consts::PI;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The domain a sampler draws from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -468,30 +468,8 @@ impl Chi2Test {
         outcome: &Chi2Outcome,
     ) -> std::io::Result<Vec<PathBuf>> {
         let dir = &self.dump_dir;
-        std::fs::create_dir_all(dir)?;
-        let stem: String = name
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        let residual: Vec<f64> = observed
-            .iter()
-            .zip(expected)
-            .map(|(&o, &e)| {
-                if e > 0.0 {
-                    (o as f64 - e) / e.sqrt()
-                } else if o > 0 {
-                    f64::INFINITY
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        let stem = file_stem(name);
+        let residual = residuals(observed, expected);
         let json = serde_json::json!({
             "name": name,
             "domain": self.domain,
@@ -502,53 +480,95 @@ impl Chi2Test {
             "outcome": outcome,
             "observed": observed,
             "expected": expected,
-            "residual": residual.iter().map(|r| if r.is_finite() { *r } else { 1e300 }).collect::<Vec<_>>(),
+            "residual": residual,
         });
         let json_path = dir.join(format!("{stem}.json"));
         crate::io::write_atomic(&json_path, serde_json::to_string_pretty(&json)?.as_bytes())?;
         let mut files = vec![json_path];
-        let max_count = expected
-            .iter()
-            .cloned()
-            .fold(1.0, f64::max)
-            .max(observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
-        let (w, h) = (self.cols, self.rows);
-        let images: [(&str, PixelFn); 3] = [
-            (
-                "observed",
-                Box::new(|i| {
-                    let v = (observed[i] as f64 / max_count) as f32;
-                    (v, v, v)
-                }),
-            ),
-            (
-                "expected",
-                Box::new(|i| {
-                    let v = (expected[i] / max_count) as f32;
-                    (v, v, v)
-                }),
-            ),
-            (
-                "residual",
-                Box::new(|i| {
-                    let r = residual[i].clamp(-1e6, 1e6) as f32;
-                    if r > 0.0 {
-                        (r, 0.0, 0.0)
-                    } else {
-                        (0.0, 0.0, -r)
-                    }
-                }),
-            ),
-        ];
-        for (label, f) in images.iter() {
-            let path = dir.join(format!("{stem}-{label}.exr"));
-            // Row 0 of the image is the top of the domain (largest cos θ).
-            exr::prelude::write_rgb_file(&path, w, h, |x, y| f((h - 1 - y) * w + x))
-                .map_err(|e| std::io::Error::other(e.to_string()))?;
-            files.push(path);
-        }
+        files.extend(write_table_images(
+            dir, &stem, self.rows, self.cols, observed, expected,
+        )?);
         Ok(files)
     }
+}
+
+/// A name made safe as a file stem: ASCII letters, digits and `-`; anything else `_`.
+pub fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Pearson residuals (O − E)/√E per cell: 0 where both vanish, 1e6 where E = 0 < O
+/// (a sample where the pdf says none can be), clamped to ±1e6 so they stay finite.
+pub fn residuals(observed: &[u64], expected: &[f64]) -> Vec<f64> {
+    observed
+        .iter()
+        .zip(expected)
+        .map(|(&o, &e)| {
+            if e > 0.0 {
+                ((o as f64 - e) / e.sqrt()).clamp(-1e6, 1e6)
+            } else if o > 0 {
+                1e6
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+/// Write `STEM-observed.exr`, `STEM-expected.exr` (counts scaled by the largest) and
+/// `STEM-residual.exr` (red: more samples than expected, blue: fewer, in units of √E)
+/// for `rows` × `cols` row-major tables, each atomically. Row 0 of the tables is the
+/// bottom of the domain; the images show it at the bottom (row 0 of an image is its
+/// top, the largest cos θ).
+pub fn write_table_images(
+    dir: &Path,
+    stem: &str,
+    rows: usize,
+    cols: usize,
+    observed: &[u64],
+    expected: &[f64],
+) -> std::io::Result<Vec<PathBuf>> {
+    let residual = residuals(observed, expected);
+    let max_count = expected
+        .iter()
+        .cloned()
+        .fold(1.0, f64::max)
+        .max(observed.iter().map(|&o| o as f64).fold(1.0, f64::max));
+    let grey = |v: f64| {
+        let v = (v / max_count) as f32;
+        (v, v, v)
+    };
+    let (w, h) = (cols, rows);
+    let images: [(&str, PixelFn); 3] = [
+        ("observed", Box::new(|i| grey(observed[i] as f64))),
+        ("expected", Box::new(|i| grey(expected[i]))),
+        (
+            "residual",
+            Box::new(|i| {
+                let r = residual[i] as f32;
+                if r > 0.0 {
+                    (r, 0.0, 0.0)
+                } else {
+                    (0.0, 0.0, -r)
+                }
+            }),
+        ),
+    ];
+    let mut files = Vec::new();
+    for (label, f) in images.iter() {
+        let path = dir.join(format!("{stem}-{label}.exr"));
+        crate::io::write_exr_atomic(&path, w, h, |x, y| f((h - 1 - y) * w + x))?;
+        files.push(path);
+    }
+    Ok(files)
 }
 
 /// A pixel of a table image, by cell index.
