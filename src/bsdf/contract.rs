@@ -490,7 +490,7 @@ pub fn albedo(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> Albed
 
 /// One-sided test that an albedo estimate is not above `bound` (usually 1). A
 /// zero-variance estimate (delta lobes, a Lambertian's cosine sampling) is judged
-/// exactly, within the stated f32 error bound ([`crate::stats::mean_test`]) of the O(1)
+/// exactly, within the stated f32 error bound ([`crate::stats::hypothesis`]) of the O(1)
 /// terms a BSDF weight is computed from (term scale 1).
 pub fn judge_at_most(test: &MeanTest, acc: &Accumulator, bound: f64) -> Verdict {
     test.with_term_scale(1.0).judge_at_most(acc, bound)

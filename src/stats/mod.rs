@@ -3,7 +3,7 @@
 //! - [`accumulator`]: a mergeable running mean and variance (Welford 1962; Chan,
 //!   Golub & LeVeque 1979 for merging), which also counts non-finite samples so they
 //!   fail a test instead of vanishing; batch means for heavy-tailed estimators.
-//! - [`mean_test`]: the one-sample test of an estimate against a reference: z (or t
+//! - [`hypothesis`]: the one-sample test of an estimate against a reference: z (or t
 //!   for batch means), two-sided p, the verdict at a Šidák-corrected level, and the
 //!   smallest relative bias the test detects with 99% power.
 //! - [`slope`]: least-squares slope of log–log data (convergence rates).
@@ -11,11 +11,11 @@
 
 pub mod accumulator;
 pub mod chi2;
-pub mod mean_test;
+pub mod hypothesis;
 pub mod slope;
 
 pub use accumulator::{Accumulator, BatchMeans};
-pub use mean_test::{
+pub use hypothesis::{
     MeanTest, Verdict, VerdictClass, exact_relative_tolerance, is_exact, is_exact_at, sidak_alpha,
 };
 pub use slope::{SlopeFit, fit_slope};
