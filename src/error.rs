@@ -1,6 +1,12 @@
-//! The one error users see for bad input: the file, the field (a JSON path such as
-//! `scene.shapes[2].geometry.radius`) and the reason. The command line prints it and
-//! exits with status 2; nothing panics on input.
+//! Errors by class, each with its exit status on the command line:
+//!
+//! - [`InputError`], bad input (status 2): the file, the field (a JSON path such as
+//!   `scene.shapes[2].geometry.radius`) and the reason; nothing panics on input;
+//! - [`IoError`], the environment failed us (status 3): an output that cannot be
+//!   written, worker threads that cannot start — the input was fine;
+//! - a failed verdict is not an error of this module: the command line exits 1.
+//!
+//! [`Error`] is either of the first two, for functions that read input and write output.
 
 /// Bad input, located.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -25,6 +31,48 @@ impl InputError {
             file: file.into(),
             field: field.into(),
             reason: reason.into(),
+        }
+    }
+}
+
+/// An output that could not be written (or another failure of the environment, not of
+/// the input), naming the path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{path}: {reason}")]
+pub struct IoError {
+    /// The file or folder (or what failed, e.g. `worker threads`).
+    pub path: String,
+    /// What went wrong.
+    pub reason: String,
+}
+
+impl IoError {
+    /// A failed write of `path`.
+    pub fn write(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        IoError {
+            path: path.display().to_string(),
+            reason: format!("cannot write: {e}"),
+        }
+    }
+}
+
+/// Bad input or a failed output.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// Bad input (exit status 2).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// A failed output or environment (exit status 3).
+    #[error(transparent)]
+    Io(#[from] IoError),
+}
+
+impl Error {
+    /// The command line's exit status for this error: 2 for input, 3 for I/O.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Input(_) => 2,
+            Error::Io(_) => 3,
         }
     }
 }

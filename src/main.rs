@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use lightproof::bsdf::Bsdf;
 use lightproof::bsdf::contract::direction;
-use lightproof::error::InputError;
+use lightproof::error::{Error, InputError, IoError};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::sidak_alpha;
 use lightproof::transport::Estimator;
@@ -223,14 +223,34 @@ fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
         .map_err(|_| format!("unknown sampler `{s}` (independent, stratified, sobol)"))
 }
 
+/// How a command fails; each class has its exit status (README, "Exit status").
 enum Failure {
+    /// Bad input: exit 2.
     Input(String),
+    /// An output that cannot be written, or another failure of the environment: exit 3.
+    Io(String),
+    /// A verdict failed: exit 1.
     Verdict,
 }
 
 impl From<InputError> for Failure {
     fn from(e: InputError) -> Self {
         Failure::Input(e.to_string())
+    }
+}
+
+impl From<IoError> for Failure {
+    fn from(e: IoError) -> Self {
+        Failure::Io(e.to_string())
+    }
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        match e {
+            Error::Input(e) => e.into(),
+            Error::Io(e) => e.into(),
+        }
     }
 }
 
@@ -307,8 +327,8 @@ fn main() -> ExitCode {
     {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: cannot start worker threads: {e}");
-            return ExitCode::from(2);
+            eprintln!("error: worker threads: cannot start: {e}");
+            return ExitCode::from(3);
         }
     };
     match pool.install(|| dispatch(command)) {
@@ -317,6 +337,10 @@ fn main() -> ExitCode {
         Err(Failure::Input(msg)) => {
             eprintln!("error: {msg}");
             ExitCode::from(2)
+        }
+        Err(Failure::Io(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(3)
         }
     }
 }
@@ -425,7 +449,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         } => {
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed)?;
             lightproof::render::write_exr(&output, w, h, &data)
-                .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", output.display())))?;
+                .map_err(|e| IoError::write(&output, e))?;
             eprintln!("wrote {} ({w}×{h}, {spp} spp)", output.display());
             Ok(())
         }
@@ -554,7 +578,7 @@ fn verify(
         let doc = serde_json::json!({ "seed": seed, "alpha": ALPHA, "tests": k, "outcomes": outcomes, "chi2": chi2_rows });
         let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::Input(e.to_string()))?;
         lightproof::io::write_atomic(&path, text.as_bytes())
-            .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", path.display())))?;
+            .map_err(|e| IoError::write(&path, e))?;
     }
     if failed > 0 {
         Err(Failure::Verdict)
@@ -642,7 +666,7 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
     let o = lightproof::bsdf::contract::chi2_bsdf_with(&test, &bsdf, bsdf.name(), w);
     let tables = lightproof::bsdf::contract::chi2_tables(&test, &bsdf, w);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
-        .map_err(|e| Failure::Input(format!("{}: cannot write: {e}", out.display())))?;
+        .map_err(|e| IoError::write(&out, e))?;
     println!(
         "{}",
         serde_json::to_string_pretty(
@@ -663,7 +687,11 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
         ProgressStyle::with_template("{bar:40} {pos}/{len} points {elapsed} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let summary = lightproof::report::sweep::run(opts, &bar)?;
+    let summary = lightproof::report::sweep::run(opts, &mut |p| {
+        bar.set_length(p.total);
+        bar.set_position(p.done);
+        bar.set_message(p.current.to_string());
+    })?;
     bar.finish_and_clear();
     for n in &summary.notes {
         eprintln!("note: {n}");

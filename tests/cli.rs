@@ -200,3 +200,41 @@ fn chi2_command_writes_images() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("albedo"));
 }
+
+/// An output that cannot be written is not bad input: exit 3, the path named, one line,
+/// and the case itself still ran (exit 2 is kept for input the user must fix).
+#[test]
+fn unwritable_output_exits_3() {
+    let case = tmp("writable_case.json", GOOD);
+    // A folder cannot be created below a regular file.
+    let blocker = tmp("not_a_folder", "x");
+    let json = blocker.join("verdicts.json");
+    let out = bin()
+        .args(["verify", "--json"])
+        .arg(&json)
+        .arg(&case)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains(&json.display().to_string()) && err.contains("cannot write"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let with_camera = tmp(
+        "camera_case.json",
+        &GOOD.replace(
+            "\"measure\"",
+            "\"camera\": { \"position\": [0, 0, 0], \"look_at\": [0, 0, 1], \"up\": [0, 1, 0], \"fov_degrees\": 40, \"width\": 4, \"height\": 4 }, \"measure\"",
+        ),
+    );
+    let render = bin()
+        .args(["render", "--spp", "1", "-o"])
+        .arg(blocker.join("image.exr"))
+        .arg(&with_camera)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&render.stderr);
+    assert_eq!(render.status.code(), Some(3), "{err}");
+}

@@ -4,7 +4,7 @@
 
 use super::store::{read_case_report, report_file, write_bytes, write_json};
 use super::{CaseReport, FORMAT, HEADLINE, Index, IndexBest, IndexRow, Kind, Status};
-use crate::error::{InputError, parse_json};
+use crate::error::{Error, parse_json};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -46,7 +46,7 @@ pub fn row(r: &CaseReport) -> IndexRow {
 
 /// Rewrite `index.json` and `index.md` in `out` with `reports` and the rows of the
 /// previous index whose reports are still there.
-pub fn update(out: &Path, reports: &[CaseReport]) -> Result<Index, InputError> {
+pub fn update(out: &Path, reports: &[CaseReport]) -> Result<Index, Error> {
     let mut rows: BTreeMap<String, IndexRow> = BTreeMap::new();
     let path = out.join("index.json");
     if let Ok(text) = std::fs::read_to_string(&path)

@@ -31,12 +31,14 @@
 //! Modules: [`analysis`] (point statistics, fits, time to accuracy, the best series),
 //! [`sweep`] (planning, budget, resume, the run), [`shard`] (shards of the batches,
 //! the environment of array jobs, merging), [`store`] (file names, reading, atomic
-//! writing), [`index`], [`plot`], [`machine`] (what a report records about its run).
+//! writing), [`publish`] (the reports, plots and index a run or a merge ends with),
+//! [`index`], [`plot`], [`machine`] (what a report records about its run).
 
 pub mod analysis;
 pub mod index;
 pub mod machine;
 pub mod plot;
+pub mod publish;
 pub mod shard;
 pub mod store;
 pub mod sweep;

@@ -17,7 +17,7 @@ use super::store::{check_header, files_in, write_json};
 use super::{
     BATCHES, CaseInfo, CaseReport, ErrorMeasure, Kind, RunInfo, Settings, ShardRun, Status,
 };
-use crate::error::{InputError, parse_json};
+use crate::error::{Error, InputError, IoError, parse_json};
 use crate::sampling::SamplerKind;
 use crate::sampling::sampler::hash_words;
 use crate::stats::Accumulator;
@@ -495,7 +495,7 @@ pub fn merge(
     inputs: &[PathBuf],
     out: &Path,
     threads: usize,
-) -> Result<super::sweep::Summary, InputError> {
+) -> Result<super::publish::Summary, Error> {
     let t0 = std::time::Instant::now();
     let files = files_in(inputs, is_partial_name)?;
     let partials = files
@@ -507,13 +507,13 @@ pub fn merge(
     for r in &mut reports {
         r.run.wall_seconds = t0.elapsed().as_secs_f64();
     }
-    let mut summary = super::sweep::finish(out, &mut reports)?;
+    let mut summary = super::publish::publish(out, &mut reports)?;
     summary.computed = reports.first().map_or(0, |r| r.run.points_computed);
     Ok(summary)
 }
 
 /// Write a partial (compact JSON: it is for machines).
-pub fn write_partial(path: &Path, p: &ShardPartial) -> Result<(), InputError> {
+pub fn write_partial(path: &Path, p: &ShardPartial) -> Result<(), IoError> {
     write_json(path, p, false)
 }
 

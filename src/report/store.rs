@@ -8,7 +8,7 @@
 //! leaves each file whole: the old version or the new one.
 
 use super::{CaseReport, FORMAT, Kind};
-use crate::error::{InputError, parse_json};
+use crate::error::{InputError, IoError, parse_json};
 use serde::Serialize;
 use std::path::{Component, Path, PathBuf};
 
@@ -52,25 +52,19 @@ pub fn plot_file(id: &str) -> String {
 }
 
 /// Write a value as pretty JSON, atomically.
-pub fn write_json<T: Serialize>(path: &Path, value: &T, pretty: bool) -> Result<(), InputError> {
+pub fn write_json<T: Serialize>(path: &Path, value: &T, pretty: bool) -> Result<(), IoError> {
     let text = if pretty {
         serde_json::to_string_pretty(value)
     } else {
         serde_json::to_string(value)
     }
-    .map_err(|e| InputError::new(path.display().to_string(), "-", e.to_string()))?;
+    .map_err(|e| IoError::write(path, e))?;
     write_bytes(path, format!("{text}\n").as_bytes())
 }
 
 /// Write bytes atomically, naming the file on failure.
-pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), InputError> {
-    crate::io::write_atomic(path, bytes).map_err(|e| {
-        InputError::new(
-            path.display().to_string(),
-            "-",
-            format!("cannot write: {e}"),
-        )
-    })
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    crate::io::write_atomic(path, bytes).map_err(|e| IoError::write(path, e))
 }
 
 /// Read a case report; `Ok(None)` when the file does not exist. A file that is not a

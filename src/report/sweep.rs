@@ -24,22 +24,23 @@
 
 use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
 use super::machine::{GIT_REVISION, VERSION, run_info};
+pub use super::publish::Summary;
+use super::publish::publish;
 use super::shard::{
     BatchRecord, Shard, ShardCase, ShardPartial, ShardPoint, ShardSeries, error_measure,
     read_partial, write_partial,
 };
-use super::store::{case_id, digest, plot_file, read_case_report, report_file, write_json};
+use super::store::{case_id, digest, read_case_report, report_file, write_json};
 use super::{
-    BATCHES, CaseInfo, CaseReport, FORMAT, Index, Kind, Point, RunInfo, Series, Settings, Status,
+    BATCHES, CaseInfo, CaseReport, FORMAT, Kind, Point, RunInfo, Series, Settings, Status,
 };
-use crate::error::InputError;
+use crate::error::{Error, InputError};
 use crate::sampling::sampler::hash_words;
 use crate::sampling::{SampleStream, SamplerKind};
 use crate::stats::Accumulator;
 use crate::transport::Estimator;
 use crate::transport::engine::{RunSpec, run_batches};
 use crate::verify::{Case, collect_cases, seed_for};
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
@@ -69,25 +70,6 @@ pub struct Options {
     pub shard: Option<Shard>,
     /// Ignore earlier reports in the output folder.
     pub fresh: bool,
-}
-
-/// What a run (or a merge) wrote.
-#[derive(Clone, Debug)]
-pub struct Summary {
-    /// The case reports (not for a shard).
-    pub reports: Vec<CaseReport>,
-    /// The index, after this run.
-    pub index: Option<Index>,
-    /// A shard's partial file.
-    pub partial: Option<PathBuf>,
-    /// Points computed.
-    pub computed: u64,
-    /// Points kept from an earlier run.
-    pub resumed: u64,
-    /// Whether the budget stopped the run.
-    pub budget_cut: bool,
-    /// Things worth telling (a report started afresh, ...).
-    pub notes: Vec<String>,
 }
 
 fn cli_err(field: &str, reason: impl Into<String>) -> InputError {
@@ -282,9 +264,21 @@ fn plan_digest(settings: &Settings, cases: &[CaseState]) -> String {
     )
 }
 
+/// Where a sweep stands, reported before each point is computed.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress<'a> {
+    /// Points computed so far.
+    pub done: u64,
+    /// Points to compute in all.
+    pub total: u64,
+    /// The point about to be computed (`case estimator/sampler N=2^k`).
+    pub current: &'a str,
+}
+
 /// `lightproof report`: sweep, write the reports, the plots and the index (or, for a
-/// shard, its partial file). Call it inside the rayon pool that sets the thread count.
-pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
+/// shard, its partial file), calling `progress` before each point. Call it inside the
+/// rayon pool that sets the thread count.
+pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary, Error> {
     let t0 = Instant::now();
     let settings = settings(opts)?;
     let samplers = if opts.samplers.is_empty() {
@@ -333,10 +327,10 @@ pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
         }
     }
     if cases.is_empty() {
-        return Err(cli_err(
+        return Err(Error::Input(cli_err(
             "--estimator",
             "nothing to run: no case names any of the estimators asked for",
-        ));
+        )));
     }
     let threads = rayon::current_num_threads();
     let plan = plan_digest(&settings, &cases);
@@ -367,7 +361,7 @@ pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
         .flat_map(|c| &c.series)
         .map(|s| s.pending.len())
         .sum();
-    bar.set_length(total as u64);
+    let mut done = 0u64;
     // Flush at most once a second, and spend at most a tenth of the time writing.
     let mut last_flush: Option<Instant> = None;
     let mut flush_every = Duration::from_secs(1);
@@ -388,12 +382,11 @@ pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
         let c = &mut cases[ci];
         let s = &mut c.series[si];
         let k = s.pending.remove(0);
-        bar.set_message(format!(
-            "{} {}/{} N=2^{k}",
-            c.id,
-            s.est.name(),
-            s.sampler.name()
-        ));
+        progress(Progress {
+            done,
+            total: total as u64,
+            current: &format!("{} {}/{} N=2^{k}", c.id, s.est.name(), s.sampler.name()),
+        });
         let seed = point_seed(s.seed, k);
         let spec = RunSpec {
             samples: 1 << k,
@@ -437,7 +430,7 @@ pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
             queue.push(Reverse((nanos(s.predict(next)), order, ci, si)));
             order += 1;
         }
-        bar.inc(1);
+        done += 1;
         if last_flush.is_none_or(|t| t.elapsed() >= flush_every) {
             let tf = Instant::now();
             run.wall_seconds = t0.elapsed().as_secs_f64();
@@ -454,7 +447,7 @@ pub fn run(opts: &Options, bar: &ProgressBar) -> Result<Summary, InputError> {
     let mut summary = match opts.shard {
         None => {
             let mut reports = written.reports;
-            finish(&opts.out, &mut reports)?
+            publish(&opts.out, &mut reports)?
         }
         Some(_) => Summary {
             reports: vec![],
@@ -510,7 +503,7 @@ fn flush(
     cases: &mut [CaseState],
     run: &RunInfo,
     all: bool,
-) -> Result<Written, InputError> {
+) -> Result<Written, Error> {
     match opts.shard {
         None => {
             let mut reports = vec![];
@@ -568,31 +561,6 @@ fn flush(
             })
         }
     }
-}
-
-/// Write the final case reports with their plots, then the index.
-pub fn finish(out: &Path, reports: &mut [CaseReport]) -> Result<Summary, InputError> {
-    for r in reports.iter_mut() {
-        let svg = plot_file(&r.id);
-        r.plot = match super::plot::svg(r) {
-            Ok(text) => {
-                super::store::write_bytes(&out.join(&svg), text.as_bytes())?;
-                Some(svg)
-            }
-            Err(_) => None,
-        };
-        write_json(&out.join(report_file(&r.id)), r, true)?;
-    }
-    let index = super::index::update(out, reports)?;
-    Ok(Summary {
-        reports: reports.to_vec(),
-        index: Some(index),
-        partial: None,
-        computed: 0,
-        resumed: 0,
-        budget_cut: reports.iter().any(|r| r.run.budget_cut),
-        notes: vec![],
-    })
 }
 
 /// Whether a file was written by this build.
