@@ -4,12 +4,12 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
+use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::sphere::uniform_sphere;
 use lightproof::sampling::{Sampler, SamplerKind};
 use lightproof::scene::accel::Accel;
 use lightproof::scene::shape::Primitive;
-use lightproof::transport::engine::{RunSpec, run};
-use lightproof::verify::{Case, CaseDesc};
+use lightproof::transport::engine::RunSpec;
 use std::hint::black_box;
 use std::path::Path;
 
@@ -75,14 +75,7 @@ fn paths(c: &mut Criterion) {
             seed: 1,
         };
         g.throughput(Throughput::Elements(spec.total()));
-        g.bench_function(name, |b| {
-            b.iter(|| {
-                let cfg = case.config(est, false);
-                black_box(run(&spec, |s| {
-                    case.measure.sample(&case.scene, est, &cfg, s)
-                }))
-            })
-        });
+        g.bench_function(name, |b| b.iter(|| black_box(case.estimate(est, &spec))));
     }
     g.finish();
 }
@@ -141,12 +134,7 @@ fn phase(c: &mut Criterion) {
             seed: 1,
         };
         g.throughput(Throughput::Elements(spec.total()));
-        g.bench_function(*name, |b| {
-            b.iter(|| {
-                let cfg = case.config(est, false);
-                black_box(run(&spec, |s| case.sample(est, &cfg, false, s)))
-            })
-        });
+        g.bench_function(*name, |b| b.iter(|| black_box(case.estimate(est, &spec))));
     }
     g.finish();
 }

@@ -240,7 +240,10 @@ fn engine_phase_space(n: u64) -> bool {
         "spectral": { "band": [10, 1e7], "sampling": "emitter", "photons": true },
         "estimators": ["mis"]
     }));
-    println!("  effects.wavelength: {}", photons.effects.wavelength.why);
+    println!(
+        "  effects.wavelength: {}",
+        photons.plan.effects.wavelength.why
+    );
     ok &= report(
         "photon radiance of a 3000 K blackbody  vs  4ζ(3)k³T³/(h³c²)",
         &judged(&photons, Estimator::Mis, samples, 1, photon_radiance(t)),

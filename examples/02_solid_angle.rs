@@ -16,10 +16,11 @@
 //!
 //! Run: `cargo run --release --example 02_solid_angle -- [SAMPLES]`
 
+use lightproof::case::seed_for;
 use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{judge, seed_for};
+use lightproof::verdict::judge;
 use serde_json::json;
 
 /// A case file: a sphere of radius 1 at distance 3 subtends the cap σ = 2π(1 − cos α),
@@ -127,7 +128,6 @@ fn check_all(label: &str, desc: serde_json::Value, n: u64) -> bool {
                 sampler: SamplerKind::Independent,
                 seed,
             },
-            false,
         );
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
         ok &= report(&format!("{label} [{}]", est_name(est)), &v);

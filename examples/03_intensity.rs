@@ -18,11 +18,12 @@
 //!
 //! Run: `cargo run --release --example 03_intensity -- [SAMPLES]`
 
+use lightproof::case::{Case, seed_for};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, judge, seed_for};
+use lightproof::verdict::judge;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
@@ -158,7 +159,6 @@ fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
             sampler: SamplerKind::Independent,
             seed,
         },
-        false,
     );
     report(what, &judge(&e, SamplerKind::Independent, exact, ALPHA, 1))
 }

@@ -22,9 +22,9 @@
 //!
 //! Run: `cargo run --release --example 04_irradiance -- [SAMPLES]`
 
+use lightproof::case::Case;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
-use lightproof::verify::Case;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;

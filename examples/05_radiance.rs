@@ -20,13 +20,13 @@
 //! Run: `cargo run --release --example 05_radiance -- [SAMPLES]`
 
 use glam::Vec3;
+use lightproof::case::Case;
 use lightproof::math::Frame;
 use lightproof::sampling::Sampler;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
 use lightproof::transport::path::{Prev, trace};
 use lightproof::transport::phase::Grey;
-use lightproof::verify::Case;
 use lightproof_analytic::geom::Vec3 as V;
 use lightproof_analytic::irradiance::sphere as sphere_irradiance;
 use serde_json::json;
@@ -157,7 +157,7 @@ fn render(
         "measure": { "radiance": { "at": [0, 0, d], "direction": [0, 0, -1] } },
         "estimators": ["mis"]
     }));
-    let cfg = case.config(Estimator::Mis, false);
+    let cfg = case.plan.config(Estimator::Mis);
     // Scene coordinates are rebased on the measurement point: the eye.
     let eye = case.measure.origin().unwrap_or(Vec3::ZERO);
     let frame = Frame::from_z(Vec3::NEG_Z);

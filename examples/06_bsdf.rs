@@ -19,13 +19,14 @@
 use glam::Vec3;
 use lightproof::bsdf::contract::check_reciprocity;
 use lightproof::bsdf::{Bsdf, BsdfModel};
+use lightproof::case::{Case, seed_for};
 use lightproof::sampling::Sampler;
 use lightproof::sampling::SamplerKind;
 use lightproof::sampling::sphere::uniform_sphere;
 use lightproof::stats::{MeanTest, Verdict};
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, judge, seed_for};
+use lightproof::verdict::judge;
 use lightproof_analytic::irradiance::disk_on_axis;
 use serde_json::json;
 use std::f64::consts::PI;
@@ -163,7 +164,6 @@ fn main() {
                         sampler: SamplerKind::Independent,
                         seed,
                     },
-                    false,
                 );
                 if name == "Lambertian" {
                     let v = judge(&e, SamplerKind::Independent, rho, ALPHA, 1);

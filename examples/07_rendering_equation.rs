@@ -20,10 +20,11 @@
 //!
 //! Run: `cargo run --release --example 07_rendering_equation -- [SAMPLES]`
 
+use lightproof::case::seed_for;
 use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::{RunSpec, run};
-use lightproof::verify::{judge, seed_for};
+use lightproof::transport::engine::RunSpec;
+use lightproof::verdict::judge;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -55,9 +56,8 @@ fn main() {
     let mut ok = true;
     let mut points = Vec::new();
     for k in 0..=12u32 {
-        // The path tracer's configuration for MIS, with its depth capped at k bounces.
-        let mut cfg = case.config(Estimator::Mis, false);
-        cfg.max_bounces = k;
+        // The case's plan, with its depth capped at k bounces.
+        let plan = case.plan.clone().with_max_bounces(k);
         let seed = seed_for(
             7 + k as u64,
             &case.desc.name,
@@ -69,9 +69,7 @@ fn main() {
             sampler: SamplerKind::Independent,
             seed,
         };
-        let e = run(&spec, |s| {
-            case.measure.sample(&case.scene, Estimator::Mis, &cfg, s)
-        });
+        let e = case.estimate_with(&plan, Estimator::Mis, &spec);
         let exact = le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho);
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
         ok &= report(
@@ -90,7 +88,6 @@ fn main() {
             sampler: SamplerKind::Independent,
             seed,
         },
-        false,
     );
     let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
     ok &= report("unbounded (Russian roulette): Le / (1 − ρ)", &v);

@@ -21,10 +21,11 @@
 //!
 //! Run: `cargo run --release --example 08_importance_sampling -- [SAMPLES]`
 
+use lightproof::case::seed_for;
 use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{judge, seed_for};
+use lightproof::verdict::judge;
 use plotters::prelude::*;
 use serde_json::json;
 use std::path::Path;
@@ -75,7 +76,6 @@ fn main() {
                     sampler: SamplerKind::Independent,
                     seed,
                 },
-                false,
             );
             let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
             ok &= report(&format!("  [{}]", est_label(est)), &v);

@@ -25,6 +25,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod bsdf;
+pub mod case;
 pub mod error;
 pub mod io;
 pub mod math;
@@ -37,4 +38,4 @@ pub mod spectrum;
 pub mod stats;
 pub mod suites;
 pub mod transport;
-pub mod verify;
+pub mod verdict;

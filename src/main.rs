@@ -6,12 +6,12 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use lightproof::bsdf::Bsdf;
 use lightproof::bsdf::contract::direction;
+use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::error::{Error, InputError, IoError};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::sidak_alpha;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, Outcome, collect_cases, judge_family, run_case, seed_for};
+use lightproof::verdict::{Outcome, judge_family};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -169,8 +169,8 @@ fn count_in(s: &str, lo: u64, hi: u64, hi_name: &str) -> Result<u64, String> {
 fn parse_samples(s: &str) -> Result<u64, String> {
     count_in(
         s,
-        lightproof::verify::MIN_SAMPLES,
-        lightproof::verify::MAX_SAMPLES,
+        lightproof::case::MIN_SAMPLES,
+        lightproof::case::MAX_SAMPLES,
         "2^40 (at least two per batch of 128; rounded up to a multiple of 128)",
     )
 }
@@ -488,7 +488,7 @@ fn verify(
     let mut outcomes: Vec<Outcome> = Vec::new();
     for c in &cases {
         bar.set_message(c.desc.name.clone());
-        outcomes.extend(run_case(c, seed, samples, 1));
+        outcomes.extend(c.run_all(seed, samples, 1));
         bar.inc(1);
     }
     // One family: the statistical verdicts and the chi-square suites (exact ones apart).
@@ -604,17 +604,8 @@ fn estimate(
             case.measure.name()
         )));
     }
-    let n = samples
-        .or(case.desc.samples)
-        .unwrap_or(lightproof::verify::DEFAULT_SAMPLES);
     let run_seed = seed_for(seed, &case.desc.name, est, sampler);
-    let spec = RunSpec {
-        samples: n,
-        sampler,
-        seed: run_seed,
-    };
-    let e = case.estimate(est, &spec, false);
-    let mut outcome = Outcome::new(&case, est, sampler, run_seed, &e);
+    let mut outcome = case.run(est, sampler, case.samples(samples, 1), run_seed);
     outcome.judge(ALPHA, 1);
     let mut obj = serde_json::to_value(&outcome).map_err(|e| Failure::Input(e.to_string()))?;
     obj["threads"] = serde_json::json!(rayon::current_num_threads());

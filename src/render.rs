@@ -1,18 +1,17 @@
 //! Pinhole-camera images of a case file that has a `camera`, for looking: each pixel is the mean of `spp` MIS path-traced
 //! radiance samples through jittered points of the pixel, written as an EXR.
 
+use crate::case::CaseDesc;
 use crate::error::{InputError, parse_json};
 use crate::math::Frame;
 use crate::sampling::{Sampler, SamplerKind};
-use crate::transport::Heuristic;
-use crate::transport::effects::analyze;
+use crate::transport::Estimator;
 use crate::transport::measure::Measure;
-use crate::transport::path::{Config, Prev, trace};
+use crate::transport::path::{Prev, trace};
 use crate::transport::phase::Grey;
-use crate::verify::CaseDesc;
+use crate::transport::plan::Plans;
 use glam::Vec3;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Largest image: 2²⁶ pixels (64 Mpixel).
@@ -23,29 +22,6 @@ pub const MAX_SPP: u64 = 1 << 20;
 
 /// Most samples of a whole image (pixels × spp): 2⁴⁰, as for an estimate.
 pub const MAX_RENDER_SAMPLES: u64 = 1 << 40;
-
-/// A pinhole camera.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CameraDesc {
-    /// Eye.
-    pub position: [f64; 3],
-    /// Point looked at.
-    pub look_at: [f64; 3],
-    /// Up vector.
-    #[serde(default = "up")]
-    pub up: [f64; 3],
-    /// Vertical field of view in degrees.
-    pub fov_degrees: f64,
-    /// Width in pixels.
-    pub width: usize,
-    /// Height in pixels.
-    pub height: usize,
-}
-
-fn up() -> [f64; 3] {
-    [0.0, 0.0, 1.0]
-}
 
 /// Render `path` with `spp` samples per pixel; returns (width, height, radiance).
 pub fn render_file(
@@ -120,15 +96,21 @@ pub fn render_file(
     let up = right.cross(fwd);
     let tan = (c.fov_degrees.to_radians() * 0.5).tan() as f32;
     let aspect = c.width as f32 / c.height as f32;
-    let effects = analyze(
+    // The same plan as `estimate` for radiance seen from the eye (effects depend on the
+    // viewpoint, not on the pixel's direction): bounded depth, and no shadow rays where
+    // nothing can occlude. Rendering is grey: the plan's dimensions are not sampled.
+    let eye_measure = Measure::Radiance {
+        at: Vec3::ZERO,
+        direction: fwd,
+    };
+    let plans = Plans::decide(
+        &file,
         &scene,
-        &Measure::Radiance {
-            at: Vec3::ZERO,
-            direction: fwd,
-        },
-    );
-    let mut cfg = Config::full(true, true, Heuristic::Power);
-    cfg.max_bounces = effects.max_bounces.unwrap_or(u32::MAX);
+        &eye_measure,
+        desc.spectral.as_ref(),
+        desc.time.as_ref(),
+    )?;
+    let cfg = plans.pruned.config(Estimator::Mis);
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
     let (w, h) = (c.width, c.height);
     let pixels: Vec<f32> = (0..w * h)

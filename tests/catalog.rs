@@ -10,7 +10,8 @@
 
 mod common;
 
-use lightproof::verify::{Case, Outcome, collect_cases, judge_family, run_case};
+use lightproof::case::{Case, collect_cases};
+use lightproof::verdict::{Outcome, judge_family};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -95,7 +96,7 @@ fn catalog_matches_closed_forms() {
         .iter()
         .filter(|c| c.file.display().to_string().contains(&filter))
     {
-        let mine = run_case(c, seed, None, scale);
+        let mine = c.run_all(seed, None, scale);
         // Exact cases say why; the others must hold an estimator with variance.
         let all_exact = mine.iter().all(|o| o.exact);
         match (&c.desc.exact, all_exact) {

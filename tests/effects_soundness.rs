@@ -12,9 +12,10 @@
 
 mod common;
 
+use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::stats::VerdictClass;
 use lightproof::transport::engine::{RunSpec, run};
-use lightproof::verify::{Case, collect_cases, judge, seed_for};
+use lightproof::verdict::judge;
 use std::path::PathBuf;
 
 /// The largest detectable difference, relative to the pruned estimate.
@@ -50,14 +51,14 @@ fn pruned_and_full_simulations_agree() {
         // The pruned sample skips the two phase dimensions (wavelength, time) when it
         // is grey and static and the full one draws them: both then use the same
         // numbers for every position and direction.
-        let offset = if c.dims.is_grey_static() && !c.dims_full.is_grey_static() {
+        let offset = if c.plan.dims.is_grey_static() && !c.full.dims.is_grey_static() {
             2
         } else {
             0
         };
         for sampler in c.samplers() {
             for &est in &c.desc.estimators {
-                let (cfg_p, cfg_f) = (c.config(est, false), c.config(est, true));
+                let (pruned, full) = (c.integrand(&c.plan, est), c.integrand(&c.full, est));
                 let paired = |n: u64, salt: u64| {
                     let spec = RunSpec {
                         samples: n * common::scale(),
@@ -65,11 +66,11 @@ fn pruned_and_full_simulations_agree() {
                         seed: seed_for(common::seed() ^ salt, &c.desc.name, est, sampler),
                     };
                     let d = run(&spec, |s| {
-                        let mut full = s.clone();
+                        let mut twin = s.clone();
                         (0..offset).for_each(|_| {
                             s.next_1d();
                         });
-                        c.sample(est, &cfg_p, false, s) - c.sample(est, &cfg_f, true, &mut full)
+                        pruned(s) - full(&mut twin)
                     });
                     let v = judge(&d, sampler, 0.0, ALPHA, family);
                     let rel = v.detectable_bias / reference.max(f64::MIN_POSITIVE);

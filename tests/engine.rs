@@ -4,11 +4,12 @@
 
 mod common;
 
+use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::{MeanTest, sidak_alpha};
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::{Estimate, RunSpec};
-use lightproof::verify::{Case, CaseDesc, judge};
+use lightproof::verdict::judge;
 use statrs::distribution::{ContinuousCDF, Normal};
 use std::path::Path;
 
@@ -72,7 +73,7 @@ fn white_furnace_closed_sphere() {
             .into_iter()
             .enumerate()
         {
-            let e = c.estimate(est, &spec(n, (k * 3 + j) as u64), false);
+            let e = c.estimate(est, &spec(n, (k * 3 + j) as u64));
             let v = judge(
                 &e,
                 SamplerKind::Independent,
@@ -105,13 +106,13 @@ fn convex_object_under_constant_sky() {
         "reference": { "closed_form": "furnace_convex_object", "albedo": 0.7, "radiance": 1 },
         "estimators": ["light", "bsdf", "mis"] }"#,
     );
-    assert_eq!(c.effects.max_bounces, Some(1));
-    assert!(!c.effects.occlusion.simulated);
+    assert_eq!(c.plan.effects.max_bounces, Some(1));
+    assert!(!c.plan.effects.occlusion.simulated);
     for (j, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
         .into_iter()
         .enumerate()
     {
-        let e = c.estimate(est, &spec(1 << 17, 100 + j as u64), false);
+        let e = c.estimate(est, &spec(1 << 17, 100 + j as u64));
         let v = judge(&e, SamplerKind::Independent, 0.7, ALPHA, FAMILY);
         assert!(v.passed, "{}: {:?}", est.name(), v.reason);
     }
@@ -128,9 +129,9 @@ fn estimators_agree_with_each_other() {
         "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0.2, 0, 1] } },
         "estimators": ["light", "bsdf", "mis"] }"#,
     );
-    let l = c.estimate(Estimator::Light, &spec(1 << 17, 200), false);
-    let b = c.estimate(Estimator::Bsdf, &spec(1 << 18, 201), false);
-    let m = c.estimate(Estimator::Mis, &spec(1 << 17, 202), false);
+    let l = c.estimate(Estimator::Light, &spec(1 << 17, 200));
+    let b = c.estimate(Estimator::Bsdf, &spec(1 << 18, 201));
+    let m = c.estimate(Estimator::Mis, &spec(1 << 17, 202));
     assert!(
         l.batches.total.mean > 0.1,
         "the emitter must face the receiver"
@@ -154,7 +155,7 @@ fn radiance_is_invariant_along_a_ray() {
             "reference": {{ "closed_form": "radiance_across_interface", "radiance": 3.5, "n1": 1, "n2": 1 }},
             "estimators": ["mis"] }}"#
         ));
-        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 300), false);
+        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 300));
         let v = judge(
             &e,
             SamplerKind::Independent,
@@ -198,8 +199,8 @@ fn reciprocity_case(
 fn transport_is_reciprocal() {
     let (a, na) = ([-1.0, 0.3, 1.0], [0.3, 0.0, -1.0]);
     let (b, nb) = ([1.2, -0.4, 0.7], [-0.5, 0.2, -1.0]);
-    let ab = reciprocity_case(a, na, b, nb).estimate(Estimator::Mis, &spec(1 << 18, 400), false);
-    let ba = reciprocity_case(b, nb, a, na).estimate(Estimator::Mis, &spec(1 << 18, 401), false);
+    let ab = reciprocity_case(a, na, b, nb).estimate(Estimator::Mis, &spec(1 << 18, 400));
+    let ba = reciprocity_case(b, nb, a, na).estimate(Estimator::Mis, &spec(1 << 18, 401));
     let (z, ok) = same_mean(&ab, &ba);
     assert!(ab.batches.total.mean > 0.0);
     assert!(
@@ -227,8 +228,8 @@ fn disk_case(offset: f64) -> Case {
 /// The same scene translated by 1e5 units in every axis gives the same answer.
 #[test]
 fn translation_far_from_the_origin() {
-    let near = disk_case(0.0).estimate(Estimator::Mis, &spec(1 << 17, 500), false);
-    let far = disk_case(1e5).estimate(Estimator::Mis, &spec(1 << 17, 501), false);
+    let near = disk_case(0.0).estimate(Estimator::Mis, &spec(1 << 17, 500));
+    let far = disk_case(1e5).estimate(Estimator::Mis, &spec(1 << 17, 501));
     let (z, ok) = same_mean(&near, &far);
     assert!(
         ok,
@@ -246,12 +247,12 @@ fn deterministic_across_thread_counts() {
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| c.estimate(Estimator::Mis, &s, false));
+        .install(|| c.estimate(Estimator::Mis, &s));
     let two = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap()
-        .install(|| c.estimate(Estimator::Mis, &s, false));
+        .install(|| c.estimate(Estimator::Mis, &s));
     assert_eq!(one.batches, two.batches);
     for sampler in [SamplerKind::Stratified, SamplerKind::Sobol] {
         let s = RunSpec { sampler, ..s };
@@ -259,12 +260,12 @@ fn deterministic_across_thread_counts() {
             .num_threads(1)
             .build()
             .unwrap()
-            .install(|| c.estimate(Estimator::Mis, &s, false));
+            .install(|| c.estimate(Estimator::Mis, &s));
         let two = rayon::ThreadPoolBuilder::new()
             .num_threads(3)
             .build()
             .unwrap()
-            .install(|| c.estimate(Estimator::Mis, &s, false));
+            .install(|| c.estimate(Estimator::Mis, &s));
         assert_eq!(one.batches, two.batches);
     }
 }
@@ -273,7 +274,7 @@ fn deterministic_across_thread_counts() {
 #[test]
 fn a_wrong_reference_is_rejected() {
     let c = furnace(0.5);
-    let e = c.estimate(Estimator::Light, &spec(1 << 17, 700), false);
+    let e = c.estimate(Estimator::Light, &spec(1 << 17, 700));
     let v = MeanTest::new(ALPHA, FAMILY).judge(&e.batches.total, 2.0 * 1.01);
     assert!(!v.passed, "{v:?}");
 }
@@ -307,7 +308,7 @@ const FLOOR_RADIANCE: &str = r#"{ "radiance": { "at": [0.3,0.2,1], "direction": 
 
 /// Run `est` on `c` and require non-finite samples and a failed verdict.
 fn assert_counted(c: &Case, est: Estimator, what: &str) {
-    let e = c.estimate(est, &spec(1 << 12, 0x7a7a), false);
+    let e = c.estimate(est, &spec(1 << 12, 0x7a7a));
     let nf = e.batches.total.non_finite;
     assert!(
         nf > 0,
@@ -391,7 +392,7 @@ fn nan_environment_and_spectrum_are_counted() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/spectral");
     let load = || Case::load(&root.join("blackbody_visible_band_3000K.json")).unwrap();
     let mut c = load();
-    let sp = c.dims.spectral.as_mut().expect("a spectral case");
+    let sp = c.plan.dims.spectral.as_mut().expect("a spectral case");
     sp.response = Response::Sampled(Spectrum::Constant(f32::MAX));
     for &est in &c.desc.estimators.clone() {
         assert_counted(&c, est, "overflowing response");
@@ -405,12 +406,10 @@ fn nan_environment_and_spectrum_are_counted() {
 
 #[test]
 fn an_outcome_without_reference_fails_on_nan() {
-    use lightproof::verify::Outcome;
     let mut c = lit_floor(IRRADIANCE);
     c.reference = None;
     c.scene.shapes[0].area = f32::NAN;
-    let e = c.estimate(Estimator::Light, &spec(1 << 10, 0x7a7b), false);
-    let mut o = Outcome::new(&c, Estimator::Light, SamplerKind::Independent, 1, &e);
+    let mut o = c.run(Estimator::Light, SamplerKind::Independent, 1 << 10, 0x7a7b);
     o.judge(ALPHA, 1);
     assert!(o.verdict.is_none() && o.non_finite > 0);
     assert!(
@@ -419,7 +418,6 @@ fn an_outcome_without_reference_fails_on_nan() {
     );
     // The same case with finite samples passes.
     let ok = lit_floor(IRRADIANCE);
-    let e = ok.estimate(Estimator::Light, &spec(1 << 10, 0x7a7c), false);
-    let o = Outcome::new(&ok, Estimator::Light, SamplerKind::Independent, 1, &e);
+    let o = ok.run(Estimator::Light, SamplerKind::Independent, 1 << 10, 0x7a7c);
     assert!(o.passed() && o.non_finite == 0);
 }

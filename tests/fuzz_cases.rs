@@ -9,9 +9,9 @@
 
 mod common;
 
+use lightproof::case::{Case, CaseDesc};
 use lightproof::error::{InputError, parse_json};
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, CaseDesc};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, FileFailurePersistence, TestCaseError, TestRunner};
 use serde_json::{Value, json};
@@ -196,7 +196,7 @@ fn exercise(file: &Path, v: &Value, seed: u64) -> Result<(), TestCaseError> {
         sampler,
         seed,
     };
-    let e = catch_unwind(AssertUnwindSafe(|| case.estimate(est, &spec, false))).map_err(|p| {
+    let e = catch_unwind(AssertUnwindSafe(|| case.estimate(est, &spec))).map_err(|p| {
         TestCaseError::fail(format!(
             "estimating panicked: {}\ncase: {text}",
             panic_text(p)

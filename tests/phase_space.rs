@@ -6,11 +6,12 @@
 
 mod common;
 
+use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::sidak_alpha;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::{Estimate, RunSpec};
-use lightproof::verify::{Case, CaseDesc, judge};
+use lightproof::verdict::judge;
 use lightproof_analytic::quadrature::adaptive;
 use lightproof_analytic::spectrum::{planck, wien_peak};
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -76,7 +77,7 @@ fn wien_peak_by_spectral_sweep() {
     let mut values = Vec::new();
     for (i, &l) in grid.iter().enumerate() {
         let c = blackbody_disk(t, &format!(r#"{{ "wavelength": {l} }}"#));
-        let e = c.estimate(Estimator::Mis, &spec(4096, 10 + i as u64), false);
+        let e = c.estimate(Estimator::Mis, &spec(4096, 10 + i as u64));
         let exact = planck(l * 1e-9, t) * 1e-9;
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
         assert!(v.passed, "B_λ at {l:.3} nm: {v:?}");
@@ -103,8 +104,8 @@ fn wien_peak_by_spectral_sweep() {
 /// Returns the two per-sample variances.
 fn compare_wavelength_settings(t: f64, a: &str, b: &str, salt: u64) -> (f64, f64) {
     let (ca, cb) = (blackbody_disk(t, a), blackbody_disk(t, b));
-    let ea = ca.estimate(Estimator::Mis, &spec(1 << 14, salt), false);
-    let eb = cb.estimate(Estimator::Mis, &spec(1 << 14, salt + 1), false);
+    let ea = ca.estimate(Estimator::Mis, &spec(1 << 14, salt));
+    let eb = cb.estimate(Estimator::Mis, &spec(1 << 14, salt + 1));
     let z = z_same(&ea, &eb);
     assert!(z.abs() <= crit(), "{a} vs {b}: z = {z}");
     (ea.batches.total.variance(), eb.batches.total.variance())
@@ -155,10 +156,14 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
         "time": { "shutter": [0, 0.01] },
         "estimators": ["mis"] }"#,
     );
-    assert!(!grey.effects.wavelength.simulated, "{:?}", grey.effects);
-    assert!(!grey.effects.time.simulated, "{:?}", grey.effects);
-    let pruned = grey.estimate(Estimator::Mis, &spec(1 << 15, 40), false);
-    let full = grey.estimate(Estimator::Mis, &spec(1 << 15, 41), true);
+    assert!(
+        !grey.plan.effects.wavelength.simulated,
+        "{:?}",
+        grey.plan.effects
+    );
+    assert!(!grey.plan.effects.time.simulated, "{:?}", grey.plan.effects);
+    let pruned = grey.estimate(Estimator::Mis, &spec(1 << 15, 40));
+    let full = grey.estimate_with(&grey.full, Estimator::Mis, &spec(1 << 15, 41));
     let z = z_same(&pruned, &full);
     println!(
         "photopic grey: pruned {:.6} ({:.3}s) full {:.6} ({:.3}s), z {z:+.2}, speed-up {:.2}x",
@@ -172,7 +177,7 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
     // ∫ȳ over 360–830 nm is 106.857 nm for the CIE 1931 tables; the analytic fit of the
     // response is within 1 % of it, so the grey estimate scales by about that.
     let e_grey = grey
-        .estimate(Estimator::Mis, &spec(1 << 12, 42), false)
+        .estimate(Estimator::Mis, &spec(1 << 12, 42))
         .batches
         .total
         .mean;
@@ -183,22 +188,22 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
 #[test]
 fn effects_say_which_dimensions_are_sampled() {
     let bb = blackbody_disk(5000.0, r#"{ "band": [400, 700] }"#);
-    assert!(bb.effects.wavelength.simulated);
+    assert!(bb.plan.effects.wavelength.simulated);
     assert!(
-        bb.effects.wavelength.why.contains("spectrum"),
+        bb.plan.effects.wavelength.why.contains("spectrum"),
         "{}",
-        bb.effects.wavelength.why
+        bb.plan.effects.wavelength.why
     );
-    assert!(!bb.effects.time.simulated);
+    assert!(!bb.plan.effects.time.simulated);
     let moving = case(
         r#"{ "name": "moving", "teaches": "motion",
         "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1, "velocity": [1,0,0] } ] },
         "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
         "time": { "shutter": [0, 1] }, "estimators": ["light"] }"#,
     );
-    assert!(moving.effects.time.simulated);
-    assert!(moving.effects.time.why.contains("move"));
-    assert!(!moving.effects.wavelength.simulated);
+    assert!(moving.plan.effects.time.simulated);
+    assert!(moving.plan.effects.time.why.contains("move"));
+    assert!(!moving.plan.effects.wavelength.simulated);
     let pulsed = case(
         r#"{ "name": "pulsed", "teaches": "transient",
         "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 },
@@ -206,8 +211,8 @@ fn effects_say_which_dimensions_are_sampled() {
         "measure": { "irradiance": { "at": [0,0,0], "normal": [0,0,1] } },
         "time": { "bin": [0, 1e-8] }, "estimators": ["light"] }"#,
     );
-    assert!(pulsed.effects.time.simulated);
-    assert!(pulsed.effects.time.why.contains("time resolved"));
+    assert!(pulsed.plan.effects.time.simulated);
+    assert!(pulsed.plan.effects.time.why.contains("time resolved"));
 }
 
 /// A pulse counted over a bin that holds every arrival gives the steady irradiance of
@@ -224,11 +229,11 @@ fn time_of_flight_bins() {
             "time": {{ "bin": {bin} }}, "estimators": ["mis"] }}"#
         ))
     };
-    let all = disk("[0, 1]").estimate(Estimator::Mis, &spec(1 << 15, 50), false);
+    let all = disk("[0, 1]").estimate(Estimator::Mis, &spec(1 << 15, 50));
     let exact = std::f64::consts::PI * 0.5; // π L R²/(h² + R²)
     let v = judge(&all, SamplerKind::Independent, exact, ALPHA, FAMILY);
     assert!(v.passed, "{v:?}");
-    let early = disk("[0, 3.3e-9]").estimate(Estimator::Mis, &spec(1 << 12, 51), false);
+    let early = disk("[0, 3.3e-9]").estimate(Estimator::Mis, &spec(1 << 12, 51));
     assert_eq!(early.batches.total.mean, 0.0, "light arrived before h/c");
 }
 
@@ -250,7 +255,7 @@ fn hard_spectral_inputs_stay_finite() {
     };
     // Cauchy with a = 1, b → 0: η(λ) → 1 over the band, the slab transmits everything.
     let c = case(&slab(r#"{ "cauchy": { "a": 1.0, "b": 1e-7 } }"#));
-    let e = c.estimate(Estimator::Mis, &spec(1 << 12, 60), false);
+    let e = c.estimate(Estimator::Mis, &spec(1 << 12, 60));
     assert_eq!(e.batches.total.non_finite, 0);
     let v = judge(&e, SamplerKind::Independent, 300.0, ALPHA, FAMILY);
     assert!(v.passed, "η → 1 slab: {v:?}");
@@ -260,7 +265,7 @@ fn hard_spectral_inputs_stay_finite() {
         (5000.0, "[550, 550.06]"),
     ] {
         let c = blackbody_disk(t, &format!(r#"{{ "band": {band} }}"#));
-        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 61), false);
+        let e = c.estimate(Estimator::Mis, &spec(1 << 10, 61));
         let m = &e.batches.total;
         assert_eq!(m.non_finite, 0, "T = {t}");
         assert!(m.mean >= 0.0 && m.mean.is_finite(), "T = {t}: {}", m.mean);
@@ -358,7 +363,7 @@ fn bad_phase_input_is_named() {
             "emission": { "radiance": 1, "spectrum": { "blackbody": { "temperature": 3000 } } } } ] },
         "measure": { "solid_angle": { "from": [0,0,0], "shape": 0 } }, "estimators": ["uniform"] }"#,
     );
-    assert!(!solid.effects.wavelength.simulated);
+    assert!(!solid.plan.effects.wavelength.simulated);
     for (json, field) in cases {
         match try_case(json) {
             Ok(_) => panic!("accepted bad input (expected an error at `{field}`)"),
@@ -389,14 +394,14 @@ fn spectral_conductor_matches_quadrature() {
         band.0,
         band.1
     ));
-    assert!(c.effects.wavelength.simulated);
+    assert!(c.plan.effects.wavelength.simulated);
     let lerp = |a: f64, b: f64, l: f64| a + (b - a) * (l - band.0) / (band.1 - band.0);
     // The oracle's adaptive Gauss–Kronrod quadrature of its Fresnel formula.
     let f = |l: f64| {
         lightproof_analytic::fresnel::conductor(t.cos(), lerp(1.5, 0.15, l), lerp(1.9, 4.0, l))
     };
     let exact = adaptive(f, band.0, band.1, 1e-12);
-    let e = c.estimate(Estimator::Mis, &spec(1 << 14, 70), false);
+    let e = c.estimate(Estimator::Mis, &spec(1 << 14, 70));
     let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
     println!("spectral conductor: {:?}", (v.estimate, v.std_error, exact));
     assert!(v.passed, "{v:?}");
@@ -418,7 +423,7 @@ fn moving_sphere_light_matches_time_quadrature() {
         "time": { "shutter": [0, 1] },
         "estimators": ["light", "bsdf", "mis"] }"#,
     );
-    assert!(c.effects.time.simulated, "{:?}", c.effects.time);
+    assert!(c.plan.effects.time.simulated, "{:?}", c.plan.effects.time);
     let e_at = |t: f64| {
         lightproof_analytic::irradiance::sphere(
             V::new(0.0, 0.0, 0.0),
@@ -433,7 +438,7 @@ fn moving_sphere_light_matches_time_quadrature() {
         .into_iter()
         .enumerate()
     {
-        let e = c.estimate(est, &spec(1 << 16, 80 + k as u64), false);
+        let e = c.estimate(est, &spec(1 << 16, 80 + k as u64));
         let v = judge(&e, SamplerKind::Independent, exact, ALPHA, FAMILY);
         println!(
             "moving sphere, {}: {:?}",

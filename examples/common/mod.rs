@@ -2,11 +2,12 @@
 //! from its JSON description, printing verdicts and the closing verdict.
 #![allow(dead_code)]
 
+use lightproof::case::{Case, CaseDesc, seed_for};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::{Verdict, VerdictClass};
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verify::{Case, CaseDesc, judge, seed_for};
+use lightproof::verdict::judge;
 use std::path::Path;
 
 /// The sample count: the first command-line argument, or `default`.
@@ -104,6 +105,6 @@ pub fn judged(case: &Case, est: Estimator, n: u64, seed_base: u64, exact: f64) -
         sampler: SamplerKind::Independent,
         seed,
     };
-    let e = case.estimate(est, &spec, false);
+    let e = case.estimate(est, &spec);
     judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
 }

@@ -34,13 +34,13 @@ use super::store::{case_id, digest, read_case_report, report_file, write_json};
 use super::{
     BATCHES, CaseInfo, CaseReport, FORMAT, Kind, Point, RunInfo, Series, Settings, Status,
 };
+use crate::case::{Case, collect_cases, seed_for};
 use crate::error::{Error, InputError};
+use crate::sampling::SamplerKind;
 use crate::sampling::sampler::hash_words;
-use crate::sampling::{SampleStream, SamplerKind};
 use crate::stats::Accumulator;
 use crate::transport::Estimator;
 use crate::transport::engine::{RunSpec, run_batches};
-use crate::verify::{Case, collect_cases, seed_for};
 use rayon::prelude::*;
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
@@ -190,13 +190,12 @@ pub fn run_point(
     spec: &RunSpec,
     batches: &[u64],
 ) -> Vec<(u64, Accumulator, f64)> {
-    let cfg = case.config(est, false);
-    let f = |s: &mut SampleStream| case.sample(est, &cfg, false, s);
+    let f = case.integrand(&case.plan, est);
     batches
         .par_iter()
         .map(|&b| {
             let t = Instant::now();
-            let acc = run_batches(spec, b..b + 1, f)
+            let acc = run_batches(spec, b..b + 1, &f)
                 .into_iter()
                 .next()
                 .unwrap_or_default();

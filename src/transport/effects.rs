@@ -15,7 +15,8 @@
 //!   camera ray's first hit on one planar or (from outside) spherical reflector lit
 //!   only by lights at infinity needs none either;
 //! - **specular chains** and **transmission** follow from the materials' lobes;
-//! - **wavelength** and **time** are not dimensions of a grey, static scene.
+//! - **wavelength** and **time** are not dimensions of a grey, static scene (decided by
+//!   [`crate::transport::plan`] with the case's spectral and time sections).
 //!
 //! Soundness is proven per catalog case by comparing the pruned estimate with the full
 //! simulation (every effect on) in a two-sample test (`tests/effects_soundness.rs`).
@@ -89,12 +90,28 @@ fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
     }
 }
 
-/// Analyse `scene` for `measure`.
-pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
-    let grey = no(
-        "the scene's spectra are constant and no measurement is spectral: wavelength integrates out",
-    );
-    let static_ = no("nothing moves and the measurement is not time resolved: time integrates out");
+impl Effects {
+    /// Every effect on and paths unbounded: the full simulation the pruned plans are
+    /// proven against.
+    pub fn everything() -> Effects {
+        let y = yes("the full simulation turns every effect on");
+        Effects {
+            direct_emission: y.clone(),
+            single_scattering: y.clone(),
+            multiple_scattering: y.clone(),
+            specular_chains: y.clone(),
+            transmission: y.clone(),
+            occlusion: y.clone(),
+            wavelength: y.clone(),
+            time: y,
+            max_bounces: None,
+        }
+    }
+}
+
+/// Analyse `scene` for `measure`; the decisions for the `wavelength` and `time`
+/// dimensions come with them (see [`crate::transport::plan`], which decides all at once).
+pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Decision) -> Effects {
     let Some(origin) = measure.origin() else {
         // Not a transport measurement: a property of one shape, emitter or BSDF.
         let n = no("the measurement is a property of one object, not of light transport");
@@ -113,8 +130,8 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
             } else {
                 n
             },
-            wavelength: grey,
-            time: static_,
+            wavelength,
+            time,
             max_bounces: Some(0),
         };
     };
@@ -225,8 +242,8 @@ pub fn analyze(scene: &Scene, measure: &Measure) -> Effects {
         specular_chains: specular,
         transmission,
         occlusion,
-        wavelength: grey,
-        time: static_,
+        wavelength,
+        time,
         max_bounces,
     }
 }
@@ -244,6 +261,11 @@ mod tests {
         let d: SceneDesc = serde_json::from_value(v).unwrap();
         d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
             .unwrap()
+    }
+
+    /// The geometric rules only: wavelength and time are decided elsewhere.
+    fn analyze(scene: &Scene, measure: &Measure) -> Effects {
+        super::analyze(scene, measure, no("grey"), no("static"))
     }
 
     fn radiance_at(at: Vec3) -> Measure {

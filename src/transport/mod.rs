@@ -5,7 +5,9 @@
 //! Lo(x, ωo) = Le(x, ωo) + ∫ f(x, ωi → ωo) Li(x, ωi) |cos θi| dωi with
 //! Li(x, ωi) = Lo(x′, −ωi) for the first surface x′ seen along ωi (Kajiya 1986).
 //!
-//! - [`effects`]: what a scene can produce for a measurement, so only that is simulated;
+//! - [`plan`]: what an estimate simulates — the effects a scene can produce for a
+//!   measurement ([`effects`]) and the dimensions it samples, decided together;
+//! - [`effects`]: the geometric rules of that decision;
 //! - [`path`]: the path tracer (next-event estimation, BSDF sampling, MIS, Russian
 //!   roulette) that estimates Li;
 //! - [`measure`]: the measurements (solid angle, irradiance, radiance, albedo, power,
@@ -19,6 +21,7 @@ pub mod engine;
 pub mod measure;
 pub mod path;
 pub mod phase;
+pub mod plan;
 
 use serde::{Deserialize, Serialize};
 
@@ -53,6 +56,21 @@ impl Estimator {
             Estimator::Uniform => "uniform",
             Estimator::Cosine => "cosine",
             Estimator::Area => "area",
+        }
+    }
+
+    /// The path tracer's strategies for this estimator: (light sampling, BSDF sampling,
+    /// the MIS heuristic when both are on). Geometric estimators (uniform, cosine) sample
+    /// directions as BSDF sampling does; area sampling of an emitter is light sampling
+    /// combined with the BSDF by MIS.
+    pub fn strategies(&self) -> (bool, bool, Heuristic) {
+        match self {
+            Estimator::Light => (true, false, Heuristic::Power),
+            Estimator::Bsdf | Estimator::Uniform | Estimator::Cosine => {
+                (false, true, Heuristic::Power)
+            }
+            Estimator::MisBalance => (true, true, Heuristic::Balance),
+            Estimator::Mis | Estimator::Area => (true, true, Heuristic::Power),
         }
     }
 }

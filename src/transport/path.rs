@@ -8,17 +8,18 @@
 //! path with probability q = min(1, β) and divides β by q: the estimate stays unbiased
 //! because no path is ever truncated outright (Arvo & Kirk 1990; pbrt-v4 §13.1).
 //!
-//! The [`Config`] comes from the effects analysis: a scene that cannot produce a second
-//! bounce is traced for one bounce only, and shadow rays are skipped where nothing can
-//! occlude.
+//! The [`Config`] comes from the plan's effects ([`Config::for_estimator`]): a scene
+//! that cannot produce a second bounce is traced for one bounce only, and shadow rays are
+//! skipped where nothing can occlude.
 
 use crate::bsdf::{BsdfModel, LobeFlags};
 use crate::math::Frame;
 use crate::sampling::SampleStream;
 use crate::scene::Scene;
 use crate::scene::emitter::LightSample;
-use crate::transport::Heuristic;
+use crate::transport::effects::Effects;
 use crate::transport::phase::{Lanes, Phase, terminate_secondary};
+use crate::transport::{Estimator, Heuristic};
 use glam::{Vec2, Vec3};
 
 /// A guard against a path that never ends (a broken sampler feeding Russian roulette the
@@ -26,6 +27,9 @@ use glam::{Vec2, Vec3};
 /// of longer paths, below ρ^65536 of the emission for a scene of albedo ρ (< 1e-28 at
 /// ρ = 0.999).
 pub const MAX_PATH_BOUNCES: u32 = 1 << 16;
+
+/// First bounce at which Russian roulette may end a path (every estimator, every plan).
+pub const RR_DEPTH: u32 = 3;
 
 /// What the path tracer simulates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,15 +49,18 @@ pub struct Config {
 }
 
 impl Config {
-    /// Full simulation: everything on, unbounded depth.
-    pub fn full(light: bool, bsdf: bool, heuristic: Heuristic) -> Self {
+    /// The configuration of estimator `est` under the effects a plan decided: its
+    /// strategies ([`Estimator::strategies`]), paths bounded where the plan bounds them,
+    /// shadow rays where occlusion is possible, roulette from bounce [`RR_DEPTH`].
+    pub fn for_estimator(est: Estimator, effects: &Effects) -> Self {
+        let (light, bsdf, heuristic) = est.strategies();
         Config {
             light,
             bsdf,
             heuristic,
-            max_bounces: u32::MAX,
-            shadow_rays: true,
-            rr_depth: 3,
+            max_bounces: effects.max_bounces.unwrap_or(u32::MAX),
+            shadow_rays: effects.occlusion.simulated,
+            rr_depth: RR_DEPTH,
         }
     }
 

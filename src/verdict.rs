@@ -1,5 +1,6 @@
 //! From an estimate to a verdict: which standard error a verdict uses, whether the
-//! estimate is exact, and the judgement itself.
+//! estimate is exact, the judgement itself, and the [`Outcome`] record that `verify`,
+//! `estimate` and the proof print and judge as one family ([`judge_family`]).
 //!
 //! **Error bar.** With independent samples the plain standard error √(s²/N) is used,
 //! unless the batch-means error exceeds it by half (heavy tails), when the batch-means
@@ -15,8 +16,13 @@
 
 use crate::sampling::SamplerKind;
 use crate::stats::{MeanTest, Verdict, is_exact};
+use crate::transport::Estimator;
+use crate::transport::effects::Effects;
 use crate::transport::engine::Estimate;
+use crate::transport::measure::Measure;
+use crate::transport::plan::Plan;
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// The standard error a verdict on an estimate uses.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -94,6 +100,130 @@ pub fn judge(
         alpha,
         tests,
     )
+}
+
+/// The outcome of one estimator × sampler of a case.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Outcome {
+    /// Case name.
+    pub case: String,
+    /// Case file.
+    pub file: String,
+    /// Measurement.
+    pub measure: String,
+    /// Estimator.
+    pub estimator: Estimator,
+    /// Sampler.
+    pub sampler: SamplerKind,
+    /// Samples drawn.
+    pub samples: u64,
+    /// Seed.
+    pub seed: u64,
+    /// Mean.
+    pub estimate: f64,
+    /// Standard error a verdict uses (plain or batch means, see [`ErrorBar`]); absent
+    /// when the estimate is exact.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std_error: Option<f64>,
+    /// Degrees of freedom of the batch-means t test, when it decides.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dof: Option<u64>,
+    /// Whether the samples have no variance (judged within the f32 error bound).
+    pub exact: bool,
+    /// Non-finite samples (any one fails the outcome, reference or not).
+    pub non_finite: u64,
+    /// Wall seconds.
+    pub seconds: f64,
+    /// What was simulated, and why.
+    pub effects: Effects,
+    /// Closed-form reference.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<f64>,
+    /// z score.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
+    /// The verdict.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
+}
+
+impl Outcome {
+    /// The unjudged outcome of estimate `e` of estimator `est` × `sampler` of the case
+    /// named `case` (from `file`), measuring `measure` under `plan`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        case: &str,
+        file: &Path,
+        measure: &Measure,
+        plan: &Plan,
+        reference: Option<f64>,
+        est: Estimator,
+        sampler: SamplerKind,
+        seed: u64,
+        e: &Estimate,
+    ) -> Outcome {
+        let total = &e.batches.total;
+        let bar = ErrorBar::of(e, sampler);
+        Outcome {
+            case: case.to_string(),
+            file: file.display().to_string(),
+            measure: measure.name().to_string(),
+            estimator: est,
+            sampler,
+            samples: total.count + total.non_finite,
+            seed,
+            estimate: total.mean,
+            std_error: bar.std_error,
+            dof: bar.dof,
+            exact: bar.exact(),
+            non_finite: total.non_finite,
+            seconds: e.seconds,
+            effects: plan.effects.clone(),
+            reference,
+            z: None,
+            verdict: None,
+        }
+    }
+
+    /// Whether the outcome will be a member of the statistical (Šidák) family.
+    pub fn is_statistical(&self) -> bool {
+        self.reference.is_some() && !self.exact
+    }
+
+    /// Judge against the reference (if any) in a family of `tests` statistical tests.
+    pub fn judge(&mut self, alpha: f64, tests: usize) {
+        if let Some(r) = self.reference {
+            let bar = ErrorBar {
+                std_error: self.std_error,
+                dof: self.dof,
+            };
+            let count = self.samples - self.non_finite;
+            let v = judge_parts(self.estimate, &bar, r, self.non_finite, count, alpha, tests);
+            self.z = Some(v.z);
+            self.verdict = Some(v);
+        }
+    }
+
+    /// Whether it passed. Without a reference there is nothing to compare, but a
+    /// non-finite sample still fails.
+    pub fn passed(&self) -> bool {
+        match &self.verdict {
+            Some(v) => v.passed,
+            None => self.non_finite == 0 && self.samples > 0,
+        }
+    }
+}
+
+/// Judge every outcome of a run as one family: the statistical ones (and `others`
+/// further statistical tests of the same run, e.g. chi-square suites) share the Šidák
+/// correction at family-wise level `alpha`; exact ones are judged outside it. Returns
+/// the family size k.
+pub fn judge_family(outcomes: &mut [Outcome], others: usize, alpha: f64) -> usize {
+    let k = outcomes.iter().filter(|o| o.is_statistical()).count() + others;
+    for o in outcomes.iter_mut() {
+        o.judge(alpha, k);
+    }
+    k
 }
 
 #[cfg(test)]

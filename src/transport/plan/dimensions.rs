@@ -1,5 +1,5 @@
 //! From a case's `spectral` and `time` sections to the dimensions its estimator samples,
-//! with the effects analysis's reasons for wavelength and time.
+//! with the reasons for wavelength and time.
 //!
 //! **Wavelength** is sampled only where the scene varies with it (an emitter with a
 //! non-constant spectrum, a dispersive material). A grey scene measured over a band
@@ -10,6 +10,7 @@
 //! dimensions sample everything (wavelength uniformly over the band or the visible
 //! range, time over the shutter or [0, 1] s) for the soundness proof.
 
+use super::{SpectralDesc, TimeDesc, WavelengthSampling};
 use crate::bsdf::BsdfModel;
 use crate::error::InputError;
 use crate::scene::Scene;
@@ -17,30 +18,44 @@ use crate::spectrum::{Band, Response, VISIBLE, WavelengthSampler, photon_energy}
 use crate::transport::effects::Decision;
 use crate::transport::measure::Measure;
 use crate::transport::phase::{Dimensions, SpectralSetup, TimeSetup};
-use crate::verify::{SpectralDesc, TimeDesc, WavelengthSampling};
 
-/// The pruned and the full dimensions of a case, and the effects' decisions for
-/// wavelength and time.
+/// The pruned and the full dimensions of a measurement, with the decisions (and their
+/// reasons) for wavelength and time.
+pub struct Decided {
+    /// What the pruned plan samples.
+    pub pruned: Dimensions,
+    /// Everything sampled, for the soundness proof.
+    pub full: Dimensions,
+    /// Whether wavelength is a sampled dimension, and why.
+    pub wavelength: Decision,
+    /// Whether time is a sampled dimension, and why.
+    pub time: Decision,
+}
+
+/// Decide the dimensions of `measure` in `scene` from the `spectral` and `time` sections.
 pub fn dimensions(
     f: &str,
     scene: &Scene,
     measure: &Measure,
     spectral: Option<&SpectralDesc>,
     time: Option<&TimeDesc>,
-) -> Result<(Dimensions, Dimensions, Decision, Decision), InputError> {
-    let (pruned_s, full_s, factor, wl) = wavelength(f, scene, measure, spectral)?;
-    let (time_setup, full_time, td) = time_dims(f, scene, measure, time)?;
-    let pruned = Dimensions {
-        spectral: pruned_s,
-        time: time_setup,
-        factor,
-    };
-    let full = Dimensions {
-        spectral: Some(full_s),
-        time: full_time,
-        factor: 1.0,
-    };
-    Ok((pruned, full, wl, td))
+) -> Result<Decided, InputError> {
+    let (pruned_s, full_s, factor, wavelength) = self::wavelength(f, scene, measure, spectral)?;
+    let (time_setup, full_time, time) = time_dims(f, scene, measure, time)?;
+    Ok(Decided {
+        pruned: Dimensions {
+            spectral: pruned_s,
+            time: time_setup,
+            factor,
+        },
+        full: Dimensions {
+            spectral: Some(full_s),
+            time: full_time,
+            factor: 1.0,
+        },
+        wavelength,
+        time,
+    })
 }
 
 fn decision(simulated: bool, why: String) -> Decision {

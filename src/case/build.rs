@@ -1,0 +1,364 @@
+//! Building a case from its description, in small steps each named after what it checks:
+//! the origin the scene is rebased on, the measurement, the estimators, the sample count,
+//! the `spectral` and `time` sections, the reference. Every step names the file and the
+//! field it rejects.
+
+use super::schema::{CaseDesc, MeasureDesc};
+use super::{BATCHES, MAX_SAMPLES, MIN_SAMPLES};
+use crate::error::{InputError, check_direction, check_number, check_point};
+use crate::scene::Scene;
+use crate::transport::measure::Measure;
+use glam::DVec3;
+
+/// Longest wavelength of a `spectral` section (nm): 1 cm. Far past the thermal
+/// infrared, and λ + 1 nm is still a different `f32`.
+pub const MAX_WAVELENGTH_NM: f64 = 1e7;
+
+/// Narrowest band, relative to its longer end: (λ₂ − λ₁) ≥ 10⁻⁴·λ₂ (0.05 nm at
+/// 500 nm), so that `f32` wavelengths resolve the band into ~10³ values or more.
+pub const MIN_RELATIVE_BANDWIDTH: f64 = 1e-4;
+
+/// The point the scene is rebased on (in f64, before it becomes f32): the measurement's
+/// viewpoint where it has one, so precision is best where it is measured.
+pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
+    Ok(match &desc.measure {
+        MeasureDesc::SolidAngle { from, .. } | MeasureDesc::ProjectedSolidAngle { from, .. } => {
+            check_point(f, "measure.from", *from)?
+        }
+        MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
+            check_point(f, "measure.at", *at)?
+        }
+        _ => desc.scene.any_point(),
+    })
+}
+
+/// Shape `i` of the scene, or an error naming `field`.
+fn shape_index(f: &str, scene: &Scene, field: &str, i: usize) -> Result<usize, InputError> {
+    if i < scene.shapes.len() {
+        Ok(i)
+    } else {
+        Err(InputError::new(
+            f,
+            field,
+            format!(
+                "shape {i} does not exist (the scene has {} shapes)",
+                scene.shapes.len()
+            ),
+        ))
+    }
+}
+
+/// The emitter a power or intensity measurement names by `shape` or by `emitter` (an
+/// entry of `scene.emitters`, after the area lights): exactly one of them, and finite.
+fn emitter_index(
+    f: &str,
+    scene: &Scene,
+    shape: Option<usize>,
+    emitter: Option<usize>,
+) -> Result<usize, InputError> {
+    let n_area = scene.shapes.iter().filter(|s| s.emitter.is_some()).count();
+    let idx = match (shape, emitter) {
+        (Some(s), None) => scene.shapes[shape_index(f, scene, "measure.shape", s)?]
+            .emitter
+            .ok_or_else(|| {
+                InputError::new(f, "measure.shape", format!("shape {s} does not emit"))
+            })?,
+        (None, Some(e)) if e < scene.emitters.len() - n_area => n_area + e,
+        (None, Some(e)) => {
+            return Err(InputError::new(
+                f,
+                "measure.emitter",
+                format!("emitter {e} does not exist"),
+            ));
+        }
+        _ => {
+            return Err(InputError::new(
+                f,
+                "measure",
+                "give exactly one of `shape` or `emitter`",
+            ));
+        }
+    };
+    if scene.emitters[idx].is_infinite() {
+        return Err(InputError::new(
+            f,
+            "measure",
+            "power and intensity are not defined for emitters at infinity",
+        ));
+    }
+    Ok(idx)
+}
+
+/// The measurement in engine coordinates (rebased on `origin`).
+pub fn measure(
+    f: &str,
+    measure: &MeasureDesc,
+    scene: &Scene,
+    origin: DVec3,
+) -> Result<Measure, InputError> {
+    let rebased = |p: DVec3| (p - origin).as_vec3();
+    let shape_index = |field: &str, i: usize| shape_index(f, scene, field, i);
+    Ok(match measure {
+        MeasureDesc::SolidAngle { from, shape } => Measure::SolidAngle {
+            from: rebased(check_point(f, "measure.from", *from)?),
+            shape: shape_index("measure.shape", *shape)?,
+        },
+        MeasureDesc::ProjectedSolidAngle {
+            from,
+            normal,
+            shape,
+        } => Measure::ProjectedSolidAngle {
+            from: rebased(check_point(f, "measure.from", *from)?),
+            normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
+            shape: shape_index("measure.shape", *shape)?,
+        },
+        MeasureDesc::Irradiance { at, normal } => Measure::Irradiance {
+            at: rebased(check_point(f, "measure.at", *at)?),
+            normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
+        },
+        MeasureDesc::Radiance { at, direction } => Measure::Radiance {
+            at: rebased(check_point(f, "measure.at", *at)?),
+            direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
+        },
+        MeasureDesc::Albedo {
+            bsdf,
+            theta_degrees,
+            phi_degrees,
+        } => {
+            bsdf.validate()
+                .map_err(|r| InputError::new(f, "measure.albedo.bsdf", r))?;
+            check_number(
+                f,
+                "measure.albedo.theta_degrees",
+                *theta_degrees,
+                |t| (0.0..=180.0).contains(&t),
+                "in [0, 180]",
+            )?;
+            check_number(
+                f,
+                "measure.albedo.phi_degrees",
+                *phi_degrees,
+                |_| true,
+                "finite",
+            )?;
+            let (t, p) = (theta_degrees.to_radians(), phi_degrees.to_radians());
+            let wo = DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos()).as_vec3();
+            Measure::Albedo {
+                bsdf: Box::new(bsdf.clone()),
+                wo,
+            }
+        }
+        MeasureDesc::Power { shape, emitter } => Measure::Power {
+            emitter: emitter_index(f, scene, *shape, *emitter)?,
+        },
+        MeasureDesc::Intensity {
+            shape,
+            emitter,
+            direction,
+        } => Measure::Intensity {
+            emitter: emitter_index(f, scene, *shape, *emitter)?,
+            direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
+        },
+        MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
+            shape: shape_index("measure.shape", *shape)?,
+            segments: {
+                if !(1..=1 << 16).contains(segments) {
+                    return Err(InputError::new(
+                        f,
+                        "measure.mean_path_length.segments",
+                        format!("must be 1 to 65536 flights per path, got {segments}"),
+                    ));
+                }
+                *segments
+            },
+        },
+    })
+}
+
+/// At least one estimator, each one the measurement can use.
+pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(), InputError> {
+    if desc.estimators.is_empty() {
+        return Err(InputError::new(
+            f,
+            "estimators",
+            "name at least one estimator",
+        ));
+    }
+    for (i, e) in desc.estimators.iter().enumerate() {
+        if !measure.estimators().contains(e) {
+            let ok: Vec<&str> = measure.estimators().iter().map(|e| e.name()).collect();
+            return Err(InputError::new(
+                f,
+                format!("estimators[{i}]"),
+                format!(
+                    "`{}` cannot estimate {}; use one of {}",
+                    e.name(),
+                    measure.name(),
+                    ok.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A sample count within [`MIN_SAMPLES`, `MAX_SAMPLES`].
+pub fn check_samples(f: &str, desc: &CaseDesc) -> Result<(), InputError> {
+    if let Some(n) = desc.samples
+        && !(MIN_SAMPLES..=MAX_SAMPLES).contains(&n)
+    {
+        return Err(InputError::new(
+            f,
+            "samples",
+            format!(
+                "must be {MIN_SAMPLES} to 2^40 = {MAX_SAMPLES} (at least two per batch of {BATCHES}; rounded up to a multiple of {BATCHES}), got {n}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The `spectral` and `time` sections as `f32` sees them: wavelengths in
+/// (0, [`MAX_WAVELENGTH_NM`]], a band at least [`MIN_RELATIVE_BANDWIDTH`] wide, every
+/// dispersive index valid over the band actually measured (a Sellmeier pole inside it is
+/// refused, not only inside the visible range), and moving geometry staying within
+/// range over the shutter.
+pub fn check_spectral_and_time(f: &str, desc: &CaseDesc) -> Result<(), InputError> {
+    use crate::spectrum::Band;
+    let wl = |field: &str, l: f64| {
+        check_number(
+            f,
+            field,
+            l,
+            |x| x > 0.0 && x <= MAX_WAVELENGTH_NM,
+            "a wavelength in (0, 1e7] nm",
+        )
+    };
+    let band = match desc.spectral.as_ref().map(|s| (s.band, s.wavelength)) {
+        Some((Some([a, b]), None)) => {
+            wl("spectral.band", a)?;
+            wl("spectral.band", b)?;
+            if !(b > a) {
+                return Err(InputError::new(
+                    f,
+                    "spectral.band",
+                    format!("must be [λ₁, λ₂] in nm with 0 < λ₁ < λ₂, got [{a}, {b}]"),
+                ));
+            }
+            let (a32, b32) = (a as f32, b as f32);
+            if !((b32 as f64 - a32 as f64) >= MIN_RELATIVE_BANDWIDTH * b) {
+                return Err(InputError::new(
+                    f,
+                    "spectral.band",
+                    format!(
+                        "[{a}, {b}] nm is too narrow for f32 wavelengths: λ₂ − λ₁ must be at least {MIN_RELATIVE_BANDWIDTH}·λ₂ ({:.3e} nm here); for one wavelength use `spectral.wavelength`",
+                        MIN_RELATIVE_BANDWIDTH * b
+                    ),
+                ));
+            }
+            Some(Band::new(a32, b32))
+        }
+        Some((None, Some(l))) => {
+            wl("spectral.wavelength", l)?;
+            Some(Band::new(l as f32, l as f32 + 1.0))
+        }
+        _ => None,
+    };
+    if let Some(band) = band {
+        for (name, d) in &desc.scene.dispersion {
+            if let Some(m) = desc.scene.materials.get(name) {
+                d.validate(m, band)
+                    .map_err(|r| InputError::new(f, format!("scene.dispersion.{name}"), r))?;
+            }
+        }
+    }
+    for (field, v) in [
+        ("time.shutter", desc.time.as_ref().and_then(|t| t.shutter)),
+        ("time.bin", desc.time.as_ref().and_then(|t| t.bin)),
+    ] {
+        for x in v.into_iter().flatten() {
+            check_number(f, field, x, |_| true, "a time in seconds")?;
+        }
+    }
+    if let Some([t0, t1]) = desc.time.as_ref().and_then(|t| t.shutter) {
+        let t = t0.abs().max(t1.abs());
+        let speeds = desc
+            .scene
+            .shapes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| {
+                s.velocity
+                    .map(|v| (format!("scene.shapes[{i}].velocity"), v))
+            })
+            .chain(desc.scene.emitters.iter().enumerate().filter_map(|(i, e)| {
+                use crate::scene::load::EmitterDesc;
+                match e {
+                    EmitterDesc::Point { velocity, .. } | EmitterDesc::Spot { velocity, .. } => {
+                        velocity.map(|v| (format!("scene.emitters[{i}].velocity"), v))
+                    }
+                    _ => None,
+                }
+            }));
+        for (field, v) in speeds {
+            let travel = DVec3::from_array(v).length() * t;
+            if travel.is_finite() && travel > crate::error::MAX_COORDINATE {
+                return Err(InputError::new(
+                    f,
+                    field,
+                    format!(
+                        "moves {travel:e} over the shutter [{t0}, {t1}] s, out of range: positions must stay within ±{:e}",
+                        crate::error::MAX_COORDINATE
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The reference: the named closed form of `lightproof-analytic` (the independent
+/// oracle) at the given parameters, times an optional unit `scale`; finite or refused.
+pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
+    Ok(match &desc.reference {
+        None => None,
+        Some(map) => {
+            let name = map
+                .get("closed_form")
+                .and_then(|v| v.as_str())
+                .ok_or_else(|| {
+                    InputError::new(
+                        f,
+                        "reference.closed_form",
+                        "must name a closed form of lightproof-analytic",
+                    )
+                })?;
+            let mut params = map.clone();
+            params.remove("closed_form");
+            // A unit conversion of the closed form's value (e.g. 1e-9 from per metre
+            // to per nanometre of wavelength).
+            let scale = match params.remove("scale") {
+                None => 1.0,
+                Some(v) => v
+                    .as_f64()
+                    .filter(|x| x.is_finite() && *x > 0.0)
+                    .ok_or_else(|| {
+                        InputError::new(f, "reference.scale", "must be a positive finite number")
+                    })?,
+            };
+            let v = lightproof_analytic::catalog::evaluate(name, &params)
+                .map_err(|e| InputError::new(f, "reference", e.to_string()))?;
+            if !(v * scale).is_finite() {
+                return Err(InputError::new(
+                    f,
+                    "reference",
+                    format!(
+                        "the closed form `{name}` evaluates to {} with these parameters: give parameters where it is finite",
+                        v * scale
+                    ),
+                ));
+            }
+            Some(v * scale)
+        }
+    })
+}

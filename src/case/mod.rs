@@ -1,0 +1,202 @@
+//! Cases: a case file names a scene, a measurement, the oracle's reference and the
+//! estimators to run; [`Case::load`] validates and builds it, [`Case::run`] estimates it
+//! — the one run path of `verify`, `estimate`, `report`, the examples and the proof.
+//!
+//! A case file:
+//! ```json
+//! {
+//!   "name": "disk light over a point, on axis",
+//!   "teaches": "irradiance E = π L sin²θ from a uniform disk",
+//!   "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 2],
+//!              "normal": [0, 0, -1], "radius": 1 }, "emission": { "radiance": 1 } } ] },
+//!   "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+//!   "reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },
+//!   "estimators": ["light", "bsdf", "mis"],
+//!   "samplers": ["independent"],
+//!   "samples": 262144
+//! }
+//! ```
+//! The reference names a closed form of `lightproof-analytic` (the independent oracle)
+//! with its parameters; a case without one is simply estimated.
+//!
+//! Modules: [`schema`] (the file as written), [`build`] (validation, one step per
+//! section). Judging the outcomes is [`crate::verdict`]'s job.
+
+pub mod build;
+pub mod schema;
+
+use crate::error::{InputError, parse_json};
+use crate::sampling::{SampleStream, SamplerKind};
+use crate::scene::Scene;
+use crate::transport::Estimator;
+use crate::transport::engine::{Estimate, RunSpec, run};
+use crate::transport::measure::Measure;
+use crate::transport::plan::{Plan, Plans};
+use crate::verdict::Outcome;
+use std::path::{Path, PathBuf};
+
+pub use crate::transport::engine::BATCHES;
+pub use schema::{CameraDesc, CaseDesc, MeasureDesc, SpectralDesc, TimeDesc, WavelengthSampling};
+
+/// Default samples per estimate.
+pub const DEFAULT_SAMPLES: u64 = 1 << 18;
+
+/// Fewest samples per estimate: two per batch (the batch-means error needs them).
+pub const MIN_SAMPLES: u64 = 2 * BATCHES;
+
+/// Most samples per estimate: 2⁴⁰ ≈ 1.1·10¹² (days of work; no count wraps below it).
+pub const MAX_SAMPLES: u64 = 1 << 40;
+
+/// A loaded, validated case.
+pub struct Case {
+    /// Where it came from.
+    pub file: PathBuf,
+    /// Its description.
+    pub desc: CaseDesc,
+    /// The built scene.
+    pub scene: Scene,
+    /// The measurement in engine coordinates.
+    pub measure: Measure,
+    /// The reference value, if any.
+    pub reference: Option<f64>,
+    /// What its estimates simulate: the pruned plan.
+    pub plan: Plan,
+    /// Every effect and dimension on, for the soundness proof.
+    pub full: Plan,
+}
+
+impl Case {
+    /// Load and validate a case file.
+    pub fn load(path: &Path) -> Result<Case, InputError> {
+        let file = path.display().to_string();
+        let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+            .map_err(|e| InputError::new(&file, "-", e))?;
+        let desc: CaseDesc = parse_json(&file, &text)?;
+        Case::from_desc(desc, path)
+    }
+
+    /// Validate a parsed description (`path` names it and anchors relative paths).
+    pub fn from_desc(desc: CaseDesc, path: &Path) -> Result<Case, InputError> {
+        let file = path.display().to_string();
+        let f = file.as_str();
+        let origin = build::origin(f, &desc)?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let scene = desc.scene.build(f, "scene", base, origin)?;
+        let measure = build::measure(f, &desc.measure, &scene, origin)?;
+        build::check_estimators(f, &desc, &measure)?;
+        build::check_samples(f, &desc)?;
+        build::check_spectral_and_time(f, &desc)?;
+        let reference = build::reference(f, &desc)?;
+        let Plans { pruned, full } = Plans::decide(
+            f,
+            &scene,
+            &measure,
+            desc.spectral.as_ref(),
+            desc.time.as_ref(),
+        )?;
+        Ok(Case {
+            file: path.to_path_buf(),
+            desc,
+            scene,
+            measure,
+            reference,
+            plan: pruned,
+            full,
+        })
+    }
+
+    /// Samplers to run.
+    pub fn samplers(&self) -> Vec<SamplerKind> {
+        if self.desc.samplers.is_empty() {
+            vec![SamplerKind::Independent]
+        } else {
+            self.desc.samplers.clone()
+        }
+    }
+
+    /// The one-sample estimator of `est` under `plan` (the case's own, its full twin,
+    /// or one cut at a depth): a function of a sample stream, for the engine to run.
+    pub fn integrand<'a>(
+        &'a self,
+        plan: &'a Plan,
+        est: Estimator,
+    ) -> impl Fn(&mut SampleStream) -> f32 + Sync + 'a {
+        let cfg = plan.config(est);
+        move |s: &mut SampleStream| {
+            self.measure
+                .sample_with(&self.scene, est, &cfg, &plan.dims, s)
+        }
+    }
+
+    /// Estimate with `est` under the case's plan.
+    pub fn estimate(&self, est: Estimator, spec: &RunSpec) -> Estimate {
+        self.estimate_with(&self.plan, est, spec)
+    }
+
+    /// Estimate with `est` under `plan` (e.g. [`Case::full`] for the soundness proof).
+    pub fn estimate_with(&self, plan: &Plan, est: Estimator, spec: &RunSpec) -> Estimate {
+        run(spec, self.integrand(plan, est))
+    }
+
+    /// Run estimator `est` with `sampler` for `samples` samples at `seed` under the
+    /// case's plan: the unjudged outcome (see [`crate::verdict`]).
+    pub fn run(&self, est: Estimator, sampler: SamplerKind, samples: u64, seed: u64) -> Outcome {
+        let spec = RunSpec {
+            samples,
+            sampler,
+            seed,
+        };
+        let e = self.estimate(est, &spec);
+        Outcome::new(
+            &self.desc.name,
+            &self.file,
+            &self.measure,
+            &self.plan,
+            self.reference,
+            est,
+            sampler,
+            seed,
+            &e,
+        )
+    }
+
+    /// Samples of one estimate: `samples`, else the case's own, else [`DEFAULT_SAMPLES`],
+    /// times `scale` (`LIGHTPROOF_SCALE`).
+    pub fn samples(&self, samples: Option<u64>, scale: u64) -> u64 {
+        samples
+            .or(self.desc.samples)
+            .unwrap_or(DEFAULT_SAMPLES)
+            .saturating_mul(scale.max(1))
+    }
+
+    /// Run every estimator × sampler of the case, each with its own seed from
+    /// `base_seed` ([`seed_for`]); the outcomes are not yet judged (see
+    /// [`crate::verdict::judge_family`]).
+    pub fn run_all(&self, base_seed: u64, samples: Option<u64>, scale: u64) -> Vec<Outcome> {
+        let n = self.samples(samples, scale);
+        let mut out = Vec::new();
+        for sampler in self.samplers() {
+            for &est in &self.desc.estimators {
+                let seed = seed_for(base_seed, &self.desc.name, est, sampler);
+                out.push(self.run(est, sampler, n, seed));
+            }
+        }
+        out
+    }
+}
+
+/// Per-test seed: the base seed mixed with the case, estimator and sampler, so tests are
+/// independent (Šidák is exact) and reproducible.
+pub fn seed_for(base: u64, case: &str, est: Estimator, sampler: SamplerKind) -> u64 {
+    use crate::sampling::sampler::{fnv1a, hash_words};
+    let names = case
+        .bytes()
+        .chain(est.name().bytes())
+        .chain(sampler.name().bytes());
+    hash_words(&[base, fnv1a(names)])
+}
+
+/// Every `.json` case file under the given files or folders (recursively), sorted.
+pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
+    crate::io::collect_files(paths, true, |q| q.extension().is_some_and(|x| x == "json"))
+}
