@@ -16,11 +16,7 @@
 //!
 //! Run: `cargo run --release --example 02_solid_angle -- [SAMPLES]`
 
-use lightproof::case::seed_for;
-use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
-use lightproof::verdict::judge;
 use serde_json::json;
 
 /// A case file: a sphere of radius 1 at distance 3 subtends the cap σ = 2π(1 − cos α),
@@ -120,16 +116,7 @@ fn check_all(label: &str, desc: serde_json::Value, n: u64) -> bool {
     let exact = case.reference.expect("every case here names a closed form");
     let mut ok = true;
     for &est in &case.desc.estimators {
-        let seed = seed_for(2, &case.desc.name, est, SamplerKind::Independent);
-        let e = case.estimate(
-            est,
-            &RunSpec {
-                samples: n,
-                sampler: SamplerKind::Independent,
-                seed,
-            },
-        );
-        let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
+        let v = judged(&case, est, n, 2, exact);
         ok &= report(&format!("{label} [{}]", est_name(est)), &v);
     }
     ok

@@ -18,12 +18,9 @@
 //!
 //! Run: `cargo run --release --example 03_intensity -- [SAMPLES]`
 
-use lightproof::case::{Case, seed_for};
-use lightproof::sampling::SamplerKind;
+use lightproof::case::Case;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
-use lightproof::verdict::judge;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
@@ -151,16 +148,7 @@ fn estimate(case: &Case, est: Estimator, n: u64) -> Verdict {
 
 /// Run, judge against `exact` and report.
 fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
-    let seed = seed_for(3, &case.desc.name, est, SamplerKind::Independent);
-    let e = case.estimate(
-        est,
-        &RunSpec {
-            samples: n,
-            sampler: SamplerKind::Independent,
-            seed,
-        },
-    );
-    report(what, &judge(&e, SamplerKind::Independent, exact, ALPHA, 1))
+    report(what, &judged(case, est, n, 3, exact))
 }
 
 fn plot(points: &[(f64, f64, f64)], i0: f64) -> Result<String, Box<dyn std::error::Error>> {

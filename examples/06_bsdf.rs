@@ -18,7 +18,7 @@
 
 use glam::Vec3;
 use lightproof::bsdf::contract::check_reciprocity;
-use lightproof::bsdf::{Bsdf, BsdfModel};
+use lightproof::bsdf::{Bsdf, BsdfModel, ModelFacts};
 use lightproof::case::{Case, seed_for};
 use lightproof::sampling::Sampler;
 use lightproof::sampling::SamplerKind;

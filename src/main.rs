@@ -319,7 +319,7 @@ fn main() -> ExitCode {
         Command::Verify { threads, .. }
         | Command::Estimate { threads, .. }
         | Command::Report { threads, .. } => *threads,
-        _ => None,
+        Command::Chi2 { .. } | Command::Merge { .. } | Command::Render { .. } => None,
     };
     let pool = match rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))

@@ -193,15 +193,29 @@ impl Outcome {
     /// Judge against the reference (if any) in a family of `tests` statistical tests.
     pub fn judge(&mut self, alpha: f64, tests: usize) {
         if let Some(r) = self.reference {
-            let bar = ErrorBar {
-                std_error: self.std_error,
-                dof: self.dof,
-            };
-            let count = self.samples - self.non_finite;
-            let v = judge_parts(self.estimate, &bar, r, self.non_finite, count, alpha, tests);
+            let v = self.verdict_against(r, alpha, tests);
             self.z = Some(v.z);
             self.verdict = Some(v);
         }
+    }
+
+    /// The verdict of this outcome against `reference` (which need not be the case's),
+    /// in a family of `tests` statistical tests at level `alpha`.
+    pub fn verdict_against(&self, reference: f64, alpha: f64, tests: usize) -> Verdict {
+        let bar = ErrorBar {
+            std_error: self.std_error,
+            dof: self.dof,
+        };
+        let count = self.samples - self.non_finite;
+        judge_parts(
+            self.estimate,
+            &bar,
+            reference,
+            self.non_finite,
+            count,
+            alpha,
+            tests,
+        )
     }
 
     /// Whether it passed. Without a reference there is nothing to compare, but a

@@ -6,8 +6,6 @@ use lightproof::case::{Case, CaseDesc, seed_for};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::{Verdict, VerdictClass};
 use lightproof::transport::Estimator;
-use lightproof::transport::engine::RunSpec;
-use lightproof::verdict::judge;
 use std::path::Path;
 
 /// The sample count: the first command-line argument, or `default`.
@@ -100,11 +98,6 @@ pub const ALPHA: f64 = 1e-4;
 /// and the case) and judge it against `exact`.
 pub fn judged(case: &Case, est: Estimator, n: u64, seed_base: u64, exact: f64) -> Verdict {
     let seed = seed_for(seed_base, &case.desc.name, est, SamplerKind::Independent);
-    let spec = RunSpec {
-        samples: n,
-        sampler: SamplerKind::Independent,
-        seed,
-    };
-    let e = case.estimate(est, &spec);
-    judge(&e, SamplerKind::Independent, exact, ALPHA, 1)
+    case.run(est, SamplerKind::Independent, n, seed)
+        .verdict_against(exact, ALPHA, 1)
 }

@@ -10,6 +10,7 @@
 
 use super::fresnel::fr_conductor;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{Index, ModelFacts};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -76,5 +77,18 @@ impl BsdfModel for Conductor {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::SPECULAR
+    }
+}
+
+/// Reflects only; never black (F > 0 for every η, k the model accepts).
+impl ModelFacts for Conductor {
+    fn eta_inside(&self) -> f32 {
+        1.0
+    }
+    fn is_black(&self) -> bool {
+        false
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Conductor(&mut self.eta, &mut self.k)
     }
 }

@@ -21,6 +21,7 @@
 
 use super::fresnel::{fr_dielectric, refract};
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{Index, ModelFacts};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -108,5 +109,18 @@ impl BsdfModel for Dielectric {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::TRANSMISSION | LobeFlags::SPECULAR
+    }
+}
+
+/// Transmits into index η; never black (R + T = 1).
+impl ModelFacts for Dielectric {
+    fn eta_inside(&self) -> f32 {
+        self.eta
+    }
+    fn is_black(&self) -> bool {
+        false
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Dielectric(&mut self.eta)
     }
 }

@@ -3,6 +3,7 @@
 //! (Lambert 1760; pbrt-v4 §9.2). Directional albedo ∫ f cos θi dωi = ρ for every wo.
 
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range, same_hemisphere};
+use super::{Index, ModelFacts};
 use crate::math::INV_PI;
 use crate::sampling::hemisphere::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
@@ -68,5 +69,18 @@ impl BsdfModel for Lambertian {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::DIFFUSE
+    }
+}
+
+/// Reflects only; black at ρ = 0.
+impl ModelFacts for Lambertian {
+    fn eta_inside(&self) -> f32 {
+        1.0
+    }
+    fn is_black(&self) -> bool {
+        self.albedo <= 0.0
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Fixed
     }
 }

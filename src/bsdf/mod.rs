@@ -174,6 +174,32 @@ pub trait BsdfModel: Send + Sync {
     fn flags(&self) -> LobeFlags;
 }
 
+/// The refractive index a model carries, which a dispersive table
+/// ([`crate::scene::dispersion`]) may vary per wavelength.
+#[derive(Debug, PartialEq)]
+pub enum Index<'a> {
+    /// No index to vary (the diffuse models; the plastic's coat index is fixed).
+    Fixed,
+    /// A dielectric's relative index η.
+    Dielectric(&'a mut f32),
+    /// A conductor's complex index η + i k.
+    Conductor(&'a mut f32, &'a mut f32),
+}
+
+/// Facts about a built-in model that planning and the contract read. Every model states
+/// each one itself (there are no defaults), so a new model does not compile until it
+/// has said what it is.
+pub trait ModelFacts {
+    /// The refractive index below the surface relative to above (1 for models that do
+    /// not transmit): what the reciprocity rule of [`contract::check_reciprocity`] needs.
+    fn eta_inside(&self) -> f32;
+    /// Whether the model scatters no light at all (an absorber the effects analysis
+    /// need not bounce off).
+    fn is_black(&self) -> bool;
+    /// Its refractive index, for dispersion to vary.
+    fn index(&mut self) -> Index<'_>;
+}
+
 /// The closed set of built-in models (the engine's hot path dispatches on it).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -236,15 +262,17 @@ impl Bsdf {
             .map_err(|e| format!("invalid {} BSDF: {e}", b.name()))?;
         Ok(b)
     }
+}
 
-    /// The refractive index below the surface relative to above (1 for models that do
-    /// not transmit): what the reciprocity rule of [`contract::check_reciprocity`] needs.
-    pub fn eta_inside(&self) -> f32 {
-        match self {
-            Bsdf::Dielectric(d) => d.eta,
-            Bsdf::RoughDielectric(d) => d.eta,
-            _ => 1.0,
-        }
+impl ModelFacts for Bsdf {
+    fn eta_inside(&self) -> f32 {
+        dispatch!(self, b => b.eta_inside())
+    }
+    fn is_black(&self) -> bool {
+        dispatch!(self, b => b.is_black())
+    }
+    fn index(&mut self) -> Index<'_> {
+        dispatch!(self, b => b.index())
     }
 }
 

@@ -20,6 +20,7 @@
 //! [`super::Lambertian`].
 
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{Index, ModelFacts};
 use super::{flip_z, to_upper};
 use crate::math::INV_PI;
 use crate::sampling::hemisphere::cosine_hemisphere;
@@ -113,5 +114,18 @@ impl BsdfModel for OrenNayar {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::DIFFUSE
+    }
+}
+
+/// Reflects only; black at ρ = 0.
+impl ModelFacts for OrenNayar {
+    fn eta_inside(&self) -> f32 {
+        1.0
+    }
+    fn is_black(&self) -> bool {
+        self.albedo <= 0.0
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Fixed
     }
 }

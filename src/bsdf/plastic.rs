@@ -23,6 +23,7 @@
 
 use super::fresnel::{fr_dielectric, fresnel_diffuse_reflectance};
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{Index, ModelFacts};
 use super::{flip_z, to_upper};
 use crate::math::{INV_PI, PI};
 use crate::sampling::hemisphere::cosine_hemisphere;
@@ -202,5 +203,18 @@ impl BsdfModel for Plastic {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::SPECULAR | LobeFlags::DIFFUSE
+    }
+}
+
+/// Reflects only (the coat and base are one surface); never black: the coat reflects F > 0 even at ρ = 0; its coat index is fixed.
+impl ModelFacts for Plastic {
+    fn eta_inside(&self) -> f32 {
+        1.0
+    }
+    fn is_black(&self) -> bool {
+        false
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Fixed
     }
 }

@@ -15,6 +15,7 @@ use super::conductor::validate_complex_ior;
 use super::fresnel::{fr_conductor, reflect};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range, flip_z, to_upper};
+use super::{Index, ModelFacts};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -137,5 +138,18 @@ impl BsdfModel for RoughConductor {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::GLOSSY
+    }
+}
+
+/// Reflects only; never black (F > 0).
+impl ModelFacts for RoughConductor {
+    fn eta_inside(&self) -> f32 {
+        1.0
+    }
+    fn is_black(&self) -> bool {
+        false
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Conductor(&mut self.eta, &mut self.k)
     }
 }

@@ -34,6 +34,7 @@ use super::flip_z;
 use super::fresnel::{fr_dielectric, reflect, refract, tr_dielectric};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{Index, ModelFacts};
 use glam::{DVec3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -283,5 +284,18 @@ impl BsdfModel for RoughDielectric {
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::TRANSMISSION | LobeFlags::GLOSSY
+    }
+}
+
+/// Transmits into index η; never black.
+impl ModelFacts for RoughDielectric {
+    fn eta_inside(&self) -> f32 {
+        self.eta
+    }
+    fn is_black(&self) -> bool {
+        false
+    }
+    fn index(&mut self) -> Index<'_> {
+        Index::Dielectric(&mut self.eta)
     }
 }

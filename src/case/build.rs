@@ -28,7 +28,11 @@ pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
         MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
             check_point(f, "measure.at", *at)?
         }
-        _ => desc.scene.any_point(),
+        // No viewpoint: a property of one object, rebased on any point of the scene.
+        MeasureDesc::Albedo { .. }
+        | MeasureDesc::Power { .. }
+        | MeasureDesc::Intensity { .. }
+        | MeasureDesc::MeanPathLength { .. } => desc.scene.any_point(),
     })
 }
 
@@ -297,7 +301,10 @@ pub fn check_spectral_and_time(f: &str, desc: &CaseDesc) -> Result<(), InputErro
                     EmitterDesc::Point { velocity, .. } | EmitterDesc::Spot { velocity, .. } => {
                         velocity.map(|v| (format!("scene.emitters[{i}].velocity"), v))
                     }
-                    _ => None,
+                    // Lights at infinity do not move.
+                    EmitterDesc::Directional { .. }
+                    | EmitterDesc::Constant { .. }
+                    | EmitterDesc::Envmap { .. } => None,
                 }
             }));
         for (field, v) in speeds {

@@ -6,7 +6,7 @@
 //! refracted direction depends on η, a dispersive surface ends a path's secondary
 //! wavelength lanes ([`crate::transport::phase`]).
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, Index, ModelFacts};
 use crate::spectrum::{Band, Ior, Spectrum};
 use serde::{Deserialize, Serialize};
 
@@ -30,13 +30,13 @@ impl SpectralIor {
     /// Check the index over `band` against the material it modifies: only dielectrics
     /// take `eta`, only conductors take `k`.
     pub fn validate(&self, bsdf: &Bsdf, band: Band) -> Result<(), String> {
-        let (takes_eta, takes_k) = match bsdf {
-            Bsdf::Dielectric(_) | Bsdf::RoughDielectric(_) => (true, false),
-            Bsdf::Conductor(_) | Bsdf::RoughConductor(_) => (true, true),
-            other => {
+        let (takes_eta, takes_k) = match bsdf.clone().index() {
+            Index::Dielectric(_) => (true, false),
+            Index::Conductor(..) => (true, true),
+            Index::Fixed => {
                 return Err(format!(
                     "a `{}` material has no refractive index to vary (use dielectric, rough_dielectric, conductor or rough_conductor)",
-                    other.name()
+                    bsdf.name()
                 ));
             }
         };
@@ -97,18 +97,13 @@ impl SpectralIor {
         let mut b = bsdf.clone();
         let eta = self.eta.as_ref().map(|e| e.eval(lambda));
         let k = self.k.as_ref().map(|k| k.eval(lambda).max(0.0));
-        match &mut b {
-            Bsdf::Dielectric(d) => d.eta = eta.unwrap_or(d.eta),
-            Bsdf::RoughDielectric(d) => d.eta = eta.unwrap_or(d.eta),
-            Bsdf::Conductor(c) => {
-                c.eta = eta.unwrap_or(c.eta);
-                c.k = k.unwrap_or(c.k);
+        match b.index() {
+            Index::Dielectric(e) => *e = eta.unwrap_or(*e),
+            Index::Conductor(e, kk) => {
+                *e = eta.unwrap_or(*e);
+                *kk = k.unwrap_or(*kk);
             }
-            Bsdf::RoughConductor(c) => {
-                c.eta = eta.unwrap_or(c.eta);
-                c.k = k.unwrap_or(c.k);
-            }
-            _ => {}
+            Index::Fixed => {}
         }
         b
     }

@@ -226,7 +226,11 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
             }
             _ => PrimSampling::Area,
         },
-        _ => PrimSampling::Area,
+        // A sphere seen from too close for the cone's f32 construction, a sheared
+        // parallelogram (no spherical-rectangle warp), and every disk: area sampling.
+        Primitive::Sphere { .. } | Primitive::Rectangle { .. } | Primitive::Disk { .. } => {
+            PrimSampling::Area
+        }
     }
 }
 
@@ -346,7 +350,11 @@ impl Emitter {
         match self {
             Emitter::Constant { radiance } => *radiance,
             Emitter::Map(m) => m.eval(w),
-            _ => 0.0,
+            // Directional light is a delta in direction: no ray escapes into it.
+            Emitter::Area { .. }
+            | Emitter::Point { .. }
+            | Emitter::Spot { .. }
+            | Emitter::Directional { .. } => 0.0,
         }
     }
 
@@ -355,7 +363,10 @@ impl Emitter {
         match self {
             Emitter::Constant { .. } => INV_FOUR_PI,
             Emitter::Map(m) => m.pdf(w),
-            _ => 0.0,
+            Emitter::Area { .. }
+            | Emitter::Point { .. }
+            | Emitter::Spot { .. }
+            | Emitter::Directional { .. } => 0.0,
         }
     }
 
@@ -470,7 +481,8 @@ impl Emitter {
                     * ((1.0 - *cos_falloff_start as f64)
                         + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
             ),
-            _ => None,
+            // Emitters at infinity deliver unbounded power to an unbounded scene.
+            Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => None,
         }
     }
 }

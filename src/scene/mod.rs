@@ -268,13 +268,17 @@ impl Scene {
 
     /// Radiance emitted by the surface hit towards `wo` (pointing away from it).
     pub fn emitted(&self, sh: &SurfaceHit, wo: Vec3) -> f32 {
-        match self.shapes[sh.shape].emitter.map(|e| &self.emitters[e]) {
-            Some(Emitter::Area {
-                radiance,
-                two_sided,
-                ..
-            }) if *two_sided || sh.hit.n.dot(wo) > 0.0 => *radiance,
-            _ => 0.0,
+        // Only area lights sit on shapes.
+        if let Some(Emitter::Area {
+            radiance,
+            two_sided,
+            ..
+        }) = self.shapes[sh.shape].emitter.map(|e| &self.emitters[e])
+            && (*two_sided || sh.hit.n.dot(wo) > 0.0)
+        {
+            *radiance
+        } else {
+            0.0
         }
     }
 

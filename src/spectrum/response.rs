@@ -119,7 +119,7 @@ impl Response {
     pub fn validate(&self) -> Result<(), String> {
         match self {
             Response::Sampled(s) => s.validate(),
-            _ => Ok(()),
+            Response::Flat | Response::Photopic => Ok(()),
         }
     }
 }

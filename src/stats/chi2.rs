@@ -56,7 +56,7 @@ impl Domain {
     fn b_range(&self) -> (f64, f64) {
         match self {
             Domain::Square => (0.0, 1.0),
-            _ => (0.0, 2.0 * PI),
+            Domain::Sphere | Domain::Hemisphere | Domain::Disk => (0.0, 2.0 * PI),
         }
     }
 
@@ -64,7 +64,7 @@ impl Domain {
     fn jacobian(&self) -> f64 {
         match self {
             Domain::Disk => 0.5,
-            _ => 1.0,
+            Domain::Sphere | Domain::Hemisphere | Domain::Square => 1.0,
         }
     }
 

@@ -21,7 +21,7 @@
 //! Soundness is proven per catalog case by comparing the pruned estimate with the full
 //! simulation (every effect on) in a two-sample test (`tests/effects_soundness.rs`).
 
-use crate::bsdf::{Bsdf, BsdfModel, LobeFlags};
+use crate::bsdf::{BsdfModel, LobeFlags, ModelFacts};
 use crate::scene::emitter::Emitter;
 use crate::scene::shape::Primitive;
 use crate::scene::{Scene, ShapeKind};
@@ -74,19 +74,11 @@ pub struct Effects {
     pub max_bounces: Option<u32>,
 }
 
-fn is_black(b: &Bsdf) -> bool {
-    match b {
-        Bsdf::Lambertian(l) => l.albedo <= 0.0,
-        #[allow(unreachable_patterns)]
-        _ => false,
-    }
-}
-
 /// Whether point `p` lies strictly inside the sphere primitive.
 fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
     match *prim {
         Primitive::Sphere { center, radius } => (p - center).length_squared() < radius * radius,
-        _ => false,
+        Primitive::Rectangle { .. } | Primitive::Disk { .. } | Primitive::Triangle { .. } => false,
     }
 }
 
@@ -139,7 +131,7 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
         .filter(|&i| {
             scene.shapes[i]
                 .material
-                .is_some_and(|m| !is_black(&scene.materials[m]))
+                .is_some_and(|m| !scene.materials[m].is_black())
         })
         .collect();
     let flags = scatterers

@@ -30,7 +30,7 @@ impl RunSpec {
         let b = self.samples.div_ceil(BATCHES).max(1);
         match self.sampler {
             SamplerKind::Independent => b,
-            _ => b.next_power_of_two(),
+            SamplerKind::Stratified | SamplerKind::Sobol => b.next_power_of_two(),
         }
     }
 

@@ -95,7 +95,12 @@ impl Measure {
     pub fn origin(&self) -> Option<Vec3> {
         match self {
             Measure::Irradiance { at, .. } | Measure::Radiance { at, .. } => Some(*at),
-            _ => None,
+            Measure::SolidAngle { .. }
+            | Measure::ProjectedSolidAngle { .. }
+            | Measure::Albedo { .. }
+            | Measure::Power { .. }
+            | Measure::Intensity { .. }
+            | Measure::MeanPathLength { .. } => None,
         }
     }
 
@@ -166,10 +171,18 @@ impl Measure {
         s: &mut SampleStream,
     ) -> P::L {
         let grey = |v: f32| P::L::splat(v);
+        if !self.estimators().contains(&est) {
+            return grey(NOT_AN_ESTIMATOR_OF_THIS);
+        }
         match self {
             Measure::SolidAngle { from, shape } => grey(match est {
                 Estimator::Area => area_visibility(scene, *from, *shape, None, s),
-                _ => {
+                Estimator::Light
+                | Estimator::Bsdf
+                | Estimator::Mis
+                | Estimator::MisBalance
+                | Estimator::Cosine => NOT_AN_ESTIMATOR_OF_THIS,
+                Estimator::Uniform => {
                     let w = uniform_sphere(s.next_2d());
                     if first_shape(scene, *from, w) == Some(*shape) {
                         4.0 * PI
@@ -192,7 +205,10 @@ impl Measure {
                         0.0
                     }
                 }
-                _ => {
+                Estimator::Light | Estimator::Bsdf | Estimator::Mis | Estimator::MisBalance => {
+                    NOT_AN_ESTIMATOR_OF_THIS
+                }
+                Estimator::Uniform => {
                     let wl = uniform_hemisphere(s.next_2d());
                     let w = Frame::from_z(*normal).to_world(wl);
                     if first_shape(scene, *from, w) == Some(*shape) {
@@ -213,7 +229,12 @@ impl Measure {
                     let wi = uniform_sphere(s.next_2d());
                     bsdf.eval(*wo, wi) * wi.z.abs() * 4.0 * PI
                 }
-                _ => {
+                Estimator::Light
+                | Estimator::Mis
+                | Estimator::MisBalance
+                | Estimator::Cosine
+                | Estimator::Area => NOT_AN_ESTIMATOR_OF_THIS,
+                Estimator::Bsdf => {
                     let u = s.next_2d();
                     let uc = s.next_1d();
                     bsdf.sample(*wo, Vec3::new(u.x, u.y, uc))
@@ -235,6 +256,12 @@ impl Measure {
         }
     }
 }
+
+/// The sample of an estimator a measurement cannot use (not in
+/// [`Measure::estimators`], refused when a case is loaded): NaN, so that a direct caller
+/// sees every such sample counted as non-finite and the verdict fail, never a silent
+/// substitute estimator.
+const NOT_AN_ESTIMATOR_OF_THIS: f32 = f32::NAN;
 
 /// Index of the shape first hit from `p` along `w`.
 fn first_shape(scene: &Scene, p: Vec3, w: Vec3) -> Option<usize> {
@@ -367,7 +394,8 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
             let w = uniform_sphere(s.next_2d());
             4.0 * PI * intensity * spot_falloff(w.dot(frame.n), *cos_total, *cos_falloff_start)
         }
-        _ => f32::NAN,
+        // Refused at load: power is not defined for emitters at infinity.
+        Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => f32::NAN,
     }
 }
 
@@ -391,7 +419,8 @@ fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStre
             cos_falloff_start,
             ..
         } => intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start),
-        _ => f32::NAN,
+        // Refused at load: intensity is not defined for emitters at infinity.
+        Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => f32::NAN,
     }
 }
 
@@ -431,4 +460,87 @@ fn mean_path_length(scene: &Scene, shape: usize, segments: u32, s: &mut SampleSt
         };
     }
     (total / segments as f64) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{Sampler, SamplerKind};
+    use crate::transport::effects::Effects;
+
+    /// Every measurement × estimator pair: the estimators a measurement lists give
+    /// finite samples, every other one NaN (never a silent substitute).
+    #[test]
+    fn estimators_a_measurement_cannot_use_give_nan() {
+        let desc: crate::scene::load::SceneDesc = serde_json::from_value(serde_json::json!({
+            "materials": { "m": { "type": "lambertian", "albedo": 0.5 } },
+            "shapes": [{ "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                         "material": "m", "emission": { "radiance": 1 } }]
+        }))
+        .unwrap();
+        let scene = desc
+            .build(
+                "t.json",
+                "scene",
+                std::path::Path::new("."),
+                glam::DVec3::ZERO,
+            )
+            .unwrap();
+        let out = Vec3::new(0.0, 0.0, 3.0);
+        let measures = [
+            Measure::SolidAngle {
+                from: out,
+                shape: 0,
+            },
+            Measure::ProjectedSolidAngle {
+                from: out,
+                normal: -Vec3::Z,
+                shape: 0,
+            },
+            Measure::Irradiance {
+                at: out,
+                normal: -Vec3::Z,
+            },
+            Measure::Radiance {
+                at: out,
+                direction: -Vec3::Z,
+            },
+            Measure::Albedo {
+                bsdf: Box::new(scene.materials[0].clone()),
+                wo: Vec3::Z,
+            },
+            Measure::Power { emitter: 0 },
+            Measure::Intensity {
+                emitter: 0,
+                direction: Vec3::Z,
+            },
+            Measure::MeanPathLength {
+                shape: 0,
+                segments: 2,
+            },
+        ];
+        let all = [
+            Estimator::Light,
+            Estimator::Bsdf,
+            Estimator::Mis,
+            Estimator::MisBalance,
+            Estimator::Uniform,
+            Estimator::Cosine,
+            Estimator::Area,
+        ];
+        let sampler = Sampler::new(SamplerKind::Independent, 7, 1);
+        for m in &measures {
+            for est in all {
+                let cfg = Config::for_estimator(est, &Effects::everything());
+                let v = m.sample(&scene, est, &cfg, &mut sampler.stream(3));
+                assert_eq!(
+                    v.is_finite(),
+                    m.estimators().contains(&est),
+                    "{} with {}: {v}",
+                    m.name(),
+                    est.name()
+                );
+            }
+        }
+    }
 }

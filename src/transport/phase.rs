@@ -204,9 +204,9 @@ impl<L: Lanes> Phase for PhaseSample<L> {
                 None => (t2 - t1) as f32,
             },
         };
-        match (&props.spectrum, self.spectral) {
-            (Some(s), true) => L::from_fn(|j| radiance * gate * s.eval(self.lambda[j])),
-            _ => L::splat(radiance * gate),
+        match &props.spectrum {
+            Some(s) if self.spectral => L::from_fn(|j| radiance * gate * s.eval(self.lambda[j])),
+            Some(_) | None => L::splat(radiance * gate),
         }
     }
     #[inline]
@@ -215,12 +215,12 @@ impl<L: Lanes> Phase for PhaseSample<L> {
     }
     #[inline]
     fn material<'a>(&self, scene: &'a Scene, material: usize) -> (Cow<'a, Bsdf>, bool) {
-        match (&scene.material_ior[material], self.spectral) {
-            (Some(ior), true) => (
+        match &scene.material_ior[material] {
+            Some(ior) if self.spectral => (
                 Cow::Owned(ior.at(&scene.materials[material], self.lambda[0])),
                 true,
             ),
-            _ => (Cow::Borrowed(&scene.materials[material]), false),
+            Some(_) | None => (Cow::Borrowed(&scene.materials[material]), false),
         }
     }
     #[inline]
