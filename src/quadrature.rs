@@ -1,7 +1,7 @@
 //! The engine's own deterministic quadrature, in f64: Gauss–Legendre rules and an
 //! adaptive bisection on them. The oracle (`lightproof-analytic`) has its own; the two
 //! never share code, so a reference computed by one can judge a value computed by the
-//! other (`oracle_and_engine_share_no_code` in `tests/catalog.rs` enforces the direction).
+//! other (`oracle_and_engine_share_no_code` in `tests/proof/catalog.rs` enforces the direction).
 //!
 //! **Rule.** The n-point Gauss–Legendre rule integrates polynomials of degree 2n − 1
 //! exactly on [−1, 1]; its nodes are the roots of Pₙ, found by Newton's method from

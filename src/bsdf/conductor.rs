@@ -6,7 +6,7 @@
 //! probability of the single delta lobe) and weight F(cos θo); `eval` and `pdf` are 0.
 //! Two-sided: a viewer below the surface sees the same mirror. The directional
 //! albedo is exactly F(cos θo) (tested against an independent `f64` complex-number
-//! Fresnel in `tests/bsdf_contract.rs`).
+//! Fresnel in `tests/proof/bsdf_contract.rs`).
 
 use super::fresnel::fr_conductor;
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};

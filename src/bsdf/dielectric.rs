@@ -16,7 +16,7 @@
 //! probability R (pdf = R or 1 − R, the discrete lobe probability) and returns weight 1
 //! for reflection and (η_o/η_i)² = 1/`eta`² for transmission. The *energy* weight
 //! weight × (η_i/η_o)² is exactly 1 for both: R + T = 1, tested in
-//! `tests/bsdf_contract.rs` together with the reflection fraction against an
+//! `tests/proof/bsdf_contract.rs` together with the reflection fraction against an
 //! independent `f64` Fresnel.
 
 use super::fresnel::{fr_dielectric, refract};

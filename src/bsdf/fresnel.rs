@@ -19,7 +19,7 @@
 //!   that resolves 1%).
 //!
 //! The tests compare these `f32` formulas against an independent `f64` complex-number
-//! implementation (`tests/bsdf_contract.rs`).
+//! implementation (`tests/proof/bsdf_contract.rs`).
 
 use crate::math::safe_sqrt;
 use glam::Vec3;

@@ -26,7 +26,7 @@
 //!   closed-form CDF F(x) ∝ 1 + erf(x) + tan θ e^{−x²}/√π (as in pbrt-v3), in `f64`
 //!   so that its accuracy (1e-10 in the CDF) sits far below what a chi-square test sees.
 //!
-//! Identities proven in `tests/bsdf_contract.rs`: ∫ D(m) cos θm dm = 1,
+//! Identities proven in `tests/proof/bsdf_contract.rs`: ∫ D(m) cos θm dm = 1,
 //! ∫ D_ω(m) dm = 1 and the weak white furnace ∫ G1(ω) D(m) ⟨ω, m⟩⁺ / cos θ dm = 1.
 
 use crate::math::{PI, TWO_PI, safe_sqrt};

@@ -12,7 +12,7 @@
 //!
 //! Hot paths use the closed enum [`Bsdf`]; [`BsdfModel`] is the public trait a user
 //! implements to put their own BSDF through the same proof ([`contract`], run on every
-//! built-in model by `tests/bsdf_contract.rs` and `tests/bsdf_stability.rs`).
+//! built-in model by `tests/proof/bsdf_contract.rs` and `tests/proof/bsdf_stability.rs`).
 //!
 //! | model | JSON | file |
 //! |---|---|---|
@@ -114,7 +114,7 @@ pub struct BsdfSample {
 /// # Verifying your own BSDF
 ///
 /// The functions in [`contract`] are the proof the built-in models pass
-/// (`tests/bsdf_contract.rs`); run them on your model:
+/// (`tests/proof/bsdf_contract.rs`); run them on your model:
 ///
 /// ```
 /// use glam::Vec3;

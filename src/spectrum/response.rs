@@ -24,7 +24,7 @@ const LOBES: [(f64, f64, f64, f64); 2] = [(0.821, 568.8, 46.9, 40.5), (0.286, 53
 /// ȳ(λ) = 0.821 g(λ; 568.8, 46.9, 40.5) + 0.286 g(λ; 530.9, 16.3, 31.1), with
 /// g(λ; μ, σ₁, σ₂) = exp(−½ ((λ − μ)/σ)²), σ = σ₁ for λ < μ and σ₂ otherwise.
 ///
-/// **Accuracy** (measured in `tests/spectrum.rs` against the CIE 15 5-nm table,
+/// **Accuracy** (measured in `tests/proof/spectrum.rs` against the CIE 15 5-nm table,
 /// 380–780 nm): at most 0.0070 absolute error (0.7 % of the peak, at 620 nm);
 /// ȳ(555) = 0.99804 instead of 1; ∫ȳ dλ over 360–830 nm = 106.922 nm against the
 /// tables' 106.857 nm (+0.061 %). The authors state that the fit's error is below the

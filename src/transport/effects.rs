@@ -19,7 +19,7 @@
 //!   [`crate::transport::plan`] with the case's spectral and time sections).
 //!
 //! Soundness is proven per catalog case by comparing the pruned estimate with the full
-//! simulation (every effect on) in a two-sample test (`tests/effects_soundness.rs`).
+//! simulation (every effect on) in a two-sample test (`tests/proof/effects_soundness.rs`).
 
 use crate::bsdf::{BsdfModel, LobeFlags, ModelFacts};
 use crate::scene::emitter::Emitter;

@@ -6,7 +6,7 @@
 //! [`Config::for_estimator`] on the plan's effects, the sample's dimensions from the
 //! plan's [`Dimensions`]; `render` uses the same plan as `estimate`. [`Plans::full`] is
 //! the same measurement with every effect and dimension on, for the soundness proof
-//! (`tests/effects_soundness.rs`) that the pruned plan changes no expected value.
+//! (`tests/proof/effects_soundness.rs`) that the pruned plan changes no expected value.
 
 mod dimensions;
 

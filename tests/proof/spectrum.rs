@@ -12,7 +12,7 @@
 //!   any public function return NaN, ∞ or a negative value (proptest, seeded);
 //! - malformed data is rejected with a reason naming the entry and the value.
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use lightproof::spectrum::*;
@@ -797,7 +797,7 @@ fn ok64(v: f64) -> bool {
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 4096,
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("tests/spectrum.proptest-regressions"))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("tests/proof/spectrum.proptest-regressions"))),
         // Fixed and recorded like every other seed: LIGHTPROOF_SEED varies it.
         rng_seed: RngSeed::Fixed(common::seed()),
         ..ProptestConfig::default()

@@ -7,7 +7,7 @@
 //! 8000 mutated cases by default (two tests of 4000, run in parallel);
 //! `LIGHTPROOF_SCALE=K` runs K times as many.
 
-mod common;
+use crate::common;
 
 use lightproof::case::{Case, CaseDesc};
 use lightproof::error::{InputError, parse_json};
@@ -216,7 +216,7 @@ fn fuzz(shard: u64, cases: u32) {
     let mut runner = TestRunner::new(Config {
         cases,
         failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
-            "tests/fuzz_cases.proptest-regressions",
+            "tests/proof/fuzz_cases.proptest-regressions",
         ))),
         rng_seed: proptest::test_runner::RngSeed::Fixed(common::seed() ^ shard),
         max_shrink_iters: 256,

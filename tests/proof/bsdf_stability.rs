@@ -5,7 +5,7 @@
 //! grazing angles, α → 1e-4, η → 1, across the total-internal-reflection boundary and
 //! for directions that are not quite unit length, zero, or exactly in the tangent plane.
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use lightproof::bsdf::microfacet::{Distribution, Masking};
@@ -168,7 +168,7 @@ fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 10_000,
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("tests/bsdf_stability.proptest-regressions"))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("tests/proof/bsdf_stability.proptest-regressions"))),
         // Fixed and recorded like every other seed: LIGHTPROOF_SEED varies it.
         rng_seed: RngSeed::Fixed(common::seed()),
         ..ProptestConfig::default()

@@ -3,7 +3,7 @@
 //! the suite (family α = 1e-4), and the proof that the proof works: deliberately wrong
 //! densities are rejected.
 
-mod common;
+use crate::common;
 
 use glam::{Vec2, Vec3};
 use lightproof::sampling::cone::Cone;

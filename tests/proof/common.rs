@@ -1,5 +1,5 @@
 //! Shared knobs of the proof: the seed and the sample scale.
-#![allow(dead_code)]
+
 
 /// The base seed: `LIGHTPROOF_SEED` or a fixed default, recorded in every message.
 pub fn seed() -> u64 {

@@ -13,7 +13,7 @@
 //! not a rough dielectric at η = 1.0001, whose transmission lobe is ~α·1e-4 wide);
 //! near-delta configurations are proven by consistency, albedo and stability.
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use lightproof::bsdf::contract::{self, direction};

@@ -2,7 +2,7 @@
 //! reciprocity of the whole transport, translation invariance far from the origin, and
 //! bit-identical results whatever the thread count.
 
-mod common;
+use crate::common;
 
 use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::SamplerKind;

@@ -11,7 +11,7 @@
 //!
 //! Small sweeps (≤ 2^18 samples of a disk light): the whole file runs in a few seconds.
 
-mod common;
+use crate::common;
 
 use lightproof::report::shard::{Shard, merge, shard_from_env};
 use lightproof::report::sweep::{Options, Summary, run};

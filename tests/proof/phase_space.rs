@@ -4,7 +4,7 @@
 //! input. The closed-form cases themselves live in the catalog
 //! (`analytic/cases/spectral`, `analytic/cases/time`) and are judged by `tests/catalog.rs`.
 
-mod common;
+use crate::common;
 
 use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::SamplerKind;

@@ -10,7 +10,7 @@
 //! whose every difference is 0 (within f32 rounding) is judged exactly. A pair too weak
 //! at its first sample count is rerun once with the count its power calls for.
 
-mod common;
+use crate::common;
 
 use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::stats::VerdictClass;
