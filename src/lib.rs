@@ -4,20 +4,47 @@
 //! estimator engine run against cases whose answer is known in closed form, with
 //! statistics deciding pass or fail.
 //!
+//! The central types, in the order data meets them: a [`case::Case`] (scene,
+//! measurement, the oracle's reference) carries its [`transport::plan::Plan`] (what to
+//! simulate); [`case::Case::run`] estimates it into a [`verdict::Outcome`], which
+//! [`verdict::judge_family`] judges against the reference. ARCHITECTURE.md has the map.
+//!
+//! ```
+//! use lightproof::case::{Case, CaseDesc};
+//! use lightproof::sampling::SamplerKind;
+//! use lightproof::transport::Estimator;
+//! use lightproof::verdict::judge_family;
+//!
+//! // A unit disk light of radiance 1 two units above a receiver: E = π R²/(R² + h²).
+//! let desc: CaseDesc = serde_json::from_str(r#"{
+//!   "name": "disk on axis", "teaches": "E = π L R²/(R² + h²)",
+//!   "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 2],
+//!              "normal": [0, 0, -1], "radius": 1 }, "emission": { "radiance": 1 } } ] },
+//!   "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+//!   "reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },
+//!   "estimators": ["mis"] }"#).unwrap();
+//! let case = Case::from_desc(desc, std::path::Path::new("disk.json")).unwrap();
+//! assert_eq!(case.reference, Some(std::f64::consts::PI / 5.0));
+//! let mut outcomes = vec![case.run(Estimator::Mis, SamplerKind::Independent, 1 << 14, 7)];
+//! judge_family(&mut outcomes, 0, 1e-4);
+//! assert!(outcomes[0].passed(), "{:?}", outcomes[0].verdict);
+//! ```
+//!
 //! | module | concept |
 //! |---|---|
 //! | [`math`] | frames, spherical coordinates, robust float helpers, ray-origin offsetting |
 //! | [`quadrature`] | the engine's own Gauss–Legendre rules and adaptive quadrature (never the oracle's) |
 //! | [`sampling`] | warps with their densities, and the samplers (independent, stratified, Sobol) |
 //! | [`stats`] | mergeable accumulators, mean tests with power, slope fits, chi-square |
-//! | [`bsdf`] | BSDF models (enum for the hot path, trait for users) |
-//! | [`io`] | atomic file writing |
-//! | [`error`] | located input errors (file, field, reason) |
+//! | [`bsdf`] | BSDF models (enum for the hot path, trait for users, per-model facts) |
+//! | [`io`] | atomic file writing, input limits, folder walking |
+//! | [`error`] | errors by class: located input errors (file, field, reason), I/O errors |
 //! | [`scene`] | shapes, emitters, materials, BVH, JSON scenes |
 //! | [`spectrum`] | spectra, refractive indices, spectral responses, wavelength sampling |
-//! | [`transport`] | effects analysis, path tracer, measurements, the parallel engine |
+//! | [`transport`] | the plan (effects, dimensions), path tracer, measurements, the parallel engine |
+//! | [`case`] | case files: schema, validation in steps, the one run path |
+//! | [`verdict`] | error bars, statistical and exact verdicts, outcomes, the Šidák family |
 //! | [`suites`] | the chi-square suite of every warp, shared by the CLI and the tests |
-//! | [`verify`] | case files, running estimators, verdicts against the oracle |
 //! | [`report`] | convergence reports: sweeps, shards and merging, JSON, plots, index |
 //! | [`render`] | pinhole-camera EXR images |
 
