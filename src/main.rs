@@ -654,8 +654,9 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
         ALPHA,
     )
     .with_dump_dir(out.join("chi2-failures"));
-    let o = lightproof::bsdf::contract::chi2_bsdf_with(&test, &bsdf, bsdf.name(), w);
+    // One histogram and one quadrature: judged, then shown.
     let tables = lightproof::bsdf::contract::chi2_tables(&test, &bsdf, w);
+    let o = test.judge(bsdf.name(), &tables);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
         .map_err(|e| IoError::write(&out, e))?;
     println!(

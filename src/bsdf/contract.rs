@@ -74,8 +74,15 @@ pub fn chi2_bsdf(
 
 /// [`chi2_bsdf`] with a caller-configured test (resolution, domain must be `Sphere`).
 pub fn chi2_bsdf_with(test: &Chi2Test, model: &dyn BsdfModel, name: &str, wo: Vec3) -> Chi2Outcome {
-    test.run(
-        name,
+    test.judge(name, &chi2_tables(test, model, wo))
+}
+
+pub use crate::stats::chi2::Chi2Tables;
+
+/// The chi-square tables of `model` at ωo (histogram and expected counts, each computed
+/// once), for judging with `test.judge` and for looking at the lobe.
+pub fn chi2_tables(test: &Chi2Test, model: &dyn BsdfModel, wo: Vec3) -> Chi2Tables {
+    test.tables(
         |u| {
             model
                 .sample(wo, u)
@@ -84,50 +91,6 @@ pub fn chi2_bsdf_with(test: &Chi2Test, model: &dyn BsdfModel, name: &str, wo: Ve
         },
         |wi| model.pdf(wo, wi) as f64,
     )
-}
-
-/// Observed and expected counts of a chi-square run, for looking at a lobe.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Chi2Tables {
-    /// Rows (cos θ from −1 to 1).
-    pub rows: usize,
-    /// Columns (φ from 0 to 2π).
-    pub cols: usize,
-    /// Samples drawn.
-    pub samples: u64,
-    /// Observed counts, row-major.
-    pub observed: Vec<u64>,
-    /// Expected counts N ∫_cell pdf, row-major.
-    pub expected: Vec<f64>,
-}
-
-impl Chi2Tables {
-    /// Pearson residuals (O − E)/√E per cell ([`crate::stats::chi2::residuals`]).
-    pub fn residual(&self) -> Vec<f64> {
-        crate::stats::chi2::residuals(&self.observed, &self.expected)
-    }
-}
-
-/// The tables of [`chi2_bsdf`] (same sample stream for the same seed and resolution).
-pub fn chi2_tables(test: &Chi2Test, model: &dyn BsdfModel, wo: Vec3) -> Chi2Tables {
-    let (observed, _, _) = test.histogram(&|u| {
-        model
-            .sample(wo, u)
-            .filter(|s| !s.lobe.is_delta())
-            .map(|s| s.wi)
-    });
-    let expected = test
-        .integrate_pdf(&|wi| model.pdf(wo, wi) as f64)
-        .iter()
-        .map(|(v, _)| v * test.samples as f64)
-        .collect();
-    Chi2Tables {
-        rows: test.rows,
-        cols: test.cols,
-        samples: test.samples,
-        observed,
-        expected,
-    }
 }
 
 /// Write `STEM-observed.exr`, `STEM-expected.exr` (counts scaled by the largest),
@@ -147,14 +110,7 @@ pub fn write_chi2_images(
             .as_bytes(),
     )?;
     let mut files = vec![json_path];
-    files.extend(crate::stats::chi2::write_table_images(
-        dir,
-        stem,
-        tables.rows,
-        tables.cols,
-        &tables.observed,
-        &tables.expected,
-    )?);
+    files.extend(tables.write_images(dir, stem)?);
     Ok(files)
 }
 

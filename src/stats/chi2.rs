@@ -308,6 +308,35 @@ impl Chi2Test {
         total
     }
 
+    /// The histogram of `sample` and the expected counts from `pdf`, cell by cell, each
+    /// computed once (where samples fell but the quadrature saw no density, the cell is
+    /// integrated again on a 32 × 32 sub-grid: the density may cover a sliver between
+    /// the nodes).
+    pub fn tables<S, P>(&self, sample: S, pdf: P) -> Chi2Tables
+    where
+        S: Fn(Vec3) -> Option<Vec3> + Sync,
+        P: Fn(Vec3) -> f64 + Sync,
+    {
+        let (observed, successes, outside) = self.histogram(&sample);
+        let mut integrals = self.integrate_pdf(&pdf);
+        for (i, cell) in integrals.iter_mut().enumerate() {
+            if observed[i] > 0 && cell.0 == 0.0 {
+                *cell = self.integrate_cell_finely(&pdf, i);
+            }
+        }
+        let n = self.samples as f64;
+        Chi2Tables {
+            rows: self.rows,
+            cols: self.cols,
+            samples: self.samples,
+            observed,
+            expected: integrals.iter().map(|(v, _)| v * n).collect(),
+            quadrature_error: integrals.iter().map(|(_, e)| *e).collect(),
+            successes,
+            outside,
+        }
+    }
+
     /// Run the test on `sample` (uniform numbers → point, or `None` for a failed draw)
     /// against `pdf` (point → density in the domain's measure).
     pub fn run<S, P>(&self, name: &str, sample: S, pdf: P) -> Chi2Outcome
@@ -315,31 +344,28 @@ impl Chi2Test {
         S: Fn(Vec3) -> Option<Vec3> + Sync,
         P: Fn(Vec3) -> f64 + Sync,
     {
-        let (observed, ok, outside) = self.histogram(&sample);
-        let mut integrals = self.integrate_pdf(&pdf);
-        // Where samples fell but the quadrature saw no density, the density may cover a
-        // sliver of the cell between the nodes: look again on a 32 × 32 sub-grid.
-        for (i, cell) in integrals.iter_mut().enumerate() {
-            if observed[i] > 0 && cell.0 == 0.0 {
-                *cell = self.integrate_cell_finely(&pdf, i);
-            }
-        }
+        self.judge(name, &self.tables(sample, pdf))
+    }
+
+    /// Judge tables made by [`Chi2Test::tables`] with this test's settings.
+    pub fn judge(&self, name: &str, t: &Chi2Tables) -> Chi2Outcome {
         let n = self.samples as f64;
-        let expected: Vec<f64> = integrals.iter().map(|(v, _)| v * n).collect();
-        let pdf_integral: f64 = integrals.iter().map(|(v, _)| v).sum();
-        let quad_err: f64 = integrals.iter().map(|(_, e)| e).sum();
+        let (observed, expected) = (&t.observed, &t.expected);
+        let pdf_integral: f64 = expected.iter().sum::<f64>() / n;
+        let quad_err: f64 = t.quadrature_error.iter().sum();
         // What the quadrature error could add to the statistic: Σ (δ N)² / E.
-        let quadrature_chi2: f64 = integrals
+        let quadrature_chi2: f64 = expected
             .iter()
-            .map(|(v, e)| (e * n).powi(2) / (v * n).max(1.0))
+            .zip(&t.quadrature_error)
+            .map(|(e_n, e)| (e * n).powi(2) / e_n.max(1.0))
             .sum();
-        let success_fraction = ok as f64 / n;
+        let success_fraction = t.successes as f64 / n;
 
         let mut reasons = Vec::new();
-        if outside > 0 {
+        if t.outside > 0 {
             reasons.push(format!(
-                "{outside} samples fell outside the {:?} domain or were not finite",
-                self.domain
+                "{} samples fell outside the {:?} domain or were not finite",
+                t.outside, self.domain
             ));
         }
         let zero_cells: Vec<usize> = (0..observed.len())
@@ -353,34 +379,7 @@ impl Chi2Test {
                 zero_cells[0] % self.cols
             ));
         }
-
-        // Pool cells with expected < 5, smallest first.
-        let mut order: Vec<usize> = (0..observed.len()).collect();
-        order.sort_by(|&i, &j| expected[i].total_cmp(&expected[j]));
-        let mut pooled: Vec<(f64, f64)> = Vec::new();
-        let (mut pe, mut po) = (0.0, 0.0);
-        for &i in &order {
-            if expected[i] < 5.0 {
-                pe += expected[i];
-                po += observed[i] as f64;
-                if pe >= 5.0 {
-                    pooled.push((po, pe));
-                    pe = 0.0;
-                    po = 0.0;
-                }
-            } else {
-                pooled.push((observed[i] as f64, expected[i]));
-            }
-        }
-        if pe > 0.0 || po > 0.0 {
-            match pooled.iter_mut().min_by(|x, y| x.1.total_cmp(&y.1)) {
-                Some(last) if pe < 5.0 => {
-                    last.0 += po;
-                    last.1 += pe;
-                }
-                _ => pooled.push((po, pe)),
-            }
-        }
+        let pooled = pool(observed, expected);
         // Too few samples to fill two pooled cells: there is nothing to judge with, and
         // a statistic of 0 with p = 1 would pass vacuously.
         if pooled.iter().filter(|(_, e)| *e >= 5.0).count() < 2 {
@@ -443,9 +442,7 @@ impl Chi2Test {
             dump: Vec::new(),
         };
         if !outcome.passed {
-            outcome.dump = self
-                .dump(name, &observed, &expected, &outcome)
-                .unwrap_or_default();
+            outcome.dump = self.dump(name, t, &outcome).unwrap_or_default();
             let files: Vec<String> = outcome
                 .dump
                 .iter()
@@ -463,32 +460,96 @@ impl Chi2Test {
     fn dump(
         &self,
         name: &str,
-        observed: &[u64],
-        expected: &[f64],
+        t: &Chi2Tables,
         outcome: &Chi2Outcome,
     ) -> std::io::Result<Vec<PathBuf>> {
         let dir = &self.dump_dir;
         let stem = file_stem(name);
-        let residual = residuals(observed, expected);
         let json = serde_json::json!({
             "name": name,
             "domain": self.domain,
-            "rows": self.rows,
-            "cols": self.cols,
-            "samples": self.samples,
             "seed": self.seed,
             "outcome": outcome,
-            "observed": observed,
-            "expected": expected,
-            "residual": residual,
+            "tables": t,
+            "residual": t.residual(),
         });
         let json_path = dir.join(format!("{stem}.json"));
         crate::io::write_atomic(&json_path, serde_json::to_string_pretty(&json)?.as_bytes())?;
         let mut files = vec![json_path];
-        files.extend(write_table_images(
-            dir, &stem, self.rows, self.cols, observed, expected,
-        )?);
+        files.extend(t.write_images(dir, &stem)?);
         Ok(files)
+    }
+}
+
+/// Cells with expected count < 5 pooled, smallest first, into (observed, expected)
+/// pairs of expected count ≥ 5 (a remainder below 5 joins the smallest pooled cell).
+fn pool(observed: &[u64], expected: &[f64]) -> Vec<(f64, f64)> {
+    let mut order: Vec<usize> = (0..observed.len()).collect();
+    order.sort_by(|&i, &j| expected[i].total_cmp(&expected[j]));
+    let mut pooled: Vec<(f64, f64)> = Vec::new();
+    let (mut pe, mut po) = (0.0, 0.0);
+    for &i in &order {
+        if expected[i] < 5.0 {
+            pe += expected[i];
+            po += observed[i] as f64;
+            if pe >= 5.0 {
+                pooled.push((po, pe));
+                pe = 0.0;
+                po = 0.0;
+            }
+        } else {
+            pooled.push((observed[i] as f64, expected[i]));
+        }
+    }
+    if pe > 0.0 || po > 0.0 {
+        match pooled.iter_mut().min_by(|x, y| x.1.total_cmp(&y.1)) {
+            Some(last) if pe < 5.0 => {
+                last.0 += po;
+                last.1 += pe;
+            }
+            _ => pooled.push((po, pe)),
+        }
+    }
+    pooled
+}
+
+/// What a chi-square run measured, cell by cell (row-major, `rows` × `cols`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Chi2Tables {
+    /// Cells along the row parameter (cos θ, y or r²), bottom to top.
+    pub rows: usize,
+    /// Cells along the column parameter (φ or x).
+    pub cols: usize,
+    /// Samples drawn.
+    pub samples: u64,
+    /// Observed counts.
+    pub observed: Vec<u64>,
+    /// Expected counts N ∫_cell pdf.
+    pub expected: Vec<f64>,
+    /// The quadrature's error estimate of each ∫_cell pdf (a probability).
+    pub quadrature_error: Vec<f64>,
+    /// Draws that returned a sample.
+    pub successes: u64,
+    /// Samples outside the domain or not finite.
+    pub outside: u64,
+}
+
+impl Chi2Tables {
+    /// Pearson residuals (O − E)/√E per cell ([`residuals`]).
+    pub fn residual(&self) -> Vec<f64> {
+        residuals(&self.observed, &self.expected)
+    }
+
+    /// The three table images ([`write_table_images`]).
+    pub fn write_images(&self, dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
+        write_table_images(
+            dir,
+            stem,
+            self.rows,
+            self.cols,
+            &self.observed,
+            &self.expected,
+        )
     }
 }
 
@@ -528,7 +589,7 @@ pub fn residuals(observed: &[u64], expected: &[f64]) -> Vec<f64> {
 /// for `rows` × `cols` row-major tables, each atomically. Row 0 of the tables is the
 /// bottom of the domain; the images show it at the bottom (row 0 of an image is its
 /// top, the largest cos θ).
-pub fn write_table_images(
+fn write_table_images(
     dir: &Path,
     stem: &str,
     rows: usize,

@@ -1,6 +1,5 @@
 //! Shared knobs of the proof: the seed and the sample scale.
 
-
 /// The base seed: `LIGHTPROOF_SEED` or a fixed default, recorded in every message.
 pub fn seed() -> u64 {
     std::env::var("LIGHTPROOF_SEED")
