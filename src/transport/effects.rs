@@ -346,6 +346,47 @@ mod tests {
         }
     }
 
+    /// `inside` is strict and uses the sphere's own centre and radius: an off-centre
+    /// sphere of radius 2, probed inside, on its surface and just outside (distances
+    /// chosen so that r², 2r and r/r would disagree).
+    #[test]
+    fn inside_is_strict_and_off_centre() {
+        let s = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [{ "geometry": { "type": "sphere", "center": [5, 0, 0], "radius": 2 }, "material": "m" }],
+            "emitters": [point_light()]
+        }));
+        for (at, multiple) in [
+            (Vec3::new(6.5, 0.0, 0.0), true),  // 1.5² < 2², but 1.5² > 2/2
+            (Vec3::new(5.0, 0.0, 2.0), false), // on the surface: not strictly inside
+            (Vec3::new(7.1, 0.0, 0.0), false), // 2.1² > 2²
+            (Vec3::new(-6.5, 0.0, 0.0), false), // |p + c| would be small: must use p − c
+        ] {
+            let e = analyze(&s, &irradiance_at(at));
+            assert_eq!(e.multiple_scattering.simulated, multiple, "at {at}");
+        }
+        // Radius 1 at the origin side: 1.5² = 2.25 is outside r² = 1 but inside r + r = 2.
+        let unit = scene(json!({
+            "materials": { "m": grey(0.5) },
+            "shapes": [{ "geometry": { "type": "sphere", "center": [5, 0, 0], "radius": 1 }, "material": "m" }],
+            "emitters": [point_light()]
+        }));
+        let e = analyze(&unit, &irradiance_at(Vec3::new(5.0, 1.4, 0.0)));
+        assert!(!e.multiple_scattering.simulated);
+    }
+
+    /// Lobe flags of all scatterers are united: two conductors still have a delta lobe.
+    #[test]
+    fn lobes_of_several_scatterers_are_united() {
+        let s = scene(json!({
+            "materials": { "m": { "type": "conductor", "eta": 0.2, "k": 3.9 } },
+            "shapes": [disk(0.0, Some("m")), disk(1.0, Some("m"))],
+            "emitters": [point_light()]
+        }));
+        let e = analyze(&s, &irradiance_at(Vec3::new(0.0, 0.0, 0.5)));
+        assert!(e.specular_chains.simulated && !e.transmission.simulated);
+    }
+
     #[test]
     fn a_moving_or_transmitting_sphere_may_see_itself() {
         let mut moving = sphere(Some("m"), false);
