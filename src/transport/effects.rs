@@ -105,42 +105,15 @@ impl Effects {
 /// dimensions come with them (see [`crate::transport::plan`], which decides all at once).
 pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Decision) -> Effects {
     let Some(origin) = measure.origin() else {
-        // Not a transport measurement: a property of one shape, emitter or BSDF.
-        let n = no("the measurement is a property of one object, not of light transport");
-        return Effects {
-            direct_emission: n.clone(),
-            single_scattering: n.clone(),
-            multiple_scattering: n.clone(),
-            specular_chains: n.clone(),
-            transmission: n.clone(),
-            occlusion: if matches!(
-                measure,
-                Measure::SolidAngle { .. } | Measure::ProjectedSolidAngle { .. }
-            ) && scene.shapes.len() > 1
-            {
-                yes("other shapes may hide part of the shape")
-            } else {
-                n
-            },
-            wavelength,
-            time,
-            max_bounces: Some(0),
-        };
+        return object_property(scene, measure, wavelength, time);
     };
-    let scatterers: Vec<usize> = (0..scene.shapes.len())
-        .filter(|&i| {
-            scene.shapes[i]
-                .material
-                .is_some_and(|m| !scene.materials[m].is_black())
-        })
-        .collect();
+    let scatterers = scatterers(scene);
     let flags = scatterers
         .iter()
-        .map(|&i| scene.materials[scene.shapes[i].material.unwrap()].flags())
+        .map(|&i| scene.materials[scene.shapes[i].material.unwrap_or_default()].flags())
         .fold(LobeFlags::empty(), |a, b| a | b);
     let transmits = flags.contains(LobeFlags::TRANSMISSION);
     let has_emitters = scene.has_emitters();
-
     let direct_emission = if has_emitters {
         yes("the scene has emitters")
     } else {
@@ -157,6 +130,86 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
             scene.emitters.len()
         ))
     };
+    let multiple = multiple_scattering(scene, &single, &scatterers, transmits, origin);
+    let max_bounces = if !single.simulated {
+        Some(0)
+    } else if !multiple.simulated {
+        Some(1)
+    } else {
+        None
+    };
+    Effects {
+        direct_emission,
+        single_scattering: single,
+        multiple_scattering: multiple,
+        specular_chains: if flags.contains(LobeFlags::SPECULAR) {
+            yes("a material has a delta lobe")
+        } else {
+            no("no material has a delta lobe")
+        },
+        transmission: if transmits {
+            yes("a material transmits")
+        } else {
+            no("no material transmits")
+        },
+        occlusion: occlusion(scene, measure, origin, transmits),
+        wavelength,
+        time,
+        max_bounces,
+    }
+}
+
+/// A measurement without a viewpoint is a property of one shape, emitter or BSDF: no
+/// transport, except that other shapes may hide part of a shape's solid angle.
+fn object_property(
+    scene: &Scene,
+    measure: &Measure,
+    wavelength: Decision,
+    time: Decision,
+) -> Effects {
+    let n = no("the measurement is a property of one object, not of light transport");
+    Effects {
+        direct_emission: n.clone(),
+        single_scattering: n.clone(),
+        multiple_scattering: n.clone(),
+        specular_chains: n.clone(),
+        transmission: n.clone(),
+        occlusion: if matches!(
+            measure,
+            Measure::SolidAngle { .. } | Measure::ProjectedSolidAngle { .. }
+        ) && scene.shapes.len() > 1
+        {
+            yes("other shapes may hide part of the shape")
+        } else {
+            n
+        },
+        wavelength,
+        time,
+        max_bounces: Some(0),
+    }
+}
+
+/// The shapes with a material that scatters light (not black).
+fn scatterers(scene: &Scene) -> Vec<usize> {
+    (0..scene.shapes.len())
+        .filter(|&i| {
+            scene.shapes[i]
+                .material
+                .is_some_and(|m| !scene.materials[m].is_black())
+        })
+        .collect()
+}
+
+/// Two or more scatterings need two scattering shapes, or one that can see itself: a
+/// planar shape never does, a sphere only from inside (the measurement starts inside
+/// it, it moves, or its material transmits); a mesh may.
+fn multiple_scattering(
+    scene: &Scene,
+    single: &Decision,
+    scatterers: &[usize],
+    transmits: bool,
+    origin: glam::Vec3,
+) -> Decision {
     let self_visible = |i: usize| {
         let s = &scene.shapes[i];
         match s.kind {
@@ -170,7 +223,7 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
             }
         }
     };
-    let multiple = if !single.simulated {
+    if !single.simulated {
         no("not even single scattering is possible")
     } else if scatterers.len() >= 2 {
         yes("two or more scattering shapes can exchange light")
@@ -178,33 +231,24 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
         yes("the scattering shape can see itself (a mesh, or a sphere seen from inside)")
     } else {
         no("a single planar or convex scatterer seen from outside cannot light itself")
-    };
-    let specular = if flags.contains(LobeFlags::SPECULAR) {
-        yes("a material has a delta lobe")
-    } else {
-        no("no material has a delta lobe")
-    };
-    let transmission = if transmits {
-        yes("a material transmits")
-    } else {
-        no("no material transmits")
-    };
+    }
+}
 
+/// Shadow rays are needed unless no segment can cross a surface other than its end
+/// points: no shapes; one convex shape that is the only emitter; or a camera ray's first
+/// hit on one convex reflector seen from outside, lit only from infinity.
+fn occlusion(scene: &Scene, measure: &Measure, origin: glam::Vec3, transmits: bool) -> Decision {
     let only_shape_emits = scene
         .emitters
         .iter()
         .all(|e| matches!(e, Emitter::Area { shape: 0, .. }));
     let only_infinite = scene.emitters.iter().all(|e| e.is_infinite());
-    let occlusion = if scene.shapes.is_empty() {
+    let one_convex = scene.shapes.len() == 1 && scene.shapes[0].kind != ShapeKind::Mesh;
+    if scene.shapes.is_empty() {
         no("there are no shapes to occlude")
-    } else if scene.shapes.len() == 1
-        && scene.shapes[0].kind != ShapeKind::Mesh
-        && only_shape_emits
-        && !transmits
-    {
+    } else if one_convex && only_shape_emits && !transmits {
         no("one convex shape that is the only emitter: no segment crosses another surface")
-    } else if scene.shapes.len() == 1
-        && scene.shapes[0].kind != ShapeKind::Mesh
+    } else if one_convex
         && only_infinite
         && !transmits
         && scene.shapes[0].velocity == glam::Vec3::ZERO
@@ -219,24 +263,6 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
         )
     } else {
         yes("surfaces may block segments between vertices and emitters")
-    };
-    let max_bounces = if !single.simulated {
-        Some(0)
-    } else if !multiple.simulated {
-        Some(1)
-    } else {
-        None
-    };
-    Effects {
-        direct_emission,
-        single_scattering: single,
-        multiple_scattering: multiple,
-        specular_chains: specular,
-        transmission,
-        occlusion,
-        wavelength,
-        time,
-        max_bounces,
     }
 }
 
@@ -357,9 +383,9 @@ mod tests {
             "emitters": [point_light()]
         }));
         for (at, multiple) in [
-            (Vec3::new(6.5, 0.0, 0.0), true),  // 1.5² < 2², but 1.5² > 2/2
-            (Vec3::new(5.0, 0.0, 2.0), false), // on the surface: not strictly inside
-            (Vec3::new(7.1, 0.0, 0.0), false), // 2.1² > 2²
+            (Vec3::new(6.5, 0.0, 0.0), true),   // 1.5² < 2², but 1.5² > 2/2
+            (Vec3::new(5.0, 0.0, 2.0), false),  // on the surface: not strictly inside
+            (Vec3::new(7.1, 0.0, 0.0), false),  // 2.1² > 2²
             (Vec3::new(-6.5, 0.0, 0.0), false), // |p + c| would be small: must use p − c
         ] {
             let e = analyze(&s, &irradiance_at(at));

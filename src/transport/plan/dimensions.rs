@@ -62,15 +62,12 @@ fn decision(simulated: bool, why: String) -> Decision {
     Decision { simulated, why }
 }
 
+/// (pruned setup, full setup, the pruned estimate's deterministic factor, decision).
 type WavelengthDims = (Option<SpectralSetup>, SpectralSetup, f32, Decision);
 
-fn wavelength(
-    f: &str,
-    scene: &Scene,
-    measure: &Measure,
-    spectral: Option<&SpectralDesc>,
-) -> Result<WavelengthDims, InputError> {
-    let varies: Vec<String> = scene
+/// What in the scene varies with wavelength (emitter spectra, dispersive materials).
+fn what_varies(scene: &Scene) -> Vec<String> {
+    scene
         .emitter_props
         .iter()
         .enumerate()
@@ -84,17 +81,30 @@ fn wavelength(
                 .filter(|(_, m)| m.is_some())
                 .map(|(i, _)| format!("material {i}'s refractive index")),
         )
-        .collect();
+        .collect()
+}
+
+/// The wavelength dimension: sampled only where the scene varies with wavelength and
+/// the measurement is radiometric; otherwise a deterministic factor.
+fn wavelength(
+    f: &str,
+    scene: &Scene,
+    measure: &Measure,
+    spectral: Option<&SpectralDesc>,
+) -> Result<WavelengthDims, InputError> {
+    let varies = what_varies(scene);
     let err = |field: &str, why: String| InputError::new(f, field, why);
-    let radiometric = matches!(
-        measure,
+    let radiometric = match measure {
         Measure::Irradiance { .. }
-            | Measure::Radiance { .. }
-            | Measure::Power { .. }
-            | Measure::Intensity { .. }
-    );
-    // Geometric measurements (solid angle, albedo, path length) carry no radiance: the
-    // scene's spectra do not enter them.
+        | Measure::Radiance { .. }
+        | Measure::Power { .. }
+        | Measure::Intensity { .. } => true,
+        // Geometric measurements carry no radiance: the scene's spectra do not enter.
+        Measure::SolidAngle { .. }
+        | Measure::ProjectedSolidAngle { .. }
+        | Measure::Albedo { .. }
+        | Measure::MeanPathLength { .. } => false,
+    };
     let spectral_scene = !varies.is_empty() && radiometric;
     let Some(sd) = spectral else {
         if spectral_scene {
@@ -106,25 +116,7 @@ fn wavelength(
                 ),
             ));
         }
-        // Grey scene, grey measurement: the full proof samples the visible range and
-        // divides by its width (the mean over λ of a constant).
-        let full = SpectralSetup {
-            sampler: WavelengthSampler::uniform(VISIBLE),
-            response: Response::Flat,
-            fixed: None,
-            hero: true,
-            photons: false,
-            scale: 1.0 / VISIBLE.width(),
-        };
-        return Ok((
-            None,
-            full,
-            1.0,
-            decision(
-                false,
-                "the scene's spectra are constant and no measurement is spectral: wavelength integrates out".into(),
-            ),
-        ));
+        return Ok(grey());
     };
     if !radiometric {
         return Err(err(
@@ -139,13 +131,7 @@ fn wavelength(
         s.validate()
             .map_err(|r| err("spectral.response", r.to_string()))?;
     }
-    let photon = |l: f64| {
-        if sd.photons {
-            1.0 / photon_energy(l)
-        } else {
-            1.0
-        }
-    };
+    let varies = spectral_scene.then(|| varies.join(" and "));
     match (sd.band, sd.wavelength) {
         (Some(_), Some(_)) | (None, None) => Err(err(
             "spectral",
@@ -158,118 +144,177 @@ fn wavelength(
                     format!("must be a positive wavelength in nm, got {l}"),
                 ));
             }
-            let r = sd.response.eval(l as f32) as f64;
-            let setup = SpectralSetup {
-                sampler: WavelengthSampler::uniform(Band {
-                    min: l as f32,
-                    max: l as f32 + 1.0,
-                }),
-                response: sd.response.clone(),
-                fixed: Some(l as f32),
-                hero: false,
-                photons: sd.photons,
-                scale: r as f32,
-            };
-            let why = if spectral_scene {
-                format!(
-                    "{} varies with wavelength; the measurement is monochromatic: evaluated at {l} nm",
-                    varies.join(" and ")
-                )
-            } else {
-                format!("the scene is grey: its value at {l} nm is the grey value")
-            };
-            let factor = (r * photon(l)) as f32;
-            Ok((
-                spectral_scene.then(|| setup.clone()),
-                setup,
-                factor,
-                decision(spectral_scene, why),
-            ))
+            Ok(monochromatic(sd, l, varies))
         }
         (Some([a, b]), None) => {
-            let band = Band {
-                min: a as f32,
-                max: b as f32,
-            };
             if !(a.is_finite() && b.is_finite() && a > 0.0 && b > a) {
                 return Err(err(
                     "spectral.band",
                     format!("must be [λ₁, λ₂] in nm with 0 < λ₁ < λ₂, got [{a}, {b}]"),
                 ));
             }
-            let sampler = match sd.sampling {
-                WavelengthSampling::Uniform => WavelengthSampler::uniform(band),
-                WavelengthSampling::Emitter => {
-                    let spectra: Vec<_> = scene
-                        .emitter_props
-                        .iter()
-                        .map(|p| {
-                            p.spectrum
-                                .as_ref()
-                                .map(|s| (s, s.max_in(band).max(f32::MIN_POSITIVE)))
-                        })
-                        .collect();
-                    let response = sd.response.clone();
-                    let photons = sd.photons;
-                    WavelengthSampler::importance(band, move |l| {
-                        let e: f32 = spectra
-                            .iter()
-                            .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.eval(l) / m))
-                            .sum();
-                        let p = if photons { l / 550.0 } else { 1.0 };
-                        response.eval(l) * e.max(0.0) * p
-                    })
-                }
-            };
-            let setup = SpectralSetup {
-                sampler,
-                response: sd.response.clone(),
-                fixed: None,
-                hero: sd.hero,
-                photons: sd.photons,
-                scale: 1.0,
-            };
-            let mut full = setup.clone();
-            full.hero = true;
-            let how = format!(
-                "{} over [{a}, {b}] nm{}",
-                match sd.sampling {
-                    WavelengthSampling::Uniform => "sampled uniformly",
-                    WavelengthSampling::Emitter => "importance-sampled by response × spectra",
-                },
-                if sd.hero {
-                    " with four hero wavelengths per path"
-                } else {
-                    ""
-                }
-            );
-            if spectral_scene {
-                Ok((
-                    Some(setup),
-                    full,
-                    1.0,
-                    decision(
-                        true,
-                        format!("{} varies with wavelength: {how}", varies.join(" and ")),
+            Ok(band(scene, sd, a, b, varies))
+        }
+    }
+}
+
+/// 1, or 1/(hc/λ) when counting photons.
+fn photon_factor(sd: &SpectralDesc, l: f64) -> f64 {
+    if sd.photons {
+        1.0 / photon_energy(l)
+    } else {
+        1.0
+    }
+}
+
+/// Grey scene, grey measurement: nothing sampled; the full proof samples the visible
+/// range and divides by its width (the mean over λ of a constant).
+fn grey() -> WavelengthDims {
+    let full = SpectralSetup {
+        sampler: WavelengthSampler::uniform(VISIBLE),
+        response: Response::Flat,
+        fixed: None,
+        hero: true,
+        photons: false,
+        scale: 1.0 / VISIBLE.width(),
+    };
+    (
+        None,
+        full,
+        1.0,
+        decision(
+            false,
+            "the scene's spectra are constant and no measurement is spectral: wavelength integrates out".into(),
+        ),
+    )
+}
+
+/// One wavelength `l` (nm): evaluated there; sampled only if the scene `varies`.
+fn monochromatic(sd: &SpectralDesc, l: f64, varies: Option<String>) -> WavelengthDims {
+    let r = sd.response.eval(l as f32) as f64;
+    let setup = SpectralSetup {
+        sampler: WavelengthSampler::uniform(Band {
+            min: l as f32,
+            max: l as f32 + 1.0,
+        }),
+        response: sd.response.clone(),
+        fixed: Some(l as f32),
+        hero: false,
+        photons: sd.photons,
+        scale: r as f32,
+    };
+    let factor = (r * photon_factor(sd, l)) as f32;
+    match varies {
+        Some(v) => (
+            Some(setup.clone()),
+            setup,
+            factor,
+            decision(
+                true,
+                format!(
+                    "{v} varies with wavelength; the measurement is monochromatic: evaluated at {l} nm"
+                ),
+            ),
+        ),
+        None => (
+            None,
+            setup,
+            factor,
+            decision(
+                false,
+                format!("the scene is grey: its value at {l} nm is the grey value"),
+            ),
+        ),
+    }
+}
+
+/// How wavelengths of `band` are drawn: uniformly, or by response × the emitters'
+/// normalised spectra (× λ when counting photons).
+fn band_sampler(scene: &Scene, sd: &SpectralDesc, band: Band) -> WavelengthSampler {
+    match sd.sampling {
+        WavelengthSampling::Uniform => WavelengthSampler::uniform(band),
+        WavelengthSampling::Emitter => {
+            let spectra: Vec<_> = scene
+                .emitter_props
+                .iter()
+                .map(|p| {
+                    p.spectrum
+                        .as_ref()
+                        .map(|s| (s, s.max_in(band).max(f32::MIN_POSITIVE)))
+                })
+                .collect();
+            let response = sd.response.clone();
+            let photons = sd.photons;
+            WavelengthSampler::importance(band, move |l| {
+                let e: f32 = spectra
+                    .iter()
+                    .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.eval(l) / m))
+                    .sum();
+                let p = if photons { l / 550.0 } else { 1.0 };
+                response.eval(l) * e.max(0.0) * p
+            })
+        }
+    }
+}
+
+/// A band [a, b] (nm): sampled if the scene `varies`, else the grey estimate times the
+/// band integral ∫ R (λ/(hc)) dλ by 256-point Gauss–Legendre.
+fn band(
+    scene: &Scene,
+    sd: &SpectralDesc,
+    a: f64,
+    b: f64,
+    varies: Option<String>,
+) -> WavelengthDims {
+    let range = Band {
+        min: a as f32,
+        max: b as f32,
+    };
+    let setup = SpectralSetup {
+        sampler: band_sampler(scene, sd, range),
+        response: sd.response.clone(),
+        fixed: None,
+        hero: sd.hero,
+        photons: sd.photons,
+        scale: 1.0,
+    };
+    let mut full = setup.clone();
+    full.hero = true;
+    let how = format!(
+        "{} over [{a}, {b}] nm{}",
+        match sd.sampling {
+            WavelengthSampling::Uniform => "sampled uniformly",
+            WavelengthSampling::Emitter => "importance-sampled by response × spectra",
+        },
+        if sd.hero {
+            " with four hero wavelengths per path"
+        } else {
+            ""
+        }
+    );
+    match varies {
+        Some(v) => (
+            Some(setup),
+            full,
+            1.0,
+            decision(true, format!("{v} varies with wavelength: {how}")),
+        ),
+        None => {
+            let factor = crate::spectrum::gauss_legendre(a, b, 256, |l| {
+                sd.response.eval(l as f32) as f64 * photon_factor(sd, l)
+            });
+            (
+                None,
+                full,
+                factor as f32,
+                decision(
+                    false,
+                    format!(
+                        "the scene is grey: the band integral is the grey estimate times ∫R{} dλ = {factor:.6e} over [{a}, {b}] nm",
+                        if sd.photons { "·λ/(hc)" } else { "" }
                     ),
-                ))
-            } else {
-                let factor = crate::spectrum::gauss_legendre(a, b, 256, |l| {
-                    sd.response.eval(l as f32) as f64 * photon(l)
-                });
-                Ok((
-                    None,
-                    full,
-                    factor as f32,
-                    decision(
-                        false,
-                        format!(
-                            "the scene is grey: the band integral is the grey estimate times ∫R{} dλ = {factor:.6e} over [{a}, {b}] nm",
-                            if sd.photons { "·λ/(hc)" } else { "" }
-                        ),
-                    ),
-                ))
-            }
+                ),
+            )
         }
     }
 }
