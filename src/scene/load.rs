@@ -22,7 +22,7 @@
 use super::dispersion::SpectralIor;
 use super::emitter::{EmitterProps, EnvMap, area_distribution};
 use super::shape::Primitive;
-use super::{Scene, Shape, ShapeKind};
+use super::{Material, Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
 use crate::error::{
     InputError, MAX_COORDINATE, check_derived, check_direction, check_number, check_point,
@@ -342,15 +342,14 @@ impl SceneDesc {
             base: base.to_path_buf(),
             origin,
         };
-        let mut materials = Vec::new();
+        let mut materials: Vec<Material> = Vec::new();
         let mut material_index = BTreeMap::new();
         for (name, m) in &self.materials {
             m.validate()
                 .map_err(|r| InputError::new(file, format!("{field}.materials.{name}"), r))?;
             material_index.insert(name.clone(), materials.len());
-            materials.push(m.clone());
+            materials.push(Material::grey(m.clone()));
         }
-        let mut material_ior = vec![None; materials.len()];
         for (name, d) in &self.dispersion {
             let f = format!("{field}.dispersion.{name}");
             let &m = material_index.get(name).ok_or_else(|| {
@@ -360,13 +359,14 @@ impl SceneDesc {
                     format!("no material named `{name}` in `materials`"),
                 )
             })?;
-            d.validate(&materials[m], crate::spectrum::VISIBLE)
+            let material = &mut materials[m];
+            d.validate(&material.bsdf, crate::spectrum::VISIBLE)
                 .map_err(|r| InputError::new(file, &f, r))?;
             if d.is_dispersive() {
-                material_ior[m] = Some(d.clone());
+                material.ior = Some(d.clone());
             } else {
                 // A constant index is just the grey material.
-                materials[m] = d.at(&materials[m], 550.0);
+                material.bsdf = d.at(&material.bsdf, 550.0);
             }
         }
         let mut prims = Vec::new();
@@ -466,7 +466,7 @@ impl SceneDesc {
             emitters.push(e);
             props.push(p);
         }
-        Ok(Scene::new(shapes, prims, materials, emitters).with_phase(props, material_ior))
+        Ok(Scene::new(shapes, prims, materials, emitters).with_phase(props))
     }
 }
 

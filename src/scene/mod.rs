@@ -66,6 +66,23 @@ pub struct SurfaceHit {
     pub prim: usize,
 }
 
+/// A material: its BSDF and, when dispersive, its wavelength-dependent index (the BSDF
+/// then holds the index at 550 nm, for grey paths).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// The scattering model.
+    pub bsdf: Bsdf,
+    /// η(λ) (and k(λ)) of a dispersive material.
+    pub ior: Option<SpectralIor>,
+}
+
+impl Material {
+    /// A material that does not disperse.
+    pub fn grey(bsdf: Bsdf) -> Self {
+        Material { bsdf, ior: None }
+    }
+}
+
 /// A built scene.
 pub struct Scene {
     /// Shapes.
@@ -73,14 +90,11 @@ pub struct Scene {
     /// For each primitive, its shape.
     pub prim_shape: Vec<u32>,
     /// Materials.
-    pub materials: Vec<Bsdf>,
+    pub materials: Vec<Material>,
     /// Emitters (area emitters point at their shape).
     pub emitters: Vec<Emitter>,
     /// Spectrum, pulse and motion of each emitter (parallel to `emitters`).
     pub emitter_props: Vec<EmitterProps>,
-    /// Wavelength-dependent refractive index of each material, if dispersive
-    /// (parallel to `materials`).
-    pub material_ior: Vec<Option<SpectralIor>>,
     /// Whether any emitter or shape moves.
     moving: bool,
     /// Primitives of moving shapes (the BVH skips them; they are tested one by one,
@@ -100,7 +114,7 @@ impl Scene {
     pub fn new(
         shapes: Vec<Shape>,
         prims: Vec<Primitive>,
-        materials: Vec<Bsdf>,
+        materials: Vec<Material>,
         emitters: Vec<Emitter>,
     ) -> Self {
         let mut prim_shape = vec![0u32; prims.len()];
@@ -113,7 +127,6 @@ impl Scene {
             shapes,
             prim_shape,
             emitter_props: vec![EmitterProps::default(); emitters.len()],
-            material_ior: vec![None; materials.len()],
             materials,
             emitters,
             moving: false,
@@ -122,15 +135,11 @@ impl Scene {
         }
     }
 
-    /// Attach the wavelength and time properties of emitters and materials.
-    pub fn with_phase(
-        mut self,
-        emitter_props: Vec<EmitterProps>,
-        material_ior: Vec<Option<SpectralIor>>,
-    ) -> Self {
-        assert_eq!(emitter_props.len(), self.emitters.len());
-        assert_eq!(material_ior.len(), self.materials.len());
+    /// Attach the wavelength and time properties of the emitters (one per emitter, in
+    /// order; missing ones are steady, grey and still).
+    pub fn with_phase(mut self, emitter_props: Vec<EmitterProps>) -> Self {
         let mut emitter_props = emitter_props;
+        emitter_props.resize(self.emitters.len(), EmitterProps::default());
         // An emitting shape moves with its shape.
         for (i, e) in self.emitters.iter().enumerate() {
             if let Emitter::Area { shape, .. } = e {
@@ -153,7 +162,6 @@ impl Scene {
         self.moving =
             emitter_props.iter().any(|p| p.velocity != Vec3::ZERO) || !self.moving_prims.is_empty();
         self.emitter_props = emitter_props;
-        self.material_ior = material_ior;
         self
     }
 
@@ -165,7 +173,7 @@ impl Scene {
     /// Whether any emitter's spectrum or material's index varies with wavelength.
     pub fn is_spectral(&self) -> bool {
         self.emitter_props.iter().any(|p| p.spectrum.is_some())
-            || self.material_ior.iter().any(|m| m.is_some())
+            || self.materials.iter().any(|m| m.ior.is_some())
     }
 
     /// All primitives.

@@ -110,7 +110,9 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
     let scatterers = scatterers(scene);
     let flags = scatterers
         .iter()
-        .map(|&i| scene.materials[scene.shapes[i].material.unwrap_or_default()].flags())
+        .map(|&i| scene.materials[scene.shapes[i].material.unwrap_or_default()]
+                .bsdf
+                .flags())
         .fold(LobeFlags::empty(), |a, b| a | b);
     let transmits = flags.contains(LobeFlags::TRANSMISSION);
     let has_emitters = scene.has_emitters();
@@ -195,7 +197,7 @@ fn scatterers(scene: &Scene) -> Vec<usize> {
         .filter(|&i| {
             scene.shapes[i]
                 .material
-                .is_some_and(|m| !scene.materials[m].is_black())
+                .is_some_and(|m| !scene.materials[m].bsdf.is_black())
         })
         .collect()
 }

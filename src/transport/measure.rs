@@ -506,7 +506,7 @@ mod tests {
                 direction: -Vec3::Z,
             },
             Measure::Albedo {
-                bsdf: Box::new(scene.materials[0].clone()),
+                bsdf: Box::new(scene.materials[0].bsdf.clone()),
                 wo: Vec3::Z,
             },
             Measure::Power { emitter: 0 },

@@ -163,7 +163,7 @@ impl Phase for Grey {
     }
     #[inline(always)]
     fn material<'a>(&self, scene: &'a Scene, material: usize) -> (Cow<'a, Bsdf>, bool) {
-        (Cow::Borrowed(&scene.materials[material]), false)
+        (Cow::Borrowed(&scene.materials[material].bsdf), false)
     }
     #[inline(always)]
     fn tracks_length(&self) -> bool {
@@ -215,12 +215,10 @@ impl<L: Lanes> Phase for PhaseSample<L> {
     }
     #[inline]
     fn material<'a>(&self, scene: &'a Scene, material: usize) -> (Cow<'a, Bsdf>, bool) {
-        match &scene.material_ior[material] {
-            Some(ior) if self.spectral => (
-                Cow::Owned(ior.at(&scene.materials[material], self.lambda[0])),
-                true,
-            ),
-            Some(_) | None => (Cow::Borrowed(&scene.materials[material]), false),
+        let m = &scene.materials[material];
+        match &m.ior {
+            Some(ior) if self.spectral => (Cow::Owned(ior.at(&m.bsdf, self.lambda[0])), true),
+            Some(_) | None => (Cow::Borrowed(&m.bsdf), false),
         }
     }
     #[inline]

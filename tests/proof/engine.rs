@@ -358,7 +358,7 @@ fn nan_light_density_is_counted() {
 fn nan_bsdf_is_counted_in_evaluation_and_sampling() {
     use lightproof::bsdf::{Bsdf, lambertian::Lambertian};
     let mut c = lit_floor(FLOOR_RADIANCE);
-    c.scene.materials[0] = Bsdf::Lambertian(Lambertian { albedo: f32::NAN });
+    c.scene.materials[0].bsdf = Bsdf::Lambertian(Lambertian { albedo: f32::NAN });
     // light: the BSDF value in next-event estimation; bsdf: the sampled weight.
     for est in [Estimator::Light, Estimator::Bsdf, Estimator::Mis] {
         assert_counted(&c, est, "NaN BSDF");

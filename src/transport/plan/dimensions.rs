@@ -75,10 +75,10 @@ fn what_varies(scene: &Scene) -> Vec<String> {
         .map(|(i, _)| format!("emitter {i}'s spectrum"))
         .chain(
             scene
-                .material_ior
+                .materials
                 .iter()
                 .enumerate()
-                .filter(|(_, m)| m.is_some())
+                .filter(|(_, m)| m.ior.is_some())
                 .map(|(i, _)| format!("material {i}'s refractive index")),
         )
         .collect()
@@ -366,6 +366,7 @@ fn time_dims(
         let transmits = scene.shapes.iter().any(|s| {
             s.material.is_some_and(|m| {
                 scene.materials[m]
+                    .bsdf
                     .flags()
                     .contains(crate::bsdf::LobeFlags::TRANSMISSION)
             })
