@@ -83,7 +83,7 @@ fn emitter_index(
             ));
         }
     };
-    if scene.emitters[idx].is_infinite() {
+    if scene.emitters[idx].kind.is_infinite() {
         return Err(InputError::new(
             f,
             "measure",

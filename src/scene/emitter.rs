@@ -89,9 +89,18 @@ impl EnvMap {
     }
 }
 
-/// One emitter of the scene.
+/// An emitter of the scene: what it is and how it behaves along wavelength and time.
 #[derive(Clone, Debug)]
-pub enum Emitter {
+pub struct Emitter {
+    /// The kind of emitter and its strength.
+    pub kind: EmitterKind,
+    /// Its spectrum, pulse and motion.
+    pub props: EmitterProps,
+}
+
+/// The kinds of emitter.
+#[derive(Clone, Debug)]
+pub enum EmitterKind {
     /// Uniform Lambertian emission from a shape's surface.
     Area {
         /// Index of the shape.
@@ -328,12 +337,12 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
     }
 }
 
-impl Emitter {
+impl EmitterKind {
     /// Whether the emitter is a Dirac delta in position or direction.
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Emitter::Point { .. } | Emitter::Spot { .. } | Emitter::Directional { .. }
+            EmitterKind::Point { .. } | EmitterKind::Spot { .. } | EmitterKind::Directional { .. }
         )
     }
 
@@ -341,32 +350,32 @@ impl Emitter {
     pub fn is_infinite(&self) -> bool {
         matches!(
             self,
-            Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_)
+            EmitterKind::Directional { .. } | EmitterKind::Constant { .. } | EmitterKind::Map(_)
         )
     }
 
     /// Radiance arriving along a ray that escapes the scene in direction `w`.
     pub fn eval_infinite(&self, w: Vec3) -> f32 {
         match self {
-            Emitter::Constant { radiance } => *radiance,
-            Emitter::Map(m) => m.eval(w),
+            EmitterKind::Constant { radiance } => *radiance,
+            EmitterKind::Map(m) => m.eval(w),
             // Directional light is a delta in direction: no ray escapes into it.
-            Emitter::Area { .. }
-            | Emitter::Point { .. }
-            | Emitter::Spot { .. }
-            | Emitter::Directional { .. } => 0.0,
+            EmitterKind::Area { .. }
+            | EmitterKind::Point { .. }
+            | EmitterKind::Spot { .. }
+            | EmitterKind::Directional { .. } => 0.0,
         }
     }
 
     /// Density in solid angle of sampling the escaping direction `w` (infinite lights).
     pub fn pdf_infinite(&self, w: Vec3) -> f32 {
         match self {
-            Emitter::Constant { .. } => INV_FOUR_PI,
-            Emitter::Map(m) => m.pdf(w),
-            Emitter::Area { .. }
-            | Emitter::Point { .. }
-            | Emitter::Spot { .. }
-            | Emitter::Directional { .. } => 0.0,
+            EmitterKind::Constant { .. } => INV_FOUR_PI,
+            EmitterKind::Map(m) => m.pdf(w),
+            EmitterKind::Area { .. }
+            | EmitterKind::Point { .. }
+            | EmitterKind::Spot { .. }
+            | EmitterKind::Directional { .. } => 0.0,
         }
     }
 
@@ -385,7 +394,7 @@ impl Emitter {
             emitter: 0,
         };
         match self {
-            Emitter::Point {
+            EmitterKind::Point {
                 position,
                 intensity,
             } => {
@@ -407,7 +416,7 @@ impl Emitter {
                     emitter: 0,
                 })
             }
-            Emitter::Spot {
+            EmitterKind::Spot {
                 position,
                 frame,
                 intensity,
@@ -434,21 +443,21 @@ impl Emitter {
                     emitter: 0,
                 })
             }
-            Emitter::Directional {
+            EmitterKind::Directional {
                 direction,
                 irradiance,
             } => Some(at_infinity(-*direction, *irradiance, 1.0, true)),
-            Emitter::Constant { radiance } => Some(at_infinity(
+            EmitterKind::Constant { radiance } => Some(at_infinity(
                 uniform_sphere(u),
                 *radiance,
                 INV_FOUR_PI,
                 false,
             )),
-            Emitter::Map(m) => {
+            EmitterKind::Map(m) => {
                 let (w, pdf) = m.sample(u)?;
                 Some(at_infinity(w, m.eval(w), pdf, false))
             }
-            Emitter::Area { .. } => None,
+            EmitterKind::Area { .. } => None,
         }
     }
 
@@ -457,7 +466,7 @@ impl Emitter {
     /// 2π I [(1 − cos θs) + (cos θs − cos θt)/2] (pbrt-v4 eq. 12.3).
     pub fn power(&self, shape_area: f32) -> Option<f64> {
         match self {
-            Emitter::Area {
+            EmitterKind::Area {
                 radiance,
                 two_sided,
                 ..
@@ -467,10 +476,10 @@ impl Emitter {
                     * shape_area as f64
                     * if *two_sided { 2.0 } else { 1.0 },
             ),
-            Emitter::Point { intensity, .. } => {
+            EmitterKind::Point { intensity, .. } => {
                 Some(4.0 * std::f64::consts::PI * *intensity as f64)
             }
-            Emitter::Spot {
+            EmitterKind::Spot {
                 intensity,
                 cos_total,
                 cos_falloff_start,
@@ -482,7 +491,9 @@ impl Emitter {
                         + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
             ),
             // Emitters at infinity deliver unbounded power to an unbounded scene.
-            Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => None,
+            EmitterKind::Directional { .. }
+            | EmitterKind::Constant { .. }
+            | EmitterKind::Map(_) => None,
         }
     }
 }

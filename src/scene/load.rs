@@ -20,7 +20,7 @@
 //! (`scale`, then `rotate` {axis, degrees}, then `translate`). Unknown fields are errors.
 
 use super::dispersion::SpectralIor;
-use super::emitter::{EmitterProps, EnvMap, area_distribution};
+use super::emitter::{Emitter, EmitterKind, EmitterProps, EnvMap, area_distribution};
 use super::shape::Primitive;
 use super::{Material, Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
@@ -407,7 +407,7 @@ impl SceneDesc {
                     let radiance =
                         b.strength(&format!("{f}.emission.radiance"), e.radiance, scale, &p)?;
                     props.push(p);
-                    emitters.push(super::Emitter::Area {
+                    emitters.push(EmitterKind::Area {
                         shape: shapes.len(),
                         radiance,
                         two_sided: e.two_sided,
@@ -431,7 +431,7 @@ impl SceneDesc {
                     "is degenerate: its area is zero (or too small for f32)",
                 ));
             }
-            if let Some(super::Emitter::Area {
+            if let Some(EmitterKind::Area {
                 radiance,
                 two_sided,
                 ..
@@ -466,7 +466,12 @@ impl SceneDesc {
             emitters.push(e);
             props.push(p);
         }
-        Ok(Scene::new(shapes, prims, materials, emitters).with_phase(props))
+        let emitters = emitters
+            .into_iter()
+            .zip(props)
+            .map(|(kind, props)| Emitter { kind, props })
+            .collect();
+        Ok(Scene::new(shapes, prims, materials, emitters))
     }
 }
 
@@ -791,12 +796,7 @@ impl Builder<'_> {
         Ok((props, scale))
     }
 
-    fn emitter(
-        &self,
-        e: &EmitterDesc,
-        f: &str,
-    ) -> Result<(super::Emitter, EmitterProps), InputError> {
-        use super::Emitter;
+    fn emitter(&self, e: &EmitterDesc, f: &str) -> Result<(EmitterKind, EmitterProps), InputError> {
         let file = self.file;
         let nonneg = |name: &str, v: f64| {
             check_number(
@@ -831,7 +831,7 @@ impl Builder<'_> {
                 let (p, scale) = self.props(f, spectrum.as_ref(), *pulse_at, *velocity)?;
                 let intensity = intensity_of(*intensity, scale, &p, "the emitted power 4π·I")?;
                 (
-                    Emitter::Point {
+                    EmitterKind::Point {
                         position: self.to_f32(check_point(
                             file,
                             &format!("{f}.position"),
@@ -872,7 +872,7 @@ impl Builder<'_> {
                 let intensity =
                     intensity_of(*intensity, scale, &p, "the emitted power (at most 4π·I)")?;
                 (
-                    Emitter::Spot {
+                    EmitterKind::Spot {
                         position: self.to_f32(check_point(
                             file,
                             &format!("{f}.position"),
@@ -894,7 +894,7 @@ impl Builder<'_> {
                 nonneg("irradiance", *irradiance)?;
                 let (p, scale) = self.props(f, spectrum.as_ref(), None, None)?;
                 (
-                    Emitter::Directional {
+                    EmitterKind::Directional {
                         direction: check_direction(file, &format!("{f}.direction"), *direction)?
                             .as_vec3(),
                         irradiance: self.strength(
@@ -918,7 +918,7 @@ impl Builder<'_> {
                     4.0 * std::f64::consts::PI * radiance as f64,
                     "the radiance integrated over the sphere, 4π·L,",
                 )?;
-                (Emitter::Constant { radiance }, p)
+                (EmitterKind::Constant { radiance }, p)
             }
             EmitterDesc::Envmap {
                 path,
@@ -955,7 +955,7 @@ impl Builder<'_> {
                     "the map's total radiance × 4π × scale",
                 )?;
                 (
-                    Emitter::Map(Box::new(EnvMap::new(
+                    EmitterKind::Map(Box::new(EnvMap::new(
                         w,
                         h,
                         data.into_iter().map(|v| v * scale).collect(),

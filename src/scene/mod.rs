@@ -16,7 +16,7 @@ use crate::math::offset_ray_origin;
 use crate::sampling::distribution::Distribution1D;
 use accel::Accel;
 pub use dispersion::SpectralIor;
-use emitter::{Emitter, EmitterProps, LightSample, prim_pdf, sample_prim};
+use emitter::{Emitter, EmitterKind, LightSample, prim_pdf, sample_prim};
 use glam::{Vec2, Vec3};
 use shape::{Hit, Primitive};
 use std::ops::Range;
@@ -93,8 +93,6 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Emitters (area emitters point at their shape).
     pub emitters: Vec<Emitter>,
-    /// Spectrum, pulse and motion of each emitter (parallel to `emitters`).
-    pub emitter_props: Vec<EmitterProps>,
     /// Whether any emitter or shape moves.
     moving: bool,
     /// Primitives of moving shapes (the BVH skips them; they are tested one by one,
@@ -110,12 +108,13 @@ pub struct Scene {
 pub const SHADOW_EPSILON: f32 = 1e-6;
 
 impl Scene {
-    /// Assemble a scene; primitives are given per shape, in order.
+    /// Assemble a scene; primitives are given per shape, in order. An emitting shape
+    /// moves with its shape.
     pub fn new(
         shapes: Vec<Shape>,
         prims: Vec<Primitive>,
         materials: Vec<Material>,
-        emitters: Vec<Emitter>,
+        mut emitters: Vec<Emitter>,
     ) -> Self {
         let mut prim_shape = vec![0u32; prims.len()];
         for (i, s) in shapes.iter().enumerate() {
@@ -123,46 +122,35 @@ impl Scene {
                 prim_shape[p] = i as u32;
             }
         }
-        Scene {
-            shapes,
-            prim_shape,
-            emitter_props: vec![EmitterProps::default(); emitters.len()],
-            materials,
-            emitters,
-            moving: false,
-            moving_prims: Vec::new(),
-            accel: Accel::new(prims),
-        }
-    }
-
-    /// Attach the wavelength and time properties of the emitters (one per emitter, in
-    /// order; missing ones are steady, grey and still).
-    pub fn with_phase(mut self, emitter_props: Vec<EmitterProps>) -> Self {
-        let mut emitter_props = emitter_props;
-        emitter_props.resize(self.emitters.len(), EmitterProps::default());
-        // An emitting shape moves with its shape.
-        for (i, e) in self.emitters.iter().enumerate() {
-            if let Emitter::Area { shape, .. } = e {
-                emitter_props[i].velocity = self.shapes[*shape].velocity;
+        for e in emitters.iter_mut() {
+            if let EmitterKind::Area { shape, .. } = e.kind {
+                e.props.velocity = shapes[shape].velocity;
             }
         }
-        self.moving_prims = self
-            .shapes
+        let moving_prims: Vec<usize> = shapes
             .iter()
             .filter(|s| s.velocity != Vec3::ZERO)
             .flat_map(|s| s.prims.clone())
             .collect();
-        if !self.moving_prims.is_empty() {
-            let mut skip = vec![false; self.prim_shape.len()];
-            for &p in &self.moving_prims {
+        let mut accel = Accel::new(prims);
+        if !moving_prims.is_empty() {
+            let mut skip = vec![false; prim_shape.len()];
+            for &p in &moving_prims {
                 skip[p] = true;
             }
-            self.accel.set_skip(skip);
+            accel.set_skip(skip);
         }
-        self.moving =
-            emitter_props.iter().any(|p| p.velocity != Vec3::ZERO) || !self.moving_prims.is_empty();
-        self.emitter_props = emitter_props;
-        self
+        let moving =
+            emitters.iter().any(|e| e.props.velocity != Vec3::ZERO) || !moving_prims.is_empty();
+        Scene {
+            shapes,
+            prim_shape,
+            materials,
+            emitters,
+            moving,
+            moving_prims,
+            accel,
+        }
     }
 
     /// Whether any emitter moves.
@@ -172,7 +160,7 @@ impl Scene {
 
     /// Whether any emitter's spectrum or material's index varies with wavelength.
     pub fn is_spectral(&self) -> bool {
-        self.emitter_props.iter().any(|p| p.spectrum.is_some())
+        self.emitters.iter().any(|e| e.props.spectrum.is_some())
             || self.materials.iter().any(|m| m.ior.is_some())
     }
 
@@ -277,11 +265,13 @@ impl Scene {
     /// Radiance emitted by the surface hit towards `wo` (pointing away from it).
     pub fn emitted(&self, sh: &SurfaceHit, wo: Vec3) -> f32 {
         // Only area lights sit on shapes.
-        if let Some(Emitter::Area {
+        if let Some(EmitterKind::Area {
             radiance,
             two_sided,
             ..
-        }) = self.shapes[sh.shape].emitter.map(|e| &self.emitters[e])
+        }) = self.shapes[sh.shape]
+            .emitter
+            .map(|e| &self.emitters[e].kind)
             && (*two_sided || sh.hit.n.dot(wo) > 0.0)
         {
             *radiance
@@ -292,7 +282,7 @@ impl Scene {
 
     /// Radiance from the lights at infinity along an escaping direction.
     pub fn escaped(&self, d: Vec3) -> f32 {
-        self.emitters.iter().map(|e| e.eval_infinite(d)).sum()
+        self.emitters.iter().map(|e| e.kind.eval_infinite(d)).sum()
     }
 
     /// Each light at infinity seen along an escaping direction: (emitter, radiance ≠ 0).
@@ -300,8 +290,8 @@ impl Scene {
         self.emitters
             .iter()
             .enumerate()
-            .filter(|(_, e)| e.is_infinite())
-            .map(move |(i, e)| (i, e.eval_infinite(d)))
+            .filter(|(_, e)| e.kind.is_infinite())
+            .map(move |(i, e)| (i, e.kind.eval_infinite(d)))
             // `!= 0`, not `> 0`: a NaN or negative radiance must reach the accumulator.
             .filter(|&(_, l)| l != 0.0)
     }
@@ -324,9 +314,9 @@ impl Scene {
         let n = self.emitters.len();
         let k = ((u_choice * n as f32) as usize).min(n.saturating_sub(1));
         let shift = self
-            .emitter_props
+            .emitters
             .get(k)
-            .map_or(Vec3::ZERO, |e| e.velocity * t);
+            .map_or(Vec3::ZERO, |e| e.props.velocity * t);
         if shift == Vec3::ZERO {
             return self.sample_light(p, u_choice, u);
         }
@@ -347,8 +337,8 @@ impl Scene {
         }
         let k = ((u_choice * n as f32) as usize).min(n - 1);
         let choice = 1.0 / n as f32;
-        let mut ls = match &self.emitters[k] {
-            Emitter::Area {
+        let mut ls = match &self.emitters[k].kind {
+            EmitterKind::Area {
                 shape,
                 radiance,
                 two_sided,
@@ -422,7 +412,11 @@ impl Scene {
 
     /// Density (including the emitter choice) of sampling the escaping direction `d`.
     pub fn light_pdf_infinite(&self, d: Vec3) -> f32 {
-        self.emitters.iter().map(|e| e.pdf_infinite(d)).sum::<f32>() * self.emitter_choice_pdf()
+        self.emitters
+            .iter()
+            .map(|e| e.kind.pdf_infinite(d))
+            .sum::<f32>()
+            * self.emitter_choice_pdf()
     }
 
     /// Whether any emitter exists.

@@ -22,7 +22,7 @@
 //! simulation (every effect on) in a two-sample test (`tests/proof/effects_soundness.rs`).
 
 use crate::bsdf::{BsdfModel, LobeFlags, ModelFacts};
-use crate::scene::emitter::Emitter;
+use crate::scene::emitter::EmitterKind;
 use crate::scene::shape::Primitive;
 use crate::scene::{Scene, ShapeKind};
 use crate::transport::measure::Measure;
@@ -110,9 +110,11 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
     let scatterers = scatterers(scene);
     let flags = scatterers
         .iter()
-        .map(|&i| scene.materials[scene.shapes[i].material.unwrap_or_default()]
+        .map(|&i| {
+            scene.materials[scene.shapes[i].material.unwrap_or_default()]
                 .bsdf
-                .flags())
+                .flags()
+        })
         .fold(LobeFlags::empty(), |a, b| a | b);
     let transmits = flags.contains(LobeFlags::TRANSMISSION);
     let has_emitters = scene.has_emitters();
@@ -243,8 +245,8 @@ fn occlusion(scene: &Scene, measure: &Measure, origin: glam::Vec3, transmits: bo
     let only_shape_emits = scene
         .emitters
         .iter()
-        .all(|e| matches!(e, Emitter::Area { shape: 0, .. }));
-    let only_infinite = scene.emitters.iter().all(|e| e.is_infinite());
+        .all(|e| matches!(e.kind, EmitterKind::Area { shape: 0, .. }));
+    let only_infinite = scene.emitters.iter().all(|e| e.kind.is_infinite());
     let one_convex = scene.shapes.len() == 1 && scene.shapes[0].kind != ShapeKind::Mesh;
     if scene.shapes.is_empty() {
         no("there are no shapes to occlude")

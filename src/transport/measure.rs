@@ -21,7 +21,7 @@ use crate::sampling::SampleStream;
 use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
 use crate::sampling::sphere::uniform_sphere;
 use crate::scene::Scene;
-use crate::scene::emitter::{Emitter, spot_falloff};
+use crate::scene::emitter::{EmitterKind, spot_falloff};
 use crate::transport::Estimator;
 use crate::transport::path::{Config, Prev, next_event, trace};
 use crate::transport::phase::{Dimensions, Grey, Lanes, Phase, finish};
@@ -365,8 +365,8 @@ fn irradiance<P: Phase>(
 }
 
 fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
-    match &scene.emitters[emitter] {
-        Emitter::Area {
+    match &scene.emitters[emitter].kind {
+        EmitterKind::Area {
             shape,
             radiance,
             two_sided,
@@ -380,11 +380,11 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
             let pdf_w = if *two_sided { 0.25 / PI } else { 0.5 / PI };
             radiance * w.z.abs() / (pdf_a * pdf_w)
         }
-        Emitter::Point { intensity, .. } => {
+        EmitterKind::Point { intensity, .. } => {
             let _ = s.next_2d();
             4.0 * PI * intensity
         }
-        Emitter::Spot {
+        EmitterKind::Spot {
             frame,
             intensity,
             cos_total,
@@ -395,13 +395,15 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
             4.0 * PI * intensity * spot_falloff(w.dot(frame.n), *cos_total, *cos_falloff_start)
         }
         // Refused at load: power is not defined for emitters at infinity.
-        Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => f32::NAN,
+        EmitterKind::Directional { .. } | EmitterKind::Constant { .. } | EmitterKind::Map(_) => {
+            f32::NAN
+        }
     }
 }
 
 fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStream) -> f32 {
-    match &scene.emitters[emitter] {
-        Emitter::Area {
+    match &scene.emitters[emitter].kind {
+        EmitterKind::Area {
             shape,
             radiance,
             two_sided,
@@ -411,8 +413,8 @@ fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStre
             let c = if *two_sided { c.abs() } else { c.max(0.0) };
             radiance * c / pdf_a
         }
-        Emitter::Point { intensity, .. } => *intensity,
-        Emitter::Spot {
+        EmitterKind::Point { intensity, .. } => *intensity,
+        EmitterKind::Spot {
             frame,
             intensity,
             cos_total,
@@ -420,7 +422,9 @@ fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStre
             ..
         } => intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start),
         // Refused at load: intensity is not defined for emitters at infinity.
-        Emitter::Directional { .. } | Emitter::Constant { .. } | Emitter::Map(_) => f32::NAN,
+        EmitterKind::Directional { .. } | EmitterKind::Constant { .. } | EmitterKind::Map(_) => {
+            f32::NAN
+        }
     }
 }
 

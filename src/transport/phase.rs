@@ -191,7 +191,7 @@ impl<L: Lanes> Phase for PhaseSample<L> {
     type L = L;
     #[inline]
     fn emission(&self, scene: &Scene, emitter: usize, radiance: f32, length: f32) -> L {
-        let props = &scene.emitter_props[emitter];
+        let props = &scene.emitters[emitter].props;
         let gate = match self.bin {
             None => 1.0,
             Some((t1, t2)) => match props.pulse {

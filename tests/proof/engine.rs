@@ -325,9 +325,9 @@ fn assert_counted(c: &Case, est: Estimator, what: &str) {
 
 #[test]
 fn nan_emission_is_counted_on_every_strategy() {
-    use lightproof::scene::emitter::Emitter;
+    use lightproof::scene::emitter::EmitterKind;
     let mut c = lit_floor(IRRADIANCE);
-    let Emitter::Area { radiance, .. } = &mut c.scene.emitters[0] else {
+    let EmitterKind::Area { radiance, .. } = &mut c.scene.emitters[0].kind else {
         panic!("the disk is the first emitter")
     };
     *radiance = f32::NAN;
@@ -337,7 +337,7 @@ fn nan_emission_is_counted_on_every_strategy() {
     }
     // A negative radiance is as wrong as a NaN: counted, never silently dropped.
     let mut neg = lit_floor(IRRADIANCE);
-    if let Emitter::Area { radiance, .. } = &mut neg.scene.emitters[0] {
+    if let EmitterKind::Area { radiance, .. } = &mut neg.scene.emitters[0].kind {
         *radiance = -1.0;
     }
     assert_counted(&neg, Estimator::Light, "negative area radiance");
@@ -367,7 +367,7 @@ fn nan_bsdf_is_counted_in_evaluation_and_sampling() {
 
 #[test]
 fn nan_environment_and_spectrum_are_counted() {
-    use lightproof::scene::emitter::Emitter;
+    use lightproof::scene::emitter::EmitterKind;
     use lightproof::spectrum::{Response, Spectrum};
     // A constant environment of NaN radiance seen by an escaping ray.
     let mut env = case(
@@ -377,7 +377,9 @@ fn nan_environment_and_spectrum_are_counted() {
         "reference": { "closed_form": "constant_environment_irradiance", "radiance": 1 },
         "estimators": ["light", "bsdf", "mis"] }"#,
     );
-    if let Some(Emitter::Constant { radiance }) = env.scene.emitters.last_mut() {
+    if let Some(EmitterKind::Constant { radiance }) =
+        env.scene.emitters.last_mut().map(|e| &mut e.kind)
+    {
         *radiance = f32::NAN;
     } else {
         panic!("a constant emitter");
@@ -398,7 +400,7 @@ fn nan_environment_and_spectrum_are_counted() {
         assert_counted(&c, est, "overflowing response");
     }
     let mut c = load();
-    c.scene.emitter_props[0].spectrum = Some(Spectrum::Constant(f32::MAX));
+    c.scene.emitters[0].props.spectrum = Some(Spectrum::Constant(f32::MAX));
     for &est in &c.desc.estimators.clone() {
         assert_counted(&c, est, "overflowing emission spectrum");
     }

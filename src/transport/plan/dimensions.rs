@@ -68,8 +68,9 @@ type WavelengthDims = (Option<SpectralSetup>, SpectralSetup, f32, Decision);
 /// What in the scene varies with wavelength (emitter spectra, dispersive materials).
 fn what_varies(scene: &Scene) -> Vec<String> {
     scene
-        .emitter_props
+        .emitters
         .iter()
+        .map(|e| &e.props)
         .enumerate()
         .filter(|(_, p)| p.spectrum.is_some())
         .map(|(i, _)| format!("emitter {i}'s spectrum"))
@@ -235,8 +236,9 @@ fn band_sampler(scene: &Scene, sd: &SpectralDesc, band: Band) -> WavelengthSampl
         WavelengthSampling::Uniform => WavelengthSampler::uniform(band),
         WavelengthSampling::Emitter => {
             let spectra: Vec<_> = scene
-                .emitter_props
+                .emitters
                 .iter()
+                .map(|e| &e.props)
                 .map(|p| {
                     p.spectrum
                         .as_ref()
@@ -383,12 +385,12 @@ fn time_dims(
         .filter(|&i| scene.shapes[i].velocity != glam::Vec3::ZERO)
         .map(|i| format!("shape {i}"))
         .chain(
-            (0..scene.emitter_props.len())
+            (0..scene.emitters.len())
                 .filter(|&i| {
-                    scene.emitter_props[i].velocity != glam::Vec3::ZERO
+                    scene.emitters[i].props.velocity != glam::Vec3::ZERO
                         && !matches!(
-                            scene.emitters[i],
-                            crate::scene::emitter::Emitter::Area { .. }
+                            scene.emitters[i].kind,
+                            crate::scene::emitter::EmitterKind::Area { .. }
                         )
                 })
                 .map(|i| format!("emitter {i}")),
@@ -415,7 +417,7 @@ fn time_dims(
             ),
         ));
     }
-    let pulsed = scene.emitter_props.iter().any(|p| p.pulse.is_some());
+    let pulsed = scene.emitters.iter().any(|e| e.props.pulse.is_some());
     let mut why = Vec::new();
     if !moving.is_empty() {
         why.push(format!(
