@@ -238,6 +238,20 @@ mod tests {
         }
     }
 
+    /// Size and integral, and u at the very top choosing the last cell of positive mass
+    /// even when zero cells follow it (the backward walk past empty cells).
+    #[test]
+    fn size_integral_and_trailing_empty_cells() {
+        let d = Distribution1D::new(&[2.0, 6.0, 0.0, 0.0]);
+        assert_eq!((d.len(), d.is_empty()), (4, false));
+        assert!((d.integral() - 2.0).abs() < 1e-12);
+        let (x, pdf, i) = d.sample(1.0);
+        assert_eq!(i, 1, "x {x}");
+        assert!((0.25..0.5).contains(&x) && (pdf - 3.0).abs() < 1e-6);
+        let (_, _, i) = d.sample(0.0);
+        assert_eq!(i, 0);
+    }
+
     #[test]
     fn zero_function_is_uniform() {
         let d = Distribution1D::new(&[0.0, 0.0]);
