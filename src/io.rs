@@ -204,7 +204,7 @@ mod tests {
             ["a.json", "b.json", "c.txt", "sub/d.json"]
         );
         assert_eq!(
-            names(collect_files(&[dir.clone()], false, json).unwrap()),
+            names(collect_files(std::slice::from_ref(&dir), false, json).unwrap()),
             ["a.json", "b.json"]
         );
         let missing = collect_files(&[dir.join("nope")], true, json).unwrap_err();

@@ -658,7 +658,7 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
     let tables = lightproof::bsdf::contract::chi2_tables(&test, &bsdf, w);
     let o = test.judge(bsdf.name(), &tables);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
-        .map_err(|e| IoError::write(&out, e))?;
+        .map_err(|e| IoError::write(out, e))?;
     println!(
         "{}",
         serde_json::to_string_pretty(
