@@ -15,7 +15,7 @@
 use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
 use super::store::{check_header, files_in, write_json};
 use super::{
-    BATCHES, CaseInfo, CaseReport, ErrorMeasure, Kind, RunInfo, Settings, ShardRun, Status,
+    BATCHES, CaseInfo, CaseReport, ErrorMeasure, Kind, RunInfo, Series, Settings, ShardRun, Status,
 };
 use crate::error::{Error, InputError, IoError, parse_json};
 use crate::sampling::SamplerKind;
@@ -296,6 +296,55 @@ pub fn merge_partials(
             "no shard partial files (shard-K-of-N.json) given".into(),
         )
     })?;
+    check_partials(first_path, first, partials)?;
+    run.budget_cut = partials.iter().any(|(_, p)| p.run.budget_cut);
+    run.shards = partials
+        .iter()
+        .map(|(_, p)| ShardRun {
+            index: p.shard.index,
+            count: p.shard.count,
+            run: p.run.clone(),
+        })
+        .collect();
+    run.shards.sort_by_key(|s| s.index);
+    let settings = &first.settings;
+    let mut reports = vec![];
+    for (ci, case) in first.cases.iter().enumerate() {
+        let measure = error_measure(&case.case);
+        let mut series = vec![];
+        for (si, s) in case.series.iter().enumerate() {
+            series.push(merge_series(
+                partials,
+                settings,
+                case,
+                (ci, si),
+                s,
+                measure,
+            )?);
+        }
+        run.points_computed += series.iter().map(|s| s.points.len() as u64).sum::<u64>();
+        reports.push(assemble_case_report(
+            case.id.clone(),
+            case.case.clone(),
+            settings,
+            measure,
+            &run,
+            series,
+        ));
+    }
+    let total = run.points_computed;
+    for r in &mut reports {
+        r.run.points_computed = total;
+    }
+    Ok(reports)
+}
+
+/// The partials form one complete set: one plan and build, every index 0..N once.
+fn check_partials(
+    first_path: &Path,
+    first: &ShardPartial,
+    partials: &[(PathBuf, ShardPartial)],
+) -> Result<(), InputError> {
     let count = first.shard.count;
     if count == 0 {
         return Err(InputError::new(
@@ -307,57 +356,10 @@ pub fn merge_partials(
     // By index, not a slot per shard: a file claiming 2³² − 1 shards allocates nothing.
     let mut seen: BTreeMap<u32, &Path> = BTreeMap::new();
     for (path, p) in partials {
-        let f = path.display().to_string();
-        if p.shard.count != count {
-            return Err(InputError::new(
-                f,
-                "shard.count",
-                format!(
-                    "{} shards, but {} has {count}",
-                    p.shard.count,
-                    first_path.display()
-                ),
-            ));
-        }
-        if p.plan != first.plan || p.settings != first.settings {
-            return Err(InputError::new(
-                f,
-                "plan",
-                format!(
-                    "a different sweep (cases, settings or seed) from {}",
-                    first_path.display()
-                ),
-            ));
-        }
-        if p.run.git_revision != first.run.git_revision
-            || p.run.lightproof_version != first.run.lightproof_version
-        {
-            return Err(InputError::new(
-                f,
-                "run.git_revision",
-                format!(
-                    "built from {} {}, but {} from {} {}: shards must run the same build",
-                    p.run.lightproof_version,
-                    p.run.git_revision,
-                    first_path.display(),
-                    first.run.lightproof_version,
-                    first.run.git_revision
-                ),
-            ));
-        }
-        if p.shard.index >= count {
-            return Err(InputError::new(
-                f,
-                "shard.index",
-                format!(
-                    "shard index {} is not below the shard count {count}",
-                    p.shard.index
-                ),
-            ));
-        }
+        check_member(first_path, first, path, p)?;
         if let Some(other) = seen.insert(p.shard.index, path) {
             return Err(InputError::new(
-                f,
+                path.display().to_string(),
                 "shard.index",
                 format!(
                     "shard {} is also given as {}",
@@ -368,6 +370,71 @@ pub fn merge_partials(
         }
     }
     // The first ten missing indices (bounded work whatever the claimed count).
+    check_complete(count, &seen)
+}
+
+/// One partial belongs to the same sweep and build as the first, with a valid index.
+fn check_member(
+    first_path: &Path,
+    first: &ShardPartial,
+    path: &Path,
+    p: &ShardPartial,
+) -> Result<(), InputError> {
+    let count = first.shard.count;
+    let f = path.display().to_string();
+    if p.shard.count != count {
+        return Err(InputError::new(
+            f,
+            "shard.count",
+            format!(
+                "{} shards, but {} has {count}",
+                p.shard.count,
+                first_path.display()
+            ),
+        ));
+    }
+    if p.plan != first.plan || p.settings != first.settings {
+        return Err(InputError::new(
+            f,
+            "plan",
+            format!(
+                "a different sweep (cases, settings or seed) from {}",
+                first_path.display()
+            ),
+        ));
+    }
+    if p.run.git_revision != first.run.git_revision
+        || p.run.lightproof_version != first.run.lightproof_version
+    {
+        return Err(InputError::new(
+            f,
+            "run.git_revision",
+            format!(
+                "built from {} {}, but {} from {} {}: shards must run the same build",
+                p.run.lightproof_version,
+                p.run.git_revision,
+                first_path.display(),
+                first.run.lightproof_version,
+                first.run.git_revision
+            ),
+        ));
+    }
+    if p.shard.index >= count {
+        return Err(InputError::new(
+            f,
+            "shard.index",
+            format!(
+                "shard index {} is not below the shard count {count}",
+                p.shard.index
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every shard index below `count` is present.
+fn check_complete(count: u32, seen: &BTreeMap<u32, &Path>) -> Result<(), InputError> {
+    let merge_err = |field: &str, r: String| InputError::new("<merge>", field, r);
     let missing: Vec<String> = (0..count)
         .filter(|i| !seen.contains_key(i))
         .take(10)
@@ -385,99 +452,79 @@ pub fn merge_partials(
             format!("missing shard(s) {}{more} of {count}", missing.join(", ")),
         ));
     }
-    run.budget_cut = partials.iter().any(|(_, p)| p.run.budget_cut);
-    run.shards = partials
-        .iter()
-        .map(|(_, p)| ShardRun {
-            index: p.shard.index,
-            count: p.shard.count,
-            run: p.run.clone(),
-        })
-        .collect();
-    run.shards.sort_by_key(|s| s.index);
-    let settings = &first.settings;
-    let mut reports = vec![];
-    for (ci, case) in first.cases.iter().enumerate() {
-        let measure = error_measure(&case.case);
-        let mut series = vec![];
-        for (si, s) in case.series.iter().enumerate() {
-            // Batches of every point, from every shard.
-            let mut by_samples: BTreeMap<u64, (u64, Vec<BatchRecord>)> = BTreeMap::new();
-            let mut cut = false;
-            for (path, p) in partials {
-                let ps = p
-                    .cases
-                    .get(ci)
-                    .filter(|c| c.id == case.id)
-                    .and_then(|c| c.series.get(si))
-                    .filter(|x| x.estimator == s.estimator && x.sampler == s.sampler)
-                    .ok_or_else(|| {
-                        InputError::new(
-                            path.display().to_string(),
-                            format!("cases[{ci}].series[{si}]"),
-                            "does not match the plan of the other shards",
-                        )
-                    })?;
-                cut |= ps.status == Status::BudgetCut;
-                for pt in &ps.points {
-                    let e = by_samples.entry(pt.samples).or_insert((pt.seed, vec![]));
-                    e.1.extend_from_slice(&pt.batches);
-                }
-            }
-            let mut points = vec![];
-            for k in settings.exponents() {
-                let Some((seed, mut recs)) = by_samples.remove(&(1u64 << k)) else {
-                    continue;
-                };
-                recs.sort_by_key(|r| r.batch);
-                recs.dedup_by_key(|r| r.batch);
-                if recs.len() as u64 != BATCHES
-                    || recs.iter().enumerate().any(|(i, r)| r.batch != i as u64)
-                {
-                    continue;
-                }
-                let accs: Vec<Accumulator> = recs.iter().map(|r| r.accumulator()).collect();
-                let seconds = recs.iter().map(|r| r.seconds).sum();
-                points.push(point_from_batches(
-                    1 << k,
-                    seed,
-                    &accs,
-                    seconds,
-                    None,
-                    case.case.reference,
-                ));
-            }
-            let planned = settings.exponents().count();
-            let status = if points.len() == planned {
-                Status::Complete
-            } else if cut {
-                Status::BudgetCut
-            } else {
-                Status::InProgress
-            };
-            series.push(summarized_series(
-                (s.estimator, s.sampler, s.seed),
-                status,
-                points,
-                measure,
-                case.case.reference,
-            ));
+    Ok(())
+}
+
+/// One series merged from every shard's batches: the points whose 128 batches are all
+/// present, in batch order.
+fn merge_series(
+    partials: &[(PathBuf, ShardPartial)],
+    settings: &Settings,
+    case: &ShardCase,
+    (ci, si): (usize, usize),
+    s: &ShardSeries,
+    measure: ErrorMeasure,
+) -> Result<Series, InputError> {
+    // Batches of every point, from every shard.
+    let mut by_samples: BTreeMap<u64, (u64, Vec<BatchRecord>)> = BTreeMap::new();
+    let mut cut = false;
+    for (path, p) in partials {
+        let ps = p
+            .cases
+            .get(ci)
+            .filter(|c| c.id == case.id)
+            .and_then(|c| c.series.get(si))
+            .filter(|x| x.estimator == s.estimator && x.sampler == s.sampler)
+            .ok_or_else(|| {
+                InputError::new(
+                    path.display().to_string(),
+                    format!("cases[{ci}].series[{si}]"),
+                    "does not match the plan of the other shards",
+                )
+            })?;
+        cut |= ps.status == Status::BudgetCut;
+        for pt in &ps.points {
+            let e = by_samples.entry(pt.samples).or_insert((pt.seed, vec![]));
+            e.1.extend_from_slice(&pt.batches);
         }
-        run.points_computed += series.iter().map(|s| s.points.len() as u64).sum::<u64>();
-        reports.push(assemble_case_report(
-            case.id.clone(),
-            case.case.clone(),
-            settings,
-            measure,
-            &run,
-            series,
+    }
+    let mut points = vec![];
+    for k in settings.exponents() {
+        let Some((seed, mut recs)) = by_samples.remove(&(1u64 << k)) else {
+            continue;
+        };
+        recs.sort_by_key(|r| r.batch);
+        recs.dedup_by_key(|r| r.batch);
+        if recs.len() as u64 != BATCHES || recs.iter().enumerate().any(|(i, r)| r.batch != i as u64)
+        {
+            continue;
+        }
+        let accs: Vec<Accumulator> = recs.iter().map(|r| r.accumulator()).collect();
+        let seconds = recs.iter().map(|r| r.seconds).sum();
+        points.push(point_from_batches(
+            1 << k,
+            seed,
+            &accs,
+            seconds,
+            None,
+            case.case.reference,
         ));
     }
-    let total = run.points_computed;
-    for r in &mut reports {
-        r.run.points_computed = total;
-    }
-    Ok(reports)
+    let planned = settings.exponents().count();
+    let status = if points.len() == planned {
+        Status::Complete
+    } else if cut {
+        Status::BudgetCut
+    } else {
+        Status::InProgress
+    };
+    Ok(summarized_series(
+        (s.estimator, s.sampler, s.seed),
+        status,
+        points,
+        measure,
+        case.case.reference,
+    ))
 }
 
 /// The error measure of a case: RMS error with a reference, standard error without.

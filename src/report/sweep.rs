@@ -280,57 +280,7 @@ pub struct Progress<'a> {
 pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary, Error> {
     let t0 = Instant::now();
     let settings = settings(opts)?;
-    let samplers = if opts.samplers.is_empty() {
-        SamplerKind::ALL.to_vec()
-    } else {
-        opts.samplers.clone()
-    };
-    let mut cases: Vec<CaseState> = vec![];
-    for (id, case) in load_cases(&opts.paths)? {
-        let info = CaseInfo {
-            name: case.desc.name.clone(),
-            file: case.file.display().to_string(),
-            teaches: case.desc.teaches.clone(),
-            measure: case.measure.name().to_string(),
-            reference: case.reference,
-            digest: case_digest(&case),
-        };
-        let mut series = vec![];
-        for &est in case
-            .desc
-            .estimators
-            .iter()
-            .filter(|e| opts.estimators.is_empty() || opts.estimators.contains(e))
-        {
-            for &sampler in &samplers {
-                series.push(SeriesState {
-                    est,
-                    sampler,
-                    seed: seed_for(settings.seed, &case.desc.name, est, sampler),
-                    done: BTreeMap::new(),
-                    parts: BTreeMap::new(),
-                    wall: BTreeMap::new(),
-                    pending: settings.exponents().collect(),
-                    cut: false,
-                });
-            }
-        }
-        if !series.is_empty() {
-            cases.push(CaseState {
-                id,
-                case,
-                info,
-                series,
-                dirty: true,
-            });
-        }
-    }
-    if cases.is_empty() {
-        return Err(Error::Input(cli_err(
-            "--estimator",
-            "nothing to run: no case names any of the estimators asked for",
-        )));
-    }
+    let mut cases = plan_cases(opts, &settings)?;
     let threads = rayon::current_num_threads();
     let plan = plan_digest(&settings, &cases);
     let mut notes = vec![];
@@ -344,91 +294,44 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     let mut run = run_info(threads, opts.budget);
     run.points_resumed = resumed;
 
-    // The queue: (predicted wall nanoseconds, plan order) → (case, series).
-    let mut queue = BinaryHeap::new();
-    let mut order = 0usize;
+    let mut queue = Queue::default();
     for (ci, c) in cases.iter().enumerate() {
         for (si, s) in c.series.iter().enumerate() {
-            if let Some(&k) = s.pending.first() {
-                queue.push(Reverse((nanos(s.predict(k)), order, ci, si)));
-                order += 1;
-            }
+            queue.push_next(s, ci, si);
         }
     }
-    let total: usize = cases
+    let total: u64 = cases
         .iter()
         .flat_map(|c| &c.series)
-        .map(|s| s.pending.len())
+        .map(|s| s.pending.len() as u64)
         .sum();
     let mut done = 0u64;
     // Flush at most once a second, and spend at most a tenth of the time writing.
     let mut last_flush: Option<Instant> = None;
     let mut flush_every = Duration::from_secs(1);
-    while let Some(Reverse((predicted, _, ci, si))) = queue.pop() {
-        let elapsed = t0.elapsed().as_secs_f64();
+    while let Some((predicted, ci, si)) = queue.pop() {
         if let Some(b) = opts.budget
-            && elapsed + predicted as f64 * 1e-9 > b
+            && t0.elapsed().as_secs_f64() + predicted > b
         {
             run.budget_cut = true;
-            for c in &mut cases {
-                for s in c.series.iter_mut().filter(|s| !s.pending.is_empty()) {
-                    s.cut = true;
-                    c.dirty = true;
-                }
-            }
+            cut_pending(&mut cases);
             break;
         }
         let c = &mut cases[ci];
-        let s = &mut c.series[si];
-        let k = s.pending.remove(0);
+        let k = c.series[si].pending.remove(0);
         progress(Progress {
             done,
-            total: total as u64,
-            current: &format!("{} {}/{} N=2^{k}", c.id, s.est.name(), s.sampler.name()),
+            total,
+            current: &format!(
+                "{} {}/{} N=2^{k}",
+                c.id,
+                c.series[si].est.name(),
+                c.series[si].sampler.name()
+            ),
         });
-        let seed = point_seed(s.seed, k);
-        let spec = RunSpec {
-            samples: 1 << k,
-            sampler: s.sampler,
-            seed,
-        };
-        let batches: Vec<u64> = match opts.shard {
-            None => (0..BATCHES).collect(),
-            Some(sh) => sh.batches(s.seed, k),
-        };
-        let tp = Instant::now();
-        let results = run_point(&c.case, s.est, &spec, &batches);
-        let wall = tp.elapsed().as_secs_f64();
-        s.wall.insert(k, wall);
-        match opts.shard {
-            None => {
-                let accs: Vec<Accumulator> = results.iter().map(|r| r.1).collect();
-                let seconds = results.iter().map(|r| r.2).sum();
-                let p =
-                    point_from_batches(1 << k, seed, &accs, seconds, Some(wall), c.case.reference);
-                s.done.insert(k, p);
-            }
-            Some(_) => {
-                let recs = results
-                    .iter()
-                    .map(|(b, a, t)| BatchRecord::new(*b, a, *t))
-                    .collect();
-                s.parts.insert(
-                    k,
-                    ShardPoint {
-                        samples: 1 << k,
-                        seed,
-                        batches: recs,
-                    },
-                );
-            }
-        }
+        compute_point(opts.shard, c, si, k);
         run.points_computed += 1;
-        c.dirty = true;
-        if let Some(&next) = s.pending.first() {
-            queue.push(Reverse((nanos(s.predict(next)), order, ci, si)));
-            order += 1;
-        }
+        queue.push_next(&c.series[si], ci, si);
         done += 1;
         if last_flush.is_none_or(|t| t.elapsed() >= flush_every) {
             let tf = Instant::now();
@@ -463,6 +366,135 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     summary.budget_cut = run.budget_cut;
     summary.notes = notes;
     Ok(summary)
+}
+
+/// Every case × estimator × sampler series the options ask for, none computed yet.
+fn plan_cases(opts: &Options, settings: &Settings) -> Result<Vec<CaseState>, Error> {
+    let samplers = if opts.samplers.is_empty() {
+        SamplerKind::ALL.to_vec()
+    } else {
+        opts.samplers.clone()
+    };
+    let mut cases: Vec<CaseState> = vec![];
+    for (id, case) in load_cases(&opts.paths)? {
+        let info = CaseInfo {
+            name: case.desc.name.clone(),
+            file: case.file.display().to_string(),
+            teaches: case.desc.teaches.clone(),
+            measure: case.measure.name().to_string(),
+            reference: case.reference,
+            digest: case_digest(&case),
+        };
+        let mut series = vec![];
+        let wanted = |e: &&Estimator| opts.estimators.is_empty() || opts.estimators.contains(e);
+        for &est in case.desc.estimators.iter().filter(wanted) {
+            for &sampler in &samplers {
+                series.push(SeriesState {
+                    est,
+                    sampler,
+                    seed: seed_for(settings.seed, &case.desc.name, est, sampler),
+                    done: BTreeMap::new(),
+                    parts: BTreeMap::new(),
+                    wall: BTreeMap::new(),
+                    pending: settings.exponents().collect(),
+                    cut: false,
+                });
+            }
+        }
+        if !series.is_empty() {
+            cases.push(CaseState {
+                id,
+                case,
+                info,
+                series,
+                dirty: true,
+            });
+        }
+    }
+    if cases.is_empty() {
+        return Err(Error::Input(cli_err(
+            "--estimator",
+            "nothing to run: no case names any of the estimators asked for",
+        )));
+    }
+    Ok(cases)
+}
+
+/// The pending points, cheapest predicted wall time first (ties in plan order).
+#[derive(Default)]
+struct Queue {
+    heap: BinaryHeap<Reverse<(u64, usize, usize, usize)>>,
+    order: usize,
+}
+
+impl Queue {
+    /// Queue the next pending point of series `si` of case `ci`, if any.
+    fn push_next(&mut self, s: &SeriesState, ci: usize, si: usize) {
+        if let Some(&k) = s.pending.first() {
+            self.heap
+                .push(Reverse((nanos(s.predict(k)), self.order, ci, si)));
+            self.order += 1;
+        }
+    }
+
+    /// The cheapest point: (predicted wall seconds, case, series).
+    fn pop(&mut self) -> Option<(f64, usize, usize)> {
+        self.heap
+            .pop()
+            .map(|Reverse((ns, _, ci, si))| (ns as f64 * 1e-9, ci, si))
+    }
+}
+
+/// Mark every series with points left as cut by the budget.
+fn cut_pending(cases: &mut [CaseState]) {
+    for c in cases {
+        for s in c.series.iter_mut().filter(|s| !s.pending.is_empty()) {
+            s.cut = true;
+            c.dirty = true;
+        }
+    }
+}
+
+/// Compute point k of series `si` of case `c` (all batches, or this shard's) and keep it.
+fn compute_point(shard: Option<Shard>, c: &mut CaseState, si: usize, k: u32) {
+    let s = &mut c.series[si];
+    let seed = point_seed(s.seed, k);
+    let spec = RunSpec {
+        samples: 1 << k,
+        sampler: s.sampler,
+        seed,
+    };
+    let batches: Vec<u64> = match shard {
+        None => (0..BATCHES).collect(),
+        Some(sh) => sh.batches(s.seed, k),
+    };
+    let tp = Instant::now();
+    let results = run_point(&c.case, s.est, &spec, &batches);
+    let wall = tp.elapsed().as_secs_f64();
+    s.wall.insert(k, wall);
+    match shard {
+        None => {
+            let accs: Vec<Accumulator> = results.iter().map(|r| r.1).collect();
+            let seconds = results.iter().map(|r| r.2).sum();
+            let p = point_from_batches(1 << k, seed, &accs, seconds, Some(wall), c.case.reference);
+            s.done.insert(k, p);
+        }
+        Some(_) => {
+            let batches = results
+                .iter()
+                .map(|(b, a, t)| BatchRecord::new(*b, a, *t))
+                .collect();
+            s.parts.insert(
+                k,
+                ShardPoint {
+                    samples: 1 << k,
+                    seed,
+                    batches,
+                },
+            );
+        }
+    }
+    c.dirty = true;
 }
 
 fn nanos(seconds: f64) -> u64 {
