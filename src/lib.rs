@@ -45,6 +45,7 @@
 //! | [`case`] | case files: schema, validation in steps, the one run path |
 //! | [`verdict`] | error bars, statistical and exact verdicts, outcomes, the Šidák family |
 //! | [`suites`] | the chi-square suite of every warp, shared by the CLI and the tests |
+//! | [`table`] | the verdict table `verify` prints, sized to the terminal |
 //! | [`report`] | convergence reports: sweeps, shards and merging, JSON, plots, index |
 //! | [`render`] | pinhole-camera EXR images |
 
@@ -64,5 +65,6 @@ pub mod scene;
 pub mod spectrum;
 pub mod stats;
 pub mod suites;
+pub mod table;
 pub mod transport;
 pub mod verdict;

@@ -54,6 +54,9 @@ enum Command {
         /// Skip the chi-square suites.
         #[arg(long)]
         no_chi2: bool,
+        /// Print each case's name and what it teaches under its rows.
+        #[arg(long, short)]
+        verbose: bool,
     },
     /// Estimate one case: one JSON object on stdout.
     Estimate {
@@ -314,6 +317,7 @@ fn main() -> ExitCode {
         samples: None,
         json: None,
         no_chi2: false,
+        verbose: false,
     });
     let threads = match &command {
         Command::Verify { threads, .. }
@@ -376,10 +380,11 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             samples,
             json,
             no_chi2,
+            verbose,
             ..
         } => {
             require_cases(&paths)?;
-            verify(paths, seed, samples, json, no_chi2)
+            verify(paths, seed, samples, json, no_chi2, verbose)
         }
         Command::Estimate {
             case,
@@ -462,6 +467,7 @@ fn verify(
     samples: Option<u64>,
     json: Option<PathBuf>,
     no_chi2: bool,
+    verbose: bool,
 ) -> Result<(), Failure> {
     let whole = paths.is_empty();
     let paths = if whole {
@@ -469,6 +475,15 @@ fn verify(
     } else {
         paths
     };
+    // Each case's file id: its path under the folder given, without `.json`.
+    let mut ids = std::collections::BTreeMap::new();
+    for p in &paths {
+        let root = p.is_dir().then_some(p.as_path());
+        for f in collect_cases(std::slice::from_ref(p))? {
+            ids.entry(f.display().to_string())
+                .or_insert_with(|| lightproof::report::store::case_id(root, &f));
+        }
+    }
     let files = collect_cases(&paths)?;
     let cases: Vec<Case> = files
         .iter()
@@ -504,58 +519,25 @@ fn verify(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    println!(
-        "{:<48} {:<12} {:>24} {:>12} {:>8} {:>9} {:>8}  verdict",
-        "case", "estimator", "estimate ± std error", "reference", "z", "det.bias", "time"
-    );
+    let mut rows = Vec::new();
+    let mut named = std::collections::BTreeSet::new();
     for o in &outcomes {
-        let (r, z, det, verdict) = match &o.verdict {
-            Some(v) => (
-                format!("{:.6}", v.reference),
-                format!("{:+.2}", v.z),
-                format!("{:.3}%", 100.0 * v.detectable_relative_bias),
-                if v.passed { "pass" } else { "FAIL" },
-            ),
-            None => ("-".into(), "-".into(), "-".into(), "(no reference)"),
-        };
-        let name: String = o.case.chars().take(48).collect();
-        println!(
-            "{name:<48} {:<12} {:>24} {r:>12} {z:>8} {det:>9} {:>7.2}s  {verdict}",
-            format!(
-                "{}{}",
-                o.estimator.name(),
-                if o.sampler == SamplerKind::Independent {
-                    String::new()
-                } else {
-                    format!("/{}", o.sampler.name())
-                }
-            ),
-            match o.std_error {
-                Some(se) => format!("{:.6} ± {se:.6}", o.estimate),
-                None => format!("{:.6} (exact)", o.estimate),
-            },
-            o.seconds
-        );
-        if let Some(reason) = o.verdict.as_ref().and_then(|v| v.reason.as_ref()) {
-            println!("    ↳ {reason}");
+        let id = ids.get(&o.file).map_or(o.case.as_str(), |s| s.as_str());
+        let mut row = lightproof::table::outcome_row(id, o);
+        if verbose && named.insert(o.file.clone()) {
+            let teaches = cases
+                .iter()
+                .find(|c| c.file.display().to_string() == o.file)
+                .map_or("", |c| c.desc.teaches.as_str());
+            row.notes.insert(0, format!("{}: {teaches}", o.case));
         }
+        rows.push(row);
     }
-    for c in &chi2_rows {
-        println!(
-            "{:<48} {:<12} {:>24} {:>12} {:>8} {:>9} {:>8}  {}",
-            format!("chi2 {}", c.name),
-            "sampling",
-            format!("p = {:.3e}", c.p_value),
-            format!("dof {}", c.dof),
-            "-",
-            "-",
-            "",
-            if c.passed { "pass" } else { "FAIL" }
-        );
-        if let Some(r) = &c.reason {
-            println!("    ↳ {r}");
-        }
-    }
+    rows.extend(chi2_rows.iter().map(lightproof::table::chi2_row));
+    print!(
+        "{}",
+        lightproof::table::render(&rows, lightproof::table::terminal_width())
+    );
     let failed = outcomes.iter().filter(|o| !o.passed()).count()
         + chi2_rows.iter().filter(|c| !c.passed).count();
     let total = outcomes.len() + chi2_rows.len();

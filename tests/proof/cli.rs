@@ -238,3 +238,27 @@ fn unwritable_output_exits_3() {
     let err = String::from_utf8_lossy(&render.stderr);
     assert_eq!(render.status.code(), Some(3), "{err}");
 }
+
+#[test]
+fn verify_table_names_cases_by_file_id_and_verbose_adds_what_they_teach() {
+    let out = bin()
+        .args(["verify", "--no-chi2", "--samples", "4096"])
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/power"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    // The id (path under the folder given, no `.json`), never the name cut short.
+    let row = |id: &str| text.lines().any(|l| l.split_whitespace().next() == Some(id));
+    for id in ["disk", "rectangle", "sphere", "two_sided_triangle"] {
+        assert!(row(id), "no row for `{id}`: {text}");
+    }
+    assert!(!text.contains("Φ = π L A"), "names only with --verbose: {text}");
+    let verbose = bin()
+        .args(["verify", "--no-chi2", "--samples", "4096", "--verbose"])
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/power/disk.json"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&verbose.stdout);
+    assert!(text.contains("power of a disk light: Φ = π L A"), "{text}");
+}
