@@ -10,6 +10,7 @@ use super::{
     RunInfo, Series, Settings, Status, TARGETS, TimeTo, finite,
 };
 use crate::sampling::SamplerKind;
+use crate::stats::{Accumulator, BatchMeans, fit_cost, fit_slope};
 use crate::transport::Estimator;
 
 /// A series from its points, with its fits, efficiency and times filled in
@@ -27,6 +28,7 @@ pub fn summarized_series(
         seed,
         status,
         points,
+        fit_cost: None,
         fit_samples: None,
         fit_seconds: None,
         efficiency: None,
@@ -59,7 +61,6 @@ pub fn assemble_case_report(
         plot: None,
     }
 }
-use crate::stats::{Accumulator, BatchMeans, fit_slope};
 
 /// The statistics of one point from its per-batch accumulators, in batch order.
 ///
@@ -128,31 +129,46 @@ fn scale(series: &Series, reference: Option<f64>) -> Option<f64> {
 
 /// Fill the fits, efficiency and times to accuracy of a series from its points.
 ///
-/// - `fit_samples`: ln e = a + b ln N; `fit_seconds`: ln e = a′ + b′ ln t, over the points
+/// - `fit_cost`: t = t₀ + c·N through every point's core-seconds ([`fit_cost`]: relative,
+///   robust); the predicted time t̂(N) = t₀ + c·N is what the rest uses, so one noisy
+///   short measurement neither makes a curve run backwards nor decides a time to
+///   accuracy (measured times are used only when no cost line fits).
+/// - `fit_samples`: ln e = a + b ln N; `fit_seconds`: ln e = a′ + b′ ln t̂, over the points
 ///   with e > 0 (a zero-variance estimator has no slope).
-/// - `efficiency = 1/(σ̂² t)` and `seconds_per_sample = t/N` at the largest point.
-/// - `time_to[ε]`: the cheapest point with e/scale ≤ ε (measured), else along the fit
-///   N* = exp((ln(ε·scale) − a)/b), t* = N* · t/N when b < 0 (extrapolated).
+/// - `efficiency = 1/(σ̂² t̂)` at the largest point; `seconds_per_sample = c`.
+/// - `time_to[ε]`: along the fits, N* = exp((ln(ε·scale) − a)/b) when b < 0 and
+///   t* = t̂(N*), `extrapolated` when N* lies beyond the largest point; without an error
+///   fit (zero variance), the cheapest point with e/scale ≤ ε.
 pub fn summarize(series: &mut Series, measure: ErrorMeasure, reference: Option<f64>) {
+    let ns: Vec<f64> = series.points.iter().map(|p| p.samples as f64).collect();
+    let ts: Vec<f64> = series.points.iter().map(|p| p.seconds).collect();
+    series.fit_cost = fit_cost(&ns, &ts);
+    let cost = series.fit_cost;
+    let t_hat = |p: &Point| cost.map_or(p.seconds, |c| c.seconds(p.samples as f64));
     let pts: Vec<(f64, f64, f64)> = series
         .points
         .iter()
         .filter_map(|p| {
             let e = error_of(p, measure)?;
-            (e > 0.0 && p.seconds > 0.0).then(|| ((p.samples as f64).ln(), p.seconds.ln(), e.ln()))
+            let t = t_hat(p);
+            (e > 0.0 && t > 0.0).then(|| ((p.samples as f64).ln(), t.ln(), e.ln()))
         })
         .collect();
     let xs: Vec<f64> = pts.iter().map(|p| p.0).collect();
-    let ts: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let lts: Vec<f64> = pts.iter().map(|p| p.1).collect();
     let ys: Vec<f64> = pts.iter().map(|p| p.2).collect();
     series.fit_samples = fit_slope(&xs, &ys).map(Fit::from);
-    series.fit_seconds = fit_slope(&ts, &ys).map(Fit::from);
+    series.fit_seconds = fit_slope(&lts, &ys).map(Fit::from);
     let last = series.points.last();
     series.efficiency = last.and_then(|p| {
         let se = p.std_error?;
-        (se > 0.0 && p.seconds > 0.0).then(|| 1.0 / (se * se * p.seconds))
+        let t = t_hat(p);
+        (se > 0.0 && t > 0.0).then(|| 1.0 / (se * se * t))
     });
-    series.seconds_per_sample = last.and_then(|p| finite(p.seconds / p.samples as f64));
+    series.seconds_per_sample = match cost {
+        Some(c) => Some(c.per_sample),
+        None => last.and_then(|p| finite(p.seconds / p.samples as f64)),
+    };
     let scale = scale(series, reference);
     series.time_to = TARGETS
         .iter()
@@ -170,29 +186,39 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
     let Some(scale) = scale else {
         return none;
     };
-    if let Some(p) = series
-        .points
-        .iter()
-        .find(|p| error_of(p, measure).is_some_and(|e| e / scale <= eps))
-    {
-        return TimeTo {
-            samples: Some(p.samples as f64),
-            seconds: Some(p.seconds),
-            ..none
-        };
-    }
-    match (series.fit_samples, series.seconds_per_sample) {
-        (Some(f), Some(sps)) if f.slope < 0.0 => {
+    let largest = series.points.last().map_or(0.0, |p| p.samples as f64);
+    match (
+        series.fit_samples,
+        series.fit_cost,
+        series.seconds_per_sample,
+    ) {
+        (Some(f), cost, Some(sps)) if f.slope < 0.0 => {
             let n = ((eps * scale).ln() - f.intercept) / f.slope;
             let n = finite(n.exp());
+            let t = |n: f64| cost.map_or(n * sps, |c| c.seconds(n));
             TimeTo {
                 samples: n,
-                seconds: n.and_then(|n| finite(n * sps)),
-                extrapolated: n.is_some(),
+                seconds: n.and_then(|n| finite(t(n))),
+                extrapolated: n.is_some_and(|n| n > largest),
                 ..none
             }
         }
-        _ => none,
+        _ => match series
+            .points
+            .iter()
+            .find(|p| error_of(p, measure).is_some_and(|e| e / scale <= eps))
+        {
+            Some(p) => TimeTo {
+                samples: Some(p.samples as f64),
+                seconds: Some(
+                    series
+                        .fit_cost
+                        .map_or(p.seconds, |c| c.seconds(p.samples as f64)),
+                ),
+                ..none
+            },
+            None => none,
+        },
     }
 }
 
@@ -284,6 +310,7 @@ mod tests {
                     wall_seconds: None,
                 })
                 .collect(),
+            fit_cost: None,
             fit_samples: None,
             fit_seconds: None,
             efficiency: None,
@@ -306,9 +333,13 @@ mod tests {
         let f = s.fit_samples.unwrap();
         assert!((f.slope + 0.5).abs() < 1e-12);
         assert!((s.fit_seconds.unwrap().slope + 0.5).abs() < 1e-12);
-        // 1% needs N = 1e4: 2^14 = 16384 reached it (e = 0.0078).
+        // The cost line is t = 1e-6 N exactly.
+        let c = s.fit_cost.unwrap();
+        assert!(c.t0.abs() < 1e-12 && (c.per_sample / 1e-6 - 1.0).abs() < 1e-9);
+        // 1% needs N = 1e4, inside the sweep (up to 2^14): along the fits, not extrapolated.
         assert!(!s.time_to[0].extrapolated);
-        assert_eq!(s.time_to[0].samples, Some(16384.0));
+        assert!((s.time_to[0].samples.unwrap() / 1e4 - 1.0).abs() < 1e-9);
+        assert!((s.time_to[0].seconds.unwrap() / 1e-2 - 1.0).abs() < 1e-9);
         // 0.1% needs N = 1e6, extrapolated: t = 1 s.
         let t = s.time_to[1];
         assert!(t.extrapolated);

@@ -12,8 +12,9 @@
 //! reference `√(Σ_b (m_b − ref)²/B)/√B` (B batch means m_b; it equals the standard error
 //! for an unbiased estimator, and a bias β adds β²/B under the root, so a biased
 //! estimator shows a flattening slope), and its cost in **core-seconds**: the sum of the
-//! per-batch compute times, which is what shards add up to and which does not depend
-//! on the thread count (divide by the threads for the wall time on an idle machine).
+//! per-batch CPU times of the computing threads ([`clock`]), which is what shards add up
+//! to, which does not depend on the thread count (divide by the threads for the wall
+//! time on an idle machine) and which other processes on a busy machine do not inflate.
 //!
 //! **A series** (one estimator × sampler) fits ln e = a + b ln N and ln e = a′ + b′ ln t
 //! by least squares (slope standard error from the residuals, see [`crate::stats::slope`]),
@@ -35,6 +36,7 @@
 //! [`index`], [`plot`], [`machine`] (what a report records about its run).
 
 pub mod analysis;
+pub mod clock;
 pub mod index;
 pub mod machine;
 pub mod plot;
@@ -44,7 +46,7 @@ pub mod store;
 pub mod sweep;
 
 use crate::sampling::SamplerKind;
-use crate::stats::SlopeFit;
+use crate::stats::{CostFit, SlopeFit};
 use crate::transport::Estimator;
 pub use crate::transport::engine::BATCHES;
 use serde::{Deserialize, Serialize};
@@ -264,9 +266,12 @@ pub struct Series {
     pub status: Status,
     /// Points in increasing N.
     pub points: Vec<Point>,
+    /// Core-seconds t = t₀ + c·N through the points (robust, relative; null when the
+    /// times describe no cost line).
+    pub fit_cost: Option<CostFit>,
     /// ln e against ln N.
     pub fit_samples: Option<Fit>,
-    /// ln e against ln t (core-seconds).
+    /// ln e against ln t̂, t̂ the fitted core-seconds (measured ones without a cost fit).
     pub fit_seconds: Option<Fit>,
     /// 1/(σ̂² t) at the largest point (null when σ̂ = 0).
     pub efficiency: Option<f64>,

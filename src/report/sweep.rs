@@ -182,7 +182,8 @@ pub fn point_seed(series_seed: u64, k: u32) -> u64 {
     hash_words(&[series_seed, k as u64])
 }
 
-/// Run the given batches of one point: per batch, its accumulator and compute seconds.
+/// Run the given batches of one point: per batch, its accumulator and the CPU seconds of
+/// the thread that computed it.
 /// Batches run in parallel; each is exactly what the engine computes for it.
 pub fn run_point(
     case: &Case,
@@ -194,12 +195,12 @@ pub fn run_point(
     batches
         .par_iter()
         .map(|&b| {
-            let t = Instant::now();
+            let t = super::clock::CpuTimer::start();
             let acc = run_batches(spec, b..b + 1, &f)
                 .into_iter()
                 .next()
                 .unwrap_or_default();
-            (b, acc, t.elapsed().as_secs_f64())
+            (b, acc, t.seconds())
         })
         .collect()
 }

@@ -11,10 +11,12 @@
 
 pub mod accumulator;
 pub mod chi2;
+pub mod cost;
 pub mod hypothesis;
 pub mod slope;
 
 pub use accumulator::{Accumulator, BatchMeans};
+pub use cost::{CostFit, fit_cost};
 pub use hypothesis::{
     MeanTest, Verdict, VerdictClass, exact_relative_tolerance, is_exact, is_exact_at, sidak_alpha,
 };

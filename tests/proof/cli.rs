@@ -249,11 +249,17 @@ fn verify_table_names_cases_by_file_id_and_verbose_adds_what_they_teach() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{text}");
     // The id (path under the folder given, no `.json`), never the name cut short.
-    let row = |id: &str| text.lines().any(|l| l.split_whitespace().next() == Some(id));
+    let row = |id: &str| {
+        text.lines()
+            .any(|l| l.split_whitespace().next() == Some(id))
+    };
     for id in ["disk", "rectangle", "sphere", "two_sided_triangle"] {
         assert!(row(id), "no row for `{id}`: {text}");
     }
-    assert!(!text.contains("Φ = π L A"), "names only with --verbose: {text}");
+    assert!(
+        !text.contains("Φ = π L A"),
+        "names only with --verbose: {text}"
+    );
     let verbose = bin()
         .args(["verify", "--no-chi2", "--samples", "4096", "--verbose"])
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/power/disk.json"))

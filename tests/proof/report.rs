@@ -103,8 +103,8 @@ fn validate_dir(dir: &Path) -> usize {
 }
 
 /// A report with the fields that depend on timing removed: every `seconds`,
-/// `wall_seconds`, `fit_seconds`, `efficiency`, `seconds_per_sample`, `best` (chosen by
-/// time) and the `run` record.
+/// `wall_seconds`, `fit_cost`, `fit_seconds`, `efficiency`, `seconds_per_sample`, `best`
+/// (chosen by time) and the `run` record.
 fn untimed(mut v: Value) -> Value {
     fn strip(v: &mut Value) {
         match v {
@@ -112,6 +112,7 @@ fn untimed(mut v: Value) -> Value {
                 for k in [
                     "seconds",
                     "wall_seconds",
+                    "fit_cost",
                     "fit_seconds",
                     "efficiency",
                     "seconds_per_sample",
@@ -367,6 +368,20 @@ fn the_schema_validates_the_committed_examples_and_rejects_a_broken_report() {
         .map(|e| read(&e.path()))
         .find(|v| v.get("kind").is_some_and(|k| k == "case"))
         .expect("an example case report");
+    // The cost model: every series has a cost line, so fitted times grow with N and no
+    // curve of the plot runs backwards; the plot has its three panels.
+    for s in report["series"].as_array().unwrap() {
+        let c = &s["fit_cost"];
+        assert!(c["per_sample"].as_f64().unwrap() > 0.0, "{s}");
+        assert!(c["t0"].as_f64().unwrap() >= 0.0, "{s}");
+    }
+    let svg = std::fs::read_to_string(examples.join("disk_on_axis.svg")).unwrap();
+    for panel in ["core-seconds (fitted", "samples N", "core-seconds to 0.1%"] {
+        assert!(svg.contains(panel), "the plot lacks the panel `{panel}`");
+    }
+    let mut broken = report.clone();
+    broken["series"][0]["fit_cost"]["per_sample"] = (-1.0).into();
+    assert!(!v.is_valid(&broken));
     let mut broken = report.clone();
     broken["series"][0]["points"][0]
         .as_object_mut()
