@@ -22,9 +22,9 @@ use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
 use crate::sampling::sphere::uniform_sphere;
 use crate::scene::Scene;
 use crate::scene::emitter::{EmitterKind, spot_falloff};
-use crate::transport::Estimator;
 use crate::transport::path::{Config, Prev, next_event, trace};
 use crate::transport::phase::{Dimensions, Grey, Lanes, Phase, finish};
+use crate::transport::{Estimator, Geometric, Sampling, Strategy};
 use glam::{Vec2, Vec3, Vec4};
 
 /// A measurement in engine coordinates (f32, rebased on the scene origin).
@@ -175,14 +175,11 @@ impl Measure {
             return grey(NOT_AN_ESTIMATOR_OF_THIS);
         }
         match self {
-            Measure::SolidAngle { from, shape } => grey(match est {
-                Estimator::Area => area_visibility(scene, *from, *shape, None, s),
-                Estimator::Light
-                | Estimator::Bsdf
-                | Estimator::Mis
-                | Estimator::MisBalance
-                | Estimator::Cosine => NOT_AN_ESTIMATOR_OF_THIS,
-                Estimator::Uniform => {
+            Measure::SolidAngle { from, shape } => grey(match est.sampling() {
+                Sampling::Geometric(Geometric::Area) => {
+                    area_visibility(scene, *from, *shape, None, s)
+                }
+                Sampling::Geometric(Geometric::Uniform) => {
                     let w = uniform_sphere(s.next_2d());
                     if first_shape(scene, *from, w) == Some(*shape) {
                         4.0 * PI
@@ -190,14 +187,19 @@ impl Measure {
                         0.0
                     }
                 }
+                Sampling::Geometric(Geometric::Cosine) | Sampling::Transport(_) => {
+                    NOT_AN_ESTIMATOR_OF_THIS
+                }
             }),
             Measure::ProjectedSolidAngle {
                 from,
                 normal,
                 shape,
-            } => grey(match est {
-                Estimator::Area => area_visibility(scene, *from, *shape, Some(*normal), s),
-                Estimator::Cosine => {
+            } => grey(match est.sampling() {
+                Sampling::Geometric(Geometric::Area) => {
+                    area_visibility(scene, *from, *shape, Some(*normal), s)
+                }
+                Sampling::Geometric(Geometric::Cosine) => {
                     let w = Frame::from_z(*normal).to_world(cosine_hemisphere(s.next_2d()));
                     if first_shape(scene, *from, w) == Some(*shape) {
                         PI
@@ -205,10 +207,7 @@ impl Measure {
                         0.0
                     }
                 }
-                Estimator::Light | Estimator::Bsdf | Estimator::Mis | Estimator::MisBalance => {
-                    NOT_AN_ESTIMATOR_OF_THIS
-                }
-                Estimator::Uniform => {
+                Sampling::Geometric(Geometric::Uniform) => {
                     let wl = uniform_hemisphere(s.next_2d());
                     let w = Frame::from_z(*normal).to_world(wl);
                     if first_shape(scene, *from, w) == Some(*shape) {
@@ -217,6 +216,7 @@ impl Measure {
                         0.0
                     }
                 }
+                Sampling::Transport(_) => NOT_AN_ESTIMATOR_OF_THIS,
             }),
             Measure::Irradiance { at, normal } => {
                 irradiance(scene, *at, *normal, est, cfg, phase, s)
@@ -224,21 +224,21 @@ impl Measure {
             Measure::Radiance { at, direction } => {
                 trace(scene, cfg, phase, *at, *direction, Prev::sensor(*at), 0, s)
             }
-            Measure::Albedo { bsdf, wo } => grey(match est {
-                Estimator::Uniform => {
+            Measure::Albedo { bsdf, wo } => grey(match est.sampling() {
+                Sampling::Geometric(Geometric::Uniform) => {
                     let wi = uniform_sphere(s.next_2d());
                     bsdf.eval(*wo, wi) * wi.z.abs() * 4.0 * PI
                 }
-                Estimator::Light
-                | Estimator::Mis
-                | Estimator::MisBalance
-                | Estimator::Cosine
-                | Estimator::Area => NOT_AN_ESTIMATOR_OF_THIS,
-                Estimator::Bsdf => {
+                // The BSDF's own sampling: the estimator a renderer uses.
+                Sampling::Transport(Strategy::Bsdf) => {
                     let u = s.next_2d();
                     let uc = s.next_1d();
                     bsdf.sample(*wo, Vec3::new(u.x, u.y, uc))
                         .map_or(0.0, |b| b.weight)
+                }
+                Sampling::Transport(Strategy::Light | Strategy::Mis(_))
+                | Sampling::Geometric(Geometric::Cosine | Geometric::Area) => {
+                    NOT_AN_ESTIMATOR_OF_THIS
                 }
             }),
             Measure::Power { emitter } => {
@@ -320,7 +320,7 @@ fn irradiance<P: Phase>(
     s: &mut SampleStream,
 ) -> P::L {
     let frame = Frame::from_z(n);
-    let uniform = est == Estimator::Uniform;
+    let uniform = est.sampling() == Sampling::Geometric(Geometric::Uniform);
     let pdf_dir = |wl: Vec3| {
         if wl.z <= 0.0 {
             0.0

@@ -25,7 +25,14 @@ pub mod plan;
 
 use serde::{Deserialize, Serialize};
 
-/// How a measurement's integral is sampled.
+/// How a measurement's integral is sampled, by the name a case file gives it.
+///
+/// The names form one flat list in case files and on the command line; the engine
+/// dispatches on [`Estimator::sampling`], which splits them into the two kinds they
+/// are: transport strategies of the path tracer ([`Strategy`]) and geometric sampling
+/// choices of the direct measurements ([`Geometric`]). A measurement that takes only
+/// geometric choices answers every strategy with one arm, so adding a strategy touches
+/// the path tracer, not every measurement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Estimator {
@@ -45,6 +52,38 @@ pub enum Estimator {
     Area,
 }
 
+/// The two kinds of estimator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Sampling {
+    /// A strategy of the path tracer.
+    Transport(Strategy),
+    /// A geometric sampling choice.
+    Geometric(Geometric),
+}
+
+/// The path tracer's strategies for direct light at each vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Strategy {
+    /// Emitter sampling only.
+    Light,
+    /// BSDF sampling only.
+    Bsdf,
+    /// Both, weighted by a MIS heuristic.
+    Mis(Heuristic),
+}
+
+/// Geometric sampling choices: a density over directions or points, no path tracing
+/// decisions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Geometric {
+    /// Uniform directions (sphere or hemisphere).
+    Uniform,
+    /// Cosine-weighted directions.
+    Cosine,
+    /// Points uniform by area on a shape or emitter.
+    Area,
+}
+
 impl Estimator {
     /// Lower-case name.
     pub fn name(&self) -> &'static str {
@@ -59,24 +98,39 @@ impl Estimator {
         }
     }
 
+    /// Which kind of estimator this name is.
+    pub fn sampling(&self) -> Sampling {
+        match self {
+            Estimator::Light => Sampling::Transport(Strategy::Light),
+            Estimator::Bsdf => Sampling::Transport(Strategy::Bsdf),
+            Estimator::Mis => Sampling::Transport(Strategy::Mis(Heuristic::Power)),
+            Estimator::MisBalance => Sampling::Transport(Strategy::Mis(Heuristic::Balance)),
+            Estimator::Uniform => Sampling::Geometric(Geometric::Uniform),
+            Estimator::Cosine => Sampling::Geometric(Geometric::Cosine),
+            Estimator::Area => Sampling::Geometric(Geometric::Area),
+        }
+    }
+
     /// The path tracer's strategies for this estimator: (light sampling, BSDF sampling,
-    /// the MIS heuristic when both are on). Geometric estimators (uniform, cosine) sample
-    /// directions as BSDF sampling does; area sampling of an emitter is light sampling
+    /// the MIS heuristic when both are on). Where a geometric choice drives the path
+    /// tracer (irradiance by uniform or cosine directions, an emitter by area), it samples
+    /// directions as BSDF sampling does, and area sampling of an emitter is light sampling
     /// combined with the BSDF by MIS.
     pub fn strategies(&self) -> (bool, bool, Heuristic) {
-        match self {
-            Estimator::Light => (true, false, Heuristic::Power),
-            Estimator::Bsdf | Estimator::Uniform | Estimator::Cosine => {
+        match self.sampling() {
+            Sampling::Transport(Strategy::Light) => (true, false, Heuristic::Power),
+            Sampling::Transport(Strategy::Bsdf)
+            | Sampling::Geometric(Geometric::Uniform | Geometric::Cosine) => {
                 (false, true, Heuristic::Power)
             }
-            Estimator::MisBalance => (true, true, Heuristic::Balance),
-            Estimator::Mis | Estimator::Area => (true, true, Heuristic::Power),
+            Sampling::Transport(Strategy::Mis(h)) => (true, true, h),
+            Sampling::Geometric(Geometric::Area) => (true, true, Heuristic::Power),
         }
     }
 }
 
 /// The multiple importance sampling heuristics of Veach & Guibas 1995.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Heuristic {
     /// w = p / (p + q).
     Balance,
@@ -96,5 +150,55 @@ impl Heuristic {
             Heuristic::Power => (p * p) / (p * p + q * q),
         };
         if w.is_finite() { w } else { 0.0 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ALL: [Estimator; 7] = [
+        Estimator::Light,
+        Estimator::Bsdf,
+        Estimator::Mis,
+        Estimator::MisBalance,
+        Estimator::Uniform,
+        Estimator::Cosine,
+        Estimator::Area,
+    ];
+
+    #[test]
+    fn names_split_into_strategies_and_geometric_choices() {
+        let kinds: Vec<Sampling> = ALL.iter().map(|e| e.sampling()).collect();
+        // Seven names, seven distinct kinds: the split loses nothing.
+        for (i, a) in kinds.iter().enumerate() {
+            assert!(kinds[i + 1..].iter().all(|b| b != a), "{a:?} twice");
+        }
+        let transport = |e: Estimator| matches!(e.sampling(), Sampling::Transport(_));
+        assert!(ALL[..4].iter().all(|&e| transport(e)));
+        assert!(ALL[4..].iter().all(|&e| !transport(e)));
+        // The JSON names are the flat list, unchanged.
+        for e in ALL {
+            let json = serde_json::to_string(&e).unwrap();
+            assert_eq!(json, format!("\"{}\"", e.name()));
+            assert_eq!(serde_json::from_str::<Estimator>(&json).unwrap(), e);
+        }
+    }
+
+    #[test]
+    fn strategies_of_each_kind() {
+        use Heuristic::*;
+        let expect = [
+            (true, false, Power),
+            (false, true, Power),
+            (true, true, Power),
+            (true, true, Balance),
+            (false, true, Power),
+            (false, true, Power),
+            (true, true, Power),
+        ];
+        for (e, x) in ALL.iter().zip(expect) {
+            assert_eq!(e.strategies(), x, "{e:?}");
+        }
     }
 }
