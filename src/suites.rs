@@ -26,20 +26,58 @@ fn u2(u: Vec3) -> Vec2 {
     Vec2::new(u.x, u.y)
 }
 
-fn spherical_triangle(name: &'static str, v: [Vec3; 3], rows: usize, cols: usize) -> WarpTest {
+/// The chi-square test of a warp drawing from `domain` at `resolution` (rows, columns;
+/// `None`: the default grid), with its sampler (from three uniform numbers) and density.
+fn warp<S, P>(
+    name: &'static str,
+    domain: Domain,
+    resolution: Option<(usize, usize)>,
+    sample: S,
+    pdf: P,
+) -> WarpTest
+where
+    S: Fn(Vec2) -> Option<Vec3> + Sync + 'static,
+    P: Fn(Vec3) -> f64 + Sync + 'static,
+{
     (
         name,
         Box::new(move |n, seed, alpha| {
-            let t = SphericalTriangle::new(Vec3::ZERO, v).expect("a non-degenerate triangle");
-            Chi2Test::new(Domain::Sphere, n, seed, alpha)
-                .with_resolution(rows, cols)
-                .run(
-                    name,
-                    |u| Some(t.sample(u2(u))),
-                    |w| if t.contains(w) { t.pdf() as f64 } else { 0.0 },
-                )
+            let t = Chi2Test::new(domain, n, seed, alpha);
+            let t = match resolution {
+                Some((rows, cols)) => t.with_resolution(rows, cols),
+                None => t,
+            };
+            t.run(name, |u| sample(u2(u)), &pdf)
         }),
     )
+}
+
+fn spherical_triangle(name: &'static str, v: [Vec3; 3], rows: usize, cols: usize) -> WarpTest {
+    let t = SphericalTriangle::new(Vec3::ZERO, v).expect("a non-degenerate triangle");
+    warp(
+        name,
+        Domain::Sphere,
+        Some((rows, cols)),
+        move |u| Some(t.sample(u)),
+        move |w| if t.contains(w) { t.pdf() as f64 } else { 0.0 },
+    )
+}
+
+/// Whether direction `w` from the origin passes through the parallelogram c + x·ex + y·ey
+/// (x, y ∈ [0, 1]), in `f64`: the support of the spherical rectangle's density.
+fn through_rectangle((c, ex, ey): (Vec3, Vec3, Vec3), w: Vec3) -> bool {
+    let (c, ex, ey, w) = (c.as_dvec3(), ex.as_dvec3(), ey.as_dvec3(), w.as_dvec3());
+    let nrm = ex.cross(ey);
+    let t = c.dot(nrm) / w.dot(nrm);
+    if t <= 0.0 {
+        return false;
+    }
+    let q = w * t - c;
+    let (x, y) = (
+        q.dot(ex) / ex.length_squared(),
+        q.dot(ey) / ey.length_squared(),
+    );
+    (0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)
 }
 
 /// Every warp, in a configuration that exercises it.
@@ -49,81 +87,69 @@ pub fn warps() -> Vec<WarpTest> {
         Vec3::new(1.2, 0.0, 0.0),
         Vec3::new(0.0, 0.9, 0.5),
     );
+    let r = SphericalRectangle::new(Vec3::ZERO, rect.0, rect.1, rect.2)
+        .expect("a rectangle off its plane");
+    let narrow = Cone::from_half_angle(0.3);
+    let half = Cone::from_half_angle(std::f32::consts::FRAC_PI_2);
+    let sc = SphereCone::new(Vec3::ZERO, Vec3::new(0.5, -1.0, 2.0), 1.2).expect("viewer outside");
+    let (nu, nv) = (7, 5);
+    let values: Vec<f32> = (0..nu * nv)
+        .map(|i| ((i * 37 % 11) as f32).powi(2) * if i % 9 == 0 { 0.0 } else { 1.0 })
+        .collect();
+    let d = Distribution2D::new(&values, nu, nv);
+    let d2 = d.clone();
     vec![
-        (
+        warp(
             "uniform_sphere",
-            Box::new(|n, s, a| {
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "uniform_sphere",
-                    |u| Some(uniform_sphere(u2(u))),
-                    |_| uniform_sphere_pdf() as f64,
-                )
-            }),
+            Domain::Sphere,
+            None,
+            |u| Some(uniform_sphere(u)),
+            |_| uniform_sphere_pdf() as f64,
         ),
-        (
+        warp(
             "uniform_hemisphere",
-            Box::new(|n, s, a| {
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "uniform_hemisphere",
-                    |u| Some(uniform_hemisphere(u2(u))),
-                    |w| uniform_hemisphere_pdf(w) as f64,
-                )
-            }),
+            Domain::Sphere,
+            None,
+            |u| Some(uniform_hemisphere(u)),
+            |w| uniform_hemisphere_pdf(w) as f64,
         ),
-        (
+        warp(
             "cosine_hemisphere",
-            Box::new(|n, s, a| {
-                Chi2Test::new(Domain::Hemisphere, n, s, a).run(
-                    "cosine_hemisphere",
-                    |u| Some(cosine_hemisphere(u2(u))),
-                    |w| cosine_hemisphere_pdf(w) as f64,
-                )
-            }),
+            Domain::Hemisphere,
+            None,
+            |u| Some(cosine_hemisphere(u)),
+            |w| cosine_hemisphere_pdf(w) as f64,
         ),
-        (
+        warp(
             "cone_0.3",
-            Box::new(|n, s, a| {
-                let c = Cone::from_half_angle(0.3);
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "cone_0.3",
-                    |u| Some(c.sample(u2(u))),
-                    |w| c.pdf(w) as f64,
-                )
-            }),
+            Domain::Sphere,
+            None,
+            move |u| Some(narrow.sample(u)),
+            move |w| narrow.pdf(w) as f64,
         ),
-        (
+        warp(
             "cone_pi_2",
-            Box::new(|n, s, a| {
-                let c = Cone::from_half_angle(std::f32::consts::FRAC_PI_2);
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "cone_pi_2",
-                    |u| Some(c.sample(u2(u))),
-                    |w| c.pdf(w) as f64,
-                )
-            }),
+            Domain::Sphere,
+            None,
+            move |u| Some(half.sample(u)),
+            move |w| half.pdf(w) as f64,
         ),
-        (
+        warp(
             "concentric_disk",
-            Box::new(|n, s, a| {
-                Chi2Test::new(Domain::Disk, n, s, a).run(
-                    "concentric_disk",
-                    |u| Some(concentric_disk(u2(u)).extend(0.0)),
-                    |p| concentric_disk_pdf(p.truncate()) as f64,
-                )
-            }),
+            Domain::Disk,
+            None,
+            |u| Some(concentric_disk(u).extend(0.0)),
+            |p| concentric_disk_pdf(p.truncate()) as f64,
         ),
-        (
+        warp(
             "uniform_triangle",
-            Box::new(|n, s, a| {
-                Chi2Test::new(Domain::Square, n, s, a).run(
-                    "uniform_triangle",
-                    |u| {
-                        let b = uniform_triangle(u2(u));
-                        Some(Vec3::new(b.x, b.y, 0.0))
-                    },
-                    |p| if p.x + p.y <= 1.0 { 2.0 } else { 0.0 },
-                )
-            }),
+            Domain::Square,
+            None,
+            |u| {
+                let b = uniform_triangle(u);
+                Some(Vec3::new(b.x, b.y, 0.0))
+            },
+            |p| if p.x + p.y <= 1.0 { 2.0 } else { 0.0 },
         ),
         spherical_triangle(
             "spherical_triangle",
@@ -145,61 +171,32 @@ pub fn warps() -> Vec<WarpTest> {
             128,
             256,
         ),
-        (
+        warp(
             "spherical_rectangle",
-            Box::new(move |n, s, a| {
-                let r = SphericalRectangle::new(Vec3::ZERO, rect.0, rect.1, rect.2)
-                    .expect("a rectangle off its plane");
-                let (c, ex, ey) = (rect.0.as_dvec3(), rect.1.as_dvec3(), rect.2.as_dvec3());
-                let nrm = ex.cross(ey);
-                let inside = move |w: Vec3| {
-                    let w = w.as_dvec3();
-                    let t = c.dot(nrm) / w.dot(nrm);
-                    if t <= 0.0 {
-                        return false;
-                    }
-                    let q = w * t - c;
-                    let (x, y) = (
-                        q.dot(ex) / ex.length_squared(),
-                        q.dot(ey) / ey.length_squared(),
-                    );
-                    (0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)
-                };
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "spherical_rectangle",
-                    |u| Some(r.sample(u2(u))),
-                    |w| if inside(w) { r.pdf() as f64 } else { 0.0 },
-                )
-            }),
+            Domain::Sphere,
+            None,
+            move |u| Some(r.sample(u)),
+            move |w| {
+                if through_rectangle(rect, w) {
+                    r.pdf() as f64
+                } else {
+                    0.0
+                }
+            },
         ),
-        (
+        warp(
             "sphere_cone",
-            Box::new(|n, s, a| {
-                let c = SphereCone::new(Vec3::ZERO, Vec3::new(0.5, -1.0, 2.0), 1.2)
-                    .expect("viewer outside");
-                Chi2Test::new(Domain::Sphere, n, s, a).run(
-                    "sphere_cone",
-                    |u| Some(c.sample(Vec3::ZERO, u2(u))),
-                    |w| if c.contains(w) { c.pdf() as f64 } else { 0.0 },
-                )
-            }),
+            Domain::Sphere,
+            None,
+            move |u| Some(sc.sample(Vec3::ZERO, u)),
+            move |w| if sc.contains(w) { sc.pdf() as f64 } else { 0.0 },
         ),
-        (
+        warp(
             "piecewise_constant_2d",
-            Box::new(|n, s, a| {
-                let (nu, nv) = (7, 5);
-                let values: Vec<f32> = (0..nu * nv)
-                    .map(|i| ((i * 37 % 11) as f32).powi(2) * if i % 9 == 0 { 0.0 } else { 1.0 })
-                    .collect();
-                let d = Distribution2D::new(&values, nu, nv);
-                Chi2Test::new(Domain::Square, n, s, a)
-                    .with_resolution(35, 35)
-                    .run(
-                        "piecewise_constant_2d",
-                        |u| Some(d.sample(u2(u)).0.extend(0.0)),
-                        |p| d.pdf(p.truncate()) as f64,
-                    )
-            }),
+            Domain::Square,
+            Some((35, 35)),
+            move |u| Some(d.sample(u).0.extend(0.0)),
+            move |p| d2.pdf(p.truncate()) as f64,
         ),
     ]
 }
