@@ -612,7 +612,12 @@ static ENTRIES: &[Entry] = &[
     ),
     entry!(
         "furnace_integrating_sphere_cap_bounces",
-        ["emitted_radiance", "albedo", "wall_theta_max_degrees", "bounces"],
+        [
+            "emitted_radiance",
+            "albedo",
+            "wall_theta_max_degrees",
+            "bounces"
+        ],
         "the same wall radiance (W/(m²·sr)) with paths cut after `bounces` scatterings: Le Σ_{j≤k} (ρ(1−f))^j",
         |p| {
             let (le, rho, f) = integrating_sphere_cap(p)?;

@@ -141,7 +141,12 @@ mod tests {
     #[test]
     fn annulus_on_axis_by_area_quadrature() {
         // E = ∫∫ L cos θ cos θ' / s² dA over the annulus, in polar coordinates.
-        for (r, big_r, h) in [(0.5, 1.0, 2.0), (0.999, 1.0, 0.3), (1e-3, 2.0, 1e-2), (1.0, 3.0, 500.0)] {
+        for (r, big_r, h) in [
+            (0.5, 1.0, 2.0),
+            (0.999, 1.0, 0.3),
+            (1e-3, 2.0, 1e-2),
+            (1.0, 3.0, 500.0),
+        ] {
             let q = adaptive(
                 |rho| {
                     let s2 = h * h + rho * rho;
@@ -159,7 +164,14 @@ mod tests {
     #[test]
     fn annulus_power_by_quadrature() {
         // Φ = ∫ dA ∫ L cos θ dω over the hemisphere: the angular integral by quadrature.
-        let m = adaptive_2d(|t, _| 1.3 * t.cos() * t.sin(), 0.0, PI / 2.0, |_| 0.0, |_| 2.0 * PI, 1e-13);
+        let m = adaptive_2d(
+            |t, _| 1.3 * t.cos() * t.sin(),
+            0.0,
+            PI / 2.0,
+            |_| 0.0,
+            |_| 2.0 * PI,
+            1e-13,
+        );
         let area = adaptive(|rho| 2.0 * PI * rho, 0.25, 0.75, 1e-14);
         assert!(rel(annulus_power(0.25, 0.75, 1.3), m * area) < 1e-12);
     }
@@ -178,7 +190,13 @@ mod tests {
         // Directions (θ, φ) about the axis within the cap, clipped to cos θ > 0.
         for t in [0.3, 1.0, PI / 2.0, 2.5, PI] {
             let q = adaptive_2d(
-                |th, _| if th < PI / 2.0 { 0.7 * th.cos() * th.sin() } else { 0.0 },
+                |th, _| {
+                    if th < PI / 2.0 {
+                        0.7 * th.cos() * th.sin()
+                    } else {
+                        0.0
+                    }
+                },
                 0.0,
                 t,
                 |_| 0.0,
@@ -192,19 +210,33 @@ mod tests {
 
     #[test]
     fn partial_sums_by_summing_the_series() {
-        for (le, rho, k) in [(1.0, 0.8, 0u32), (2.0, 0.5, 3), (1.0, 1.0, 5), (1.0, 0.999999, 40), (0.5, 0.0, 4)] {
+        for (le, rho, k) in [
+            (1.0, 0.8, 0u32),
+            (2.0, 0.5, 3),
+            (1.0, 1.0, 5),
+            (1.0, 0.999999, 40),
+            (0.5, 0.0, 4),
+        ] {
             let (mut sum, mut term) = (0.0, le);
             for _ in 0..=k {
                 sum += term;
                 term *= rho;
             }
-            assert!(rel(closed_enclosure_bounces(le, rho, k), sum) < 1e-12, "{rho} {k}");
+            assert!(
+                rel(closed_enclosure_bounces(le, rho, k), sum) < 1e-12,
+                "{rho} {k}"
+            );
         }
         // The integrating sphere's partial sums converge to Goebel's equation.
         let (le, rho, f) = (1.0, 0.9, 0.05);
         let l = integrating_sphere_bounces(le, rho, f, 2000);
         assert!(rel(l, integrating_sphere(le, rho, f)) < 1e-12);
-        assert!(rel(integrating_sphere_bounces(le, rho, f, 1), le * (1.0 + rho * (1.0 - f))) < 1e-15);
+        assert!(
+            rel(
+                integrating_sphere_bounces(le, rho, f, 1),
+                le * (1.0 + rho * (1.0 - f))
+            ) < 1e-15
+        );
     }
 
     #[test]

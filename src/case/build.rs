@@ -146,12 +146,19 @@ fn flux(f: &str, scene: &Scene, shape: usize, view_factor: bool) -> Result<Measu
         let grey_steady = e.props.spectrum.is_none()
             && e.props.pulse.is_none()
             && e.props.velocity == glam::Vec3::ZERO;
-        if two_sided || !grey_steady || from == shape || !(radiance > 0.0) {
-            return Err(InputError::new(
-                f,
-                vf,
-                "the emitter must be one-sided, grey, steady, still, of positive radiance, and not the receiver",
-            ));
+        let why = if from == shape {
+            Some("the receiver is the emitter: name another shape")
+        } else if two_sided {
+            Some("the emitter is two-sided: a view factor is from one side")
+        } else if !grey_steady {
+            Some("the emitter must be grey, steady and still (no spectrum, pulse or velocity)")
+        } else if !(radiance > 0.0) {
+            Some("the emitter's radiance must be positive")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(InputError::new(f, vf, why));
         }
         let norm = std::f64::consts::PI * radiance as f64 * scene.shapes[from].area as f64;
         factor = (1.0 / norm) as f32;
@@ -295,9 +302,7 @@ pub fn max_bounces(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<Option
         return Err(InputError::new(
             f,
             "max_depth",
-            format!(
-                "must be 1 (direct light only) to {MAX_PATH_BOUNCES} scatterings, got {depth}"
-            ),
+            format!("must be 1 (direct light only) to {MAX_PATH_BOUNCES} scatterings, got {depth}"),
         ));
     }
     measure.bounces_for_depth(depth).map(Some).ok_or_else(|| {

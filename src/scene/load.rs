@@ -11,8 +11,10 @@
 //!   "emitters": [ { "type": "point", "position": [0, 0, 2], "intensity": 1 } ]
 //! }
 //! ```
-//! Geometry types: `sphere` (center, radius), `rectangle` (corner, edge_u, edge_v),
-//! `disk` (center, normal, radius), `triangle` (vertices), `mesh` (vertices, indices),
+//! Geometry types: `sphere` (center, radius; with `theta_max` in degrees and an optional
+//! `axis`, a spherical cap), `rectangle` (corner, edge_u, edge_v), `disk` (center,
+//! normal, radius; with `inner_radius`, an annulus), `triangle` (vertices), `mesh`
+//! (vertices, indices),
 //! `obj` (path, relative to the scene file). Emitter types: `point` (position,
 //! intensity), `spot` (position, direction, intensity, cone_angle, falloff_start in
 //! degrees), `directional` (direction of travel, irradiance), `constant` (radiance),
@@ -708,7 +710,10 @@ impl Builder<'_> {
                     return Err(InputError::new(
                         file,
                         format!("{gf}.inner_radius"),
-                        format!("{ri:e} is too close to the radius {radius:e} for f32: the annulus would have no area", ri = inner_radius.unwrap_or(0.0)),
+                        format!(
+                            "{ri:e} is too close to the radius {radius:e} for f32: the annulus would have no area",
+                            ri = inner_radius.unwrap_or(0.0)
+                        ),
                     ));
                 }
                 prims.push(Primitive::Disk {

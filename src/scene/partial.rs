@@ -194,7 +194,10 @@ mod tests {
             let s = p.sample_area(Vec2::new(next(), next()));
             assert!((s.pdf * p.area() - 1.0).abs() < 1e-5);
             let (a, b) = coords(s.p);
-            assert!((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b), "{a} {b}");
+            assert!(
+                (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b),
+                "{a} {b}"
+            );
             let (i, j) = (
                 ((a * nx as f64) as usize).min(nx - 1),
                 ((b * ny as f64) as usize).min(ny - 1),
@@ -202,7 +205,9 @@ mod tests {
             counts[i * ny + j] += 1.0;
             // Aimed at from 3 units off along the normal: the ray finds the point.
             let o = s.p + s.n * 3.0;
-            let h = p.intersect(o, -s.n, 0.0, f32::INFINITY).expect("sample on the shape");
+            let h = p
+                .intersect(o, -s.n, 0.0, f32::INFINITY)
+                .expect("sample on the shape");
             assert!((h.p - s.p).length() < 1e-4, "{} vs {}", h.p, s.p);
         }
         // Pearson's statistic over equal-area cells (625 expected per cell), judged at
@@ -232,7 +237,10 @@ mod tests {
                 let r = ((q - center) / radius).as_dvec3();
                 let h = (1.0 - r.dot(axis.as_dvec3())) / one_minus_cos as f64;
                 let phi = r.dot(f.t.as_dvec3()).atan2(r.dot(f.s.as_dvec3()));
-                (h.clamp(0.0, 1.0), phi.rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU)
+                (
+                    h.clamp(0.0, 1.0),
+                    phi.rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU,
+                )
             });
         }
     }

@@ -124,7 +124,8 @@ impl Primitive {
     /// Axis-aligned bounds (padded by the error of their own arithmetic).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let (lo, hi) = match *self {
-            Primitive::Sphere { center, radius } | Primitive::SphericalCap { center, radius, .. } => {
+            Primitive::Sphere { center, radius }
+            | Primitive::SphericalCap { center, radius, .. } => {
                 (center - Vec3::splat(radius), center + Vec3::splat(radius))
             }
             Primitive::Rectangle { corner, u, v } => {

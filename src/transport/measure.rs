@@ -516,6 +516,30 @@ fn mean_path_length(scene: &Scene, shape: usize, segments: u32, s: &mut SampleSt
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// pbrt's depth count: radiance scatters `depth` times; an irradiance or flux
+    /// receiver is the first scattering; object properties have no depth.
+    #[test]
+    fn depth_maps_to_bounces_per_measurement() {
+        let rad = Measure::Radiance {
+            at: Vec3::ZERO,
+            direction: Vec3::Z,
+        };
+        let irr = Measure::Irradiance {
+            at: Vec3::ZERO,
+            normal: Vec3::Z,
+        };
+        let flux = Measure::Flux {
+            shape: 0,
+            anchor: Vec3::ZERO,
+            factor: 1.0,
+        };
+        assert_eq!(rad.bounces_for_depth(3), Some(3));
+        assert_eq!(irr.bounces_for_depth(1), Some(0));
+        assert_eq!(flux.bounces_for_depth(4), Some(3));
+        assert_eq!(irr.bounces_for_depth(0), None);
+        assert_eq!(Measure::Power { emitter: 0 }.bounces_for_depth(2), None);
+    }
     use crate::sampling::{Sampler, SamplerKind};
     use crate::transport::effects::Effects;
 
@@ -568,6 +592,11 @@ mod tests {
             Measure::MeanPathLength {
                 shape: 0,
                 segments: 2,
+            },
+            Measure::Flux {
+                shape: 0,
+                anchor: Vec3::ZERO,
+                factor: 1.0,
             },
         ];
         let all = [
