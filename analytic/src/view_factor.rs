@@ -234,6 +234,66 @@ mod tests {
         }
     }
 
+    /// The catalog's near-touching and very distant configurations, each against the
+    /// same independent quadratures as above (the cases under
+    /// `analytic/cases/view_factor` use exactly these parameters).
+    #[test]
+    fn catalog_extremes_by_quadrature() {
+        // C-11: separations 1e-3 (width 1, length 2) and 100 (width 2, length 1).
+        for (a, b, c, tol) in [(1.0, 2.0, 1e-3, 1e-7), (2.0, 1.0, 100.0, 1e-8)] {
+            let target = [
+                Vec3::new(0.0, 0.0, c),
+                Vec3::new(a, 0.0, c),
+                Vec3::new(a, b, c),
+                Vec3::new(0.0, b, c),
+            ];
+            let q = average_over(
+                Vec3::default(),
+                Vec3::new(a, 0.0, 0.0),
+                Vec3::new(0.0, b, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+                &target,
+                1e-10,
+            );
+            let f = parallel_rectangles(a, b, c);
+            assert!(rel(f, q) < tol, "{a} {b} {c}: {f} vs {q}");
+        }
+        // C-14: a receiver strip 0.01 high on a 2 × 1 emitter's edge, by reciprocity
+        // F₁₂ A₁ = F₂₁ A₂ averaged over the strip (the smooth side).
+        let (l, w, h) = (2.0, 1.0, 0.01);
+        let emitter = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(l, 0.0, 0.0),
+            Vec3::new(l, w, 0.0),
+            Vec3::new(0.0, w, 0.0),
+        ];
+        let f21 = average_over(
+            Vec3::default(),
+            Vec3::new(l, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, h),
+            Vec3::new(0.0, 1.0, 0.0),
+            &emitter,
+            1e-10,
+        );
+        let f12 = perpendicular_rectangles(l, w, h);
+        assert!(
+            rel(f12 * l * w, f21 * l * h) < 1e-7,
+            "{f12} vs {}",
+            f21 * h / w
+        );
+        // C-41: coaxial unit disks 1e-2 and 100 apart.
+        for (h, tol) in [(1e-2, 1e-7), (100.0, 1e-9)] {
+            let q = 2.0
+                * adaptive(
+                    |a| disk_parallel_offset(1.0, h, a, 1.0) / PI * a,
+                    0.0,
+                    1.0,
+                    1e-13,
+                );
+            assert!(rel(disk_to_coaxial_disk(1.0, 1.0, h), q) < tol, "{h}: {q}");
+        }
+    }
+
     #[test]
     fn element_to_sphere_matches_irradiance_and_quadrature() {
         for (d, r) in [(2.0f64, 1.0f64), (1e3, 1.0), (1.0 + 1e-6, 1.0)] {
