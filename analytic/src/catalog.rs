@@ -549,6 +549,18 @@ static ENTRIES: &[Entry] = &[
             Ok(view_factor::element_to_sphere_tilted(d, r, t))
         }
     ),
+    entry!(
+        "view_factor_sphere_wall_to_cap",
+        ["theta_max_degrees"],
+        "view factor (1) from any part of a sphere's inner wall to a cap of the same sphere of half-angle θmax (degrees, (0, 180]): (1 − cos θmax)/2",
+        |p| {
+            Ok(view_factor::sphere_wall_to_cap(cap_angle(
+                p,
+                "theta_max_degrees",
+                true,
+            )?))
+        }
+    ),
     // ---- furnace ----
     entry!(
         "furnace_closed_enclosure",
@@ -1183,6 +1195,7 @@ mod tests {
             "view_factor_perpendicular_rectangles": {"common_edge": 1, "width": 1, "height": 1},
             "view_factor_element_to_sphere": {"distance": 2, "radius": 1},
             "view_factor_element_to_sphere_tilted": {"distance": 2, "radius": 1, "tilt": 1.5},
+            "view_factor_sphere_wall_to_cap": {"theta_max_degrees": 120},
             "furnace_closed_enclosure": {"emitted_radiance": 1, "albedo": 0.5},
             "furnace_convex_object": {"albedo": 0.5, "radiance": 1},
             "furnace_integrating_sphere": {"emitted_radiance": 1, "albedo": 0.9, "port_fraction": 0.05},
