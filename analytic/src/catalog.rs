@@ -9,7 +9,10 @@
 //! [`names`] lists every closed form with its parameters and a description with units.
 
 use crate::geom::Vec3;
-use crate::{fresnel, furnace, irradiance, radiometry, solid_angle, spectrum, time, view_factor};
+use crate::{
+    fresnel, furnace, irradiance, partial_shapes, radiometry, solid_angle, spectrum, time,
+    view_factor,
+};
 use serde_json::{Map, Value};
 use std::f64::consts::PI;
 
@@ -245,6 +248,48 @@ fn outside_sphere(p: &Params<'_>, point: Vec3, center: Vec3, radius: f64) -> Res
     } else {
         Ok(())
     }
+}
+
+/// A number of scatterings: an integer in [0, 65536].
+fn bounces(p: &Params<'_>) -> Result<u32> {
+    let k = p.range("bounces", 0.0, 65536.0, false)?;
+    if k.fract() != 0.0 {
+        return Err(p.invalid("bounces", format!("must be a whole number, got {k}")));
+    }
+    Ok(k as u32)
+}
+
+/// A cap's polar half-angle given in degrees, returned in radians: in (0, 180], or
+/// (0, 180) where the cap must leave a port.
+fn cap_angle(p: &Params<'_>, name: &'static str, closed_ok: bool) -> Result<f64> {
+    let t = p.num(name)?;
+    let ok = t > 0.0 && if closed_ok { t <= 180.0 } else { t < 180.0 };
+    if ok {
+        Ok(t.to_radians())
+    } else {
+        let hi = if closed_ok { "180]" } else { "180)" };
+        Err(p.invalid(name, format!("must lie in (0, {hi} degrees, got {t}")))
+    }
+}
+
+/// Le, ρ and the port fraction f = cos²(θmax/2) of an integrating sphere whose wall is a
+/// cap; ρ(1 − f) < 1 always holds since f > 0.
+fn integrating_sphere_cap(p: &Params<'_>) -> Result<(f64, f64, f64)> {
+    let le = p.non_negative("emitted_radiance")?;
+    let rho = p.range("albedo", 0.0, 1.0, false)?;
+    let t = cap_angle(p, "wall_theta_max_degrees", false)?;
+    Ok((le, rho, partial_shapes::port_fraction_of_cap(t)))
+}
+
+/// Inner and outer radii of an annulus: 0 ≤ r < R.
+fn annulus_radii(p: &Params<'_>) -> Result<(f64, f64)> {
+    let (r, big_r) = (p.non_negative("inner_radius")?, p.positive("outer_radius")?);
+    if r >= big_r {
+        return Err(p.domain(format!(
+            "inner_radius {r} must be smaller than outer_radius {big_r}"
+        )));
+    }
+    Ok((r, big_r))
 }
 
 static ENTRIES: &[Entry] = &[
@@ -504,6 +549,18 @@ static ENTRIES: &[Entry] = &[
             Ok(view_factor::element_to_sphere_tilted(d, r, t))
         }
     ),
+    entry!(
+        "view_factor_sphere_wall_to_cap",
+        ["theta_max_degrees"],
+        "view factor (1) from any part of a sphere's inner wall to a cap of the same sphere of half-angle θmax (degrees, (0, 180]): (1 − cos θmax)/2",
+        |p| {
+            Ok(view_factor::sphere_wall_to_cap(cap_angle(
+                p,
+                "theta_max_degrees",
+                true,
+            )?))
+        }
+    ),
     // ---- furnace ----
     entry!(
         "furnace_closed_enclosure",
@@ -541,6 +598,97 @@ static ENTRIES: &[Entry] = &[
                 return Err(p.domain("albedo = 1 with no port never reaches equilibrium"));
             }
             Ok(furnace::integrating_sphere(le, rho, f))
+        }
+    ),
+    // ---- partial sums and partial shapes ----
+    entry!(
+        "furnace_closed_enclosure_bounces",
+        ["emitted_radiance", "albedo", "bounces"],
+        "radiance (W/(m²·sr)) inside a closed diffuse enclosure with paths cut after `bounces` scatterings: Le(1−ρ^{k+1})/(1−ρ), albedo in [0, 1]",
+        |p| {
+            Ok(partial_shapes::closed_enclosure_bounces(
+                p.non_negative("emitted_radiance")?,
+                p.range("albedo", 0.0, 1.0, false)?,
+                bounces(p)?,
+            ))
+        }
+    ),
+    entry!(
+        "furnace_integrating_sphere_cap",
+        ["emitted_radiance", "albedo", "wall_theta_max_degrees"],
+        "wall radiance (W/(m²·sr)) of an integrating sphere whose emitting diffuse wall is the cap of half-angle θmax (degrees, (0, 180)), the rest a black port: Le/(1−ρ(1−f)), f = cos²(θmax/2)",
+        |p| {
+            let (le, rho, f) = integrating_sphere_cap(p)?;
+            Ok(furnace::integrating_sphere(le, rho, f))
+        }
+    ),
+    entry!(
+        "furnace_integrating_sphere_cap_bounces",
+        [
+            "emitted_radiance",
+            "albedo",
+            "wall_theta_max_degrees",
+            "bounces"
+        ],
+        "the same wall radiance (W/(m²·sr)) with paths cut after `bounces` scatterings: Le Σ_{j≤k} (ρ(1−f))^j",
+        |p| {
+            let (le, rho, f) = integrating_sphere_cap(p)?;
+            Ok(partial_shapes::integrating_sphere_bounces(
+                le,
+                rho,
+                f,
+                bounces(p)?,
+            ))
+        }
+    ),
+    entry!(
+        "annulus_irradiance_on_axis",
+        ["inner_radius", "outer_radius", "height", "radiance"],
+        "irradiance (W/m²) on the axis of a uniform annulus facing the receiver: π L h²(R²−r²)/((R²+h²)(r²+h²))",
+        |p| {
+            let (r, big_r) = annulus_radii(p)?;
+            Ok(partial_shapes::annulus_irradiance_on_axis(
+                r,
+                big_r,
+                p.positive("height")?,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "annulus_power",
+        ["inner_radius", "outer_radius", "radiance"],
+        "power (W) of a one-sided Lambertian annulus: π L · π(R²−r²)",
+        |p| {
+            let (r, big_r) = annulus_radii(p)?;
+            Ok(partial_shapes::annulus_power(
+                r,
+                big_r,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "spherical_cap_power",
+        ["radius", "theta_max_degrees", "radiance"],
+        "power (W) of a one-sided Lambertian spherical cap of polar half-angle θmax (degrees, (0, 180]): π L · 2πR²(1 − cos θmax)",
+        |p| {
+            Ok(partial_shapes::spherical_cap_power(
+                p.positive("radius")?,
+                cap_angle(p, "theta_max_degrees", true)?,
+                p.non_negative("radiance")?,
+            ))
+        }
+    ),
+    entry!(
+        "spherical_cap_irradiance_at_centre",
+        ["theta_max_degrees", "radiance"],
+        "irradiance (W/m²) at a sphere's centre, facing the axis, from the cap of half-angle θmax (degrees, (0, 180]) emitting inwards: π L sin² min(θmax, 90°)",
+        |p| {
+            Ok(partial_shapes::spherical_cap_irradiance_at_centre(
+                cap_angle(p, "theta_max_degrees", true)?,
+                p.non_negative("radiance")?,
+            ))
         }
     ),
     // ---- Fresnel ----
@@ -1047,9 +1195,17 @@ mod tests {
             "view_factor_perpendicular_rectangles": {"common_edge": 1, "width": 1, "height": 1},
             "view_factor_element_to_sphere": {"distance": 2, "radius": 1},
             "view_factor_element_to_sphere_tilted": {"distance": 2, "radius": 1, "tilt": 1.5},
+            "view_factor_sphere_wall_to_cap": {"theta_max_degrees": 120},
             "furnace_closed_enclosure": {"emitted_radiance": 1, "albedo": 0.5},
             "furnace_convex_object": {"albedo": 0.5, "radiance": 1},
             "furnace_integrating_sphere": {"emitted_radiance": 1, "albedo": 0.9, "port_fraction": 0.05},
+            "furnace_closed_enclosure_bounces": {"emitted_radiance": 1, "albedo": 0.8, "bounces": 2},
+            "furnace_integrating_sphere_cap": {"emitted_radiance": 1, "albedo": 0.9, "wall_theta_max_degrees": 170},
+            "furnace_integrating_sphere_cap_bounces": {"emitted_radiance": 1, "albedo": 0.9, "wall_theta_max_degrees": 170, "bounces": 1},
+            "annulus_irradiance_on_axis": {"inner_radius": 0.5, "outer_radius": 1, "height": 2, "radiance": 1},
+            "annulus_power": {"inner_radius": 0.5, "outer_radius": 1, "radiance": 1},
+            "spherical_cap_power": {"radius": 1, "theta_max_degrees": 60, "radiance": 1},
+            "spherical_cap_irradiance_at_centre": {"theta_max_degrees": 60, "radiance": 1},
             "fresnel_dielectric": {"cos_theta": 0.5, "eta": 1.5},
             "fresnel_conductor": {"cos_theta": 0.5, "eta": 0.2, "k": 3},
             "fresnel_dielectric_average": {"eta": 1.5},

@@ -18,6 +18,7 @@
 //! | [`irradiance`] | polygon (Lambert, horizon-clipped), disk on/off axis and tilted, sphere (Snyder), point, constant environment; projected solid angle |
 //! | [`view_factor`] | element→disk, disk→disk, parallel and perpendicular rectangles, element→sphere |
 //! | [`furnace`] | closed enclosure, convex object, integrating sphere |
+//! | [`partial_shapes`] | annulus (on-axis irradiance, power), spherical cap (area, power, irradiance at the centre), furnace partial sums (closed enclosure, integrating sphere with a port) |
 //! | [`fresnel`] | dielectric (with TIR), conductor, hemispherical averages outside and inside |
 //! | [`radiometry`] | Lambertian power and intensity, photon energy, radiance across an interface, SI constants |
 //! | [`spectrum`] | Planck, Stefan–Boltzmann, band fractions, Wien, photon radiance, Cauchy, Sellmeier (BK7), slab transmittance |
@@ -33,6 +34,7 @@ pub mod fresnel;
 pub mod furnace;
 pub mod geom;
 pub mod irradiance;
+pub mod partial_shapes;
 pub mod quadrature;
 pub mod radiometry;
 pub mod solid_angle;

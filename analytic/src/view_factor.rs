@@ -114,6 +114,23 @@ pub fn element_to_sphere_tilted(distance: f64, radius: f64, tilt: f64) -> f64 {
     cap_projected_solid_angle(tilt.cos(), s * s) / PI
 }
 
+/// From any part of a sphere's inner wall to a spherical cap of polar half-angle θ on
+/// the same sphere (both facing inwards).
+///
+/// **Formula.** F = A_cap / (4π R²) = (1 − cos θ)/2 = sin²(θ/2), whatever the emitting
+/// part.
+///
+/// **Derivation.** For two points of a sphere's inner wall at chord s, both polar angles
+/// satisfy cos θ₁ = cos θ₂ = s/(2R), so the kernel cos θ₁ cos θ₂/(π s²) = 1/(4π R²) is a
+/// constant: every element sees each region in proportion to its area.
+///
+/// **Source.** Siegel & Howell ch. 6 (the sphere's "area-fraction" view factors);
+/// Goebel, Appl. Opt. 6(1), 1967.
+pub fn sphere_wall_to_cap(theta: f64) -> f64 {
+    let s = (0.5 * theta).sin();
+    s * s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -232,6 +249,105 @@ mod tests {
                 "{l} {w} {h}: {q}"
             );
         }
+    }
+
+    /// The catalog's near-touching and very distant configurations, each against the
+    /// same independent quadratures as above (the cases under
+    /// `analytic/cases/view_factor` use exactly these parameters).
+    #[test]
+    fn catalog_extremes_by_quadrature() {
+        // C-11: separations 1e-3 (width 1, length 2) and 100 (width 2, length 1).
+        for (a, b, c, tol) in [(1.0, 2.0, 1e-3, 1e-7), (2.0, 1.0, 100.0, 1e-8)] {
+            let target = [
+                Vec3::new(0.0, 0.0, c),
+                Vec3::new(a, 0.0, c),
+                Vec3::new(a, b, c),
+                Vec3::new(0.0, b, c),
+            ];
+            let q = average_over(
+                Vec3::default(),
+                Vec3::new(a, 0.0, 0.0),
+                Vec3::new(0.0, b, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+                &target,
+                1e-10,
+            );
+            let f = parallel_rectangles(a, b, c);
+            assert!(rel(f, q) < tol, "{a} {b} {c}: {f} vs {q}");
+        }
+        // C-14: a receiver strip 0.01 high on a 2 × 1 emitter's edge, by reciprocity
+        // F₁₂ A₁ = F₂₁ A₂ averaged over the strip (the smooth side).
+        let (l, w, h) = (2.0, 1.0, 0.01);
+        let emitter = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(l, 0.0, 0.0),
+            Vec3::new(l, w, 0.0),
+            Vec3::new(0.0, w, 0.0),
+        ];
+        let f21 = average_over(
+            Vec3::default(),
+            Vec3::new(l, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, h),
+            Vec3::new(0.0, 1.0, 0.0),
+            &emitter,
+            1e-10,
+        );
+        let f12 = perpendicular_rectangles(l, w, h);
+        assert!(
+            rel(f12 * l * w, f21 * l * h) < 1e-7,
+            "{f12} vs {}",
+            f21 * h / w
+        );
+        // C-41: coaxial unit disks 1e-2 and 100 apart.
+        for (h, tol) in [(1e-2, 1e-7), (100.0, 1e-9)] {
+            let q = 2.0
+                * adaptive(
+                    |a| disk_parallel_offset(1.0, h, a, 1.0) / PI * a,
+                    0.0,
+                    1.0,
+                    1e-13,
+                );
+            assert!(rel(disk_to_coaxial_disk(1.0, 1.0, h), q) < tol, "{h}: {q}");
+        }
+    }
+
+    #[test]
+    fn sphere_wall_to_cap_by_quadrature() {
+        // From a cap of half-angle 60° about +z to the cap of half-angle 120° about −z:
+        // the four-fold integral by averaging, over the emitter, the kernel integrated
+        // over the receiver (each by 2-D quadrature in polar coordinates).
+        let (t1, t2) = (60f64.to_radians(), 120f64.to_radians());
+        let point = |axis: f64, t: f64, p: f64| {
+            Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), axis * t.cos())
+        };
+        let from = |x: Vec3| {
+            adaptive_2d(
+                |t, p| {
+                    let q = point(-1.0, t, p);
+                    let d = q - x;
+                    let s2 = d.length_squared();
+                    let s = s2.sqrt();
+                    // Inward normals −x and −q.
+                    let c1 = (-x).dot(d) / s;
+                    let c2 = q.dot(d) / s;
+                    c1 * c2 / (PI * s2) * t.sin()
+                },
+                0.0,
+                t2,
+                |_| 0.0,
+                |_| 2.0 * PI,
+                1e-9,
+            )
+        };
+        // The emitter is rotationally symmetric: average over its polar angle only.
+        let area1 = 2.0 * PI * (1.0 - t1.cos());
+        let f = adaptive(
+            |t| from(point(1.0, t, 0.0)) * 2.0 * PI * t.sin(),
+            0.0,
+            t1,
+            1e-8,
+        ) / area1;
+        assert!(rel(f, sphere_wall_to_cap(t2)) < 1e-6, "{f}");
     }
 
     #[test]

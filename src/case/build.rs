@@ -8,6 +8,7 @@ use super::{BATCHES, MAX_SAMPLES, MIN_SAMPLES};
 use crate::error::{InputError, check_direction, check_number, check_point};
 use crate::scene::Scene;
 use crate::transport::measure::Measure;
+use crate::transport::path::MAX_PATH_BOUNCES;
 use glam::DVec3;
 
 /// Longest wavelength of a `spectral` section (nm): 1 cm. Far past the thermal
@@ -28,6 +29,8 @@ pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
         MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
             check_point(f, "measure.at", *at)?
         }
+        // The receiver's own point: precision is best where the flux arrives.
+        MeasureDesc::Flux { shape, .. } => desc.scene.shape_point(*shape),
         // No viewpoint: a property of one object, rebased on any point of the scene.
         MeasureDesc::Albedo { .. }
         | MeasureDesc::Power { .. }
@@ -91,6 +94,87 @@ fn emitter_index(
         ));
     }
     Ok(idx)
+}
+
+/// The flux measurement onto receiver `shape`: its anchor (the centre of its bounds, so
+/// a sphere's centre) and its factor, 1, or 1/(π L A) of the scene's one emitter for a
+/// view factor (one-sided, grey, steady, still, and not the receiver itself).
+fn flux(f: &str, scene: &Scene, shape: usize, view_factor: bool) -> Result<Measure, InputError> {
+    let field = "measure.flux.shape";
+    let shape = shape_index(f, scene, field, shape)?;
+    let s = &scene.shapes[shape];
+    if s.velocity != glam::Vec3::ZERO {
+        return Err(InputError::new(
+            f,
+            field,
+            "a moving receiver is not supported: give it no velocity",
+        ));
+    }
+    let (lo, hi) = scene.prims()[s.prims.clone()]
+        .iter()
+        .map(|p| p.bounds())
+        .fold((glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY), |a, b| {
+            (a.0.min(b.0), a.1.max(b.1))
+        });
+    let anchor = (lo + hi) * 0.5;
+    let mut factor = 1.0f32;
+    if view_factor {
+        use crate::scene::emitter::EmitterKind;
+        let vf = "measure.flux.view_factor";
+        let [e] = scene.emitters.as_slice() else {
+            return Err(InputError::new(
+                f,
+                vf,
+                format!(
+                    "a view factor needs exactly one emitter (a shape with `emission`), the scene has {}",
+                    scene.emitters.len()
+                ),
+            ));
+        };
+        let EmitterKind::Area {
+            shape: from,
+            radiance,
+            two_sided,
+        } = e.kind
+        else {
+            return Err(InputError::new(
+                f,
+                vf,
+                "a view factor is between two shapes: the emitter must be a shape with `emission`",
+            ));
+        };
+        let grey_steady = e.props.spectrum.is_none()
+            && e.props.pulse.is_none()
+            && e.props.velocity == glam::Vec3::ZERO;
+        let why = if from == shape {
+            Some("the receiver is the emitter: name another shape")
+        } else if two_sided {
+            Some("the emitter is two-sided: a view factor is from one side")
+        } else if !grey_steady {
+            Some("the emitter must be grey, steady and still (no spectrum, pulse or velocity)")
+        } else if !(radiance > 0.0) {
+            Some("the emitter's radiance must be positive")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(InputError::new(f, vf, why));
+        }
+        let norm = std::f64::consts::PI * radiance as f64 * scene.shapes[from].area as f64;
+        factor = (1.0 / norm) as f32;
+        if !(factor.is_finite() && factor > 0.0) {
+            return Err(InputError::new(
+                f,
+                vf,
+                format!("π L A of the emitter = {norm:e} does not give a finite f32 factor"),
+            ));
+        }
+    }
+    Ok(Measure::Flux {
+        shape,
+        anchor,
+        factor,
+    })
 }
 
 /// The measurement in engine coordinates (rebased on `origin`).
@@ -163,6 +247,7 @@ pub fn measure(
             emitter: emitter_index(f, scene, *shape, *emitter)?,
             direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
         },
+        MeasureDesc::Flux { shape, view_factor } => flux(f, scene, *shape, *view_factor)?,
         MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
             shape: shape_index("measure.shape", *shape)?,
             segments: {
@@ -204,6 +289,32 @@ pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(
         }
     }
     Ok(())
+}
+
+/// The case's `max_depth` as the path tracer's bound on scatterings (`None`: unbounded):
+/// 1 to [`MAX_PATH_BOUNCES`], on a measurement made of light paths
+/// ([`Measure::bounces_for_depth`]).
+pub fn max_bounces(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<Option<u32>, InputError> {
+    let Some(depth) = desc.max_depth else {
+        return Ok(None);
+    };
+    if !(1..=MAX_PATH_BOUNCES).contains(&depth) {
+        return Err(InputError::new(
+            f,
+            "max_depth",
+            format!("must be 1 (direct light only) to {MAX_PATH_BOUNCES} scatterings, got {depth}"),
+        ));
+    }
+    measure.bounces_for_depth(depth).map(Some).ok_or_else(|| {
+        InputError::new(
+            f,
+            "max_depth",
+            format!(
+                "applies to measurements of light paths (irradiance, radiance, flux), not to {}",
+                measure.name()
+            ),
+        )
+    })
 }
 
 /// A sample count within [`MIN_SAMPLES`, `MAX_SAMPLES`].

@@ -87,13 +87,22 @@ impl Case {
         build::check_samples(f, &desc)?;
         build::check_spectral_and_time(f, &desc)?;
         let reference = build::reference(f, &desc)?;
-        let Plans { pruned, full } = Plans::decide(
+        let max_bounces = build::max_bounces(f, &desc, &measure)?;
+        let Plans {
+            mut pruned,
+            mut full,
+        } = Plans::decide(
             f,
             &scene,
             &measure,
             desc.spectral.as_ref(),
             desc.time.as_ref(),
         )?;
+        // A depth limit is part of what is measured, not a pruning: both plans keep it.
+        if let Some(b) = max_bounces {
+            pruned = pruned.with_max_bounces(b);
+            full = full.with_max_bounces(b);
+        }
         Ok(Case {
             file: path.to_path_buf(),
             desc,

@@ -83,6 +83,16 @@ pub enum MeasureDesc {
         #[serde(default = "default_segments")]
         segments: u32,
     },
+    /// Power arriving on a receiver shape (on the side its normal faces), Φ = ∫ E dA;
+    /// with `view_factor`, Φ / (π L A) of the scene's one emitter: the configuration
+    /// factor from the emitter to the receiver.
+    Flux {
+        /// The receiver: an index of `scene.shapes`.
+        shape: usize,
+        /// Report the view factor F = Φ / (π L A_emitter) instead of Φ (default false).
+        #[serde(default)]
+        view_factor: bool,
+    },
 }
 
 fn default_segments() -> u32 {
@@ -119,6 +129,13 @@ pub struct CaseDesc {
     /// Samples per estimate (default 2¹⁸).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<u64>,
+    /// Most scatterings on a path, as pbrt's `maxdepth` counts them: 1 is direct light
+    /// only. The virtual receiver of an `irradiance` or `flux` measurement counts as the
+    /// first scattering (it "scatters" with f = 1), so there 1 is direct irradiance and
+    /// k adds light that scattered k − 1 times; for `radiance` k scatterings follow the
+    /// emission seen directly. Default: unbounded (Russian roulette ends paths).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_depth: Option<u32>,
     /// Why every estimator of this case is exact (samples without variance), when they
     /// all are: a catalog case must have an estimator with variance or say why not.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -236,10 +236,13 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
             _ => PrimSampling::Area,
         },
         // A sphere seen from too close for the cone's f32 construction, a sheared
-        // parallelogram (no spherical-rectangle warp), and every disk: area sampling.
-        Primitive::Sphere { .. } | Primitive::Rectangle { .. } | Primitive::Disk { .. } => {
-            PrimSampling::Area
-        }
+        // parallelogram (no spherical-rectangle warp), every disk, annulus and spherical
+        // cap: area sampling.
+        Primitive::Sphere { .. }
+        | Primitive::Rectangle { .. }
+        | Primitive::Disk { .. }
+        | Primitive::SphericalCap { .. }
+        | Primitive::Annulus { .. } => PrimSampling::Area,
     }
 }
 
@@ -248,8 +251,10 @@ fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
     let (origin, n) = match *prim {
         Primitive::Rectangle { corner, u, v } => (corner, u.cross(v).normalize()),
         Primitive::Triangle { p: v } => (v[0], (v[1] - v[0]).cross(v[2] - v[0]).normalize()),
-        Primitive::Disk { center, normal, .. } => (center, normal),
-        Primitive::Sphere { .. } => return None,
+        Primitive::Disk { center, normal, .. } | Primitive::Annulus { center, normal, .. } => {
+            (center, normal)
+        }
+        Primitive::Sphere { .. } | Primitive::SphericalCap { .. } => return None,
     };
     let denom = w.dot(n);
     if denom == 0.0 {

@@ -11,8 +11,10 @@
 //!   "emitters": [ { "type": "point", "position": [0, 0, 2], "intensity": 1 } ]
 //! }
 //! ```
-//! Geometry types: `sphere` (center, radius), `rectangle` (corner, edge_u, edge_v),
-//! `disk` (center, normal, radius), `triangle` (vertices), `mesh` (vertices, indices),
+//! Geometry types: `sphere` (center, radius; with `theta_max` in degrees and an optional
+//! `axis`, a spherical cap), `rectangle` (corner, edge_u, edge_v), `disk` (center,
+//! normal, radius; with `inner_radius`, an annulus), `triangle` (vertices), `mesh`
+//! (vertices, indices),
 //! `obj` (path, relative to the scene file). Emitter types: `point` (position,
 //! intensity), `spot` (position, direction, intensity, cone_angle, falloff_start in
 //! degrees), `directional` (direction of travel, irradiance), `constant` (radiance),
@@ -84,12 +86,19 @@ pub struct ShapeDesc {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum GeometryDesc {
-    /// Sphere.
+    /// Sphere; with `theta_max`, the spherical cap within that polar angle of `axis`
+    /// (pbrt's sphere with zmin = radius·cos θmax, zmax = radius, its z along `axis`).
     Sphere {
         /// Centre.
         center: [f64; 3],
         /// Radius.
         radius: f64,
+        /// Polar half-angle of a cap in degrees, (0, 180]; 180 (or absent) is the sphere.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        theta_max: Option<f64>,
+        /// The cap's axis (its pole is centre + radius · axis; default [0, 0, 1]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        axis: Option<[f64; 3]>,
     },
     /// Parallelogram corner + a·edge_u + b·edge_v.
     Rectangle {
@@ -108,6 +117,10 @@ pub enum GeometryDesc {
         normal: [f64; 3],
         /// Radius.
         radius: f64,
+        /// Radius of a central hole (pbrt's `innerradius`): an annulus; in [0, radius),
+        /// default 0.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        inner_radius: Option<f64>,
     },
     /// One triangle.
     Triangle {
@@ -126,6 +139,22 @@ pub enum GeometryDesc {
         /// Path relative to the scene file.
         path: String,
     },
+}
+
+impl GeometryDesc {
+    /// A coordinate of the geometry as written (its centre, corner or first vertex);
+    /// `None` for an OBJ file (not yet read) or an empty mesh.
+    pub fn point(&self) -> Option<[f64; 3]> {
+        match self {
+            GeometryDesc::Sphere { center, .. } | GeometryDesc::Disk { center, .. } => {
+                Some(*center)
+            }
+            GeometryDesc::Rectangle { corner, .. } => Some(*corner),
+            GeometryDesc::Triangle { vertices } => Some(vertices[0]),
+            GeometryDesc::Mesh { vertices, .. } => vertices.first().copied(),
+            GeometryDesc::Obj { .. } => None,
+        }
+    }
 }
 
 /// Diffuse emission of a shape.
@@ -309,18 +338,19 @@ impl Builder<'_> {
 }
 
 impl SceneDesc {
+    /// A coordinate of shape `i` (its centre, corner or first vertex), or
+    /// [`SceneDesc::any_point`] when it has none.
+    pub fn shape_point(&self, i: usize) -> DVec3 {
+        match self.shapes.get(i).map(|s| s.geometry.point()) {
+            Some(Some(p)) if p.iter().all(|x| x.is_finite()) => v3(p),
+            _ => self.any_point(),
+        }
+    }
+
     /// The first coordinate found in the scene (used as a default origin).
     pub fn any_point(&self) -> DVec3 {
         for s in &self.shapes {
-            let p = match &s.geometry {
-                GeometryDesc::Sphere { center, .. } | GeometryDesc::Disk { center, .. } => *center,
-                GeometryDesc::Rectangle { corner, .. } => *corner,
-                GeometryDesc::Triangle { vertices } => vertices[0],
-                GeometryDesc::Mesh { vertices, .. } => {
-                    vertices.first().copied().unwrap_or_default()
-                }
-                GeometryDesc::Obj { .. } => [0.0; 3],
-            };
+            let p = s.geometry.point().unwrap_or([0.0; 3]);
             if p.iter().all(|x| x.is_finite()) {
                 return v3(p);
             }
@@ -514,6 +544,55 @@ impl Builder<'_> {
         Ok(move |p: DVec3| rot * (p * scale) + tr)
     }
 
+    /// A sphere's cap: (axis as placed, cos θmax, 1 − cos θmax), or `None` for the
+    /// whole sphere (no `theta_max`, or 180° and no axis needed).
+    fn cap(
+        &self,
+        gf: &str,
+        c: DVec3,
+        theta_max: Option<f64>,
+        axis: Option<[f64; 3]>,
+        xf: &impl Fn(DVec3) -> DVec3,
+    ) -> Result<Option<(Vec3, f32, f32)>, InputError> {
+        let file = self.file;
+        let a = match axis {
+            None => DVec3::Z,
+            Some(a) => check_direction(file, &format!("{gf}.axis"), a)?,
+        };
+        let Some(t) = theta_max else {
+            if axis.is_some() {
+                return Err(InputError::new(
+                    file,
+                    format!("{gf}.axis"),
+                    "an axis needs a `theta_max` (the cap's polar half-angle in degrees)",
+                ));
+            }
+            return Ok(None);
+        };
+        check_number(
+            file,
+            &format!("{gf}.theta_max"),
+            t,
+            |t| t > 0.0 && t <= 180.0,
+            "a polar angle in (0, 180] degrees",
+        )?;
+        let half = 0.5 * t.to_radians();
+        let one_minus_cos = 2.0 * half.sin() * half.sin();
+        if !(one_minus_cos as f32 > 0.0) {
+            return Err(InputError::new(
+                file,
+                format!("{gf}.theta_max"),
+                format!("{t:e} degrees is too small: the cap's area underflows f32"),
+            ));
+        }
+        let axis2 = (xf(c + a) - xf(c)).normalize();
+        Ok(Some((
+            axis2.as_vec3(),
+            (1.0 - one_minus_cos) as f32,
+            one_minus_cos as f32,
+        )))
+    }
+
     fn geometry(
         &self,
         g: &GeometryDesc,
@@ -526,7 +605,12 @@ impl Builder<'_> {
         let scale = t.and_then(|t| t.scale).unwrap_or(1.0);
         let gf = format!("{f}.geometry");
         match g {
-            GeometryDesc::Sphere { center, radius } => {
+            GeometryDesc::Sphere {
+                center,
+                radius,
+                theta_max,
+                axis,
+            } => {
                 let c = check_point(file, &format!("{gf}.center"), *center)?;
                 check_number(
                     file,
@@ -537,6 +621,17 @@ impl Builder<'_> {
                 )?;
                 let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
                 let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
+                if let Some(cap) = self.cap(&gf, c, *theta_max, *axis, &xf)? {
+                    prims.push(Primitive::SphericalCap {
+                        center: self.to_f32(c2),
+                        radius: r as f32,
+                        axis: cap.0,
+                        cos_max: cap.1,
+                        one_minus_cos: cap.2,
+                    });
+                    // An open cap can see itself from inside: never closed or convex.
+                    return Ok(ShapeKind::Mesh);
+                }
                 prims.push(Primitive::Sphere {
                     center: self.to_f32(c2),
                     radius: r as f32,
@@ -574,6 +669,7 @@ impl Builder<'_> {
                 center,
                 normal,
                 radius,
+                inner_radius,
             } => {
                 let c = check_point(file, &format!("{gf}.center"), *center)?;
                 let n = check_direction(file, &format!("{gf}.normal"), *normal)?;
@@ -587,6 +683,39 @@ impl Builder<'_> {
                 let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
                 let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
                 let n2 = (xf(c + n) - c2).normalize();
+                let inner = match *inner_radius {
+                    None => 0.0,
+                    Some(ri) => {
+                        let field = format!("{gf}.inner_radius");
+                        check_number(
+                            file,
+                            &field,
+                            ri,
+                            |x| x >= 0.0 && x < *radius,
+                            &format!("an inner radius in [0, radius = {radius})"),
+                        )?;
+                        (ri * scale) as f32
+                    }
+                };
+                if inner > 0.0 && inner < r as f32 {
+                    prims.push(Primitive::Annulus {
+                        center: self.to_f32(c2),
+                        normal: n2.as_vec3(),
+                        inner,
+                        radius: r as f32,
+                    });
+                    return Ok(ShapeKind::Planar);
+                }
+                if inner > 0.0 {
+                    return Err(InputError::new(
+                        file,
+                        format!("{gf}.inner_radius"),
+                        format!(
+                            "{ri:e} is too close to the radius {radius:e} for f32: the annulus would have no area",
+                            ri = inner_radius.unwrap_or(0.0)
+                        ),
+                    ));
+                }
                 prims.push(Primitive::Disk {
                     center: self.to_f32(c2),
                     normal: n2.as_vec3(),

@@ -9,6 +9,7 @@ pub mod accel;
 pub mod dispersion;
 pub mod emitter;
 pub mod load;
+pub mod partial;
 pub mod shape;
 
 use crate::bsdf::Bsdf;

@@ -47,6 +47,30 @@ pub enum Primitive {
         /// Vertices.
         p: [Vec3; 3],
     },
+    /// The part of a sphere within polar angle θmax of `axis` ([`super::partial`]).
+    SphericalCap {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Unit axis (the cap's pole is centre + radius · axis).
+        axis: Vec3,
+        /// cos θmax (−1: the whole sphere).
+        cos_max: f32,
+        /// 1 − cos θmax, computed without cancellation.
+        one_minus_cos: f32,
+    },
+    /// A disk of `radius` with a hole of radius `inner` ([`super::partial`]).
+    Annulus {
+        /// Centre.
+        center: Vec3,
+        /// Unit normal.
+        normal: Vec3,
+        /// Inner radius (> 0, < radius).
+        inner: f32,
+        /// Outer radius.
+        radius: f32,
+    },
 }
 
 /// A ray–primitive hit.
@@ -88,13 +112,20 @@ impl Primitive {
                     .cross(p[2].as_dvec3() - p[0].as_dvec3())
                     .length()) as f32
             }
+            Primitive::SphericalCap {
+                radius,
+                one_minus_cos,
+                ..
+            } => super::partial::cap_area(radius, one_minus_cos),
+            Primitive::Annulus { inner, radius, .. } => super::partial::annulus_area(inner, radius),
         }
     }
 
     /// Axis-aligned bounds (padded by the error of their own arithmetic).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let (lo, hi) = match *self {
-            Primitive::Sphere { center, radius } => {
+            Primitive::Sphere { center, radius }
+            | Primitive::SphericalCap { center, radius, .. } => {
                 (center - Vec3::splat(radius), center + Vec3::splat(radius))
             }
             Primitive::Rectangle { corner, u, v } => {
@@ -108,6 +139,12 @@ impl Primitive {
                 center,
                 normal,
                 radius,
+            }
+            | Primitive::Annulus {
+                center,
+                normal,
+                radius,
+                ..
             } => {
                 // Extent of a disk along axis i is r·√(1 − nᵢ²).
                 let e = radius
@@ -127,7 +164,10 @@ impl Primitive {
 
     /// Whether the primitive is flat (cannot see itself).
     pub fn is_planar(&self) -> bool {
-        !matches!(self, Primitive::Sphere { .. })
+        !matches!(
+            self,
+            Primitive::Sphere { .. } | Primitive::SphericalCap { .. }
+        )
     }
 
     /// Closest hit with t in (tmin, tmax), for a unit direction `d`.
@@ -178,6 +218,19 @@ impl Primitive {
                 })
             }
             Primitive::Triangle { p } => intersect_triangle(p, o, d, tmin, tmax),
+            Primitive::SphericalCap {
+                center,
+                radius,
+                axis,
+                cos_max,
+                ..
+            } => super::partial::intersect_cap(center, radius, axis, cos_max, o, d, tmin, tmax),
+            Primitive::Annulus {
+                center,
+                normal,
+                inner,
+                radius,
+            } => super::partial::intersect_annulus(center, normal, inner, radius, o, d, tmin, tmax),
         }
     }
 
@@ -234,6 +287,19 @@ impl Primitive {
                     pdf,
                 }
             }
+            Primitive::SphericalCap {
+                center,
+                radius,
+                axis,
+                one_minus_cos,
+                ..
+            } => super::partial::sample_cap(center, radius, axis, one_minus_cos, u),
+            Primitive::Annulus {
+                center,
+                normal,
+                inner,
+                radius,
+            } => super::partial::sample_annulus(center, normal, inner, radius, u),
         }
     }
 }

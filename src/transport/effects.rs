@@ -78,7 +78,12 @@ pub struct Effects {
 fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
     match *prim {
         Primitive::Sphere { center, radius } => (p - center).length_squared() < radius * radius,
-        Primitive::Rectangle { .. } | Primitive::Disk { .. } | Primitive::Triangle { .. } => false,
+        // An open cap is a `Mesh`-kind shape, never treated as closed or convex.
+        Primitive::Rectangle { .. }
+        | Primitive::Disk { .. }
+        | Primitive::Triangle { .. }
+        | Primitive::SphericalCap { .. }
+        | Primitive::Annulus { .. } => false,
     }
 }
 

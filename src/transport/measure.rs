@@ -10,6 +10,7 @@
 //! | power of an emitter | Φ = ∫∫ L cos θ dω dA | uniform |
 //! | intensity towards ω | I(ω) = ∫ L cos⁺θ dA | area |
 //! | mean path length in an enclosure | ⟨ℓ⟩ = E[distance between diffuse bounces] | cosine |
+//! | flux onto a receiver shape R | Φ = ∫_R E(x) dA(x) (a view factor: Φ / (π L A_emitter)) | light, bsdf, mis, mis_balance, uniform |
 //!
 //! V_S(ω) is 1 where the first surface along ω belongs to S. Irradiance treats p as a
 //! virtual receiver with f = 1 (so that "BSDF sampling" is cosine sampling), after which
@@ -88,6 +89,19 @@ pub enum Measure {
         /// Flights averaged per path.
         segments: u32,
     },
+    /// Power arriving on the side of shape `shape` its normal faces, Φ = ∫ E dA,
+    /// times `factor` (1, or 1/(π L A) of the emitter for a view factor). A point is
+    /// sampled on the receiver by area and its irradiance estimated as [`Measure::Irradiance`]
+    /// does, from the surface point (rays offset past its error bound).
+    Flux {
+        /// The receiver.
+        shape: usize,
+        /// A point of the receiver (the centre of a sphere): where transport starts, for
+        /// the effects analysis.
+        anchor: Vec3,
+        /// Multiplies the flux: 1, or 1/(π L A) of the one emitter (the view factor).
+        factor: f32,
+    },
 }
 
 impl Measure {
@@ -95,6 +109,7 @@ impl Measure {
     pub fn origin(&self) -> Option<Vec3> {
         match self {
             Measure::Irradiance { at, .. } | Measure::Radiance { at, .. } => Some(*at),
+            Measure::Flux { anchor, .. } => Some(*anchor),
             Measure::SolidAngle { .. }
             | Measure::ProjectedSolidAngle { .. }
             | Measure::Albedo { .. }
@@ -115,6 +130,24 @@ impl Measure {
             Measure::Power { .. } => "power",
             Measure::Intensity { .. } => "intensity",
             Measure::MeanPathLength { .. } => "mean_path_length",
+            Measure::Flux { .. } => "flux",
+        }
+    }
+
+    /// The path tracer's bound on scatterings for a case's `max_depth` (pbrt's count,
+    /// ≥ 1): radiance scatters `depth` times after the emission seen directly; the virtual
+    /// receiver of irradiance and flux is the first scattering, so `depth − 1` bounces
+    /// follow it. `None` for a measurement that is not made of light paths.
+    pub fn bounces_for_depth(&self, depth: u32) -> Option<u32> {
+        match self {
+            Measure::Radiance { .. } => Some(depth),
+            Measure::Irradiance { .. } | Measure::Flux { .. } => depth.checked_sub(1),
+            Measure::SolidAngle { .. }
+            | Measure::ProjectedSolidAngle { .. }
+            | Measure::Albedo { .. }
+            | Measure::Power { .. }
+            | Measure::Intensity { .. }
+            | Measure::MeanPathLength { .. } => None,
         }
     }
 
@@ -130,6 +163,7 @@ impl Measure {
             Measure::Power { .. } => &[Uniform],
             Measure::Intensity { .. } => &[Area],
             Measure::MeanPathLength { .. } => &[Cosine],
+            Measure::Flux { .. } => &[Light, Bsdf, Mis, MisBalance, Uniform],
         }
     }
 
@@ -219,7 +253,11 @@ impl Measure {
                 Sampling::Transport(_) => NOT_AN_ESTIMATOR_OF_THIS,
             }),
             Measure::Irradiance { at, normal } => {
-                irradiance(scene, *at, *normal, est, cfg, phase, s)
+                irradiance(scene, *at, Vec3::ZERO, *normal, est, cfg, phase, s)
+            }
+            Measure::Flux { shape, factor, .. } => {
+                let (x, n, x_err, pdf_a) = shape_area_sample(scene, *shape, s.next_2d());
+                irradiance(scene, x, x_err, n, est, cfg, phase, s) * (*factor / pdf_a)
             }
             Measure::Radiance { at, direction } => {
                 trace(scene, cfg, phase, *at, *direction, Prev::sensor(*at), 0, s)
@@ -310,9 +348,13 @@ fn area_visibility(
     }
 }
 
+/// Irradiance at `p` (error bound `p_err`: zero for a free point, a surface point's
+/// bound for a receiver on a shape) facing `n`.
+#[allow(clippy::too_many_arguments)]
 fn irradiance<P: Phase>(
     scene: &Scene,
     p: Vec3,
+    p_err: Vec3,
     n: Vec3,
     est: Estimator,
     cfg: &Config,
@@ -330,7 +372,7 @@ fn irradiance<P: Phase>(
             wl.z / PI
         }
     };
-    let mut e = next_event(scene, cfg, phase, p, Vec3::ZERO, &frame, 0.0, s, |wl| {
+    let mut e = next_event(scene, cfg, phase, p, p_err, &frame, 0.0, s, |wl| {
         (wl.z.max(0.0), pdf_dir(wl))
     });
     // Continue by cosine (or uniform) sampling unless it can contribute nothing.
@@ -343,11 +385,16 @@ fn irradiance<P: Phase>(
         let pdf = pdf_dir(wl);
         if pdf > 0.0 {
             let w = frame.to_world(wl);
+            let o = if p_err == Vec3::ZERO {
+                p
+            } else {
+                Scene::spawn(p, p_err, n, w)
+            };
             let li = trace(
                 scene,
                 cfg,
                 phase,
-                p,
+                o,
                 w,
                 Prev {
                     p,
@@ -469,6 +516,30 @@ fn mean_path_length(scene: &Scene, shape: usize, segments: u32, s: &mut SampleSt
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// pbrt's depth count: radiance scatters `depth` times; an irradiance or flux
+    /// receiver is the first scattering; object properties have no depth.
+    #[test]
+    fn depth_maps_to_bounces_per_measurement() {
+        let rad = Measure::Radiance {
+            at: Vec3::ZERO,
+            direction: Vec3::Z,
+        };
+        let irr = Measure::Irradiance {
+            at: Vec3::ZERO,
+            normal: Vec3::Z,
+        };
+        let flux = Measure::Flux {
+            shape: 0,
+            anchor: Vec3::ZERO,
+            factor: 1.0,
+        };
+        assert_eq!(rad.bounces_for_depth(3), Some(3));
+        assert_eq!(irr.bounces_for_depth(1), Some(0));
+        assert_eq!(flux.bounces_for_depth(4), Some(3));
+        assert_eq!(irr.bounces_for_depth(0), None);
+        assert_eq!(Measure::Power { emitter: 0 }.bounces_for_depth(2), None);
+    }
     use crate::sampling::{Sampler, SamplerKind};
     use crate::transport::effects::Effects;
 
@@ -521,6 +592,11 @@ mod tests {
             Measure::MeanPathLength {
                 shape: 0,
                 segments: 2,
+            },
+            Measure::Flux {
+                shape: 0,
+                anchor: Vec3::ZERO,
+                factor: 1.0,
             },
         ];
         let all = [

@@ -358,7 +358,7 @@ case("segments_huge", "hang", CHORD, [("measure.mean_path_length.segments", 4294
 case("measure_shape_missing", "baseline", CHORD, [("measure.mean_path_length.shape", 7)], 2, "measure.shape")
 case("power_shape_m1", "baseline", POWER, [("measure.power.shape", -1)], 2, "measure")
 case("power_ok", "baseline", POWER, [], "valid")
-case("measure_unknown", "baseline", DISK, [("measure", {"flux": {}})], 2, "measure")
+case("measure_unknown", "baseline", DISK, [("measure", {"glow": {}})], 2, "measure")
 case("measure_missing", "baseline", DISK, [("measure", DELETE)], 2, "measure")
 
 # ---------------------------------------------------------------- reference, samples, estimators, top level
@@ -386,6 +386,73 @@ case("valid_albedo", "baseline", ALBEDO, [], "valid")
 case("valid_shapes_tiny_coordinates", "baseline", SHAPES, [("scene.shapes.1.geometry.corner", [-1, -1, 4 + 1e-300])], "valid")
 case("valid_far_point_light", "baseline", POINT, [("scene.emitters.0.position", [1e17, 0, 1e17]),
                                                    ("scene.emitters.0.intensity", 1e30)], "valid")
+
+# ---------------------------------------------------------------- partial shapes, flux, max_depth (issue 17)
+ANNULUS = dict(DISK, scene={"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 2], "normal": [0, 0, -1],
+                                                     "radius": 1, "inner_radius": 0.5}, "emission": {"radiance": 1}}]})
+CAP = {
+    "name": "emissive cap", "teaches": "E = pi L sin^2 theta_max at the centre",
+    "scene": {"shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1, "theta_max": 60,
+                                       "axis": [0, 0, 1]}, "flip_normals": True, "emission": {"radiance": 1}}]},
+    "measure": {"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}},
+    "estimators": ["light", "mis"]}
+FLUX = {
+    "name": "view factor", "teaches": "F = Phi / (pi L A)",
+    "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [0, 0, 1], "edge_u": [0, 1, 0], "edge_v": [1, 0, 0]},
+                          "emission": {"radiance": 1}},
+                         {"geometry": {"type": "rectangle", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}}]},
+    "measure": {"flux": {"shape": 1, "view_factor": True}},
+    "estimators": ["light", "mis"]}
+DEPTH = {
+    "name": "furnace bounces", "teaches": "L_k = Le (1 - rho^(k+1)) / (1 - rho)",
+    "scene": {"materials": {"grey": {"type": "lambertian", "albedo": 0.5}},
+              "shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1}, "material": "grey",
+                          "flip_normals": True, "emission": {"radiance": 1}}]},
+    "measure": {"radiance": {"at": [0.2, -0.1, 0.3], "direction": [0.3, 0.5, -0.8]}},
+    "max_depth": 2,
+    "estimators": ["mis"]}
+IR = "scene.shapes[0].geometry.inner_radius"
+sweep("annulus_inner_radius", ANNULUS, "scene.shapes.0.geometry.inner_radius", IR,
+      {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2}, str_field="scene.shapes[0].geometry")
+case("annulus_inner_equals_outer", "wrong", ANNULUS, [("scene.shapes.0.geometry.inner_radius", 1)], 2, IR)
+case("annulus_inner_above_outer", "wrong", ANNULUS, [("scene.shapes.0.geometry.inner_radius", 1.5)], 2, IR)
+case("annulus_inner_rounds_to_outer", "f32", ANNULUS, [("scene.shapes.0.geometry.inner_radius", 1 - 1e-12)], 2, IR)
+case("annulus_valid", "baseline", ANNULUS, [], "valid")
+TM = "scene.shapes[0].geometry.theta_max"
+sweep("cap_theta_max", CAP, "scene.shapes.0.geometry.theta_max", TM, ALL2, str_field="scene.shapes[0].geometry")
+case("cap_theta_max_180_5", "wrong", CAP, [("scene.shapes.0.geometry.theta_max", 180.5)], 2, TM)
+case("cap_theta_max_720", "wrong", CAP, [("scene.shapes.0.geometry.theta_max", 720)], 2, TM)
+case("cap_theta_max_1e-30", "f32", CAP, [("scene.shapes.0.geometry.theta_max", 1e-30)], 2, TM)
+case("cap_theta_max_180", "baseline", CAP, [("scene.shapes.0.geometry.theta_max", 180)], "valid")
+case("cap_axis_zero", "baseline", CAP, [("scene.shapes.0.geometry.axis", [0, 0, 0])], 2, "scene.shapes[0].geometry.axis")
+case("cap_axis_without_theta_max", "unclear", CAP, [("scene.shapes.0.geometry.theta_max", DELETE)], 2,
+     "scene.shapes[0].geometry.axis")
+case("cap_valid", "baseline", CAP, [], "valid")
+case("max_depth_zero", "wrong", DEPTH, [("max_depth", 0)], 2, "max_depth")
+case("max_depth_huge", "hang", DEPTH, [("max_depth", 4294967295)], 2, "max_depth")
+case("max_depth_65537", "hang", DEPTH, [("max_depth", 65537)], 2, "max_depth")
+case("max_depth_m1", "baseline", DEPTH, [("max_depth", -1)], 2, "max_depth")
+case("max_depth_fraction", "baseline", DEPTH, [("max_depth", 1.5)], 2, "max_depth")
+case("max_depth_e39", "baseline", DEPTH, [("max_depth", 1e39)], 2, "max_depth")
+case("max_depth_str", "baseline", DEPTH, [("max_depth", "NaN")], 2, "max_depth")
+case("max_depth_on_power", "wrong", POWER, [("max_depth", 2)], 2, "max_depth")
+case("max_depth_irradiance_valid", "baseline", dict(DISK, max_depth=1), [], "valid")
+case("max_depth_valid", "baseline", DEPTH, [], "valid")
+case("flux_shape_missing", "baseline", FLUX, [("measure.flux.shape", 7)], 2, "measure.flux.shape")
+case("flux_shape_m1", "baseline", FLUX, [("measure.flux.shape", -1)], 2, "measure")
+case("flux_receiver_degenerate", "wrong", FLUX, [("scene.shapes.1.geometry.edge_v", [2, 0, 0])], 2,
+     "scene.shapes[1].geometry")
+case("flux_receiver_is_emitter", "wrong", FLUX, [("measure.flux.shape", 0)], 2, "measure.flux.view_factor")
+case("flux_view_factor_two_sided", "wrong", FLUX, [("scene.shapes.0.emission.two_sided", True)], 2,
+     "measure.flux.view_factor")
+case("flux_view_factor_two_emitters", "wrong", FLUX, [("scene.shapes.1.emission", {"radiance": 1})], 2,
+     "measure.flux.view_factor")
+case("flux_view_factor_point_light", "wrong", FLUX, [("scene.shapes.0.emission", DELETE),
+     ("scene.emitters", [{"type": "point", "position": [0, 0, 2], "intensity": 1}])], 2, "measure.flux.view_factor")
+case("flux_view_factor_str", "baseline", FLUX, [("measure.flux.view_factor", "yes")], 2, "measure")
+case("flux_estimator_area", "baseline", FLUX, [("estimators", ["area"])], 2, "estimators[0]")
+case("flux_valid", "baseline", FLUX, [], "valid")
+case("flux_without_view_factor_valid", "baseline", FLUX, [("measure.flux.view_factor", False)], "valid")
 
 # ---------------------------------------------------------------- verify
 case("verify_f32_radiance", "f32", DISK, [("scene.shapes.0.emission.radiance", 1e39)], 2,

@@ -97,6 +97,7 @@ fn wavelength(
     let err = |field: &str, why: String| InputError::new(f, field, why);
     let radiometric = match measure {
         Measure::Irradiance { .. }
+        | Measure::Flux { .. }
         | Measure::Radiance { .. }
         | Measure::Power { .. }
         | Measure::Intensity { .. } => true,

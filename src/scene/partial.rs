@@ -1,0 +1,260 @@
+//! Partial shapes: the spherical cap (pbrt's sphere with zmin = r cos θmax, zmax = r,
+//! about an axis) and the annulus (pbrt's disk with an inner radius).
+//!
+//! Both reuse their whole shape's robust intersection and clip the hit: the cap keeps a
+//! sphere hit whose polar angle about the axis is at most θmax (trying the far root when
+//! the near one is clipped away, so a ray from inside an open sphere finds the wall
+//! behind the port), the annulus keeps a disk-plane hit at radius ≥ r. Error bounds are
+//! those of the whole shape. Area sampling is uniform: the cap by Archimedes'
+//! hat-box theorem (area is linear in height along the axis: z = 1 − u(1 − cos θmax)),
+//! the annulus uniformly in ρ² ∈ [r², R²]; both have density 1/A.
+
+use super::shape::{AreaSample, Hit, Primitive};
+use crate::math::{Frame, TWO_PI, gamma};
+use glam::{Vec2, Vec3};
+
+/// Area of a spherical cap, 2π R² (1 − cos θmax), with `one_minus_cos` = 1 − cos θmax
+/// computed without cancellation when the shape was built.
+pub fn cap_area(radius: f32, one_minus_cos: f32) -> f32 {
+    TWO_PI * radius * radius * one_minus_cos
+}
+
+/// Whether the sphere point at `rel` (relative to the centre) lies on the cap: its
+/// height along `axis` is at least R cos θmax.
+fn on_cap(rel: Vec3, axis: Vec3, radius: f32, cos_max: f32) -> bool {
+    cos_max <= -1.0 || rel.dot(axis) >= radius * cos_max
+}
+
+/// Closest hit on the cap with t in (tmin, tmax): the near sphere root if it lies on the
+/// cap, else the far root.
+#[allow(clippy::too_many_arguments)]
+pub fn intersect_cap(
+    center: Vec3,
+    radius: f32,
+    axis: Vec3,
+    cos_max: f32,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    let sphere = Primitive::Sphere { center, radius };
+    let near = sphere.intersect(o, d, tmin, tmax)?;
+    if on_cap(near.p - center, axis, radius, cos_max) {
+        return Some(near);
+    }
+    let far = sphere.intersect(o, d, near.t, tmax)?;
+    on_cap(far.p - center, axis, radius, cos_max).then_some(far)
+}
+
+/// A point uniformly distributed by area on the cap.
+pub fn sample_cap(
+    center: Vec3,
+    radius: f32,
+    axis: Vec3,
+    one_minus_cos: f32,
+    u: Vec2,
+) -> AreaSample {
+    // Height below the pole h = u (1 − cos θmax); sin²θ = h (2 − h) without cancellation.
+    let h = u.x * one_minus_cos;
+    let z = 1.0 - h;
+    let sin = (h * (2.0 - h)).max(0.0).sqrt();
+    let phi = TWO_PI * u.y;
+    let f = Frame::from_z(axis);
+    let n = (f.s * (sin * phi.cos()) + f.t * (sin * phi.sin()) + f.n * z).normalize();
+    let rel = n * radius;
+    AreaSample {
+        p: center + rel,
+        p_error: gamma(5) * (center.abs() + rel.abs()),
+        n,
+        pdf: 1.0 / cap_area(radius, one_minus_cos),
+    }
+}
+
+/// Hit on the annulus: the disk of radius `radius` less the disk of radius `inner`.
+#[allow(clippy::too_many_arguments)]
+pub fn intersect_annulus(
+    center: Vec3,
+    normal: Vec3,
+    inner: f32,
+    radius: f32,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    let disk = Primitive::Disk {
+        center,
+        normal,
+        radius,
+    };
+    let h = disk.intersect(o, d, tmin, tmax)?;
+    ((h.p - center).length_squared() >= inner * inner).then_some(h)
+}
+
+/// Area of an annulus, π (R − r)(R + r).
+pub fn annulus_area(inner: f32, radius: f32) -> f32 {
+    std::f32::consts::PI * (radius - inner) * (radius + inner)
+}
+
+/// A point uniformly distributed by area on the annulus: ρ² uniform in [r², R²].
+pub fn sample_annulus(center: Vec3, normal: Vec3, inner: f32, radius: f32, u: Vec2) -> AreaSample {
+    let rho = (inner * inner + u.x * (radius - inner) * (radius + inner))
+        .sqrt()
+        .clamp(inner, radius);
+    let phi = TWO_PI * u.y;
+    let f = Frame::from_z(normal);
+    let rel = f.s * (rho * phi.cos()) + f.t * (rho * phi.sin());
+    AreaSample {
+        p: center + rel,
+        p_error: gamma(6) * (center.abs() + rel.abs()),
+        n: normal,
+        pdf: 1.0 / annulus_area(inner, radius),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+    fn cap(theta_max_deg: f64) -> Primitive {
+        let t = theta_max_deg.to_radians();
+        Primitive::SphericalCap {
+            center: Vec3::new(0.5, -0.2, 1.0),
+            radius: 2.0,
+            axis: Vec3::new(0.0, 0.6, 0.8),
+            cos_max: t.cos() as f32,
+            one_minus_cos: (2.0 * (0.5 * t).sin().powi(2)) as f32,
+        }
+    }
+
+    fn annulus() -> Primitive {
+        Primitive::Annulus {
+            center: Vec3::new(0.0, 0.0, 1.0),
+            normal: Vec3::new(0.0, 0.0, -1.0),
+            inner: 0.4,
+            radius: 1.0,
+        }
+    }
+
+    #[test]
+    fn cap_keeps_only_its_polar_range_and_sees_through_the_port() {
+        let c = cap(90.0);
+        let Primitive::SphericalCap { center, axis, .. } = c else {
+            unreachable!()
+        };
+        // From the centre: along the axis the wall is hit, against it the port lets go.
+        let h = c.intersect(center, axis, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 2.0).abs() < 1e-5);
+        assert!(c.intersect(center, -axis, 0.0, f32::INFINITY).is_none());
+        // From outside below the port: the near root (in the port) is clipped, the far
+        // wall is found.
+        let o = center - axis * 5.0;
+        let h = c.intersect(o, axis, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 7.0).abs() < 1e-4, "{}", h.t);
+        // The full sphere (θmax = 180°) is the sphere.
+        let full = cap(180.0);
+        let h = full.intersect(o, axis, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 3.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn annulus_has_a_hole() {
+        let a = annulus();
+        assert!(
+            a.intersect(Vec3::new(0.2, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_none()
+        );
+        assert!(
+            a.intersect(Vec3::new(0.5, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_some()
+        );
+        assert!(
+            a.intersect(Vec3::new(1.1, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY)
+                .is_none()
+        );
+    }
+
+    /// Every sampled point lies on the shape (a ray aimed at it from outside hits it
+    /// there), and the density is uniform by area: a chi-square test of the samples'
+    /// cells in (height along the axis or ρ², azimuth), each of equal area.
+    fn area_sampling_is_uniform(p: Primitive, coords: impl Fn(Vec3) -> (f64, f64)) {
+        let (nx, ny) = (16usize, 16usize);
+        let n = 160_000u32;
+        let mut counts = vec![0.0f64; nx * ny];
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for _ in 0..n {
+            let s = p.sample_area(Vec2::new(next(), next()));
+            assert!((s.pdf * p.area() - 1.0).abs() < 1e-5);
+            let (a, b) = coords(s.p);
+            assert!(
+                (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b),
+                "{a} {b}"
+            );
+            let (i, j) = (
+                ((a * nx as f64) as usize).min(nx - 1),
+                ((b * ny as f64) as usize).min(ny - 1),
+            );
+            counts[i * ny + j] += 1.0;
+            // Aimed at from 3 units off along the normal: the ray finds the point.
+            let o = s.p + s.n * 3.0;
+            let h = p
+                .intersect(o, -s.n, 0.0, f32::INFINITY)
+                .expect("sample on the shape");
+            assert!((h.p - s.p).length() < 1e-4, "{} vs {}", h.p, s.p);
+        }
+        // Pearson's statistic over equal-area cells (625 expected per cell), judged at
+        // α = 1e-6 per shape.
+        let e = n as f64 / (nx * ny) as f64;
+        let stat: f64 = counts.iter().map(|c| (c - e) * (c - e) / e).sum();
+        let p_value = ChiSquared::new((nx * ny - 1) as f64).unwrap().sf(stat);
+        assert!(p_value > 1e-6, "chi-square {stat}, p = {p_value}");
+    }
+
+    #[test]
+    fn cap_area_sampling_is_uniform() {
+        for deg in [30.0, 150.0, 180.0] {
+            let p = cap(deg);
+            let Primitive::SphericalCap {
+                center,
+                radius,
+                axis,
+                one_minus_cos,
+                ..
+            } = p
+            else {
+                unreachable!()
+            };
+            let f = Frame::from_z(axis);
+            area_sampling_is_uniform(p, |q| {
+                let r = ((q - center) / radius).as_dvec3();
+                let h = (1.0 - r.dot(axis.as_dvec3())) / one_minus_cos as f64;
+                let phi = r.dot(f.t.as_dvec3()).atan2(r.dot(f.s.as_dvec3()));
+                (
+                    h.clamp(0.0, 1.0),
+                    phi.rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU,
+                )
+            });
+        }
+    }
+
+    #[test]
+    fn annulus_area_sampling_is_uniform() {
+        let p = annulus();
+        area_sampling_is_uniform(p, |q| {
+            let r = (q - Vec3::new(0.0, 0.0, 1.0)).as_dvec3();
+            let rho2 = r.x * r.x + r.y * r.y;
+            (
+                ((rho2 - 0.16) / (1.0 - 0.16)).clamp(0.0, 1.0),
+                r.y.atan2(r.x).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU,
+            )
+        });
+    }
+}
