@@ -432,6 +432,16 @@ mod tests {
     }
 
     #[test]
+    fn beckmann_d_vanishes_from_its_cutoff() {
+        // D is 0 once tan²θ/α² ≥ 80 (e⁻⁸⁰ ≈ 1.8e-35; beyond, exp and cos⁴θ underflow
+        // and 0/0 would follow). At m = (4, 2, 1), α = ½, tan²θ/α² = 20/¼ = 80 exactly
+        // in f32; at (4, 1.9, 1) it is 78.44 and D is positive.
+        let b = beckmann(0.5);
+        assert_eq!(b.d(Vec3::new(4.0, 2.0, 1.0)), 0.0);
+        assert!(b.d(Vec3::new(4.0, 1.9, 1.0)) > 0.0);
+    }
+
+    #[test]
     fn roughness_is_clamped_into_its_range() {
         let a = |x: f32| ggx(x).alpha;
         assert_eq!(a(0.0), MIN_ALPHA);
@@ -594,15 +604,15 @@ mod tests {
         // The x slope of a visible Beckmann (α = 1) normal for cos θ has density
         // ∝ (1 − x tan θ)⁺ e^{−x²} (Heitz & d'Eon 2014, eq. 17): its CDF by quadrature
         // at the sampled slope must return u (the inversion promises 1e-10 in the CDF).
-        for cos in [0.95f64, 0.6, 0.2] {
+        for cos in [0.95f64, 0.6, 0.2, 0.02] {
             let tan = (1.0 - cos * cos).sqrt() / cos;
             let density = |x: f64| (1.0 - x * tan).max(0.0) * (-x * x).exp();
             let cut = 1.0 / tan;
-            let total = adaptive(density, -9.0, cut, 1e-12, 1e-15);
-            for u in [0.03f64, 0.3, 0.5, 0.77, 0.97] {
+            let total = adaptive(density, -9.0, cut, 1e-14, 1e-17);
+            for u in [0.001f64, 0.03, 0.3, 0.5, 0.77, 0.97, 0.999] {
                 let (x, y) = beckmann_sample11(cos, u, 0.8);
-                let cdf = adaptive(density, -9.0, x, 1e-12, 1e-15) / total;
-                assert!((cdf - u).abs() < 1e-8, "cos {cos} u {u}: F(x) = {cdf}");
+                let cdf = adaptive(density, -9.0, x, 1e-14, 1e-17) / total;
+                assert!((cdf - u).abs() < 1e-10, "cos {cos} u {u}: F(x) = {cdf}");
                 assert!((y - erf_inv(0.6)).abs() < 1e-12);
             }
         }
