@@ -28,6 +28,9 @@
 //!
 //! Identities proven in `tests/proof/bsdf_contract.rs`: ∫ D(m) cos θm dm = 1,
 //! ∫ D_ω(m) dm = 1 and the weak white furnace ∫ G1(ω) D(m) ⟨ω, m⟩⁺ / cos θ dm = 1.
+//! The unit tests below pin the same identities with the engine's quadrature, plus the
+//! closed forms, the projected area ∫ ⟨ω, m⟩⁺ D dm = cos θ (1 + Λ(ω)) and each sampler,
+//! in about a second: fast enough for `cargo mutants` with lib tests alone.
 
 use crate::math::{PI, TWO_PI, safe_sqrt};
 use glam::{Vec2, Vec3};
