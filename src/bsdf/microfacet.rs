@@ -634,7 +634,8 @@ mod tests {
             .unwrap_or(13u64);
         let n = 1u64 << 15;
         let test = MeanTest::new(1e-4, 18);
-        let samplers: [(Microfacet, fn(&Microfacet, Vec3, Vec2) -> Vec3); 3] = [
+        type Draw = fn(&Microfacet, Vec3, Vec2) -> Vec3;
+        let samplers: [(Microfacet, Draw); 3] = [
             (ggx(0.5), Microfacet::sample_vndf_heitz),
             (ggx(0.5), Microfacet::sample_vndf_spherical_cap),
             (beckmann(0.5), Microfacet::sample_vndf_beckmann),
