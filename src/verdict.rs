@@ -297,4 +297,121 @@ mod tests {
         assert!(many.critical > one.critical);
         assert_eq!(one.class, VerdictClass::Statistical);
     }
+
+    /// An unjudged outcome: mean `estimate` of `samples` samples (`non_finite` of them
+    /// not finite) with error bar `std_error` (`None`: exact), against `reference`.
+    fn outcome(
+        estimate: f64,
+        std_error: Option<f64>,
+        reference: Option<f64>,
+        samples: u64,
+        non_finite: u64,
+    ) -> Outcome {
+        Outcome {
+            case: "unit".into(),
+            file: "unit.json".into(),
+            measure: "irradiance".into(),
+            estimator: Estimator::Light,
+            sampler: SamplerKind::Independent,
+            samples,
+            seed: 1,
+            estimate,
+            std_error,
+            dof: None,
+            exact: std_error.is_none(),
+            non_finite,
+            seconds: 0.0,
+            effects: Effects::everything(),
+            reference,
+            z: None,
+            verdict: None,
+        }
+    }
+
+    #[test]
+    fn only_a_statistical_outcome_with_a_reference_joins_the_family() {
+        assert!(outcome(1.0, Some(0.1), Some(1.0), 100, 0).is_statistical());
+        // No reference: nothing to test, even with an error bar.
+        assert!(!outcome(1.0, Some(0.1), None, 100, 0).is_statistical());
+        // Exact: judged outside the family.
+        assert!(!outcome(1.0, None, Some(1.0), 100, 0).is_statistical());
+        assert!(!outcome(1.0, None, None, 100, 0).is_statistical());
+    }
+
+    #[test]
+    fn judging_records_the_verdict_and_its_z_against_the_reference_only() {
+        // z = (1.3 − 1)/0.1 = 3 exactly in the test's own terms.
+        let mut o = outcome(1.3, Some(0.1), Some(1.0), 1000, 0);
+        o.judge(1e-4, 1);
+        let v = o.verdict.clone().expect("judged");
+        assert_eq!(o.z, Some(v.z));
+        assert!((v.z - 3.0).abs() < 1e-9, "z = {}", v.z);
+        assert_eq!(v.reference, 1.0);
+        assert_eq!(v.std_error, 0.1);
+        // |z| = 3 < q(1 − 0.5e-4) ≈ 3.89: passes alone.
+        assert!(v.passed && o.passed());
+        // The same estimate against another reference 5σ away fails, and the outcome's
+        // own verdict is untouched by asking.
+        let far = o.verdict_against(0.8, 1e-4, 1);
+        assert!(!far.passed);
+        assert!((far.z - 5.0).abs() < 1e-9);
+        assert_eq!(o.verdict.as_ref().map(|v| v.passed), Some(true));
+        // Without a reference, judging leaves the outcome unjudged.
+        let mut free = outcome(1.3, Some(0.1), None, 1000, 0);
+        free.judge(1e-4, 1);
+        assert!(free.verdict.is_none() && free.z.is_none());
+    }
+
+    #[test]
+    fn an_outcome_verdict_counts_only_finite_samples() {
+        // One non-finite sample among 1000: fails whatever the statistic.
+        let v = outcome(1.0, Some(0.1), Some(1.0), 1000, 1).verdict_against(1.0, 1e-4, 1);
+        assert!(!v.passed);
+        assert_eq!(v.non_finite, 1);
+        // One finite sample and no non-finite one: too few to judge.
+        let one = outcome(1.0, Some(0.1), Some(1.0), 1, 0).verdict_against(1.0, 1e-4, 1);
+        assert!(!one.passed);
+        assert_eq!(one.reason.as_deref(), Some("fewer than two finite samples"));
+        // An exact outcome is judged exactly.
+        let exact = outcome(2.0, None, Some(2.0), 10, 0).verdict_against(2.0, 1e-4, 1);
+        assert!(exact.passed && exact.class == VerdictClass::Exact);
+        let off = outcome(2.0, None, Some(2.0), 10, 0).verdict_against(2.001, 1e-4, 1);
+        assert!(!off.passed && off.class == VerdictClass::Exact);
+    }
+
+    #[test]
+    fn an_unreferenced_outcome_passes_only_with_finite_samples() {
+        assert!(outcome(1.0, Some(0.1), None, 10, 0).passed());
+        assert!(!outcome(1.0, Some(0.1), None, 10, 1).passed());
+        assert!(!outcome(1.0, Some(0.1), None, 0, 0).passed());
+        // A judged outcome passes exactly when its verdict does, finite or not.
+        let mut o = outcome(2.0, Some(0.1), Some(1.0), 10, 0);
+        o.judge(1e-4, 1);
+        assert!(!o.passed());
+    }
+
+    #[test]
+    fn the_family_is_the_statistical_outcomes_plus_the_others() {
+        let mut all = vec![
+            outcome(1.0, Some(0.1), Some(1.0), 100, 0),
+            outcome(1.0, Some(0.1), Some(1.1), 100, 0),
+            outcome(3.0, None, Some(3.0), 100, 0),
+            outcome(1.0, Some(0.1), None, 100, 0),
+        ];
+        let k = judge_family(&mut all, 5, 1e-3);
+        assert_eq!(k, 7);
+        let per_test = crate::stats::sidak_alpha(1e-3, 7);
+        for o in &all[..2] {
+            let v = o.verdict.as_ref().expect("statistical outcomes are judged");
+            assert_eq!(v.class, VerdictClass::Statistical);
+            assert_eq!(v.alpha, per_test);
+        }
+        let exact = all[2].verdict.as_ref().expect("exact outcomes are judged");
+        assert!(exact.passed && exact.class == VerdictClass::Exact);
+        assert!(all[3].verdict.is_none());
+        // No statistical outcome: the family is the others alone.
+        let mut none = vec![outcome(3.0, None, Some(3.0), 100, 0)];
+        assert_eq!(judge_family(&mut none, 2, 1e-3), 2);
+        assert_eq!(judge_family(&mut [], 0, 1e-3), 0);
+    }
 }

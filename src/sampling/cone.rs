@@ -84,4 +84,33 @@ mod tests {
         assert!(w.y > 0.9e-4, "{w}");
         assert!((c.solid_angle() - std::f32::consts::PI * 1e-8).abs() < 1e-12);
     }
+
+    /// Closed forms for θmax = 60° (1 − cos θmax = ½, Ω = π) and θmax = 120°
+    /// (1 − cos θmax = 3/2, Ω = 3π), where the cone reaches below the equator.
+    #[test]
+    fn cone_matches_its_closed_forms() {
+        let pi = std::f32::consts::PI;
+        let c = Cone::from_half_angle(pi / 3.0);
+        assert!((c.one_minus_cos_max - 0.5).abs() < 1e-6);
+        assert!((c.solid_angle() - pi).abs() < 1e-5);
+        // 1 − cos θ = u₀/2, φ = 2πu₁.
+        let w = c.sample(Vec2::new(0.5, 0.125));
+        let (ct, phi) = (0.75f32, pi / 4.0);
+        let st = (1.0 - ct * ct).sqrt();
+        let want = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
+        assert!((w - want).abs().max_element() < 1e-6, "{w} vs {want}");
+        assert!((c.pdf(w) - 1.0 / pi).abs() < 1e-6);
+        // Just inside and just outside the rim (θ = 59° and 61°), and behind.
+        let at = |deg: f32| {
+            let t = deg.to_radians();
+            Vec3::new(t.sin() * 0.6, t.sin() * 0.8, t.cos())
+        };
+        assert!(c.contains(at(59.0)) && c.pdf(at(59.0)) > 0.0);
+        assert!(!c.contains(at(61.0)) && c.pdf(at(61.0)) == 0.0);
+        assert!(!c.contains(-Vec3::Z));
+        let wide = Cone::from_half_angle(2.0 * pi / 3.0);
+        assert!((wide.one_minus_cos_max - 1.5).abs() < 1e-6);
+        assert!((wide.pdf(at(110.0)) - 1.0 / (3.0 * pi)).abs() < 1e-6);
+        assert!(wide.contains(at(119.0)) && !wide.contains(at(121.0)));
+    }
 }

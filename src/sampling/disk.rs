@@ -66,4 +66,30 @@ mod tests {
             prop_assert!((back - u).abs().max_element() < 1e-4);
         }
     }
+
+    /// Shirley–Chiu by hand in each of the four sectors: u = (0.9, 0.6) gives
+    /// o = (0.8, 0.2), r = 0.8, θ = (π/4)(0.2/0.8) = π/16; u = (0.6, 0.1) gives
+    /// o = (0.2, −0.8), r = −0.8, θ = π/2 − (π/4)(0.2/−0.8) = 9π/16; the other two by
+    /// symmetry. The centre maps to the centre, and the inverse maps each point back.
+    #[test]
+    fn concentric_disk_by_hand() {
+        let pi = std::f32::consts::PI;
+        let polar = |r: f32, t: f32| Vec2::new(r * t.cos(), r * t.sin());
+        for (u, want) in [
+            (Vec2::new(0.9, 0.6), polar(0.8, pi / 16.0)),
+            (Vec2::new(0.6, 0.1), polar(-0.8, 9.0 * pi / 16.0)),
+            (Vec2::new(0.1, 0.4), polar(-0.8, pi / 16.0)),
+            (Vec2::new(0.4, 0.9), polar(0.8, 9.0 * pi / 16.0)),
+        ] {
+            let p = concentric_disk(u);
+            assert!((p - want).abs().max_element() < 1e-6, "{u}: {p} vs {want}");
+            let back = invert_concentric_disk(p);
+            assert!((back - u).abs().max_element() < 1e-5, "{u}: {back}");
+            assert_eq!(concentric_disk_pdf(p), INV_PI);
+        }
+        assert_eq!(concentric_disk(Vec2::splat(0.5)), Vec2::ZERO);
+        assert_eq!(invert_concentric_disk(Vec2::ZERO), Vec2::splat(0.5));
+        assert_eq!(concentric_disk_pdf(Vec2::new(0.8, 0.7)), 0.0);
+        assert_eq!(concentric_disk_pdf(Vec2::new(1.0, 0.0)), INV_PI);
+    }
 }

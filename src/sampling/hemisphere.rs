@@ -59,4 +59,26 @@ mod tests {
             prop_assert!(v.z >= 0.0 && (v.length() - 1.0).abs() < 1e-5);
         }
     }
+
+    /// z = u₀, φ = 2πu₁ for the uniform map; Malley's lift of the concentric disk for
+    /// the cosine map; densities 1/(2π) and cos θ/π above the horizon, 0 below.
+    #[test]
+    fn hemisphere_maps_and_densities_by_hand() {
+        let pi = std::f32::consts::PI;
+        let w = uniform_hemisphere(Vec2::new(0.6, 0.125));
+        let want = Vec3::new(0.8 * (pi / 4.0).cos(), 0.8 * (pi / 4.0).sin(), 0.6);
+        assert!((w - want).abs().max_element() < 1e-6, "{w}");
+        assert!((uniform_hemisphere_pdf(w) - 0.5 / pi).abs() < 1e-7);
+        assert_eq!(uniform_hemisphere_pdf(Vec3::X), 0.5 * INV_PI);
+        assert_eq!(uniform_hemisphere_pdf(-w), 0.0);
+        let u = Vec2::new(0.9, 0.6);
+        let d = concentric_disk(u);
+        let c = cosine_hemisphere(u);
+        assert_eq!(Vec2::new(c.x, c.y), d);
+        assert!((c.z - (1.0 - d.length_squared()).sqrt()).abs() < 1e-6);
+        assert!((cosine_hemisphere_pdf(c) - c.z / pi).abs() < 1e-7);
+        assert_eq!(cosine_hemisphere_pdf(Vec3::new(0.6, 0.0, -0.8)), 0.0);
+        assert_eq!(cosine_hemisphere_pdf(Vec3::X), 0.0);
+        assert!((invert_cosine_hemisphere(c) - u).abs().max_element() < 1e-5);
+    }
 }

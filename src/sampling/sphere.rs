@@ -42,4 +42,20 @@ mod tests {
             prop_assert!(dphi < 1e-3 || (1.0 - dphi) < 1e-3 || w.z.abs() > 0.9999);
         }
     }
+
+    /// z = 1 − 2u₀, φ = 2πu₁ by hand; density 1/(4π).
+    #[test]
+    fn sphere_map_by_hand() {
+        let pi = std::f32::consts::PI;
+        let w = uniform_sphere(Vec2::new(0.8, 0.375));
+        let want = Vec3::new(0.8 * (0.75 * pi).cos(), 0.8 * (0.75 * pi).sin(), -0.6);
+        assert!((w - want).abs().max_element() < 1e-6, "{w}");
+        assert!((uniform_sphere_pdf() - 0.25 / pi).abs() < 1e-8);
+        assert!(
+            (invert_uniform_sphere(w) - Vec2::new(0.8, 0.375))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+    }
 }

@@ -52,4 +52,34 @@ mod tests {
             prop_assert!((back.x - u0).abs() < 1e-4);
         }
     }
+
+    /// b₀ = 1 − √u₀, b₁ = u₁√u₀ by hand, the point they give on a right triangle with
+    /// legs 2 and 3 (area 3), and the inverse at the apex (b₀ = 1).
+    #[test]
+    fn triangle_by_hand() {
+        let b = uniform_triangle(Vec2::new(0.25, 0.6));
+        assert!((b - Vec2::new(0.5, 0.3)).abs().max_element() < 1e-7);
+        assert!(
+            (invert_uniform_triangle(b) - Vec2::new(0.25, 0.6))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        assert_eq!(
+            invert_uniform_triangle(Vec2::new(1.0, 0.0)),
+            Vec2::new(0.0, 0.5)
+        );
+        let p = [
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(3.0, 1.0, 1.0),
+            Vec3::new(1.0, 4.0, 1.0),
+        ];
+        assert!((triangle_area(p) - 3.0).abs() < 1e-6);
+        // b = (0.5, 0.3): p0·0.5 + p1·0.3 + p2·0.2.
+        let q = sample_triangle(p, Vec2::new(0.25, 0.6));
+        assert!(
+            (q - Vec3::new(1.6, 1.6, 1.0)).abs().max_element() < 1e-6,
+            "{q}"
+        );
+    }
 }
