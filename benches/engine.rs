@@ -1,6 +1,12 @@
-//! Engine speed: BVH build and closest-hit rays/s on a 100k-triangle mesh, and path
-//! samples/s on the furnace and Cornell-like scenes of `analytic/scenes/`.
+//! Engine speed: BVH build, closest-hit and shadow rays/s on a 100k-triangle mesh, and
+//! path samples/s on the furnace and Cornell-like scenes of `analytic/scenes/`.
 //! `cargo bench --bench engine` (use `RAYON_NUM_THREADS=2` for the 2-thread figures).
+//!
+//! The ray and path groups time **CPU seconds of the process** (all threads together),
+//! not wall time: on a shared machine wall time measures the other users' load, while CPU
+//! time per ray or per path is what the engine costs. Their `time` is CPU time per
+//! iteration, their `thrpt` rays or paths per CPU second (per thread), so 1/thrpt is the
+//! CPU cost of one path.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
@@ -12,6 +18,35 @@ use lightproof::scene::shape::Primitive;
 use lightproof::transport::engine::RunSpec;
 use std::hint::black_box;
 use std::path::Path;
+use std::time::Duration;
+
+/// CPU time of the whole process (every thread), from `CLOCK_PROCESS_CPUTIME_ID`.
+fn cpu_time() -> Duration {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    unsafe extern "C" {
+        fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
+    }
+    /// Linux's CLOCK_PROCESS_CPUTIME_ID.
+    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+    let mut t = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: `t` is a valid, writable timespec for the duration of the call.
+    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID)");
+    Duration::new(t.sec as u64, t.nsec as u32)
+}
+
+/// Criterion's `iter_custom` body timing `f` in process CPU time.
+fn cpu_iters<R>(iters: u64, mut f: impl FnMut() -> R) -> Duration {
+    let t0 = cpu_time();
+    for _ in 0..iters {
+        black_box(f());
+    }
+    cpu_time() - t0
+}
 
 /// A UV sphere of about 100k triangles.
 fn mesh() -> Vec<Primitive> {
@@ -50,12 +85,39 @@ fn bvh(c: &mut Criterion) {
             (o, (target - o).normalize())
         })
         .collect();
+    g.finish();
+    let mut g = c.benchmark_group("rays, CPU time");
+    g.sample_size(10);
     g.throughput(Throughput::Elements(rays.len() as u64));
     g.bench_function("closest hit, 1 thread", |b| {
-        b.iter(|| {
-            rays.iter()
-                .filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some())
-                .count()
+        b.iter_custom(|iters| {
+            cpu_iters(iters, || {
+                rays.iter()
+                    .filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some())
+                    .count()
+            })
+        })
+    });
+    // Shadow segments along the same rays: of length |o| (3), reaching the target's
+    // neighbourhood inside the sphere, so every one is blocked (early exit); and of
+    // length |o|/2, ending outside the sphere, so nearly all are clear (a full traversal
+    // that finds nothing).
+    g.bench_function("shadow rays (occluded), 1 thread", |b| {
+        b.iter_custom(|iters| {
+            cpu_iters(iters, || {
+                rays.iter()
+                    .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, o.length()))
+                    .count()
+            })
+        })
+    });
+    g.bench_function("shadow rays (clear), 1 thread", |b| {
+        b.iter_custom(|iters| {
+            cpu_iters(iters, || {
+                rays.iter()
+                    .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, 0.5 * o.length()))
+                    .count()
+            })
         })
     });
     g.finish();
@@ -64,7 +126,7 @@ fn bvh(c: &mut Criterion) {
 
 fn paths(c: &mut Criterion) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes");
-    let mut g = c.benchmark_group("path samples");
+    let mut g = c.benchmark_group("path samples, CPU time");
     g.sample_size(10);
     for name in ["furnace", "cornell"] {
         let case = Case::load(&root.join(format!("{name}.json"))).expect("bench scene");
@@ -75,7 +137,9 @@ fn paths(c: &mut Criterion) {
             seed: 1,
         };
         g.throughput(Throughput::Elements(spec.total()));
-        g.bench_function(name, |b| b.iter(|| black_box(case.estimate(est, &spec))));
+        g.bench_function(name, |b| {
+            b.iter_custom(|iters| cpu_iters(iters, || case.estimate(est, &spec)))
+        });
     }
     g.finish();
 }

@@ -156,6 +156,13 @@ enum Command {
         /// Seed.
         #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
+        /// Worker threads, 1 to 8 × the logical cores (default: all cores).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
+        threads: Option<usize>,
+        /// Most scatterings along a path, 0 (emission seen directly) to 2^16 (default:
+        /// unlimited, with Russian roulette).
+        #[arg(long, allow_negative_numbers = true, value_parser = parse_max_depth)]
+        max_depth: Option<u32>,
     },
 }
 
@@ -193,6 +200,10 @@ fn parse_chi2_samples(s: &str) -> Result<u64, String> {
 
 fn parse_spp(s: &str) -> Result<u64, String> {
     count_in(s, 1, lightproof::render::MAX_SPP, "2^20")
+}
+
+fn parse_max_depth(s: &str) -> Result<u32, String> {
+    count_in(s, 0, lightproof::render::MAX_DEPTH as u64, "2^16").map(|v| v as u32)
 }
 
 fn parse_seed(s: &str) -> Result<u64, String> {
@@ -322,8 +333,9 @@ fn main() -> ExitCode {
     let threads = match &command {
         Command::Verify { threads, .. }
         | Command::Estimate { threads, .. }
-        | Command::Report { threads, .. } => *threads,
-        Command::Chi2 { .. } | Command::Merge { .. } | Command::Render { .. } => None,
+        | Command::Report { threads, .. }
+        | Command::Render { threads, .. } => *threads,
+        Command::Chi2 { .. } | Command::Merge { .. } => None,
     };
     let pool = match rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
@@ -451,11 +463,21 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             spp,
             output,
             seed,
+            threads: _,
+            max_depth,
         } => {
-            let (w, h, data) = lightproof::render::render_file(&scene, spp, seed)?;
+            let t0 = std::time::Instant::now();
+            let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
+            let seconds = t0.elapsed().as_secs_f64();
+            let paths = (w * h) as f64 * spp as f64;
             lightproof::render::write_exr(&output, w, h, &data)
                 .map_err(|e| IoError::write(&output, e))?;
-            eprintln!("wrote {} ({w}×{h}, {spp} spp)", output.display());
+            eprintln!(
+                "wrote {} ({w}×{h}, {spp} spp): {paths} paths in {seconds:.3} s, {:.0} paths/s on {} threads",
+                output.display(),
+                paths / seconds.max(f64::MIN_POSITIVE),
+                rayon::current_num_threads()
+            );
             Ok(())
         }
     }

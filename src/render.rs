@@ -7,7 +7,7 @@ use crate::math::Frame;
 use crate::sampling::{Sampler, SamplerKind};
 use crate::transport::Estimator;
 use crate::transport::measure::Measure;
-use crate::transport::path::{Prev, trace};
+use crate::transport::path::{MAX_PATH_BOUNCES, Prev, trace};
 use crate::transport::phase::Grey;
 use crate::transport::plan::Plans;
 use glam::Vec3;
@@ -23,11 +23,18 @@ pub const MAX_SPP: u64 = 1 << 20;
 /// Most samples of a whole image (pixels × spp): 2⁴⁰, as for an estimate.
 pub const MAX_RENDER_SAMPLES: u64 = 1 << 40;
 
-/// Render `path` with `spp` samples per pixel; returns (width, height, radiance).
+/// Most bounces `--max-depth` accepts (the path tracer's own guard,
+/// [`MAX_PATH_BOUNCES`]).
+pub const MAX_DEPTH: u32 = MAX_PATH_BOUNCES;
+
+/// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
+/// scatterings (`None`: the plan's bound, unlimited with Russian roulette where more
+/// bounces can contribute); returns (width, height, radiance).
 pub fn render_file(
     path: &Path,
     spp: u64,
     seed: u64,
+    max_depth: Option<u32>,
 ) -> Result<(usize, usize, Vec<f32>), InputError> {
     let file = path.display().to_string();
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
@@ -110,7 +117,11 @@ pub fn render_file(
         desc.spectral.as_ref(),
         desc.time.as_ref(),
     )?;
-    let cfg = plans.pruned.config(Estimator::Mis);
+    let mut cfg = plans.pruned.config(Estimator::Mis);
+    if let Some(depth) = max_depth {
+        // 0: only emission seen directly; 1: direct lighting; and so on.
+        cfg.max_bounces = cfg.max_bounces.min(depth);
+    }
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
     let (w, h) = (c.width, c.height);
     let pixels: Vec<f32> = (0..w * h)

@@ -148,12 +148,19 @@ impl Sampler {
     #[inline]
     pub fn stream(&self, index: u64) -> SampleStream {
         let rng_seed = hash_words(&[self.seed, index]);
+        // The Sobol scramble of the sample's block, hashed once per stream rather than
+        // once per dimension (the same value either way).
+        let scramble = match self.kind {
+            SamplerKind::Sobol => hash_words(&[self.seed, index / self.count.min(1 << 16)]) as u32,
+            SamplerKind::Independent | SamplerKind::Stratified => 0,
+        };
         SampleStream {
             kind: self.kind,
             seed: self.seed,
             count: self.count,
             index,
             dim: 0,
+            scramble,
             rng: Pcg32::new(rng_seed, hash_words(&[self.seed, 0x5eed]) | 1),
         }
     }
@@ -167,6 +174,8 @@ pub struct SampleStream {
     count: u64,
     index: u64,
     dim: u32,
+    /// Owen scramble seed of the sample's Sobol block (0 for the other kinds).
+    scramble: u32,
     rng: Pcg32,
 }
 
@@ -180,9 +189,7 @@ impl SampleStream {
             SamplerKind::Independent => unit_float_from_bits(self.rng.next_u32()),
             SamplerKind::Sobol if d < 256 => {
                 let batch = self.count.min(1 << 16);
-                let block = self.index / batch;
-                let scramble = hash_words(&[self.seed, block]) as u32;
-                sobol_burley::sample((self.index % batch) as u32, d, scramble)
+                sobol_burley::sample((self.index % batch) as u32, d, self.scramble)
             }
             SamplerKind::Sobol => unit_float_from_bits(self.rng.next_u32()),
             SamplerKind::Stratified => {

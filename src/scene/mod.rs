@@ -345,9 +345,16 @@ impl Scene {
                 two_sided,
             } => {
                 let s = &self.shapes[*shape];
-                // The position within the chosen cell is a fresh uniform number.
-                let (x, _, local) = s.area_dist.sample(u.x);
-                let ux = (x * s.area_dist.len() as f32 - local as f32).clamp(0.0, 1.0);
+                // The position within the chosen cell is a fresh uniform number. A shape
+                // of one primitive has one cell, whose sample is u itself (the same bits
+                // the distribution returns for u ∈ [0, 1)): no search.
+                let (ux, local) = if s.area_dist.len() == 1 {
+                    (u.x.clamp(0.0, 1.0), 0)
+                } else {
+                    let (x, _, local) = s.area_dist.sample(u.x);
+                    let n = s.area_dist.len() as f32;
+                    ((x * n - local as f32).clamp(0.0, 1.0), local)
+                };
                 let prim_index = s.prims.start + local;
                 let prim = &self.prims()[prim_index];
                 let (q, mut nq, q_err, pdf_w) = sample_prim(

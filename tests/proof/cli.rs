@@ -268,3 +268,86 @@ fn verify_table_names_cases_by_file_id_and_verbose_adds_what_they_teach() {
     let text = String::from_utf8_lossy(&verbose.stdout);
     assert!(text.contains("power of a disk light: Φ = π L A"), "{text}");
 }
+
+/// A camera over a diffuse floor lit by a disk light above the camera's view: every
+/// pixel sees the floor, so a pixel is bright only through one or more scatterings.
+const LIT_FLOOR: &str = r#"{
+  "name": "lit floor", "teaches": "direct lighting needs one bounce",
+  "scene": {
+    "materials": { "white": { "type": "lambertian", "albedo": 0.8 } },
+    "shapes": [
+      { "geometry": { "type": "rectangle", "corner": [-50, -50, 0], "edge_u": [100, 0, 0], "edge_v": [0, 100, 0] }, "material": "white" },
+      { "geometry": { "type": "disk", "center": [0, 0, 3], "normal": [0, 0, -1], "radius": 1 }, "emission": { "radiance": 10 } }
+    ]
+  },
+  "camera": { "position": [0, 0, 2], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_degrees": 30, "width": 4, "height": 4 },
+  "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+  "estimators": ["light"] }"#;
+
+/// `render --threads T --max-depth D`: bounds checked (exit 2 naming the flag), the
+/// image identical for any thread count, time and paths/s on stderr, and a depth of 0
+/// leaving only the emission seen directly (none here), 1 adding direct lighting.
+#[test]
+fn render_takes_threads_and_max_depth() {
+    let case = tmp("lit_floor.json", LIT_FLOOR);
+    let dir = case.parent().unwrap().to_path_buf();
+    for (flag, value) in [
+        ("--max-depth", "-1"),
+        ("--max-depth", "65537"),
+        ("--max-depth", "two"),
+        ("--threads", "0"),
+        ("--threads", "-2"),
+    ] {
+        let out = bin()
+            .args(["render", "--spp", "1", flag, value, "-o"])
+            .arg(dir.join("never.exr"))
+            .arg(&case)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(
+            err.contains(flag),
+            "{flag} {value}: the flag must be named: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    let render = |threads: &str, depth: Option<&str>, name: &str| {
+        let out_path = dir.join(name);
+        let mut cmd = bin();
+        cmd.args(["render", "--spp", "8", "--threads", threads, "-o"])
+            .arg(&out_path)
+            .arg(&case);
+        if let Some(d) = depth {
+            cmd.args(["--max-depth", d]);
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        assert!(
+            err.contains("128 paths in") && err.contains("paths/s"),
+            "time and paths/s on stderr: {err}"
+        );
+        std::fs::read(out_path).unwrap()
+    };
+    let one = render("1", None, "t1.exr");
+    assert_eq!(
+        one,
+        render("3", None, "t3.exr"),
+        "thread count changed the image"
+    );
+    assert_eq!(one, render("2", Some("65536"), "deep.exr"));
+    let pixels = |depth: u32| {
+        let (w, h, data) =
+            lightproof::render::render_file(&case, 8, 1, Some(depth)).expect("renders");
+        assert_eq!(data.len(), w * h);
+        data
+    };
+    assert!(pixels(0).iter().all(|&v| v == 0.0), "depth 0 sees no floor");
+    assert!(
+        pixels(1).iter().all(|&v| v > 0.0),
+        "depth 1 lights the floor"
+    );
+    render("2", Some("0"), "d0.exr");
+}
