@@ -102,8 +102,16 @@ fn chi2_cases() -> Vec<(&'static str, Bsdf, f32)> {
             Bsdf::RoughDielectric(RoughDielectric::new(0.5, 1.5)),
             60.0,
         ),
-        ("beckmann_conductor_a0.5", Bsdf::RoughConductor(beck_c), 60.0),
-        ("beckmann_dielectric_a0.5", Bsdf::RoughDielectric(beck_d), 60.0),
+        (
+            "beckmann_conductor_a0.5",
+            Bsdf::RoughConductor(beck_c),
+            60.0,
+        ),
+        (
+            "beckmann_dielectric_a0.5",
+            Bsdf::RoughDielectric(beck_d),
+            60.0,
+        ),
         (
             "ggx_conductor_a0.1",
             Bsdf::RoughConductor(RoughConductor::new(0.1, 0.2, 3.9)),
@@ -134,7 +142,8 @@ fn chi2_group(c: &mut Criterion, group: &str, quadrature: Quadrature) {
         let wo = direction(theta.to_radians(), 0.3);
         g.bench_function(name, |bench| {
             bench.iter(|| {
-                let t = Chi2Test::new(Domain::Sphere, 1_000_000, 7, 1e-6).with_quadrature(quadrature);
+                let t =
+                    Chi2Test::new(Domain::Sphere, 1_000_000, 7, 1e-6).with_quadrature(quadrature);
                 black_box(contract::chi2_bsdf_with(&t, &b, name, wo))
             })
         });

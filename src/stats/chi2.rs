@@ -280,7 +280,10 @@ impl Chi2Test {
         let da = (a1 - a0) / self.rows as f64;
         let db = (b1 - b0) / self.cols as f64;
         let (r, c) = ((cell / self.cols) as f64, (cell % self.cols) as f64);
-        ((a0 + r * da, a0 + (r + 1.0) * da), (b0 + c * db, b0 + (c + 1.0) * db))
+        (
+            (a0 + r * da, a0 + (r + 1.0) * da),
+            (b0 + c * db, b0 + (c + 1.0) * db),
+        )
     }
 
     /// The quadrature error a cell of probability `p` may carry, as a probability:
@@ -350,9 +353,9 @@ impl Chi2Test {
                 let qa = (a0 + i as f64 * sa, a0 + (i + 1) as f64 * sa);
                 let qb = (b0 + j as f64 * sb, b0 + (j + 1) as f64 * sb);
                 let (v, e) = match self.quadrature {
-                    Quadrature::Statistical => integrate_cell(&f, qa, qb, 5, &|p| {
-                        self.cell_tolerance(p * share) / share
-                    }),
+                    Quadrature::Statistical => {
+                        integrate_cell(&f, qa, qb, 5, &|p| self.cell_tolerance(p * share) / share)
+                    }
                     Quadrature::Strict => {
                         adaptive_quadrature_2d(&f, qa, qb, gauss_4x4(&f, qa, qb), strict, 5)
                     }
@@ -972,7 +975,10 @@ mod tests {
         let t = Chi2Test::new(Domain::Sphere, n, 1, 0.01).with_resolution(16, 32);
         let strict = t.clone().with_quadrature(Quadrature::Strict);
         for (name, pdf) in [
-            ("cone", &(|w: Vec3| cone.pdf(w) as f64) as &(dyn Fn(Vec3) -> f64 + Sync)),
+            (
+                "cone",
+                &(|w: Vec3| cone.pdf(w) as f64) as &(dyn Fn(Vec3) -> f64 + Sync),
+            ),
             ("lobe", &lobe),
         ] {
             let fast = t.integrate_pdf(&pdf);
@@ -987,7 +993,10 @@ mod tests {
                 assert!(f.1 <= t.cell_tolerance(f.0).max(1e-9 * f.0) * (1.0 + 1e-9));
                 budget += (f.1 * n as f64).powi(2) / (f.0 * n as f64).max(1.0);
             }
-            assert!(budget <= QUADRATURE_BUDGET * (2.0 * 512.0f64).sqrt(), "{name}: {budget}");
+            assert!(
+                budget <= QUADRATURE_BUDGET * (2.0 * 512.0f64).sqrt(),
+                "{name}: {budget}"
+            );
         }
     }
 
@@ -1008,7 +1017,13 @@ mod tests {
             let cells = rows * cols;
             // Probabilities from a spread of 10 decades, some cells empty.
             let mut p: Vec<f64> = (0..cells)
-                .map(|_| if next() < 0.1 { 0.0 } else { 10f64.powf(-10.0 * next()) })
+                .map(|_| {
+                    if next() < 0.1 {
+                        0.0
+                    } else {
+                        10f64.powf(-10.0 * next())
+                    }
+                })
                 .collect();
             let sum: f64 = p.iter().sum();
             p.iter_mut().for_each(|x| *x /= sum.max(1e-300));
