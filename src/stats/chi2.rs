@@ -318,20 +318,52 @@ impl Chi2Test {
     {
         let f = |a: f64, b: f64| self.density(pdf, a, b);
         let strict = STRICT_TOLERANCE / self.samples.max(1) as f64;
-        (0..self.rows * self.cols)
+        let tol = |p: f64| self.cell_tolerance(p);
+        let first: Vec<(f64, f64)> = (0..self.rows * self.cols)
             .into_par_iter()
             .map(|cell| {
                 let (ra, rb) = self.cell_rect(cell);
                 match self.quadrature {
                     Quadrature::Statistical => {
-                        integrate_cell(&f, ra, rb, MAX_DEPTH, &|p| self.cell_tolerance(p))
+                        integrate_cell(&f, ra, rb, (MAX_DEPTH, MAX_SPLITS), &tol)
                     }
                     Quadrature::Strict => {
                         adaptive_quadrature_2d(&f, ra, rb, gauss_4x4(&f, ra, rb), strict, 0)
                     }
                 }
             })
+            .collect();
+        // Second pass, decided from the first pass alone (so identical for any thread
+        // count): if the cells that missed their tolerance would spend more than the
+        // budget, integrate them again with more splits.
+        if self.quadrature == Quadrature::Strict
+            || self.quadrature_share(&first) <= QUADRATURE_BUDGET
+        {
+            return first;
+        }
+        first
+            .par_iter()
+            .enumerate()
+            .map(|(cell, &(v, e))| {
+                if e <= tol(v).max(1e-9 * v.abs()) {
+                    return (v, e);
+                }
+                let (ra, rb) = self.cell_rect(cell);
+                integrate_cell(&f, ra, rb, (MAX_DEPTH, MAX_SPLITS_SECOND_PASS), &tol)
+            })
             .collect()
+    }
+
+    /// What quadrature errors `integrals` (per cell: probability, error) could add to
+    /// the statistic, in its standard deviations, with the cells pooled as the judge
+    /// pools them.
+    fn quadrature_share(&self, integrals: &[(f64, f64)]) -> f64 {
+        let n = self.samples as f64;
+        let expected: Vec<f64> = integrals.iter().map(|c| c.0 * n).collect();
+        let errors: Vec<f64> = integrals.iter().map(|c| c.1 * n).collect();
+        let pooled = pool(&vec![0; integrals.len()], &expected, &errors);
+        let dof = pooled.len().saturating_sub(1).max(1);
+        quadrature_chi2(&pooled) / (2.0 * dof as f64).sqrt()
     }
 
     /// A cell integrated again as a 32 × 32 grid of sub-cells (each adaptive to depth 5
@@ -353,9 +385,9 @@ impl Chi2Test {
                 let qa = (a0 + i as f64 * sa, a0 + (i + 1) as f64 * sa);
                 let qb = (b0 + j as f64 * sb, b0 + (j + 1) as f64 * sb);
                 let (v, e) = match self.quadrature {
-                    Quadrature::Statistical => {
-                        integrate_cell(&f, qa, qb, 5, &|p| self.cell_tolerance(p * share) / share)
-                    }
+                    Quadrature::Statistical => integrate_cell(&f, qa, qb, (5, MAX_SPLITS), &|p| {
+                        self.cell_tolerance(p * share) / share
+                    }),
                     Quadrature::Strict => {
                         adaptive_quadrature_2d(&f, qa, qb, gauss_4x4(&f, qa, qb), strict, 5)
                     }
@@ -436,10 +468,7 @@ impl Chi2Test {
         let pooled = pool(observed, expected, &errors);
         // What the quadrature error could add to the statistic: Σ δ²/E over the cells
         // it is computed on (a pool's error is the sum of its cells').
-        let quadrature_chi2: f64 = pooled
-            .iter()
-            .map(|c| c.error * c.error / c.expected.max(1.0))
-            .sum();
+        let quadrature_chi2 = quadrature_chi2(&pooled);
         // Too few samples to fill two pooled cells: there is nothing to judge with, and
         // a statistic of 0 with p = 1 would pass vacuously.
         if pooled.iter().filter(|c| c.expected >= 5.0).count() < 2 {
@@ -556,6 +585,15 @@ impl Pooled {
         self.expected += o.expected;
         self.error += o.error;
     }
+}
+
+/// What the quadrature errors of the judged cells could add to the statistic:
+/// Σ δ²/E (a pool's error δ being the sum of its cells').
+fn quadrature_chi2(pooled: &[Pooled]) -> f64 {
+    pooled
+        .iter()
+        .map(|c| c.error * c.error / c.expected.max(1.0))
+        .sum()
 }
 
 /// Cells with expected count < 5 pooled, smallest first, into cells of expected count
@@ -820,8 +858,10 @@ pub const QUADRATURE_BUDGET: f64 = 0.05;
 
 /// Most subdivisions of one cell by [`integrate_cell`] (each costs 292 density
 /// evaluations, so a cell costs at most 37 000). A cell that has not met its tolerance
-/// by then keeps its error estimate, and the judge refuses to judge if the errors of
-/// all cells together matter. Only cells on an integrable singularity of the density
+/// by then keeps its error estimate; if the cells over their tolerance together spend
+/// more than [`QUADRATURE_BUDGET`], they get a second pass
+/// ([`MAX_SPLITS_SECOND_PASS`]), and the judge refuses to judge if the errors of all
+/// cells together still matter. Cells on an integrable singularity of the density
 /// get there: along the fold where a rough dielectric's transmitted directions end, the
 /// density grows like 1/√distance, and each level of subdivision divides the error by
 /// √2 only, while it doubles the work; more splits would buy little (GGX, α = 0.5,
@@ -829,6 +869,12 @@ pub const QUADRATURE_BUDGET: f64 = 0.05;
 /// 10.8M evaluations, 128 splits leave 30 at ≤ 4.5× for 2.1M, and the quadrature's
 /// share of the statistic is 0.002, 50× below the judge's limit).
 const MAX_SPLITS: usize = 128;
+
+/// Most subdivisions of a cell in the second pass of [`Chi2Test::integrate_pdf`], for
+/// the cells over their tolerance when, together, they would spend more than the
+/// budget (a jump of an indicator density along a sliver, where each level halves the
+/// error): about what the former rule spent along a jump at depth 9.
+const MAX_SPLITS_SECOND_PASS: usize = 4096;
 
 /// A sub-cell of [`integrate_cell`]: its four children's 4×4 rules (`parts`), their sum
 /// (`value`) and its error estimate (the disagreement of the 4×4 rule on the sub-cell
@@ -884,7 +930,7 @@ impl Leaf {
 /// four children; each child's 4×4 rule is reused as its own coarse rule), but the
 /// sub-cell with the largest error is split next, until the sum of the errors is
 /// within `tol(integral)` (or 10⁻⁹ of the integral, the f64 floor), no sub-cell can be
-/// split above `max_depth`, or [`MAX_SPLITS`] is reached. Along a jump of the density
+/// split above `max_depth`, or `max_splits` is reached. Along a jump of the density
 /// the error halves with each level while the work doubles, so the sub-cells that
 /// straddle it stop at the level the tolerance needs instead of all going to the
 /// depth limit. Returns (integral, error estimate), summed over the leaves in order.
@@ -892,7 +938,7 @@ fn integrate_cell<F: Fn(f64, f64) -> f64>(
     f: &F,
     ra: (f64, f64),
     rb: (f64, f64),
-    max_depth: u32,
+    (max_depth, max_splits): (u32, usize),
     tol: &dyn Fn(f64) -> f64,
 ) -> (f64, f64) {
     let mut leaves = vec![Leaf::new(f, ra, rb, gauss_4x4(f, ra, rb), 0)];
@@ -901,7 +947,7 @@ fn integrate_cell<F: Fn(f64, f64) -> f64>(
             .iter()
             .fold((0.0, 0.0), |(v, e), l| (v + l.value, e + l.err))
     };
-    for _ in 0..MAX_SPLITS {
+    for _ in 0..max_splits {
         let (value, err) = sums(&leaves);
         if err <= tol(value).max(1e-9 * value.abs()) {
             break;
@@ -966,7 +1012,7 @@ mod tests {
 
     /// The default quadrature agrees with the strict one within its own error estimate,
     /// on a density with a jump through the cells (a cone's indicator) and a smooth
-    /// lobe, and spends only the budget it is given.
+    /// lobe, and stays within the judge's limit.
     #[test]
     fn statistical_quadrature_agrees_with_strict() {
         let cone = crate::sampling::cone::Cone::from_half_angle(0.7);
@@ -983,20 +1029,19 @@ mod tests {
         ] {
             let fast = t.integrate_pdf(&pdf);
             let slow = strict.integrate_pdf(&pdf);
+            // The error estimates cover the true error of the whole (∫ = 1).
             let total: f64 = fast.iter().map(|c| c.0).sum();
-            assert!((total - 1.0).abs() < 1e-4, "{name}: {total}");
-            let mut budget = 0.0;
+            let err: f64 = fast.iter().map(|c| c.1).sum();
+            assert!((total - 1.0).abs() <= err + 1e-6, "{name}: {total} ± {err}");
             for (i, (f, s)) in fast.iter().zip(&slow).enumerate() {
-                let diff = (f.0 - s.0).abs();
                 // The strict rule is the reference; its own error is ≤ 1e-3/N.
+                let diff = (f.0 - s.0).abs();
                 assert!(diff <= f.1 + s.1 + 1e-12, "{name} cell {i}: {f:?} vs {s:?}");
-                assert!(f.1 <= t.cell_tolerance(f.0).max(1e-9 * f.0) * (1.0 + 1e-9));
-                budget += (f.1 * n as f64).powi(2) / (f.0 * n as f64).max(1.0);
             }
-            assert!(
-                budget <= QUADRATURE_BUDGET * (2.0 * 512.0f64).sqrt(),
-                "{name}: {budget}"
-            );
+            // Within the judge's limit (a jump cell of 10⁴ counts cannot meet its own
+            // tolerance at the depth limit: the whole may spend more than the budget).
+            let share = t.quadrature_share(&fast);
+            assert!(share <= 0.1, "{name}: share {share}");
         }
     }
 
