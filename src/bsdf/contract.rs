@@ -3,7 +3,7 @@
 //!
 //! | check | function | what it catches |
 //! |---|---|---|
-//! | sampling distribution | [`chi2_bsdf`] | `sample` not drawing from `pdf` (shape and normalisation) |
+//! | sampling distribution | [`chi2_bsdf`], [`chi2_bsdf_cap`] (near-delta lobes) | `sample` not drawing from `pdf` (shape and normalisation) |
 //! | consistency | [`check_consistency`] | a weight ≠ eval·\|cos\|/pdf, a returned pdf ≠ `pdf(wo, wi)`, wrong lobe flags: a wrong `eval` with a right `pdf`, which chi-square cannot see |
 //! | reciprocity | [`check_reciprocity`] | f(ωi→ωo)/η_o² ≠ f(ωo→ωi)/η_i² |
 //! | energy | [`albedo`] + [`judge_at_most`] / [`judge_equal`] | albedo > 1, or ≠ the reflectance a model promises |
@@ -15,10 +15,12 @@
 //! are proven by [`albedo`] (their weight and selection probability) and by the
 //! consistency check's structural tests.
 //!
-//! **Near-delta lobes** (α ≲ 0.05, or a rough dielectric's transmission at η → 1) put
-//! their mass into a few cells of a 64 × 128 sphere grid, where a chi-square test has
-//! almost no degrees of freedom and the quadrature cannot resolve the lobe within a
-//! cell; the suite tests those by consistency, albedo and stability only.
+//! **Near-delta lobes** (α ≲ 0.05) put their mass into a few cells of a 64 × 128
+//! sphere grid, where a chi-square test has almost no degrees of freedom;
+//! [`chi2_bsdf_cap`] tests them on a cap around the ideal reflection or refraction,
+//! cut into cells a fraction of the lobe's width. A rough dielectric's transmission at
+//! η → 1 (a lobe ~α·|η − 1| wide, below what `f32` directions resolve) is tested by
+//! consistency, albedo and stability only.
 //!
 //! **Radiance convention**: weights are radiance weights, f(ωi→ωo)|cos θi|/pdf; the
 //! energy carried by a transmitted sample is weight·η′² with η′ = [`BsdfSample::eta`]
@@ -91,6 +93,49 @@ pub fn chi2_tables(test: &Chi2Test, model: &dyn BsdfModel, wo: Vec3) -> Chi2Tabl
         },
         |wi| model.pdf(wo, wi) as f64,
     )
+}
+
+/// Chi-square test of a near-delta lobe (α ≲ 0.05): `model.sample(wo, ·)` against
+/// `model.pdf(wo, ·)` on the cap of directions around `axis` (usually the ideal
+/// reflection or refraction of ωo) whose offset from `axis` is at most `radius` in
+/// each tangent direction (sin of the angle), so that the test's cells resolve the lobe
+/// where a 64 × 128 sphere grid would put it into one or two cells.
+///
+/// `test.domain` must be [`Domain::Square`]: a direction ω with local coordinates
+/// l = (x, y, z) in the frame of `axis` maps to p = (x, y)/(2·radius) + ½ ∈ [0, 1]²,
+/// and the density per unit area of p is pdf(ω)·(2·radius)²/z (dω = dx dy / z). A
+/// sample outside the cap counts as a failed draw, so the test's normalisation check
+/// compares ∫_cap pdf with the fraction of draws that landed in the cap.
+pub fn chi2_bsdf_cap(
+    test: &Chi2Test,
+    model: &dyn BsdfModel,
+    name: &str,
+    wo: Vec3,
+    axis: Vec3,
+    radius: f32,
+) -> Chi2Outcome {
+    debug_assert_eq!(test.domain, Domain::Square);
+    let frame = Frame::from_z(axis.normalize());
+    let width = 2.0 * radius;
+    let tables = test.tables(
+        |u| {
+            let s = model.sample(wo, u).filter(|s| !s.lobe.is_delta())?;
+            let l = frame.to_local(s.wi);
+            let p = Vec3::new(l.x / width + 0.5, l.y / width + 0.5, 0.0);
+            let inside = l.z > 0.0 && (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y);
+            inside.then_some(p)
+        },
+        |p| {
+            let (x, y) = ((p.x - 0.5) * width, (p.y - 0.5) * width);
+            let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+            if !(z > 0.0) {
+                return 0.0;
+            }
+            let wi = frame.to_world(Vec3::new(x, y, z));
+            model.pdf(wo, wi) as f64 * (width as f64).powi(2) / z as f64
+        },
+    );
+    test.judge(name, &tables)
 }
 
 /// Write `STEM-observed.exr`, `STEM-expected.exr` (counts scaled by the largest),
