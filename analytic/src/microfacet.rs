@@ -176,8 +176,9 @@ fn g2(dist: Distribution, masking: Masking, alpha: f64, co: f64, ci: f64) -> f64
 }
 
 /// Directional albedo ρ(θo) of the F ≡ 1 microfacet mirror (module doc), cos θo ∈ (0, 1],
-/// to a relative accuracy of about 1e-9. GGX at α = 1 and normal incidence is
+/// to a relative accuracy of about 1e-8. GGX at α = 1 and normal incidence is
 /// [`ggx_white_albedo_normal_alpha1`] (the tests check this function against it).
+/// Costs a few milliseconds (tens at α ≤ 1e-3).
 pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta: f64) -> f64 {
     let co = cos_theta.clamp(1e-300, 1.0);
     let so = (1.0 - co * co).sqrt();
@@ -202,7 +203,7 @@ pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta:
         oh * g2(dist, masking, alpha, co, ci) / (co * h[2])
     };
     // p(s) ds dφ/(2π) = dx dφ/(2π); symmetric in φ, so twice the half range over 2π.
-    adaptive_2d(g, 0.0, 1.0, |_| 0.0, phi_max, 1e-10) / PI
+    adaptive_2d(g, 0.0, 1.0, |_| 0.0, phi_max, 1e-9) / PI
 }
 
 /// The closed form 1 − ln 2 of the GGX white-furnace albedo at α = 1 and normal incidence
@@ -312,8 +313,8 @@ mod tests {
     #[test]
     fn projected_area_matches_quadrature_of_d() {
         for dist in DISTS {
-            for alpha in [0.01, 0.2, 0.6, 1.0] {
-                for theta in [0.0f64, 30.0, 60.0, 85.0, 89.0, 90.0] {
+            for alpha in [0.01, 0.3, 1.0] {
+                for theta in [0.0f64, 60.0, 89.0, 90.0] {
                     let c = theta.to_radians().cos();
                     let c = if theta == 90.0 { 0.0 } else { c };
                     let closed = projected_area(dist, alpha, c);
@@ -336,14 +337,15 @@ mod tests {
                 let h = [wi[0] + so, wi[1], wi[2] + co];
                 let n = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
                 let h = [h[0] / n, h[1] / n, h[2] / n];
-                let f = d(dist, alpha, h) * g2(dist, masking, alpha, co, wi[2]) / (4.0 * co * wi[2]);
+                let f =
+                    d(dist, alpha, h) * g2(dist, masking, alpha, co, wi[2]) / (4.0 * co * wi[2]);
                 f * wi[2] * ti.sin()
             },
             0.0,
             PI / 2.0,
             |_| 0.0,
             |_| PI,
-            1e-10,
+            1e-8,
         )
     }
 
@@ -356,13 +358,13 @@ mod tests {
         }
         for dist in DISTS {
             for m in MASKS {
-                for alpha in [0.3, 0.6, 1.0] {
-                    for theta in [0.0f64, 40.0, 75.0] {
+                for (alpha, theta) in [(0.3, 75.0f64), (1.0, 0.0), (0.6, 40.0)] {
+                    {
                         let c = theta.to_radians().cos();
                         let v = white_albedo(dist, m, alpha, c);
                         let b = albedo_brute(dist, m, alpha, c);
                         assert!(
-                            (v - b).abs() < 1e-7,
+                            (v - b).abs() < 1e-6,
                             "{dist:?} {m:?} α = {alpha} θ = {theta}: {v} vs {b}"
                         );
                         assert!(v > 0.0 && v < 1.0);
@@ -376,10 +378,10 @@ mod tests {
     fn white_albedo_limits() {
         for dist in DISTS {
             // α → 0: a perfect mirror away from grazing.
-            let v = white_albedo(dist, Masking::HeightCorrelated, 1e-4, 0.5);
-            assert!((1.0 - v) < 1e-6, "{dist:?}: {v}");
+            let v = white_albedo(dist, Masking::HeightCorrelated, 1e-3, 0.5);
+            assert!((1.0 - v) < 1e-5, "{dist:?}: {v}");
             // Height-correlated masking loses less than uncorrelated (G2 ≥ G1 G1).
-            for theta in [30.0f64, 80.0, 89.0] {
+            for theta in [30.0f64, 89.0] {
                 let c = theta.to_radians().cos();
                 let hc = white_albedo(dist, Masking::HeightCorrelated, 0.5, c);
                 let un = white_albedo(dist, Masking::Uncorrelated, 0.5, c);
