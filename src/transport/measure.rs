@@ -9,13 +9,14 @@
 //! | albedo of a BSDF | a(ωo) = ∫ f(ωi → ωo) \|cos θi\| dωi | bsdf, uniform |
 //! | power of an emitter | Φ = ∫∫ L cos θ dω dA | uniform |
 //! | intensity towards ω | I(ω) = ∫ L cos⁺θ dA | area |
+//! | integral of a microfacet distribution | ∫ D cos θm dm, ∫ ⟨ωo, m⟩⁺ D dm, ∫ D_ωo dm ([`super::microfacet_integral`]) | uniform, cosine |
 //! | mean path length in an enclosure | ⟨ℓ⟩ = E[distance between diffuse bounces] | cosine |
 //!
 //! V_S(ω) is 1 where the first surface along ω belongs to S. Irradiance treats p as a
 //! virtual receiver with f = 1 (so that "BSDF sampling" is cosine sampling), after which
 //! the path tracer estimates Li, including every bounce the effects analysis allows.
 
-use crate::bsdf::{Bsdf, BsdfModel};
+use crate::bsdf::{Bsdf, BsdfModel, Microfacet};
 use crate::math::{Frame, PI, TWO_PI};
 use crate::sampling::SampleStream;
 use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
@@ -23,6 +24,7 @@ use crate::sampling::sphere::uniform_sphere;
 use crate::scene::Scene;
 use crate::scene::emitter::{EmitterKind, spot_falloff};
 use crate::transport::Estimator;
+use crate::transport::microfacet_integral::{self, MicrofacetIntegral};
 use crate::transport::path::{Config, Prev, next_event, trace};
 use crate::transport::phase::{Dimensions, Grey, Lanes, Phase, finish};
 use glam::{Vec2, Vec3, Vec4};
@@ -67,6 +69,15 @@ pub enum Measure {
         /// Outgoing direction.
         wo: Vec3,
     },
+    /// An integral of a microfacet distribution for the direction `wo` (local frame).
+    Microfacet {
+        /// The distribution (its masking form is irrelevant here).
+        microfacet: Microfacet,
+        /// Outgoing direction.
+        wo: Vec3,
+        /// Which integral.
+        integral: MicrofacetIntegral,
+    },
     /// Power of emitter `emitter`.
     Power {
         /// Emitter index.
@@ -98,6 +109,7 @@ impl Measure {
             Measure::SolidAngle { .. }
             | Measure::ProjectedSolidAngle { .. }
             | Measure::Albedo { .. }
+            | Measure::Microfacet { .. }
             | Measure::Power { .. }
             | Measure::Intensity { .. }
             | Measure::MeanPathLength { .. } => None,
@@ -112,6 +124,7 @@ impl Measure {
             Measure::Irradiance { .. } => "irradiance",
             Measure::Radiance { .. } => "radiance",
             Measure::Albedo { .. } => "albedo",
+            Measure::Microfacet { .. } => "microfacet",
             Measure::Power { .. } => "power",
             Measure::Intensity { .. } => "intensity",
             Measure::MeanPathLength { .. } => "mean_path_length",
@@ -127,6 +140,7 @@ impl Measure {
             Measure::Irradiance { .. } => &[Light, Bsdf, Mis, MisBalance, Uniform],
             Measure::Radiance { .. } => &[Light, Bsdf, Mis, MisBalance],
             Measure::Albedo { .. } => &[Bsdf, Uniform],
+            Measure::Microfacet { .. } => &[Uniform, Cosine],
             Measure::Power { .. } => &[Uniform],
             Measure::Intensity { .. } => &[Area],
             Measure::MeanPathLength { .. } => &[Cosine],
@@ -241,6 +255,11 @@ impl Measure {
                         .map_or(0.0, |b| b.weight)
                 }
             }),
+            Measure::Microfacet {
+                microfacet,
+                wo,
+                integral,
+            } => grey(microfacet_integral::sample(microfacet, *wo, *integral, est, s)),
             Measure::Power { emitter } => {
                 phase.emission(scene, *emitter, power_sample(scene, *emitter, s), 0.0)
             }
