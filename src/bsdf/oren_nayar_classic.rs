@@ -151,7 +151,17 @@ mod tests {
             assert_eq!(m.eval(wo, wi), m.eval(wi, wo));
         }
         assert_eq!(OrenNayarClassic::new(0.5, 0.0).ab(), (1.0, 0.0));
-        assert!(OrenNayarClassic::new(0.5, 1.6).validate().unwrap_err().contains("`sigma`"));
-        assert!(OrenNayarClassic::new(1.1, 0.1).validate().unwrap_err().contains("`albedo`"));
+        assert!(
+            OrenNayarClassic::new(0.5, 1.6)
+                .validate()
+                .unwrap_err()
+                .contains("`sigma`")
+        );
+        assert!(
+            OrenNayarClassic::new(1.1, 0.1)
+                .validate()
+                .unwrap_err()
+                .contains("`albedo`")
+        );
     }
 }

@@ -24,8 +24,9 @@ use super::{Index, ModelFacts};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
-/// The Fresnel factor of a rough conductor.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The Fresnel factor of a rough conductor (JSON `"conductor"` or `"none"`; any other
+/// value is an error naming the `fresnel` field).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FresnelMode {
     /// The conductor Fresnel reflectance of η + ik (`eta` and `k` required).
@@ -33,6 +34,19 @@ pub enum FresnelMode {
     Conductor,
     /// F ≡ 1: a perfect reflector (`eta` and `k` must be absent).
     None,
+}
+
+impl<'de> Deserialize<'de> for FresnelMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = serde_json::Value::deserialize(d)?;
+        match v.as_str() {
+            Some("conductor") => Ok(FresnelMode::Conductor),
+            Some("none") => Ok(FresnelMode::None),
+            _ => Err(serde::de::Error::custom(format!(
+                "`fresnel` must be \"conductor\" or \"none\" (F ≡ 1), got {v}"
+            ))),
+        }
+    }
 }
 
 /// A rough conductor.
@@ -227,7 +241,11 @@ mod tests {
         assert_eq!(w.fresnel(0.2), 1.0);
         let c = RoughConductor::new(0.3, 0.2, 3.9);
         assert!(c.fresnel(0.2) < 1.0);
-        let json = |s: &str| serde_json::from_str::<RoughConductor>(s).unwrap().validate();
+        let json = |s: &str| {
+            serde_json::from_str::<RoughConductor>(s)
+                .unwrap()
+                .validate()
+        };
         assert_eq!(json(r#"{"alpha": 0.3, "fresnel": "none"}"#), Ok(()));
         for (text, field) in [
             (r#"{"alpha": 0.3, "eta": 1.5, "fresnel": "none"}"#, "`eta`"),
@@ -238,7 +256,11 @@ mod tests {
             let e = json(text).unwrap_err();
             assert!(e.contains(field), "{text}: {e}");
         }
-        assert!(serde_json::from_str::<RoughConductor>(r#"{"alpha": 0.3, "fresnel": "off"}"#).is_err());
+        let e = serde_json::from_str::<RoughConductor>(r#"{"alpha": 0.3, "fresnel": "off"}"#);
+        assert!(e.unwrap_err().to_string().contains("`fresnel`"));
+        let back: RoughConductor =
+            serde_json::from_str(&serde_json::to_string(&w).unwrap()).unwrap();
+        assert_eq!(back, w);
         let mut w = w;
         assert_eq!(w.index(), Index::Fixed);
         let mut c = c;

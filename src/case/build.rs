@@ -5,9 +5,9 @@
 
 use super::schema::{CaseDesc, MeasureDesc};
 use super::{BATCHES, MAX_SAMPLES, MIN_SAMPLES};
+use crate::bsdf::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use crate::error::{InputError, check_direction, check_number, check_point};
 use crate::scene::Scene;
-use crate::bsdf::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use crate::transport::measure::Measure;
 use crate::transport::microfacet_integral::MicrofacetIntegral;
 use glam::DVec3;
@@ -206,11 +206,20 @@ fn microfacet_measure(
         "in [1e-4, 1]",
     )?;
     let (ok, what): (fn(f64) -> bool, _) = if integral.needs_wo_above() {
-        (|t| (0.0..90.0).contains(&t), "in [0, 90) (D_ωo divides by cos θo)")
+        (
+            |t| (0.0..90.0).contains(&t),
+            "in [0, 90) (D_ωo divides by cos θo)",
+        )
     } else {
         (|t| (0.0..=90.0).contains(&t), "in [0, 90]")
     };
-    check_number(f, "measure.microfacet.theta_degrees", theta_degrees, ok, what)?;
+    check_number(
+        f,
+        "measure.microfacet.theta_degrees",
+        theta_degrees,
+        ok,
+        what,
+    )?;
     let t = theta_degrees.to_radians();
     Ok(Measure::Microfacet {
         microfacet: Microfacet::new(distribution, alpha as f32, Masking::HeightCorrelated),

@@ -259,7 +259,9 @@ impl Measure {
                 microfacet,
                 wo,
                 integral,
-            } => grey(microfacet_integral::sample(microfacet, *wo, *integral, est, s)),
+            } => grey(microfacet_integral::sample(
+                microfacet, *wo, *integral, est, s,
+            )),
             Measure::Power { emitter } => {
                 phase.emission(scene, *emitter, power_sample(scene, *emitter, s), 0.0)
             }

@@ -120,7 +120,13 @@ mod tests {
             }
         }
         let mut st = Sampler::independent(1).stream(0);
-        let v = sample(&mf, wo, MicrofacetIntegral::Visible, Estimator::Light, &mut st);
+        let v = sample(
+            &mf,
+            wo,
+            MicrofacetIntegral::Visible,
+            Estimator::Light,
+            &mut st,
+        );
         assert!(v.is_nan());
     }
 }
