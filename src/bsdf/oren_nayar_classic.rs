@@ -10,7 +10,7 @@
 //! s = ωi·ωo − cos θi cos θo (the tangential dot product): no trigonometry, symmetric in
 //! (ωi, ωo), hence reciprocal. It is **not** energy conserving: with ρ = 1 its albedo
 //! exceeds 1 at grazing for small σ (ρ(A + B/2) = 1.0078 at σ = 0.1); the closed-form
-//! albedo is `lightproof_analytic::oren_nayar` (see [`super::oren_nayar`] for Fujii's
+//! albedo is in the oracle crate's `oren_nayar` module (see [`super::oren_nayar`] for Fujii's
 //! energy-conserving form, which this suite keeps as `oren_nayar`).
 //!
 //! Sampled by the cosine-weighted hemisphere: weight = π f ≤ ρ(A + B/cos θo). Two-sided

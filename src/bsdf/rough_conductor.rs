@@ -14,7 +14,7 @@
 //! **Fresnel off** (`"fresnel": "none"`, Mitsuba's `material = "none"`): F ≡ 1, a
 //! perfectly reflecting microsurface, so the albedo is the single-scattering
 //! masking–shadowing loss alone (the "weak white furnace", Heitz 2014 §6; references in
-//! `lightproof_analytic::microfacet`). Then `eta` and `k` are not given.
+//! the oracle crate's `microfacet` module). Then `eta` and `k` are not given.
 
 use super::conductor::validate_complex_ior;
 use super::fresnel::{fr_conductor, reflect};

@@ -9,7 +9,7 @@
 //! | `visible` | ∫ D_ωo(m) dm = ∫ G1(ωo) ⟨ωo, m⟩⁺ D(m)/cos θo dm = 1 |
 //!
 //! D, Λ, G1 and D_ωo are the engine's ([`crate::bsdf::microfacet`]); the references are
-//! the oracle's (`lightproof_analytic::microfacet`), so a wrong D (not normalised), a
+//! the oracle crate's (its `microfacet` module), so a wrong D (not normalised), a
 //! wrong Λ (the projected area) or a wrong G1 (the visible normals) fails its case. The
 //! estimators sample m with a density that knows nothing of D — `uniform`
 //! (1/(2π)) or `cosine` (cos θm/π) — so every estimate has variance.

@@ -367,8 +367,9 @@ case("white_material_fresnel_off", "baseline", SHAPES, [("scene.materials.white"
 ONC = dict(ALBEDO, measure={"albedo": {"bsdf": {"type": "oren_nayar_classic", "albedo": 0.8, "sigma": 0.3},
                                        "theta_degrees": 60}})
 case("on_classic_valid", "baseline", ONC, [], "valid")
-for label, v in [("m1", -1), ("two", 2.0), ("e39", 1e39), ("str", "NaN")]:
+for label, v in [("m1", -1), ("two", 2.0), ("e39", 1e39)]:
     case("on_classic_sigma_%s" % label, "baseline", ONC, [("measure.albedo.bsdf.sigma", v)], 2, "measure.albedo.bsdf", "`sigma`")
+case("on_classic_sigma_str", "baseline", ONC, [("measure.albedo.bsdf.sigma", "NaN")], 2, "measure.albedo.bsdf", "expected f32")
 case("on_classic_albedo_m1", "baseline", ONC, [("measure.albedo.bsdf.albedo", -1)], 2, "measure.albedo.bsdf", "`albedo`")
 MF = {"name": "microfacet", "teaches": "projected area",
       "measure": {"microfacet": {"distribution": "ggx", "alpha": 0.3, "theta_degrees": 60, "integral": "projected_area"}},

@@ -26,7 +26,7 @@ const FAMILY_ALPHA: f64 = 1e-4;
 /// Number of chi-square tests in this file (Šidák family).
 const CHI2_SUITE: usize = 40;
 /// Number of albedo mean tests in this file (Šidák family), an upper bound.
-const ALBEDO_SUITE: usize = 750;
+const ALBEDO_SUITE: usize = 900;
 
 const ALPHAS: [f32; 5] = [1e-4, 0.01, 0.1, 0.5, 1.0];
 const ETAS: [f32; 8] = [
@@ -371,6 +371,10 @@ fn promised(b: &Bsdf, wo: Vec3) -> Option<f64> {
         Bsdf::Lambertian(l) => Some(l.albedo as f64),
         Bsdf::Conductor(m) => Some(fresnel_oracle(c, m.eta as f64, m.k as f64)),
         Bsdf::Dielectric(_) => Some(1.0),
+        // Oren–Nayar at |cos θo| < 0.01 (89.9°): the cosine-sampled weights' second moment
+        // grows like ln(1/cos θo), too heavy for a 1% equality test at 5M samples; the
+        // catalog checks grazing albedos (Sobol) and ≤ 1 still runs here.
+        Bsdf::OrenNayar(_) | Bsdf::OrenNayarClassic(_) if c < 0.01 => None,
         Bsdf::OrenNayar(m) => Some(lightproof_analytic::oren_nayar::albedo(
             lightproof_analytic::oren_nayar::Form::Fujii,
             m.albedo as f64,
