@@ -793,6 +793,19 @@ fn json_round_trip_and_validation_messages() {
         ),
         (r#"{"type":"conductor","eta":0.2,"k":-1}"#, "`k`"),
         (
+            r#"{"type":"oren_nayar_classic","albedo":0.5,"sigma":1.6}"#,
+            "`sigma`",
+        ),
+        (
+            r#"{"type":"rough_conductor","alpha":0.3,"fresnel":"none","eta":1.5}"#,
+            "`eta`",
+        ),
+        (
+            r#"{"type":"rough_conductor","alpha":0.3,"fresnel":"off"}"#,
+            "`fresnel`",
+        ),
+        (r#"{"type":"rough_conductor","alpha":0.3}"#, "`eta`"),
+        (
             r#"{"type":"lambertian","albedo":0.5,"colour":1}"#,
             "unknown field",
         ),
