@@ -122,6 +122,19 @@ mod tests {
         }
     }
 
+    /// A and B at σ = 0.5, worked by hand from the papers' formulas (pbrt-v3:
+    /// 1 − 0.25/1.16 and 0.1125/0.34; Fujii: 1/(1 + (π/2 − 2/3)/2) and half of it): the
+    /// quadrature check above shares `coefficients` with the closed form, this pins it.
+    #[test]
+    fn coefficients_by_hand() {
+        let (a, b) = coefficients(Form::Classic, 0.5);
+        assert!((a - 0.7844827586206897).abs() < 1e-15, "{a}");
+        assert!((b - 0.3308823529411765).abs() < 1e-15, "{b}");
+        let (a, b) = coefficients(Form::Fujii, 0.5);
+        assert!((a - 0.6886744856673139).abs() < 1e-15, "{a}");
+        assert!((b - 0.34433724283365696).abs() < 1e-15, "{b}");
+    }
+
     #[test]
     fn limits() {
         // σ = 0 is Lambertian; at normal incidence only A remains.
