@@ -300,6 +300,25 @@ mod tests {
         assert!((l - (2f64.sqrt() - 1.0) / 2.0).abs() < 1e-15);
     }
 
+    /// D pinned by hand: 1/(π α²) at the pole for both; at tan θm = α (θm = atan α),
+    /// GGX gives 1/(4π α² cos⁴θm), Beckmann e^{−1}/(π α² cos⁴θm).
+    #[test]
+    fn d_by_hand() {
+        let alpha: f64 = 0.4;
+        let c = 1.0 / (1.0 + alpha * alpha).sqrt();
+        let m = [alpha * c, 0.0, c];
+        let pole = 1.0 / (PI * alpha * alpha);
+        for dist in DISTS {
+            assert!((d(dist, alpha, [0.0, 0.0, 1.0]) - pole).abs() < 1e-14 * pole);
+        }
+        let c4 = c.powi(4);
+        let g = d(Distribution::Ggx, alpha, m);
+        assert!((g - pole / (4.0 * c4)).abs() < 1e-13 * g, "{g}");
+        let b = d(Distribution::Beckmann, alpha, m);
+        assert!((b - pole * (-1.0f64).exp() / c4).abs() < 1e-13 * b, "{b}");
+        assert_eq!(d(Distribution::Ggx, alpha, [1.0, 0.0, 0.0]), 0.0);
+    }
+
     #[test]
     fn normalisation_is_one_by_quadrature() {
         for dist in DISTS {
