@@ -9,6 +9,8 @@
 //! [`names`] lists every closed form with its parameters and a description with units.
 
 use crate::geom::Vec3;
+use crate::microfacet::{self, Distribution, Masking};
+use crate::oren_nayar::{self, Form};
 use crate::{
     fresnel, furnace, irradiance, partial_shapes, radiometry, solid_angle, spectrum, time,
     view_factor,
@@ -201,6 +203,30 @@ impl Params<'_> {
             ));
         }
         arr.iter().map(|p| self.vec_of(name, p)).collect()
+    }
+
+    /// One of the named values `choices` (a string), returned as its index.
+    fn choice(&self, name: &'static str, choices: &[&str]) -> Result<usize> {
+        let v = self.get(name)?;
+        v.as_str()
+            .and_then(|s| choices.iter().position(|c| *c == s))
+            .ok_or_else(|| {
+                self.invalid(
+                    name,
+                    format!("must be one of {}, got {v}", choices.join(", ")),
+                )
+            })
+    }
+
+    /// A microfacet distribution: `"ggx"` or `"beckmann"`.
+    fn distribution(&self) -> Result<Distribution> {
+        const D: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
+        Ok(D[self.choice("distribution", &["ggx", "beckmann"])?])
+    }
+
+    /// A microfacet roughness α ∈ [1e-4, 1] (the engine's range).
+    fn alpha(&self) -> Result<f64> {
+        self.range("alpha", 1e-4, 1.0, false)
     }
 
     fn triple(&self, name: &'static str) -> Result<[f64; 3]> {
@@ -736,6 +762,93 @@ static ENTRIES: &[Entry] = &[
             Ok(fresnel::dielectric_average_inside(eta))
         }
     ),
+    // ---- microfacets ----
+    entry!(
+        "microfacet_normalisation",
+        ["distribution", "alpha"],
+        "∫ D(m) cos θm dm (1) of a GGX or Beckmann distribution (distribution \"ggx\" | \"beckmann\", alpha in [1e-4, 1]): 1 by definition, quadrature-checked",
+        |p| {
+            p.distribution()?;
+            p.alpha()?;
+            Ok(1.0)
+        }
+    ),
+    entry!(
+        "microfacet_projected_area",
+        ["distribution", "alpha", "cos_theta"],
+        "∫ ⟨ωo, m⟩⁺ D(m) dm = cos θo (1 + Λ(ωo)) (1), the microsurface's area projected towards ωo (Heitz 2014); cos_theta in [0, 1]",
+        |p| {
+            let (d, a) = (p.distribution()?, p.alpha()?);
+            Ok(microfacet::projected_area(
+                d,
+                a,
+                p.range("cos_theta", 0.0, 1.0, false)?,
+            ))
+        }
+    ),
+    entry!(
+        "microfacet_visible_normalisation",
+        ["distribution", "alpha", "cos_theta"],
+        "∫ D_ωo(m) dm (1) of the visible normals G1(ωo) ⟨ωo, m⟩⁺ D(m)/cos θo: 1 (Heitz 2014, eq. 38); cos_theta in (0, 1]",
+        |p| {
+            p.distribution()?;
+            p.alpha()?;
+            let c = p.range("cos_theta", 0.0, 1.0, false)?;
+            if c == 0.0 {
+                return Err(p.invalid("cos_theta", "must be > 0 (D_ωo divides by cos θo)"));
+            }
+            Ok(1.0)
+        }
+    ),
+    entry!(
+        "microfacet_white_albedo",
+        ["distribution", "masking", "alpha", "cos_theta"],
+        "directional albedo (1) of a rough mirror with F ≡ 1 (weak white furnace: the single-scattering masking–shadowing loss), masking \"height_correlated\" | \"uncorrelated\"; 1 − ln 2 for GGX at alpha = 1, cos_theta = 1, quadrature elsewhere; cos_theta in (0, 1]",
+        |p| {
+            let (d, a) = (p.distribution()?, p.alpha()?);
+            const M: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
+            let m = M[p.choice("masking", &["height_correlated", "uncorrelated"])?];
+            let c = p.range("cos_theta", 0.0, 1.0, false)?;
+            if c == 0.0 {
+                return Err(p.invalid(
+                    "cos_theta",
+                    "must be > 0 (the albedo at exactly grazing is a limit)",
+                ));
+            }
+            Ok(if d == Distribution::Ggx && a == 1.0 && c == 1.0 {
+                microfacet::ggx_white_albedo_normal_alpha1()
+            } else {
+                microfacet::white_albedo(d, m, a, c)
+            })
+        }
+    ),
+    // ---- Oren–Nayar ----
+    entry!(
+        "oren_nayar_classic_albedo",
+        ["albedo", "sigma", "cos_theta"],
+        "directional albedo (1) of the classic Oren–Nayar model (Oren & Nayar 1994; pbrt-v3), albedo in [0, 1], sigma (rad) in [0, π/2], cos_theta in [0, 1]",
+        |p| {
+            Ok(oren_nayar::albedo(
+                Form::Classic,
+                p.range("albedo", 0.0, 1.0, false)?,
+                p.range("sigma", 0.0, PI / 2.0, false)?,
+                p.range("cos_theta", 0.0, 1.0, false)?,
+            ))
+        }
+    ),
+    entry!(
+        "oren_nayar_fujii_albedo",
+        ["albedo", "sigma", "cos_theta"],
+        "directional albedo (1) of Fujii's energy-conserving Oren–Nayar form (2012), albedo in [0, 1], sigma in [0, 1], cos_theta in [0, 1]",
+        |p| {
+            Ok(oren_nayar::albedo(
+                Form::Fujii,
+                p.range("albedo", 0.0, 1.0, false)?,
+                p.range("sigma", 0.0, 1.0, false)?,
+                p.range("cos_theta", 0.0, 1.0, false)?,
+            ))
+        }
+    ),
     // ---- radiometry ----
     entry!(
         "lambertian_power",
@@ -1164,6 +1277,39 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("`albedo`"), "{e}");
+
+        // Named choices: a wrong one is named with the choices.
+        let e = evaluate(
+            "microfacet_white_albedo",
+            &obj(json!({"distribution": "phong", "masking": "uncorrelated", "alpha": 0.5, "cos_theta": 0.5})),
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("`distribution`") && e.to_string().contains("ggx, beckmann"),
+            "{e}"
+        );
+        let e = evaluate(
+            "microfacet_white_albedo",
+            &obj(json!({"distribution": "ggx", "masking": 1, "alpha": 0.5, "cos_theta": 0.5})),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("`masking`"), "{e}");
+        let e = evaluate(
+            "microfacet_white_albedo",
+            &obj(json!({"distribution": "ggx", "masking": "uncorrelated", "alpha": 0.5, "cos_theta": 0})),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("`cos_theta`"), "{e}");
+        // The closed form at α = 1, normal incidence, and the quadrature next to it.
+        let at = |c: f64| {
+            evaluate(
+                "microfacet_white_albedo",
+                &obj(json!({"distribution": "ggx", "masking": "height_correlated", "alpha": 1, "cos_theta": c})),
+            )
+            .unwrap()
+        };
+        assert_eq!(at(1.0), 1.0 - std::f64::consts::LN_2);
+        assert!((at(1.0 - 1e-12) - at(1.0)).abs() < 1e-8);
     }
 
     #[test]
@@ -1233,7 +1379,13 @@ mod tests {
             "mean_chord_length": {"volume": 1, "surface_area": 6},
             "mean_chord_sphere": {"radius": 1},
             "mean_chord_box": {"a": 1, "b": 2, "c": 3},
-            "moving_point_light_average": {"intensity": 1, "distance": 1, "speed": 1, "t0": -1, "t1": 1}
+            "moving_point_light_average": {"intensity": 1, "distance": 1, "speed": 1, "t0": -1, "t1": 1},
+            "microfacet_normalisation": {"distribution": "ggx", "alpha": 0.3},
+            "microfacet_projected_area": {"distribution": "beckmann", "alpha": 0.3, "cos_theta": 0.5},
+            "microfacet_visible_normalisation": {"distribution": "ggx", "alpha": 0.3, "cos_theta": 0.5},
+            "microfacet_white_albedo": {"distribution": "ggx", "masking": "uncorrelated", "alpha": 0.5, "cos_theta": 0.5},
+            "oren_nayar_classic_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5},
+            "oren_nayar_fujii_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5}
         }"#,
         )
         .unwrap();

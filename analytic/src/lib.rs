@@ -20,6 +20,8 @@
 //! | [`furnace`] | closed enclosure, convex object, integrating sphere |
 //! | [`partial_shapes`] | annulus (on-axis irradiance, power), spherical cap (area, power, irradiance at the centre), furnace partial sums (closed enclosure, integrating sphere with a port) |
 //! | [`fresnel`] | dielectric (with TIR), conductor, hemispherical averages outside and inside |
+//! | [`microfacet`] | GGX and Beckmann: Smith Λ, projected area, normalisation, the F ≡ 1 white-furnace albedo (closed form at α = 1, quadrature elsewhere) |
+//! | [`oren_nayar`] | directional albedo of the classic (Oren & Nayar 1994) and Fujii Oren–Nayar forms, closed form |
 //! | [`radiometry`] | Lambertian power and intensity, photon energy, radiance across an interface, SI constants |
 //! | [`spectrum`] | Planck, Stefan–Boltzmann, band fractions, Wien, photon radiance, Cauchy, Sellmeier (BK7), slab transmittance |
 //! | [`time`] | pulsed disk by time bin, mean chord length (Cauchy), moving point light shutter average |
@@ -34,6 +36,8 @@ pub mod fresnel;
 pub mod furnace;
 pub mod geom;
 pub mod irradiance;
+pub mod microfacet;
+pub mod oren_nayar;
 pub mod partial_shapes;
 pub mod quadrature;
 pub mod radiometry;

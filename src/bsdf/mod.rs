@@ -18,9 +18,10 @@
 //! |---|---|---|
 //! | Lambertian | `{"type": "lambertian", "albedo": 0.5}` | [`lambertian`] |
 //! | Oren–Nayar (Fujii's improved form) | `{"type": "oren_nayar", "albedo": 0.8, "sigma": 0.5}` | [`oren_nayar`] |
+//! | Oren–Nayar (classic, Oren & Nayar 1994 / pbrt-v3; σ in radians) | `{"type": "oren_nayar_classic", "albedo": 0.8, "sigma": 0.35}` | [`oren_nayar_classic`] |
 //! | smooth conductor | `{"type": "conductor", "eta": 0.2, "k": 3.9}` | [`conductor`] |
 //! | smooth dielectric | `{"type": "dielectric", "eta": 1.5}` | [`dielectric`] |
-//! | rough conductor | `{"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9, "distribution": "ggx", "masking": "height_correlated"}` | [`rough_conductor`] |
+//! | rough conductor | `{"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9, "distribution": "ggx", "masking": "height_correlated"}`; F ≡ 1: `{"type": "rough_conductor", "alpha": 0.3, "fresnel": "none"}` | [`rough_conductor`] |
 //! | rough dielectric | `{"type": "rough_dielectric", "alpha": 0.3, "eta": 1.5, "distribution": "beckmann"}` | [`rough_dielectric`] |
 //! | two-layer plastic | `{"type": "plastic", "albedo": 0.5, "eta": 1.5}` | [`plastic`] |
 //!
@@ -47,6 +48,7 @@ pub mod fresnel;
 pub mod lambertian;
 pub mod microfacet;
 pub mod oren_nayar;
+pub mod oren_nayar_classic;
 pub mod plastic;
 pub mod rough_conductor;
 pub mod rough_dielectric;
@@ -56,8 +58,9 @@ pub use dielectric::Dielectric;
 pub use lambertian::Lambertian;
 pub use microfacet::{Distribution, Masking, Microfacet};
 pub use oren_nayar::OrenNayar;
+pub use oren_nayar_classic::OrenNayarClassic;
 pub use plastic::Plastic;
-pub use rough_conductor::RoughConductor;
+pub use rough_conductor::{FresnelMode, RoughConductor};
 pub use rough_dielectric::RoughDielectric;
 
 use bitflags::bitflags;
@@ -208,6 +211,9 @@ pub enum Bsdf {
     Lambertian(Lambertian),
     /// Rough diffuse reflection: `{"type": "oren_nayar", "albedo": 0.8, "sigma": 0.35}`.
     OrenNayar(OrenNayar),
+    /// Classic rough diffuse reflection (σ in radians):
+    /// `{"type": "oren_nayar_classic", "albedo": 0.8, "sigma": 0.35}`.
+    OrenNayarClassic(OrenNayarClassic),
     /// Smooth conductor: `{"type": "conductor", "eta": 0.2, "k": 3.9}`.
     Conductor(Conductor),
     /// Smooth dielectric: `{"type": "dielectric", "eta": 1.5}`.
@@ -225,6 +231,7 @@ macro_rules! dispatch {
         match $self {
             Bsdf::Lambertian($b) => $e,
             Bsdf::OrenNayar($b) => $e,
+            Bsdf::OrenNayarClassic($b) => $e,
             Bsdf::Conductor($b) => $e,
             Bsdf::Dielectric($b) => $e,
             Bsdf::RoughConductor($b) => $e,
@@ -245,6 +252,7 @@ impl Bsdf {
         match self {
             Bsdf::Lambertian(_) => "lambertian",
             Bsdf::OrenNayar(_) => "oren_nayar",
+            Bsdf::OrenNayarClassic(_) => "oren_nayar_classic",
             Bsdf::Conductor(_) => "conductor",
             Bsdf::Dielectric(_) => "dielectric",
             Bsdf::RoughConductor(_) => "rough_conductor",

@@ -6,15 +6,14 @@
 //! s = ωi·ωo − cos θi cos θo,  t = 1 if s ≤ 0 else max(cos θi, cos θo),
 //!
 //! with the roughness σ ∈ [0, 1] (σ = 0 is Lambertian). Symmetric in (ωi, ωo), hence
-//! reciprocal; its directional albedo is below ρ (it loses energy, 6–35% at σ = 0.1–1),
-//! and it promises no closed-form albedo, so the contract checks albedo ≤ 1 only.
+//! reciprocal; its directional albedo is below ρ (it loses energy, 6–35% at σ = 0.1–1)
+//! and has a closed form, ρ[A + (2B/π) sin θo (K(cos θo) − 1/3)] (the oracle crate's
+//! `oren_nayar` module), which the contract suite and the catalog check.
 //!
-//! **Why not the classic "qualitative" model** (Oren & Nayar 1994, eq. 30; pbrt-v3
-//! §8.4.2)? This suite's energy test rejected it: with ρ = 1 its albedo exceeds 1 at
-//! grazing incidence for small σ (1.0078 at σ = 0.1, θo = 89.9°; 1.0052 at σ = 0.3,
-//! by quadrature), and its sampling weight grows like tan β, whose second moment under
-//! cosine sampling diverges logarithmically. FON's weight ρ(A + B s/t) stays bounded by
-//! ρ(A + B/cos θo).
+//! The classic "qualitative" model (Oren & Nayar 1994, eq. 30; pbrt-v3 §8.4.2) is
+//! [`super::oren_nayar_classic`]: with ρ = 1 its albedo exceeds 1 at grazing incidence
+//! for small σ (ρ(A + B/2) = 1.0078 at σ = 0.1), and its sampling weight grows like
+//! tan β. FON's weight ρ(A + B s/t) stays bounded by ρ(A + B/cos θo).
 //!
 //! Sampled by the cosine-weighted hemisphere: weight = π f. Two-sided like
 //! [`super::Lambertian`].

@@ -10,6 +10,11 @@
 //! to F(ωo·m) G2(ωo, ωi)/G1(ωo) ≤ 1 (computed in that form, not as eval·cos/pdf, so
 //! the contract's consistency check compares two independent computations).
 //! Two-sided: for ωo below the surface the model is mirrored through the tangent plane.
+//!
+//! **Fresnel off** (`"fresnel": "none"`, Mitsuba's `material = "none"`): F ≡ 1, a
+//! perfectly reflecting microsurface, so the albedo is the single-scattering
+//! masking–shadowing loss alone (the "weak white furnace", Heitz 2014 §6; references in
+//! the oracle crate's `microfacet` module). Then `eta` and `k` are not given.
 
 use super::conductor::validate_complex_ior;
 use super::fresnel::{fr_conductor, reflect};
@@ -19,21 +24,52 @@ use super::{Index, ModelFacts};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+/// The Fresnel factor of a rough conductor (JSON `"conductor"` or `"none"`; any other
+/// value is an error naming the `fresnel` field).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FresnelMode {
+    /// The conductor Fresnel reflectance of η + ik (`eta` and `k` required).
+    #[default]
+    Conductor,
+    /// F ≡ 1: a perfect reflector (`eta` and `k` must be absent).
+    None,
+}
+
+impl<'de> Deserialize<'de> for FresnelMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = serde_json::Value::deserialize(d)?;
+        match v.as_str() {
+            Some("conductor") => Ok(FresnelMode::Conductor),
+            Some("none") => Ok(FresnelMode::None),
+            _ => Err(serde::de::Error::custom(format!(
+                "`fresnel` must be \"conductor\" or \"none\" (F ≡ 1), got {v}"
+            ))),
+        }
+    }
+}
+
 /// A rough conductor.
 ///
 /// JSON: `{"type": "rough_conductor", "alpha": 0.3, "eta": 0.2, "k": 3.9,
 /// "distribution": "ggx", "masking": "height_correlated"}` (`distribution`:
 /// `ggx` | `beckmann`, default `ggx`; `masking`: `height_correlated` | `uncorrelated`,
-/// default `height_correlated`).
+/// default `height_correlated`), or with F ≡ 1:
+/// `{"type": "rough_conductor", "alpha": 0.3, "fresnel": "none"}`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RoughConductor {
     /// Roughness α ∈ [1e-4, 1].
     pub alpha: f32,
-    /// Real part η of the relative index (> 0).
-    pub eta: f32,
-    /// Extinction coefficient k (≥ 0).
-    pub k: f32,
+    /// Real part η of the relative index (> 0); required unless `fresnel` is `none`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eta: Option<f32>,
+    /// Extinction coefficient k (≥ 0); required unless `fresnel` is `none`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<f32>,
+    /// The Fresnel factor (default `conductor`).
+    #[serde(default)]
+    pub fresnel: FresnelMode,
     /// Normal distribution.
     #[serde(default)]
     pub distribution: Distribution,
@@ -47,17 +83,54 @@ impl RoughConductor {
     pub fn new(alpha: f32, eta: f32, k: f32) -> Self {
         RoughConductor {
             alpha,
-            eta,
-            k,
+            eta: Some(eta),
+            k: Some(k),
+            fresnel: FresnelMode::Conductor,
             distribution: Distribution::Ggx,
             masking: Masking::HeightCorrelated,
         }
     }
 
-    /// Parameter check: α ∈ [1e-4, 1], η ∈ [1e-3, 100], k ∈ [0, 100].
+    /// A GGX height-correlated rough mirror with F ≡ 1 (`"fresnel": "none"`).
+    pub fn white(alpha: f32) -> Self {
+        RoughConductor {
+            eta: None,
+            k: None,
+            fresnel: FresnelMode::None,
+            ..RoughConductor::new(alpha, 1.0, 0.0)
+        }
+    }
+
+    /// Parameter check: α ∈ [1e-4, 1]; with the conductor Fresnel η ∈ [1e-3, 100] and
+    /// k ∈ [0, 100] both given; with `fresnel: none` neither.
     pub fn validate(&self) -> Result<(), String> {
         check_range("alpha", self.alpha, MIN_ALPHA, MAX_ALPHA)?;
-        validate_complex_ior(self.eta, self.k)
+        match (self.fresnel, self.eta, self.k) {
+            (FresnelMode::Conductor, Some(eta), Some(k)) => validate_complex_ior(eta, k),
+            (FresnelMode::Conductor, None, _) => {
+                Err("`eta` is required (or `\"fresnel\": \"none\"` for F ≡ 1)".into())
+            }
+            (FresnelMode::Conductor, Some(_), None) => {
+                Err("`k` is required (or `\"fresnel\": \"none\"` for F ≡ 1)".into())
+            }
+            (FresnelMode::None, None, None) => Ok(()),
+            (FresnelMode::None, Some(_), _) => {
+                Err("`eta` must be absent with `\"fresnel\": \"none\"` (F ≡ 1)".into())
+            }
+            (FresnelMode::None, None, Some(_)) => {
+                Err("`k` must be absent with `\"fresnel\": \"none\"` (F ≡ 1)".into())
+            }
+        }
+    }
+
+    /// F(cos θ) at a microfacet: the conductor's, or 1 with `fresnel: none` (also for an
+    /// unvalidated conductor lacking η or k, which `validate` rejects).
+    #[inline]
+    pub fn fresnel(&self, cos_theta: f32) -> f32 {
+        match (self.fresnel, self.eta, self.k) {
+            (FresnelMode::Conductor, Some(eta), Some(k)) => fr_conductor(cos_theta, eta, k),
+            (FresnelMode::Conductor, _, _) | (FresnelMode::None, _, _) => 1.0,
+        }
     }
 
     /// The microfacet distribution.
@@ -82,7 +155,7 @@ impl BsdfModel for RoughConductor {
         let mf = self.microfacet();
         // F at the symmetric mean of ωo·h and ωi·h (equal but for rounding): reciprocal to the bit.
         let c = 0.5 * (wo.dot(h) + wi.dot(h));
-        let f = mf.d(h) * mf.g2(wo, wi) * fr_conductor(c, self.eta, self.k) / (4.0 * (co * ci));
+        let f = mf.d(h) * mf.g2(wo, wi) * self.fresnel(c) / (4.0 * (co * ci));
         if f.is_finite() { f } else { 0.0 }
     }
 
@@ -108,7 +181,7 @@ impl BsdfModel for RoughConductor {
         if !(pdf > 0.0) || !pdf.is_finite() {
             return None;
         }
-        let weight = fr_conductor(c, self.eta, self.k) * mf.g2(wo, wi) / mf.g1(wo);
+        let weight = self.fresnel(c) * mf.g2(wo, wi) / mf.g1(wo);
         if !weight.is_finite() {
             return None;
         }
@@ -141,7 +214,7 @@ impl BsdfModel for RoughConductor {
     }
 }
 
-/// Reflects only; never black (F > 0).
+/// Reflects only; never black (F > 0); with `fresnel: none` it has no index to vary.
 impl ModelFacts for RoughConductor {
     fn eta_inside(&self) -> f32 {
         1.0
@@ -150,6 +223,47 @@ impl ModelFacts for RoughConductor {
         false
     }
     fn index(&mut self) -> Index<'_> {
-        Index::Conductor(&mut self.eta, &mut self.k)
+        match (self.fresnel, &mut self.eta, &mut self.k) {
+            (FresnelMode::Conductor, Some(eta), Some(k)) => Index::Conductor(eta, k),
+            (FresnelMode::Conductor, _, _) | (FresnelMode::None, _, _) => Index::Fixed,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_none_is_a_perfect_reflector_and_validated() {
+        let w = RoughConductor::white(0.3);
+        assert_eq!(w.validate(), Ok(()));
+        assert_eq!(w.fresnel(0.2), 1.0);
+        let c = RoughConductor::new(0.3, 0.2, 3.9);
+        assert!(c.fresnel(0.2) < 1.0);
+        let json = |s: &str| {
+            serde_json::from_str::<RoughConductor>(s)
+                .unwrap()
+                .validate()
+        };
+        assert_eq!(json(r#"{"alpha": 0.3, "fresnel": "none"}"#), Ok(()));
+        for (text, field) in [
+            (r#"{"alpha": 0.3, "eta": 1.5, "fresnel": "none"}"#, "`eta`"),
+            (r#"{"alpha": 0.3, "k": 1, "fresnel": "none"}"#, "`k`"),
+            (r#"{"alpha": 0.3, "k": 1}"#, "`eta`"),
+            (r#"{"alpha": 0.3, "eta": 1}"#, "`k`"),
+        ] {
+            let e = json(text).unwrap_err();
+            assert!(e.contains(field), "{text}: {e}");
+        }
+        let e = serde_json::from_str::<RoughConductor>(r#"{"alpha": 0.3, "fresnel": "off"}"#);
+        assert!(e.unwrap_err().to_string().contains("`fresnel`"));
+        let back: RoughConductor =
+            serde_json::from_str(&serde_json::to_string(&w).unwrap()).unwrap();
+        assert_eq!(back, w);
+        let mut w = w;
+        assert_eq!(w.index(), Index::Fixed);
+        let mut c = c;
+        assert!(matches!(c.index(), Index::Conductor(..)));
     }
 }

@@ -5,10 +5,12 @@
 
 use super::schema::{CaseDesc, MeasureDesc};
 use super::{BATCHES, MAX_SAMPLES, MIN_SAMPLES};
+use crate::bsdf::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
 use crate::error::{InputError, check_direction, check_number, check_point};
 use crate::scene::Scene;
 use crate::transport::measure::Measure;
 use crate::transport::path::MAX_PATH_BOUNCES;
+use crate::transport::microfacet_integral::MicrofacetIntegral;
 use glam::DVec3;
 
 /// Longest wavelength of a `spectral` section (nm): 1 cm. Far past the thermal
@@ -33,6 +35,7 @@ pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
         MeasureDesc::Flux { shape, .. } => desc.scene.shape_point(*shape),
         // No viewpoint: a property of one object, rebased on any point of the scene.
         MeasureDesc::Albedo { .. }
+        | MeasureDesc::Microfacet { .. }
         | MeasureDesc::Power { .. }
         | MeasureDesc::Intensity { .. }
         | MeasureDesc::MeanPathLength { .. } => desc.scene.any_point(),
@@ -236,6 +239,12 @@ pub fn measure(
                 wo,
             }
         }
+        MeasureDesc::Microfacet {
+            distribution,
+            alpha,
+            theta_degrees,
+            integral,
+        } => microfacet_measure(f, *distribution, *alpha, *theta_degrees, *integral)?,
         MeasureDesc::Power { shape, emitter } => Measure::Power {
             emitter: emitter_index(f, scene, *shape, *emitter)?,
         },
@@ -261,6 +270,46 @@ pub fn measure(
                 *segments
             },
         },
+    })
+}
+
+/// A microfacet-integral measurement: α in the models' range, θo in [0, 90] (below 90
+/// for the visible normals, which divide by cos θo).
+fn microfacet_measure(
+    f: &str,
+    distribution: Distribution,
+    alpha: f64,
+    theta_degrees: f64,
+    integral: MicrofacetIntegral,
+) -> Result<Measure, InputError> {
+    let (lo, hi) = (MIN_ALPHA as f64, MAX_ALPHA as f64);
+    check_number(
+        f,
+        "measure.microfacet.alpha",
+        alpha,
+        |a| (lo..=hi).contains(&a),
+        "in [1e-4, 1]",
+    )?;
+    let (ok, what): (fn(f64) -> bool, _) = if integral.needs_wo_above() {
+        (
+            |t| (0.0..90.0).contains(&t),
+            "in [0, 90) (D_ωo divides by cos θo)",
+        )
+    } else {
+        (|t| (0.0..=90.0).contains(&t), "in [0, 90]")
+    };
+    check_number(
+        f,
+        "measure.microfacet.theta_degrees",
+        theta_degrees,
+        ok,
+        what,
+    )?;
+    let t = theta_degrees.to_radians();
+    Ok(Measure::Microfacet {
+        microfacet: Microfacet::new(distribution, alpha as f32, Masking::HeightCorrelated),
+        wo: DVec3::new(t.sin(), 0.0, t.cos()).as_vec3(),
+        integral,
     })
 }
 

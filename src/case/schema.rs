@@ -2,10 +2,11 @@
 //! only the shape (unknown fields are errors); [`super::Case::from_desc`] validates the
 //! values and builds the case.
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, Distribution};
 use crate::sampling::SamplerKind;
 use crate::scene::load::SceneDesc;
 use crate::transport::Estimator;
+use crate::transport::microfacet_integral::MicrofacetIntegral;
 use serde::{Deserialize, Serialize};
 
 pub use crate::transport::plan::{SpectralDesc, TimeDesc, WavelengthSampling};
@@ -53,6 +54,19 @@ pub enum MeasureDesc {
         /// Azimuth of ωo in degrees.
         #[serde(default)]
         phi_degrees: f64,
+    },
+    /// An integral of a microfacet distribution (`normalisation`, `projected_area`,
+    /// `visible`), estimated over microfacet normals.
+    Microfacet {
+        /// `ggx` or `beckmann`.
+        distribution: Distribution,
+        /// Roughness α ∈ [1e-4, 1].
+        alpha: f64,
+        /// Polar angle of ωo in degrees, [0, 90] (below 90 for `visible`; default 0).
+        #[serde(default)]
+        theta_degrees: f64,
+        /// Which integral.
+        integral: MicrofacetIntegral,
     },
     /// Power of an emitter: an emitting shape (`shape`) or an entry of `scene.emitters`.
     Power {

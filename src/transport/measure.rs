@@ -9,6 +9,7 @@
 //! | albedo of a BSDF | a(ωo) = ∫ f(ωi → ωo) \|cos θi\| dωi | bsdf, uniform |
 //! | power of an emitter | Φ = ∫∫ L cos θ dω dA | uniform |
 //! | intensity towards ω | I(ω) = ∫ L cos⁺θ dA | area |
+//! | integral of a microfacet distribution | ∫ D cos θm dm, ∫ ⟨ωo, m⟩⁺ D dm, ∫ D_ωo dm ([`super::microfacet_integral`]) | uniform, cosine |
 //! | mean path length in an enclosure | ⟨ℓ⟩ = E[distance between diffuse bounces] | cosine |
 //! | flux onto a receiver shape R | Φ = ∫_R E(x) dA(x) (a view factor: Φ / (π L A_emitter)) | light, bsdf, mis, mis_balance, uniform |
 //!
@@ -16,13 +17,14 @@
 //! virtual receiver with f = 1 (so that "BSDF sampling" is cosine sampling), after which
 //! the path tracer estimates Li, including every bounce the effects analysis allows.
 
-use crate::bsdf::{Bsdf, BsdfModel};
+use crate::bsdf::{Bsdf, BsdfModel, Microfacet};
 use crate::math::{Frame, PI, TWO_PI};
 use crate::sampling::SampleStream;
 use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
 use crate::sampling::sphere::uniform_sphere;
 use crate::scene::Scene;
 use crate::scene::emitter::{EmitterKind, spot_falloff};
+use crate::transport::microfacet_integral::{self, MicrofacetIntegral};
 use crate::transport::path::{Config, Prev, next_event, trace};
 use crate::transport::phase::{Dimensions, Grey, Lanes, Phase, finish};
 use crate::transport::{Estimator, Geometric, Sampling, Strategy};
@@ -67,6 +69,15 @@ pub enum Measure {
         bsdf: Box<Bsdf>,
         /// Outgoing direction.
         wo: Vec3,
+    },
+    /// An integral of a microfacet distribution for the direction `wo` (local frame).
+    Microfacet {
+        /// The distribution (its masking form is irrelevant here).
+        microfacet: Microfacet,
+        /// Outgoing direction.
+        wo: Vec3,
+        /// Which integral.
+        integral: MicrofacetIntegral,
     },
     /// Power of emitter `emitter`.
     Power {
@@ -113,6 +124,7 @@ impl Measure {
             Measure::SolidAngle { .. }
             | Measure::ProjectedSolidAngle { .. }
             | Measure::Albedo { .. }
+            | Measure::Microfacet { .. }
             | Measure::Power { .. }
             | Measure::Intensity { .. }
             | Measure::MeanPathLength { .. } => None,
@@ -127,6 +139,7 @@ impl Measure {
             Measure::Irradiance { .. } => "irradiance",
             Measure::Radiance { .. } => "radiance",
             Measure::Albedo { .. } => "albedo",
+            Measure::Microfacet { .. } => "microfacet",
             Measure::Power { .. } => "power",
             Measure::Intensity { .. } => "intensity",
             Measure::MeanPathLength { .. } => "mean_path_length",
@@ -145,6 +158,7 @@ impl Measure {
             Measure::SolidAngle { .. }
             | Measure::ProjectedSolidAngle { .. }
             | Measure::Albedo { .. }
+            | Measure::Microfacet { .. }
             | Measure::Power { .. }
             | Measure::Intensity { .. }
             | Measure::MeanPathLength { .. } => None,
@@ -160,6 +174,7 @@ impl Measure {
             Measure::Irradiance { .. } => &[Light, Bsdf, Mis, MisBalance, Uniform],
             Measure::Radiance { .. } => &[Light, Bsdf, Mis, MisBalance],
             Measure::Albedo { .. } => &[Bsdf, Uniform],
+            Measure::Microfacet { .. } => &[Uniform, Cosine],
             Measure::Power { .. } => &[Uniform],
             Measure::Intensity { .. } => &[Area],
             Measure::MeanPathLength { .. } => &[Cosine],
@@ -279,6 +294,13 @@ impl Measure {
                     NOT_AN_ESTIMATOR_OF_THIS
                 }
             }),
+            Measure::Microfacet {
+                microfacet,
+                wo,
+                integral,
+            } => grey(microfacet_integral::sample(
+                microfacet, *wo, *integral, est, s,
+            )),
             Measure::Power { emitter } => {
                 phase.emission(scene, *emitter, power_sample(scene, *emitter, s), 0.0)
             }

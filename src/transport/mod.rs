@@ -12,6 +12,8 @@
 //!   roulette) that estimates Li;
 //! - [`measure`]: the measurements (solid angle, irradiance, radiance, albedo, power,
 //!   intensity, image) as one-sample estimators over the sample streams;
+//! - [`microfacet_integral`]: the microfacet distributions' own integrals
+//!   (normalisation, projected area, visible normals) as a measurement;
 //! - [`phase`]: wavelength and time as dimensions of a sample (hero wavelengths, time
 //!   of flight, motion), sampled only where the effects analysis says they matter;
 //! - [`engine`]: running N samples in parallel, deterministically, into accumulators.
@@ -19,6 +21,7 @@
 pub mod effects;
 pub mod engine;
 pub mod measure;
+pub mod microfacet_integral;
 pub mod path;
 pub mod phase;
 pub mod plan;

@@ -352,6 +352,46 @@ case("measure_normal_e39", "f32", DISK, [("measure.irradiance.normal", [0, 0, 1e
 sweep("albedo_theta", ALBEDO, "measure.albedo.theta_degrees", "measure.albedo.theta_degrees",
       {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2})
 case("albedo_bsdf_alpha_e39", "f32", ALBEDO, [("measure.albedo.bsdf.alpha", 1e39)], 2, "measure.albedo.bsdf")
+# ---------------------------------------------------------------- issue 17: F ≡ 1, Oren–Nayar classic, microfacet integrals
+WHITE = dict(ALBEDO, measure={"albedo": {"bsdf": {"type": "rough_conductor", "alpha": 0.3, "fresnel": "none"},
+                                         "theta_degrees": 60}})
+case("white_valid", "baseline", WHITE, [], "valid")
+case("white_fresnel_off", "baseline", WHITE, [("measure.albedo.bsdf.fresnel", "off")], 2, "measure.albedo.bsdf", "`fresnel`")
+case("white_fresnel_number", "baseline", WHITE, [("measure.albedo.bsdf.fresnel", 1)], 2, "measure.albedo.bsdf", "`fresnel`")
+case("white_with_eta", "unclear", WHITE, [("measure.albedo.bsdf.eta", 1.5)], 2, "measure.albedo.bsdf", "`eta`")
+case("white_with_k", "unclear", WHITE, [("measure.albedo.bsdf.k", 3.9)], 2, "measure.albedo.bsdf", "`k`")
+case("conductor_without_eta", "unclear", ALBEDO, [("measure.albedo.bsdf.eta", DELETE)], 2, "measure.albedo.bsdf", "`eta`")
+case("conductor_without_k", "unclear", ALBEDO, [("measure.albedo.bsdf.k", DELETE)], 2, "measure.albedo.bsdf", "`k`")
+case("white_material_fresnel_off", "baseline", SHAPES, [("scene.materials.white", {"type": "rough_conductor", "alpha": 0.3, "fresnel": "off"})],
+     2, "scene.materials.white", "`fresnel`")
+ONC = dict(ALBEDO, measure={"albedo": {"bsdf": {"type": "oren_nayar_classic", "albedo": 0.8, "sigma": 0.3},
+                                       "theta_degrees": 60}})
+case("on_classic_valid", "baseline", ONC, [], "valid")
+for label, v in [("m1", -1), ("two", 2.0), ("e39", 1e39)]:
+    case("on_classic_sigma_%s" % label, "baseline", ONC, [("measure.albedo.bsdf.sigma", v)], 2, "measure.albedo.bsdf", "`sigma`")
+case("on_classic_sigma_str", "baseline", ONC, [("measure.albedo.bsdf.sigma", "NaN")], 2, "measure.albedo.bsdf", "expected f32")
+case("on_classic_albedo_m1", "baseline", ONC, [("measure.albedo.bsdf.albedo", -1)], 2, "measure.albedo.bsdf", "`albedo`")
+MF = {"name": "microfacet", "teaches": "projected area",
+      "measure": {"microfacet": {"distribution": "ggx", "alpha": 0.3, "theta_degrees": 60, "integral": "projected_area"}},
+      "reference": {"closed_form": "microfacet_projected_area", "distribution": "ggx", "alpha": 0.3, "cos_theta": 0.5},
+      "estimators": ["uniform"]}
+case("microfacet_valid", "baseline", MF, [], "valid")
+case("microfacet_grazing_90_valid", "baseline", MF, [("measure.microfacet.theta_degrees", 90), ("reference.cos_theta", 0)], "valid")
+sweep("microfacet_alpha", MF, "measure.microfacet.alpha", "measure.microfacet.alpha", ALL2)
+case("microfacet_alpha_two", "baseline", MF, [("measure.microfacet.alpha", 2)], 2, "measure.microfacet.alpha")
+sweep("microfacet_theta", MF, "measure.microfacet.theta_degrees", "measure.microfacet.theta_degrees",
+      {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2})
+case("microfacet_theta_91", "baseline", MF, [("measure.microfacet.theta_degrees", 91)], 2, "measure.microfacet.theta_degrees")
+case("microfacet_visible_90", "unclear", MF, [("measure.microfacet.integral", "visible"), ("measure.microfacet.theta_degrees", 90),
+     ("reference", DELETE)], 2, "measure.microfacet.theta_degrees", "cos")
+case("microfacet_distribution_phong", "baseline", MF, [("measure.microfacet.distribution", "phong")], 2, "measure.microfacet.distribution")
+case("microfacet_integral_area", "baseline", MF, [("measure.microfacet.integral", "area")], 2, "measure.microfacet.integral")
+case("microfacet_integral_missing", "baseline", MF, [("measure.microfacet.integral", DELETE)], 2, "integral")
+case("microfacet_estimator_bsdf", "baseline", MF, [("estimators", ["bsdf"])], 2, "estimators[0]")
+case("microfacet_reference_distribution", "baseline", MF, [("reference.distribution", "phong")], 2, "reference", "`distribution`")
+case("microfacet_reference_masking", "baseline", MF, [("reference", {"closed_form": "microfacet_white_albedo", "distribution": "ggx",
+     "masking": "separable", "alpha": 0.3, "cos_theta": 0.5})], 2, "reference", "`masking`")
+case("microfacet_reference_alpha", "baseline", MF, [("reference.alpha", 0)], 2, "reference", "`alpha`")
 case("segments_zero", "wrong", CHORD, [("measure.mean_path_length.segments", 0)], 2, "measure.mean_path_length.segments")
 case("segments_huge", "hang", CHORD, [("measure.mean_path_length.segments", 4294967295)], 2,
      "measure.mean_path_length.segments")

@@ -66,8 +66,14 @@ fn arb_bsdf() -> impl Strategy<Value = Bsdf> {
         )
             .prop_map(|(a, e, k, (d, m))| Bsdf::RoughConductor(RoughConductor {
                 alpha: a,
-                eta: e,
-                k,
+                // k > 50 (6% of draws) stands for F ≡ 1 (`fresnel: none`), which has no index.
+                eta: (k <= 50.0).then_some(e),
+                k: (k <= 50.0).then_some(k),
+                fresnel: if k <= 50.0 {
+                    FresnelMode::Conductor
+                } else {
+                    FresnelMode::None
+                },
                 distribution: d,
                 masking: m
             })),
@@ -220,17 +226,23 @@ fn degenerate_directions_exhaustively() {
             }
             models.push(Bsdf::RoughConductor(RoughConductor {
                 alpha,
-                eta: 1.0,
-                k: 0.0,
+                eta: Some(1.0),
+                k: Some(0.0),
+                fresnel: FresnelMode::Conductor,
                 distribution: dist,
                 masking: Masking::Uncorrelated,
             }));
             models.push(Bsdf::RoughConductor(RoughConductor {
                 alpha,
-                eta: 0.2,
-                k: 3.9,
+                eta: Some(0.2),
+                k: Some(3.9),
+                fresnel: FresnelMode::Conductor,
                 distribution: dist,
                 masking: Masking::HeightCorrelated,
+            }));
+            models.push(Bsdf::RoughConductor(RoughConductor {
+                distribution: dist,
+                ..RoughConductor::white(alpha)
             }));
         }
     }

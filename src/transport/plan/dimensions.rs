@@ -105,6 +105,7 @@ fn wavelength(
         Measure::SolidAngle { .. }
         | Measure::ProjectedSolidAngle { .. }
         | Measure::Albedo { .. }
+        | Measure::Microfacet { .. }
         | Measure::MeanPathLength { .. } => false,
     };
     let spectral_scene = !varies.is_empty() && radiometric;
