@@ -9,8 +9,8 @@ use crate::bsdf::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Micro
 use crate::error::{InputError, check_direction, check_number, check_point};
 use crate::scene::Scene;
 use crate::transport::measure::Measure;
-use crate::transport::path::MAX_PATH_BOUNCES;
 use crate::transport::microfacet_integral::MicrofacetIntegral;
+use crate::transport::path::MAX_PATH_BOUNCES;
 use glam::DVec3;
 
 /// Longest wavelength of a `spectral` section (nm): 1 cm. Far past the thermal
