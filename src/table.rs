@@ -172,6 +172,44 @@ mod tests {
         }
     }
 
+    fn outcome(non_finite: u64, sampler: SamplerKind, std_error: Option<f64>) -> Outcome {
+        use crate::transport::Estimator;
+        Outcome {
+            case: "c".into(),
+            file: "c.json".into(),
+            measure: "irradiance".into(),
+            estimator: Estimator::Mis,
+            sampler,
+            samples: 1024,
+            seed: 1,
+            estimate: 0.5,
+            std_error,
+            dof: None,
+            exact: std_error.is_none(),
+            non_finite,
+            seconds: 0.25,
+            effects: crate::transport::effects::Effects::everything(),
+            reference: None,
+            z: None,
+            verdict: None,
+        }
+    }
+
+    #[test]
+    fn an_unjudged_outcome_fails_on_non_finite_samples_and_says_so() {
+        let ok = outcome_row("a/b", &outcome(0, SamplerKind::Independent, Some(0.01)));
+        assert_eq!(ok.cells[0], "mis");
+        assert_eq!(ok.cells[1], "0.500000 ± 0.010000");
+        assert_eq!(ok.cells[5], "0.25s");
+        assert_eq!(ok.cells[6], "(no reference)");
+        assert!(ok.notes.is_empty());
+        let bad = outcome_row("a/b", &outcome(3, SamplerKind::Sobol, None));
+        assert_eq!(bad.cells[0], "mis/sobol");
+        assert_eq!(bad.cells[1], "0.500000 (exact)");
+        assert_eq!(bad.cells[6], "FAIL");
+        assert_eq!(bad.notes, vec!["↳ 3 non-finite samples".to_string()]);
+    }
+
     #[test]
     fn ids_are_never_cut_and_lines_fit_the_width() {
         let long = "irradiance/sphere_near_surface_centre_below_horizon_gap_1e-3";
