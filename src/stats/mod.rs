@@ -7,6 +7,7 @@
 //!   for batch means), two-sided p, the verdict at a Šidák-corrected level, and the
 //!   smallest relative bias the test detects with 99% power.
 //! - [`slope`]: least-squares slope of log–log data (convergence rates).
+//! - [`cost`]: the cost line t = t₀ + c·N of a sweep (robust, relative least squares).
 //! - [`chi2`]: chi-square goodness of fit of a sampler against its density.
 
 pub mod accumulator;
