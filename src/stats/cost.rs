@@ -219,6 +219,45 @@ mod tests {
     }
 
     #[test]
+    fn standard_errors_are_the_weighted_normal_equations() {
+        // Points off a line with weights: the covariance s²(XᵀWX)⁻¹ written out as a 2×2
+        // inverse, s² = Σw r²/(n − 2) (Draper & Smith §9.2).
+        let pts = [
+            (1.0, 2.9),
+            (2.0, 5.2),
+            (4.0, 8.8),
+            (8.0, 17.3),
+            (16.0, 33.1),
+        ];
+        let w = [1.0, 0.5, 2.0, 0.25, 0.125];
+        let (a, b, sea, seb) = weighted_line(&pts, &w).unwrap();
+        let (s0, s1, s2): (f64, f64, f64) = pts
+            .iter()
+            .zip(&w)
+            .fold((0.0, 0.0, 0.0), |(s0, s1, s2), (p, w)| {
+                (s0 + w, s1 + w * p.0, s2 + w * p.0 * p.0)
+            });
+        let det = s0 * s2 - s1 * s1;
+        let rss: f64 = pts
+            .iter()
+            .zip(&w)
+            .map(|(p, w)| w * (p.1 - a - b * p.0).powi(2))
+            .sum();
+        let s2r = rss / 3.0;
+        assert!((sea.unwrap() / (s2r * s2 / det).sqrt() - 1.0).abs() < 1e-12);
+        assert!((seb.unwrap() / (s2r * s0 / det).sqrt() - 1.0).abs() < 1e-12);
+        // Through the origin: one parameter, n − 1 degrees of freedom.
+        let (t0, c, se0, sec) = through_origin(&pts, &w).unwrap();
+        assert_eq!((t0, se0), (0.0, Some(0.0)));
+        let rss: f64 = pts
+            .iter()
+            .zip(&w)
+            .map(|(p, w)| w * (p.1 - c * p.0).powi(2))
+            .sum();
+        assert!((sec.unwrap() / (rss / 4.0 / s2).sqrt() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
     fn a_negative_fixed_cost_is_clamped_and_bad_points_skipped() {
         let n = [256.0, 512.0, 1024.0, 2048.0, f64::NAN, -4.0];
         let t = [2.4e-4, 5.2e-4, 1.0e-3, 2.0e-3, 1.0, 1.0];
