@@ -74,46 +74,72 @@ impl OrenNayar {
 
 impl BsdfModel for OrenNayar {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = to_upper(wo, wi);
-        if !(wo.z > 0.0 && wi.z > 0.0) {
-            return 0.0;
-        }
-        self.albedo * INV_PI * self.shape(wo, wi)
+        shaped_eval(self.albedo, wo, wi, |o, i| self.shape(o, i))
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
-        let flip = wo.z < 0.0;
-        let wo = if flip { flip_z(wo) } else { wo };
-        if !(wo.z > 0.0) || !wo.is_finite() {
-            return None;
-        }
-        let wi = cosine_hemisphere(Vec2::new(u.x, u.y));
-        let pdf = wi.z * INV_PI;
-        if !(pdf > 0.0) {
-            return None;
-        }
-        let weight = self.albedo * self.shape(wo, wi);
-        let wi = if flip { flip_z(wi) } else { wi };
-        Some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
-            eta: 1.0,
-        })
+        shaped_sample(self.albedo, wo, u, |o, i| self.shape(o, i))
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = to_upper(wo, wi);
-        if !(wo.z > 0.0 && wi.z > 0.0) {
-            return 0.0;
-        }
-        wi.z * INV_PI
+        shaped_pdf(wo, wi)
     }
 
     fn flags(&self) -> LobeFlags {
         LobeFlags::REFLECTION | LobeFlags::DIFFUSE
     }
+}
+
+/// f = (ρ/π)·s(ωo, ωi) of a reflective lobe with shape factor `shape`, evaluated in the
+/// upper hemisphere (both Oren–Nayar forms share everything but s).
+pub(super) fn shaped_eval(
+    albedo: f32,
+    wo: Vec3,
+    wi: Vec3,
+    shape: impl Fn(Vec3, Vec3) -> f32,
+) -> f32 {
+    let (wo, wi) = to_upper(wo, wi);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return 0.0;
+    }
+    albedo * INV_PI * shape(wo, wi)
+}
+
+/// Cosine sampling of that lobe: weight f·cos θi/pdf = ρ·s(ωo, ωi).
+pub(super) fn shaped_sample(
+    albedo: f32,
+    wo: Vec3,
+    u: Vec3,
+    shape: impl Fn(Vec3, Vec3) -> f32,
+) -> Option<BsdfSample> {
+    let flip = wo.z < 0.0;
+    let wo = if flip { flip_z(wo) } else { wo };
+    if !(wo.z > 0.0) || !wo.is_finite() {
+        return None;
+    }
+    let wi = cosine_hemisphere(Vec2::new(u.x, u.y));
+    let pdf = wi.z * INV_PI;
+    if !(pdf > 0.0) {
+        return None;
+    }
+    let weight = albedo * shape(wo, wi);
+    let wi = if flip { flip_z(wi) } else { wi };
+    Some(BsdfSample {
+        wi,
+        weight,
+        pdf,
+        lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+        eta: 1.0,
+    })
+}
+
+/// The cosine density of that lobe (upper hemisphere of ωo).
+pub(super) fn shaped_pdf(wo: Vec3, wi: Vec3) -> f32 {
+    let (wo, wi) = to_upper(wo, wi);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return 0.0;
+    }
+    wi.z * INV_PI
 }
 
 /// Reflects only; black at ρ = 0.

@@ -16,12 +16,10 @@
 //! Sampled by the cosine-weighted hemisphere: weight = π f ≤ ρ(A + B/cos θo). Two-sided
 //! like [`super::Lambertian`].
 
+use super::oren_nayar::{shaped_eval, shaped_pdf, shaped_sample};
 use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
 use super::{Index, ModelFacts};
-use super::{flip_z, to_upper};
-use crate::math::INV_PI;
-use crate::sampling::hemisphere::cosine_hemisphere;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::FRAC_PI_2;
 
@@ -72,41 +70,15 @@ impl OrenNayarClassic {
 
 impl BsdfModel for OrenNayarClassic {
     fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = to_upper(wo, wi);
-        if !(wo.z > 0.0 && wi.z > 0.0) {
-            return 0.0;
-        }
-        self.albedo * INV_PI * self.shape(wo, wi)
+        shaped_eval(self.albedo, wo, wi, |o, i| self.shape(o, i))
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
-        let flip = wo.z < 0.0;
-        let wo = if flip { flip_z(wo) } else { wo };
-        if !(wo.z > 0.0) || !wo.is_finite() {
-            return None;
-        }
-        let wi = cosine_hemisphere(Vec2::new(u.x, u.y));
-        let pdf = wi.z * INV_PI;
-        if !(pdf > 0.0) {
-            return None;
-        }
-        let weight = self.albedo * self.shape(wo, wi);
-        let wi = if flip { flip_z(wi) } else { wi };
-        Some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
-            eta: 1.0,
-        })
+        shaped_sample(self.albedo, wo, u, |o, i| self.shape(o, i))
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (wo, wi) = to_upper(wo, wi);
-        if !(wo.z > 0.0 && wi.z > 0.0) {
-            return 0.0;
-        }
-        wi.z * INV_PI
+        shaped_pdf(wo, wi)
     }
 
     fn flags(&self) -> LobeFlags {
@@ -130,6 +102,7 @@ impl ModelFacts for OrenNayarClassic {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::INV_PI;
 
     /// pbrt-v3's formula with angles, against the trigonometry-free form.
     #[test]
