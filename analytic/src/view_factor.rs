@@ -204,23 +204,29 @@ mod tests {
         )
     }
 
+    /// C-11 by quadrature: an a × b rectangle at z = 0 facing +z, the same rectangle
+    /// at height c above it.
+    fn parallel_by_averaging(a: f64, b: f64, c: f64, tol: f64) -> f64 {
+        let target = [
+            Vec3::new(0.0, 0.0, c),
+            Vec3::new(a, 0.0, c),
+            Vec3::new(a, b, c),
+            Vec3::new(0.0, b, c),
+        ];
+        average_over(
+            Vec3::default(),
+            Vec3::new(a, 0.0, 0.0),
+            Vec3::new(0.0, b, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            &target,
+            tol,
+        )
+    }
+
     #[test]
     fn parallel_rectangles_by_averaging_lambert() {
         for (a, b, c) in [(1.0, 1.0, 1.0), (2.0, 0.5, 0.3), (1.0, 3.0, 5.0)] {
-            let target = [
-                Vec3::new(0.0, 0.0, c),
-                Vec3::new(a, 0.0, c),
-                Vec3::new(a, b, c),
-                Vec3::new(0.0, b, c),
-            ];
-            let q = average_over(
-                Vec3::default(),
-                Vec3::new(a, 0.0, 0.0),
-                Vec3::new(0.0, b, 0.0),
-                Vec3::new(0.0, 0.0, 1.0),
-                &target,
-                1e-11,
-            );
+            let q = parallel_by_averaging(a, b, c, 1e-11);
             assert!(rel(parallel_rectangles(a, b, c), q) < 1e-9, "{a} {b} {c}");
         }
     }
@@ -258,20 +264,7 @@ mod tests {
     fn catalog_extremes_by_quadrature() {
         // C-11: separations 1e-3 (width 1, length 2) and 100 (width 2, length 1).
         for (a, b, c, tol) in [(1.0, 2.0, 1e-3, 1e-7), (2.0, 1.0, 100.0, 1e-8)] {
-            let target = [
-                Vec3::new(0.0, 0.0, c),
-                Vec3::new(a, 0.0, c),
-                Vec3::new(a, b, c),
-                Vec3::new(0.0, b, c),
-            ];
-            let q = average_over(
-                Vec3::default(),
-                Vec3::new(a, 0.0, 0.0),
-                Vec3::new(0.0, b, 0.0),
-                Vec3::new(0.0, 0.0, 1.0),
-                &target,
-                1e-10,
-            );
+            let q = parallel_by_averaging(a, b, c, 1e-10);
             let f = parallel_rectangles(a, b, c);
             assert!(rel(f, q) < tol, "{a} {b} {c}: {f} vs {q}");
         }

@@ -24,6 +24,22 @@
 use crate::math::safe_sqrt;
 use glam::Vec3;
 
+/// The incident side's |cos θi|, the relative index η seen from that side (1/η for a
+/// direction inside), and cos θt by Snell's law; `None` under total internal reflection
+/// (or a NaN argument). cos²θt = 1 − sin²θi/η² = ((η − 1)(η + 1) + cos²θi)/η²: no
+/// cancellation as η → 1.
+#[inline]
+fn refraction_cosines(cos_i: f32, eta: f32) -> Option<(f32, f32, f32)> {
+    let cos_i = cos_i.clamp(-1.0, 1.0);
+    let (cos_i, eta) = if cos_i < 0.0 {
+        (-cos_i, 1.0 / eta)
+    } else {
+        (cos_i, eta)
+    };
+    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
+    (cos2_t > 0.0).then(|| (cos_i, eta, cos2_t.min(1.0).sqrt()))
+}
+
 /// Unpolarised Fresnel reflectance of a dielectric interface.
 ///
 /// `cos_i` is the cosine between the incident direction and the normal; positive when
@@ -33,18 +49,9 @@ use glam::Vec3;
 /// reflection and at grazing incidence.
 #[inline]
 pub fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let mut cos_i = cos_i.clamp(-1.0, 1.0);
-    let mut eta = eta;
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-    }
-    // cos²θt = 1 − sin²θi/η² = ((η − 1)(η + 1) + cos²θi)/η²: no cancellation as η → 1.
-    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
-    if !(cos2_t > 0.0) {
+    let Some((cos_i, eta, cos_t)) = refraction_cosines(cos_i, eta) else {
         return 1.0;
-    }
-    let cos_t = cos2_t.min(1.0).sqrt();
+    };
     let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let r = 0.5 * (r_parl * r_parl + r_perp * r_perp);
@@ -64,17 +71,9 @@ pub fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
 /// needs.
 #[inline]
 pub fn tr_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let mut cos_i = cos_i.clamp(-1.0, 1.0);
-    let mut eta = eta;
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-    }
-    let cos2_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
-    if !(cos2_t > 0.0) {
+    let Some((cos_i, eta, cos_t)) = refraction_cosines(cos_i, eta) else {
         return 0.0;
-    }
-    let cos_t = cos2_t.min(1.0).sqrt();
+    };
     let a = eta * cos_i + cos_t;
     let b = cos_i + eta * cos_t;
     let t = 2.0 * eta * cos_i * cos_t * (1.0 / (a * a) + 1.0 / (b * b));
