@@ -51,6 +51,9 @@ enum Command {
         /// Write every outcome as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Write the verdict page (one self-contained HTML file) to this file.
+        #[arg(long)]
+        html: Option<PathBuf>,
         /// Skip the chi-square suites.
         #[arg(long)]
         no_chi2: bool,
@@ -327,6 +330,7 @@ fn main() -> ExitCode {
         threads: None,
         samples: None,
         json: None,
+        html: None,
         no_chi2: false,
         verbose: false,
     });
@@ -391,12 +395,13 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             samples,
             json,
+            html,
             no_chi2,
             verbose,
             ..
         } => {
             require_cases(&paths)?;
-            verify(paths, seed, samples, json, no_chi2, verbose)
+            verify(paths, seed, samples, [json, html], no_chi2, verbose)
         }
         Command::Estimate {
             case,
@@ -487,7 +492,7 @@ fn verify(
     paths: Vec<PathBuf>,
     seed: u64,
     samples: Option<u64>,
-    json: Option<PathBuf>,
+    [json, html]: [Option<PathBuf>; 2],
     no_chi2: bool,
     verbose: bool,
 ) -> Result<(), Failure> {
@@ -583,6 +588,28 @@ fn verify(
         let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::Input(e.to_string()))?;
         lightproof::io::write_atomic(&path, text.as_bytes())
             .map_err(|e| IoError::write(&path, e))?;
+    }
+    if let Some(path) = html {
+        use lightproof::report::html::{CaseInfo, Page, write};
+        let info = |c: &Case| {
+            let file = c.file.display().to_string();
+            let id = ids
+                .get(&file)
+                .cloned()
+                .unwrap_or_else(|| c.desc.name.clone());
+            let teaches = c.desc.teaches.clone();
+            (file, CaseInfo { id, teaches })
+        };
+        let cases = cases.iter().map(info).collect();
+        let page = Page {
+            outcomes: &outcomes,
+            cases: &cases,
+            chi2: &chi2_rows,
+            seed,
+            alpha: ALPHA,
+            tests: k,
+        };
+        write(&path, &page).map_err(|e| IoError::write(&path, e))?;
     }
     if failed > 0 {
         Err(Failure::Verdict)

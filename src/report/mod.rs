@@ -37,9 +37,11 @@
 
 pub mod analysis;
 pub mod clock;
+pub mod html;
 pub mod index;
 pub mod machine;
 pub mod plot;
+pub mod png;
 pub mod publish;
 pub mod shard;
 pub mod store;
