@@ -636,16 +636,23 @@ fn estimate(
         )));
     }
     let run_seed = seed_for(seed, &case.desc.name, est, sampler);
-    let mut outcome = case.run(est, sampler, case.samples(samples, 1), run_seed);
-    outcome.judge(ALPHA, 1);
-    let mut obj = serde_json::to_value(&outcome).map_err(|e| Failure::Input(e.to_string()))?;
+    let n = case.samples(samples, 1);
+    // A time-resolved histogram adds one outcome per bin; all are judged as one family.
+    let mut all = vec![case.run(est, sampler, n, run_seed)];
+    all.extend(case.run_bins(est, sampler, n, seed));
+    judge_family(&mut all, 0, ALPHA);
+    let outcome = &all[0];
+    let mut obj = serde_json::to_value(outcome).map_err(|e| Failure::Input(e.to_string()))?;
     obj["threads"] = serde_json::json!(rayon::current_num_threads());
+    if all.len() > 1 {
+        obj["bins"] = serde_json::json!(all[1..]);
+    }
     println!(
         "{}",
         serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?
     );
     // A failed verdict, or non-finite samples without a reference, exit 1.
-    if outcome.passed() {
+    if all.iter().all(Outcome::passed) {
         Ok(())
     } else {
         Err(Failure::Verdict)

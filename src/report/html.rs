@@ -163,10 +163,12 @@ pub fn render(page: &Page) -> String {
     s
 }
 
-fn id_of<'a>(page: &'a Page, o: &'a Outcome) -> &'a str {
-    page.cases
+fn id_of(page: &Page, o: &Outcome) -> String {
+    let id = page
+        .cases
         .get(&o.file)
-        .map_or(o.case.as_str(), |c| c.id.as_str())
+        .map_or(o.case.as_str(), |c| c.id.as_str());
+    format!("{id}{}", o.bin_suffix())
 }
 
 fn estimator_label(o: &Outcome) -> String {
@@ -191,7 +193,7 @@ fn failures(s: &mut String, page: &Page) {
         let _ = writeln!(
             s,
             "<li><b>{}</b> ({}): {}</li>",
-            esc(id_of(page, o)),
+            esc(&id_of(page, o)),
             esc(&estimator_label(o)),
             esc(&why)
         );
@@ -553,7 +555,7 @@ fn verdict_table(s: &mut String, page: &Page) {
     let mut order: Vec<&Outcome> = page.outcomes.iter().collect();
     order.sort_by_key(|o| o.passed());
     for o in order {
-        let id = id_of(page, o);
+        let id = &id_of(page, o);
         let teaches = page.cases.get(&o.file).map_or("", |c| c.teaches.as_str());
         let v = o.verdict.as_ref();
         let (verdict, rank) = match (v, o.passed()) {
@@ -657,6 +659,7 @@ mod tests {
             reference,
             z: None,
             verdict: None,
+            bin: None,
         }
     }
 

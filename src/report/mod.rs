@@ -46,6 +46,7 @@ pub mod publish;
 pub mod shard;
 pub mod store;
 pub mod sweep;
+pub mod transient;
 
 use crate::sampling::SamplerKind;
 use crate::stats::{CostFit, SlopeFit};
