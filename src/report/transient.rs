@@ -151,7 +151,7 @@ mod tests {
         assert_eq!(files, vec![dir.join("t.transient.svg")]);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         assert!(
-            svg.starts_with("<svg") && svg.contains("of 8 bins pass"),
+            svg.starts_with("<svg") && svg.contains("of 6 bins pass"),
             "{svg}"
         );
         assert!(svg.contains("arrival time (ns)") && svg.contains("closed form"));
