@@ -157,6 +157,6 @@ mod tests {
         assert!(svg.contains("arrival time (ns)") && svg.contains("closed form"));
         std::fs::remove_dir_all(dir).unwrap();
         // Nothing to plot is an error, not an empty picture.
-        assert!(svg("none", &[]).is_err());
+        assert!(super::svg("none", &[]).is_err());
     }
 }
