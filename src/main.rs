@@ -153,7 +153,7 @@ enum Command {
         /// Samples per pixel, 1 to 2^20 (and width × height × spp at most 2^40).
         #[arg(long, default_value_t = 16, allow_negative_numbers = true, value_parser = parse_spp)]
         spp: u64,
-        /// Output EXR.
+        /// Output image: EXR (linear), or an 8-bit sRGB PNG when the name ends in .png.
         #[arg(short, long, default_value = "out.exr")]
         output: PathBuf,
         /// Seed.
@@ -166,6 +166,9 @@ enum Command {
         /// unlimited, with Russian roulette).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_max_depth)]
         max_depth: Option<u32>,
+        /// Multiply the image by 2^STOPS before writing, -64 to 64 (default 0).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
+        exposure: f32,
     },
 }
 
@@ -207,6 +210,15 @@ fn parse_spp(s: &str) -> Result<u64, String> {
 
 fn parse_max_depth(s: &str) -> Result<u32, String> {
     count_in(s, 0, lightproof::render::MAX_DEPTH as u64, "2^16").map(|v| v as u32)
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if (-64.0..=64.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "must be a number of stops from -64 to 64, got `{s}`"
+        )),
+    }
 }
 
 fn parse_seed(s: &str) -> Result<u64, String> {
@@ -470,12 +482,13 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             threads: _,
             max_depth,
+            exposure,
         } => {
             let t0 = std::time::Instant::now();
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
             let seconds = t0.elapsed().as_secs_f64();
             let paths = (w * h) as f64 * spp as f64;
-            lightproof::render::write_exr(&output, w, h, &data)
+            lightproof::render::write_image(&output, w, h, &data, exposure)
                 .map_err(|e| IoError::write(&output, e))?;
             eprintln!(
                 "wrote {} ({w}×{h}, {spp} spp): {paths} paths in {seconds:.3} s, {:.0} paths/s on {} threads",

@@ -363,10 +363,15 @@ fn render_takes_threads_and_max_depth() {
         assert_eq!(data.len(), w * h);
         data
     };
-    assert!(pixels(0).iter().all(|&v| v == 0.0), "depth 0 sees no floor");
     assert!(
-        pixels(1).iter().all(|&v| v > 0.0),
-        "depth 1 lights the floor"
+        pixels(0).iter().all(|&v| v == [0.0; 3]),
+        "depth 0 sees no floor"
+    );
+    assert!(
+        pixels(1)
+            .iter()
+            .all(|&[r, g, b]| r > 0.0 && r == g && g == b),
+        "depth 1 lights the grey floor grey"
     );
     render("2", Some("0"), "d0.exr");
 }
