@@ -98,6 +98,7 @@ pub fn svg(title: &str, bins: &[Outcome]) -> Result<String, String> {
             .map_err(err)?;
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
             .border_style(BLACK)
             .background_style(WHITE)
             .label_font(("sans-serif", 13))
