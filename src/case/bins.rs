@@ -50,6 +50,9 @@ pub fn edges(f: &str, desc: &super::CaseDesc) -> Result<Option<Vec<f64>>, InputE
             "every edge must be a finite time in seconds, got {x}"
         ));
     }
+    for &x in e {
+        crate::error::check_number(f, "time.bins", x, |_| true, "a time in seconds")?;
+    }
     if let Some(w) = e.windows(2).find(|w| !(w[1] > w[0])) {
         return bad(format!(
             "edges must increase strictly, got {} then {}",
@@ -177,6 +180,7 @@ mod tests {
             (Box::new(set(vec![2e-9, 1e-9])), "increase strictly"),
             (Box::new(set(vec![1e-9, 1e-9, 2e-9])), "increase strictly"),
             (Box::new(set(vec![0.0, f64::NAN])), "finite"),
+            (Box::new(set(vec![0.0, 1e300])), "time.bins"),
             (
                 Box::new(|d: &mut CaseDesc| d.time.as_mut().unwrap().bin = Some([0.0, 1e-9])),
                 "not both",

@@ -318,29 +318,29 @@ impl Frame {
         );
         for (v, label) in xt {
             let x = self.px(*v);
-            let _ = write!(
+            let _ = writeln!(
                 s,
                 "<line x1=\"{x:.1}\" y1=\"{b}\" x2=\"{x:.1}\" y2=\"{}\" stroke=\"#999\"/>\
-                 <text x=\"{x:.1}\" y=\"{}\" text-anchor=\"middle\">{label}</text>\n",
+                 <text x=\"{x:.1}\" y=\"{}\" text-anchor=\"middle\">{label}</text>",
                 b + 4.0,
                 b + 16.0
             );
         }
         for (v, label) in yt {
             let y = self.py(*v);
-            let _ = write!(
+            let _ = writeln!(
                 s,
                 "<line x1=\"{}\" y1=\"{y:.1}\" x2=\"{l}\" y2=\"{y:.1}\" stroke=\"#999\"/>\
-                 <text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>\n",
+                 <text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>",
                 l - 4.0,
                 l - 6.0,
                 y + 4.0
             );
         }
-        let _ = write!(
+        let _ = writeln!(
             s,
             "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{}</text>\
-             <text transform=\"translate(14 {:.1}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
+             <text transform=\"translate(14 {:.1}) rotate(-90)\" text-anchor=\"middle\">{}</text>",
             (l + r) / 2.0,
             self.h - 8.0,
             labels[0],
@@ -445,9 +445,9 @@ fn histogram_svg(zs: &[f64], critical: Option<f64>) -> String {
         bar(-Z_SPAN + i as f64 * Z_BIN, c, "bin", "#7aa6d6");
     }
     bar(Z_SPAN + Z_BIN, h.not_finite, "bin nan", "#d67a7a");
-    let _ = write!(
+    let _ = writeln!(
         s,
-        "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">NaN</text>\n",
+        "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">NaN</text>",
         f.px(Z_SPAN + 1.5 * Z_BIN),
         f.py(0.0) - 4.0
     );
