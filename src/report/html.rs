@@ -760,6 +760,10 @@ mod tests {
         let path = dir.join("verdicts.html");
         write(&path, &page).unwrap();
         let html = std::fs::read_to_string(&path).unwrap();
+        // To look at this page in a browser: LIGHTPROOF_HTML_OUT=FILE keeps a copy.
+        if let Some(keep) = std::env::var_os("LIGHTPROOF_HTML_OUT") {
+            std::fs::copy(&path, keep).unwrap();
+        }
         let tags = check_structure(&html);
         for t in ["html", "head", "body", "table", "svg", "script"] {
             assert!(tags.iter().any(|x| x == t), "no <{t}>");
