@@ -387,6 +387,28 @@ fn calibration(s: &mut String, page: &Page) {
         3.0 / (n.max(1) as f64).sqrt(),
         3.0 / (2.0 * n.max(1) as f64).sqrt(),
     );
+    // Passes with |z| past the critical value: the difference lies within the f32
+    // rounding allowance τ that the null hypothesis |bias| ≤ τ grants.
+    let excused: Vec<String> = page
+        .outcomes
+        .iter()
+        .filter(|o| {
+            o.verdict.as_ref().is_some_and(|v| {
+                v.class == VerdictClass::Statistical && v.passed && v.z.abs() > v.critical
+            })
+        })
+        .map(|o| format!("{} ({})", esc(&id_of(page, o)), esc(&estimator_label(o))))
+        .collect();
+    if !excused.is_empty() {
+        let _ = writeln!(
+            s,
+            "<p id=\"rounding\">{} passing verdicts have |z| beyond the critical value: their \
+             difference from the reference is within the f32 rounding allowance τ = γ₁₂₈·|reference| \
+             that the null hypothesis grants (their standard error is below τ): {}.</p>",
+            excused.len(),
+            excused.join(", ")
+        );
+    }
     let critical = page
         .outcomes
         .iter()
@@ -723,6 +745,7 @@ mod tests {
             outcome("c.json", 3.0, None, Some(3.0)),       // exact
             outcome("d.json", 4.0, Some(0.1), None),       // no reference
             outcome("e.json", f64::NAN, Some(0.01), Some(1.0)), // z = NaN
+            outcome("f.json", 1.0 + 5e-6, Some(1e-7), Some(1.0)), // z = 50, within τ: passes
         ];
         outcomes[5].non_finite = 3;
         let k = judge_family(&mut outcomes, 1, 1e-4);
@@ -790,7 +813,11 @@ mod tests {
                     .is_some_and(|v| v.class == VerdictClass::Statistical)
             })
             .count();
-        assert_eq!(stat, 4);
+        assert_eq!(stat, 5);
+        assert!(
+            html.contains("<p id=\"rounding\">1 passing verdicts"),
+            "{html}"
+        );
         let svg = &html[html.find("id=\"z-histogram\"").unwrap()..];
         let svg = &svg[..svg.find("</svg>").unwrap()];
         let counts: Vec<u64> = svg
