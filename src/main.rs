@@ -603,17 +603,8 @@ fn verify(
             .map_err(|e| IoError::write(&path, e))?;
     }
     if let Some(path) = html {
-        use lightproof::report::html::{CaseInfo, Page, write};
-        let info = |c: &Case| {
-            let file = c.file.display().to_string();
-            let id = ids
-                .get(&file)
-                .cloned()
-                .unwrap_or_else(|| c.desc.name.clone());
-            let teaches = c.desc.teaches.clone();
-            (file, CaseInfo { id, teaches })
-        };
-        let cases = cases.iter().map(info).collect();
+        use lightproof::report::html::{Page, case_infos, write};
+        let cases = case_infos(&cases, &ids);
         let page = Page {
             outcomes: &outcomes,
             cases: &cases,

@@ -33,6 +33,26 @@ pub struct CaseInfo {
     pub teaches: String,
 }
 
+/// Each case file's id (from `ids`, file → id; else the case's name) and `teaches` line,
+/// by file as [`Outcome::file`] spells it.
+pub fn case_infos(
+    cases: &[crate::case::Case],
+    ids: &BTreeMap<String, String>,
+) -> BTreeMap<String, CaseInfo> {
+    cases
+        .iter()
+        .map(|c| {
+            let file = c.file.display().to_string();
+            let id = ids
+                .get(&file)
+                .cloned()
+                .unwrap_or_else(|| c.desc.name.clone());
+            let teaches = c.desc.teaches.clone();
+            (file, CaseInfo { id, teaches })
+        })
+        .collect()
+}
+
 /// Everything one `verify` run hands the page.
 pub struct Page<'a> {
     /// The judged outcomes.
