@@ -14,6 +14,13 @@
 //!   single-scattering microfacet model loses the light that would scatter between
 //!   microfacets, more so the rougher it is.
 //!
+//! Picture: target/examples/06_albedo.svg, the directional albedo a(θo) of each model
+//! from normal incidence to grazing (BSDF-sampled estimates, ±2 standard errors): the
+//! Lambertian flat at ρ, every curve under the line a = 1, and the white (F ≈ 1) GGX
+//! mirror at α = 1 keeping only 1 − ln 2 ≈ 0.31 at normal incidence: what a
+//! single-scattering microfacet model loses is the light that would bounce between
+//! microfacets, which depends on the angle.
+//!
 //! Run: `cargo run --release --example 06_bsdf -- [SAMPLES]`
 
 use glam::Vec3;
@@ -28,8 +35,10 @@ use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
 use lightproof::verdict::judge;
 use lightproof_analytic::irradiance::disk_on_axis;
+use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
+use std::path::Path;
 
 const LAMBERTIAN: &str = r#"{ "type": "lambertian", "albedo": 0.6 }"#;
 const ROUGH_CONDUCTOR: &str =
@@ -108,11 +117,12 @@ fn main() {
         lo / e.estimate
     );
 
-    for (name, json) in [
+    let models = [
         ("Lambertian", LAMBERTIAN),
         ("rough conductor", ROUGH_CONDUCTOR),
         ("white rough conductor", WHITE_ROUGH_CONDUCTOR),
-    ] {
+    ];
+    for (name, json) in models {
         let bsdf = Bsdf::from_json(json).unwrap();
         println!("\n{name} {json}:");
         // Reciprocity: evaluate both ways for a few direction pairs, then check many.
@@ -179,7 +189,96 @@ fn main() {
             }
         }
     }
+    // The picture: a(θo) of each model from normal incidence to grazing.
+    let curves: Vec<Curve> = models
+        .iter()
+        .map(|&(name, json)| (name, albedo_curve(name, json, (n / 8).max(4096))))
+        .collect();
+    match plot(&curves) {
+        Ok(path) => println!("\nwrote {path} (the directional albedo of each model against θo)"),
+        Err(e) => println!("\n(could not write the plot: {e})"),
+    }
     finish(ok);
+}
+
+/// A model's name and its albedo (θo in degrees, estimate, standard error).
+type Curve = (&'static str, Vec<(f64, f64, f64)>);
+
+/// The directional albedo a(θo) = ∫ f cos θi dωi at θo = 0°, 10°, …, 80°, 85°, 89°, by
+/// BSDF sampling with `n` samples each.
+fn albedo_curve(name: &str, json: &str, n: u64) -> Vec<(f64, f64, f64)> {
+    let angles = [
+        0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0, 89.0,
+    ];
+    angles
+        .iter()
+        .map(|&theta: &f64| {
+            let c = load(json!({
+                "name": format!("{name} albedo curve at {theta}"), "teaches": "a(ωo) = ∫ f cos θi dωi ≤ 1",
+                "measure": { "albedo": { "bsdf": serde_json::from_str::<serde_json::Value>(json).unwrap(), "theta_degrees": theta } },
+                "estimators": ["bsdf"]
+            }));
+            let spec = RunSpec {
+                samples: n,
+                sampler: SamplerKind::Independent,
+                seed: seed_for(66, &c.desc.name, Estimator::Bsdf, SamplerKind::Independent),
+            };
+            let t = c.estimate(Estimator::Bsdf, &spec).batches.total;
+            (theta, t.mean, t.std_error())
+        })
+        .collect()
+}
+
+fn plot(curves: &[Curve]) -> Result<String, Box<dyn std::error::Error>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join("06_albedo.svg");
+    let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Directional albedo a(θo) = ∫ f cos θi dωi ≤ 1",
+            ("sans-serif", 18),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..90.0, 0f64..1.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("outgoing angle θo (degrees)")
+        .y_desc("albedo a(θo)")
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(
+            [(0.0, 1.0), (90.0, 1.0)],
+            BLACK.stroke_width(1),
+        ))?
+        .label("a = 1: energy conservation")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+    for (i, (name, pts)) in curves.iter().enumerate() {
+        let colour = Palette99::pick(i).to_rgba();
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|p| (p.0, p.1)),
+                colour.stroke_width(2),
+            ))?
+            .label(*name)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart.draw_series(pts.iter().map(|&(t, a, se)| {
+            PathElement::new(vec![(t, a - 2.0 * se), (t, a + 2.0 * se)], colour)
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok("target/examples/06_albedo.svg".into())
 }
 
 /// Run one estimator of a case and judge it against `exact`.

@@ -51,6 +51,9 @@ enum Command {
         /// Write every outcome as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Write the verdict page (one self-contained HTML file) to this file.
+        #[arg(long)]
+        html: Option<PathBuf>,
         /// Skip the chi-square suites.
         #[arg(long)]
         no_chi2: bool,
@@ -150,7 +153,7 @@ enum Command {
         /// Samples per pixel, 1 to 2^20 (and width × height × spp at most 2^40).
         #[arg(long, default_value_t = 16, allow_negative_numbers = true, value_parser = parse_spp)]
         spp: u64,
-        /// Output EXR.
+        /// Output image: EXR (linear), or an 8-bit sRGB PNG when the name ends in .png.
         #[arg(short, long, default_value = "out.exr")]
         output: PathBuf,
         /// Seed.
@@ -163,6 +166,9 @@ enum Command {
         /// unlimited, with Russian roulette).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_max_depth)]
         max_depth: Option<u32>,
+        /// Multiply the image by 2^STOPS before writing, -64 to 64 (default 0).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
+        exposure: f32,
     },
 }
 
@@ -204,6 +210,15 @@ fn parse_spp(s: &str) -> Result<u64, String> {
 
 fn parse_max_depth(s: &str) -> Result<u32, String> {
     count_in(s, 0, lightproof::render::MAX_DEPTH as u64, "2^16").map(|v| v as u32)
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if (-64.0..=64.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "must be a number of stops from -64 to 64, got `{s}`"
+        )),
+    }
 }
 
 fn parse_seed(s: &str) -> Result<u64, String> {
@@ -327,6 +342,7 @@ fn main() -> ExitCode {
         threads: None,
         samples: None,
         json: None,
+        html: None,
         no_chi2: false,
         verbose: false,
     });
@@ -391,12 +407,13 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             samples,
             json,
+            html,
             no_chi2,
             verbose,
             ..
         } => {
             require_cases(&paths)?;
-            verify(paths, seed, samples, json, no_chi2, verbose)
+            verify(paths, seed, samples, [json, html], no_chi2, verbose)
         }
         Command::Estimate {
             case,
@@ -465,12 +482,13 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             threads: _,
             max_depth,
+            exposure,
         } => {
             let t0 = std::time::Instant::now();
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
             let seconds = t0.elapsed().as_secs_f64();
             let paths = (w * h) as f64 * spp as f64;
-            lightproof::render::write_exr(&output, w, h, &data)
+            lightproof::render::write_image(&output, w, h, &data, exposure)
                 .map_err(|e| IoError::write(&output, e))?;
             eprintln!(
                 "wrote {} ({w}×{h}, {spp} spp): {paths} paths in {seconds:.3} s, {:.0} paths/s on {} threads",
@@ -487,7 +505,7 @@ fn verify(
     paths: Vec<PathBuf>,
     seed: u64,
     samples: Option<u64>,
-    json: Option<PathBuf>,
+    [json, html]: [Option<PathBuf>; 2],
     no_chi2: bool,
     verbose: bool,
 ) -> Result<(), Failure> {
@@ -584,6 +602,19 @@ fn verify(
         lightproof::io::write_atomic(&path, text.as_bytes())
             .map_err(|e| IoError::write(&path, e))?;
     }
+    if let Some(path) = html {
+        use lightproof::report::html::{Page, case_infos, write};
+        let cases = case_infos(&cases, &ids);
+        let page = Page {
+            outcomes: &outcomes,
+            cases: &cases,
+            chi2: &chi2_rows,
+            seed,
+            alpha: ALPHA,
+            tests: k,
+        };
+        write(&path, &page).map_err(|e| IoError::write(&path, e))?;
+    }
     if failed > 0 {
         Err(Failure::Verdict)
     } else {
@@ -609,16 +640,23 @@ fn estimate(
         )));
     }
     let run_seed = seed_for(seed, &case.desc.name, est, sampler);
-    let mut outcome = case.run(est, sampler, case.samples(samples, 1), run_seed);
-    outcome.judge(ALPHA, 1);
-    let mut obj = serde_json::to_value(&outcome).map_err(|e| Failure::Input(e.to_string()))?;
+    let n = case.samples(samples, 1);
+    // A time-resolved histogram adds one outcome per bin; all are judged as one family.
+    let mut all = vec![case.run(est, sampler, n, run_seed)];
+    all.extend(case.run_bins(est, sampler, n, seed));
+    judge_family(&mut all, 0, ALPHA);
+    let outcome = &all[0];
+    let mut obj = serde_json::to_value(outcome).map_err(|e| Failure::Input(e.to_string()))?;
     obj["threads"] = serde_json::json!(rayon::current_num_threads());
+    if all.len() > 1 {
+        obj["bins"] = serde_json::json!(all[1..]);
+    }
     println!(
         "{}",
         serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?
     );
     // A failed verdict, or non-finite samples without a reference, exit 1.
-    if outcome.passed() {
+    if all.iter().all(Outcome::passed) {
         Ok(())
     } else {
         Err(Failure::Verdict)

@@ -1,16 +1,27 @@
 //! Pinhole-camera images of a case file that has a `camera`, for looking: each pixel is the mean of `spp` MIS path-traced
 //! radiance samples through jittered points of the pixel, written as an EXR.
+//!
+//! A grey scene renders grey (R = G = B = L). A scene that varies with wavelength (an
+//! emitter's spectrum, a dispersive material) renders in colour: each path carries four
+//! hero wavelengths drawn uniformly over 360–830 nm, its spectral radiance is weighted
+//! by the CIE 1931 matching functions normalised to their integrals (so equal energy is
+//! white, and Ŷ is the ȳ-weighted mean radiance, a grey scene's value), and the
+//! tristimulus values go to linear sRGB (D65) through a Bradford adaptation from E to
+//! D65 ([`crate::spectrum::cie`]): a flat spectrum L₀ renders to R = G = B = L₀.
 
 use crate::case::CaseDesc;
 use crate::error::{InputError, parse_json};
 use crate::math::Frame;
 use crate::sampling::{Sampler, SamplerKind};
+use crate::spectrum::cie::{Observer, to_linear_srgb, xyz_e_to_linear_srgb};
+use crate::spectrum::{Response, VISIBLE};
 use crate::transport::Estimator;
 use crate::transport::measure::Measure;
 use crate::transport::path::{MAX_PATH_BOUNCES, Prev, trace};
-use crate::transport::phase::Grey;
-use crate::transport::plan::Plans;
+use crate::transport::phase::{Grey, Lanes, PhaseSample};
+use crate::transport::plan::{Plans, SpectralDesc, WavelengthSampling};
 use glam::Vec3;
+use glam::Vec4;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -29,13 +40,13 @@ pub const MAX_DEPTH: u32 = MAX_PATH_BOUNCES;
 
 /// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
 /// scatterings (`None`: the plan's bound, unlimited with Russian roulette where more
-/// bounces can contribute); returns (width, height, radiance).
+/// bounces can contribute); returns (width, height, linear sRGB radiance per pixel).
 pub fn render_file(
     path: &Path,
     spp: u64,
     seed: u64,
     max_depth: Option<u32>,
-) -> Result<(usize, usize, Vec<f32>), InputError> {
+) -> Result<(usize, usize, Vec<[f32; 3]>), InputError> {
     let file = path.display().to_string();
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(&file, "-", e))?;
@@ -105,18 +116,31 @@ pub fn render_file(
     let aspect = c.width as f32 / c.height as f32;
     // The same plan as `estimate` for radiance seen from the eye (effects depend on the
     // viewpoint, not on the pixel's direction): bounded depth, and no shadow rays where
-    // nothing can occlude. Rendering is grey: the plan's dimensions are not sampled.
+    // nothing can occlude. Wavelength is sampled over the visible range where the scene
+    // varies with it (whatever the case's own `spectral` section measures); time is not.
     let eye_measure = Measure::Radiance {
         at: Vec3::ZERO,
         direction: fwd,
+    };
+    let visible = SpectralDesc {
+        band: Some([VISIBLE.min as f64, VISIBLE.max as f64]),
+        wavelength: None,
+        response: Response::Flat,
+        sampling: WavelengthSampling::Uniform,
+        hero: true,
+        photons: false,
     };
     let plans = Plans::decide(
         &file,
         &scene,
         &eye_measure,
-        desc.spectral.as_ref(),
+        Some(&visible),
         desc.time.as_ref(),
     )?;
+    let dims = &plans.pruned.dims;
+    let spectral = dims.spectral.is_some();
+    let observer = Observer::over(VISIBLE.min as f64, VISIBLE.max as f64);
+    let to_rgb = xyz_e_to_linear_srgb();
     let mut cfg = plans.pruned.config(Estimator::Mis);
     if let Some(depth) = max_depth {
         // 0: only emission seen directly; 1: direct lighting; and so on.
@@ -124,36 +148,85 @@ pub fn render_file(
     }
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
     let (w, h) = (c.width, c.height);
-    let pixels: Vec<f32> = (0..w * h)
+    let pixels: Vec<[f32; 3]> = (0..w * h)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
-            let mut sum = 0.0f64;
+            // Grey: the radiance in [0]; spectral: the E-normalised X̂, Ŷ, Ẑ.
+            let mut sum = [0.0f64; 3];
             for k in 0..spp {
                 let mut s = sampler.stream(i as u64 * spp + k);
                 let j = s.next_2d();
                 let px = (2.0 * (x as f32 + j.x) / w as f32 - 1.0) * tan * aspect;
                 let py = (1.0 - 2.0 * (y as f32 + j.y) / h as f32) * tan;
                 let d = (fwd + right * px + up * py).normalize();
-                sum += trace(
-                    &scene,
-                    &cfg,
-                    &Grey,
-                    Vec3::ZERO,
-                    d,
-                    Prev::sensor(Vec3::ZERO),
-                    0,
-                    &mut s,
-                ) as f64;
+                let (o, prev) = (Vec3::ZERO, Prev::sensor(Vec3::ZERO));
+                if spectral {
+                    let phase: PhaseSample<Vec4> = dims.draw(&mut s);
+                    let l = trace(&scene, &cfg, &phase, o, d, prev, 0, &mut s);
+                    for lane in 0..Vec4::LANES {
+                        let v = l.lane(lane) * phase.weight.lane(lane);
+                        let cmf = observer.weights(phase.lambda[lane]);
+                        for c in 0..3 {
+                            sum[c] += (v * cmf[c]) as f64;
+                        }
+                    }
+                } else {
+                    sum[0] += trace(&scene, &cfg, &Grey, o, d, prev, 0, &mut s) as f64;
+                }
             }
-            (sum / spp.max(1) as f64) as f32
+            let mean = sum.map(|v| v / spp.max(1) as f64);
+            if spectral {
+                to_linear_srgb(&to_rgb, mean)
+            } else {
+                [mean[0] as f32; 3]
+            }
         })
         .collect();
     Ok((w, h, pixels))
 }
 
-/// Write grey radiance as an RGB EXR, atomically.
-pub fn write_exr(path: &Path, w: usize, h: usize, data: &[f32]) -> std::io::Result<()> {
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value clipped to [0, 1], as
+/// an 8-bit code.
+fn srgb_byte(v: f32) -> u8 {
+    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    let e = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (e * 255.0).round() as u8
+}
+
+/// Write the image times 2^`exposure` atomically: an 8-bit sRGB PNG (linear values
+/// clipped at 1, then the sRGB transfer curve) when `path` ends in `.png`, else a linear
+/// RGB EXR ([`write_exr`]).
+pub fn write_image(
+    path: &Path,
+    w: usize,
+    h: usize,
+    data: &[[f32; 3]],
+    exposure: f32,
+) -> std::io::Result<()> {
+    let k = exposure.exp2();
+    let scaled: Vec<[f32; 3]> = data
+        .iter()
+        .map(|p| p.map(|v| (v * k).min(f32::MAX)))
+        .collect();
+    let data = &scaled[..];
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        || w.checked_mul(h) != Some(data.len())
+    {
+        return write_exr(path, w, h, data);
+    }
+    let bytes: Vec<u8> = data.iter().flat_map(|p| p.map(srgb_byte)).collect();
+    crate::io::write_atomic(path, &crate::report::png::encode_rgb(w, h, &bytes))
+}
+
+/// Write linear sRGB radiance as an RGB EXR, atomically.
+pub fn write_exr(path: &Path, w: usize, h: usize, data: &[[f32; 3]]) -> std::io::Result<()> {
     if w.checked_mul(h) != Some(data.len()) {
         return Err(std::io::Error::other(format!(
             "an image of {w} × {h} pixels needs {} values, got {}",
@@ -162,7 +235,53 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[f32]) -> std::io::Resu
         )));
     }
     crate::io::write_exr_atomic(path, w, h, |x, y| {
-        let v = data[y * w + x];
-        (v, v, v)
+        let [r, g, b] = data[y * w + x];
+        (r, g, b)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_srgb_curve_meets_its_standard_points() {
+        assert_eq!(srgb_byte(0.0), 0);
+        assert_eq!(srgb_byte(f32::NAN), 0);
+        assert_eq!(srgb_byte(1.0), 255);
+        assert_eq!(srgb_byte(7.0), 255);
+        // 18% grey encodes to 0.4614 (118/255); the linear segment ends at 0.0031308.
+        assert_eq!(srgb_byte(0.18), 118);
+        assert_eq!(srgb_byte(0.003), 10);
+    }
+
+    /// The white point, end to end: a disk emitting a flat (equal-energy) tabulated
+    /// spectrum of 2 — spectral, so paths carry hero wavelengths weighted by x̄, ȳ, z̄ —
+    /// renders to R = G = B = 2 up to Monte Carlo noise: each channel's mean over 256
+    /// independent pixels within 4.5 standard errors of 2 (Šidák over 3 channels at
+    /// α ≈ 2·10⁻⁵), with the standard error below 0.2%, so a white point off by 1%
+    /// (D65's unadapted white is 5–10% off) would fail.
+    #[test]
+    fn a_flat_spectrum_renders_white() {
+        let case = r#"{"name": "flat", "teaches": "white",
+          "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 10},
+            "emission": {"radiance": 2, "spectrum": {"sampled": {"wavelengths": [300, 900], "values": [1, 1]}}}}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 16, "height": 16},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+          "spectral": {"band": [360, 830]}, "estimators": ["mis"]}"#;
+        let dir = std::env::temp_dir().join(format!("lightproof-white-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("flat.json");
+        std::fs::write(&path, case).unwrap();
+        let (w, h, px) = render_file(&path, 1024, 9, None).unwrap();
+        let n = (w * h) as f64;
+        for c in 0..3 {
+            let mean = px.iter().map(|p| p[c] as f64).sum::<f64>() / n;
+            let var = px.iter().map(|p| (p[c] as f64 - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            let se = (var / n).sqrt();
+            assert!(se > 0.0 && se < 0.002 * 2.0, "channel {c}: se {se}");
+            assert!((mean - 2.0).abs() < 4.5 * se, "channel {c}: {mean} ± {se}");
+        }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

@@ -69,7 +69,7 @@ pub fn outcome_row(id: &str, o: &Outcome) -> Row {
         notes.push(format!("↳ {} non-finite samples", o.non_finite));
     }
     Row {
-        id: id.to_string(),
+        id: format!("{id}{}", o.bin_suffix()),
         cells: [
             estimator,
             estimate,
@@ -192,6 +192,7 @@ mod tests {
             reference: None,
             z: None,
             verdict: None,
+            bin: None,
         }
     }
 

@@ -145,6 +145,9 @@ pub struct Outcome {
     /// The verdict.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
+    /// The arrival-time bin [t₁, t₂] (s) of one bin of a time-resolved histogram.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bin: Option<[f64; 2]>,
 }
 
 impl Outcome {
@@ -182,6 +185,16 @@ impl Outcome {
             reference,
             z: None,
             verdict: None,
+            bin: None,
+        }
+    }
+
+    /// What names one bin of a time-resolved histogram after its case's id, e.g.
+    /// ` t∈[3.669, 4.336] ns`; empty for any other outcome.
+    pub fn bin_suffix(&self) -> String {
+        match self.bin {
+            Some([a, b]) => format!(" t∈[{:.4}, {:.4}] ns", a * 1e9, b * 1e9),
+            None => String::new(),
         }
     }
 
@@ -325,6 +338,7 @@ mod tests {
             reference,
             z: None,
             verdict: None,
+            bin: None,
         }
     }
 

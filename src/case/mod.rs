@@ -22,6 +22,7 @@
 //! Modules: [`schema`] (the file as written), [`build`] (validation, one step per
 //! section). Judging the outcomes is [`crate::verdict`]'s job.
 
+pub mod bins;
 pub mod build;
 pub mod schema;
 
@@ -63,6 +64,9 @@ pub struct Case {
     pub plan: Plan,
     /// Every effect and dimension on, for the soundness proof.
     pub full: Plan,
+    /// The cases of a time-resolved histogram's bins (`time.bins`; empty otherwise); the
+    /// case itself then measures the whole span of the bins.
+    pub bins: Vec<Case>,
 }
 
 impl Case {
@@ -79,6 +83,12 @@ impl Case {
     pub fn from_desc(desc: CaseDesc, path: &Path) -> Result<Case, InputError> {
         let file = path.display().to_string();
         let f = file.as_str();
+        if let Some(e) = bins::edges(f, &desc)? {
+            let mut whole = Case::from_desc(bins::with_bin(&desc, e[0], e[e.len() - 1]), path)?;
+            whole.bins = bins::build(&desc, path, &e)?;
+            whole.desc = desc;
+            return Ok(whole);
+        }
         let origin = build::origin(f, &desc)?;
         let base = path.parent().unwrap_or(Path::new("."));
         let scene = desc.scene.build(f, "scene", base, origin)?;
@@ -111,6 +121,7 @@ impl Case {
             reference,
             plan: pruned,
             full,
+            bins: vec![],
         })
     }
 
@@ -188,6 +199,7 @@ impl Case {
             for &est in &self.desc.estimators {
                 let seed = seed_for(base_seed, &self.desc.name, est, sampler);
                 out.push(self.run(est, sampler, n, seed));
+                out.extend(self.run_bins(est, sampler, n, base_seed));
             }
         }
         out

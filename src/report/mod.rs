@@ -37,13 +37,16 @@
 
 pub mod analysis;
 pub mod clock;
+pub mod html;
 pub mod index;
 pub mod machine;
 pub mod plot;
+pub mod png;
 pub mod publish;
 pub mod shard;
 pub mod store;
 pub mod sweep;
+pub mod transient;
 
 use crate::sampling::SamplerKind;
 use crate::stats::{CostFit, SlopeFit};

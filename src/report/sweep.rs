@@ -350,7 +350,12 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     let mut summary = match opts.shard {
         None => {
             let mut reports = written.reports;
-            publish(&opts.out, &mut reports)?
+            let summary = publish(&opts.out, &mut reports)?;
+            let cases = load_cases(&opts.paths)?;
+            for p in super::transient::write_all(&cases, &opts.out, opts.max_samples, opts.seed)? {
+                notes.push(format!("wrote the transient response {}", p.display()));
+            }
+            summary
         }
         Some(_) => Summary {
             reports: vec![],

@@ -8,6 +8,7 @@
 //! | [`planck_radiance`], [`blackbody_band_radiance`] | `blackbody.rs` | Planck's law per nm and its exact band integral |
 //! | [`Ior`], [`bk7`] | `ior.rs` | refractive index n(λ): constant, Cauchy, Sellmeier, tabulated |
 //! | [`Response`], [`photopic`] | `response.rs` | a sensor's R(λ): flat, CIE 1931 ȳ (photopic), tabulated |
+//! | [`cie`] | `cie.rs` | CIE 1931 x̄, ȳ, z̄ (analytic fit) and E-white tristimulus → linear sRGB, for rendering |
 //! | [`WavelengthSampler`] | `wavelength.rs` | drawing λ over a band, uniformly or by importance; hero lanes |
 //!
 //! **Conventions.** Wavelengths are vacuum wavelengths in nanometres: `f32` in the engine,
@@ -29,6 +30,7 @@
 
 mod band;
 mod blackbody;
+pub mod cie;
 mod ior;
 mod json;
 mod photon;

@@ -6,15 +6,11 @@ use super::table::TableRef;
 use super::{Band, Spectrum, finite_f64};
 use serde::de::{self, MapAccess};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use std::f64::consts::PI;
 
 /// The maximum luminous efficacy of photopic vision K_m = 683.002 lm/W: the SI candela
 /// fixes 683 lm/W at 540 THz (555.016 nm), where ȳ = 0.999997; CIE 15 rounds the peak
 /// value at 555 nm to 683.002. Luminous quantities are K_m ∫ ȳ(λ) X_λ dλ.
 pub const LUMINOUS_EFFICACY: f64 = 683.002;
-
-/// The two piecewise-Gaussian lobes (weight, μ, σ below μ, σ above μ) of ȳ.
-const LOBES: [(f64, f64, f64, f64); 2] = [(0.821, 568.8, 46.9, 40.5), (0.286, 530.9, 16.3, 31.1)];
 
 /// The CIE 1931 2° photopic luminosity function ȳ(λ) (= V(λ)), λ in nm.
 ///
@@ -30,35 +26,7 @@ const LOBES: [(f64, f64, f64, f64); 2] = [(0.821, 568.8, 46.9, 40.5), (0.286, 53
 /// tables' 106.857 nm (+0.061 %). The authors state that the fit's error is below the
 /// spread of the observers' data the CIE standard aggregates. 0 for NaN.
 pub fn photopic(lambda_nm: f32) -> f32 {
-    if lambda_nm.is_nan() {
-        return 0.0;
-    }
-    let mut y = 0.0f32;
-    for (w, mu, s1, s2) in LOBES {
-        let (mu, s) = (
-            mu as f32,
-            if (lambda_nm as f64) < mu { s1 } else { s2 } as f32,
-        );
-        let t = (lambda_nm - mu) / s;
-        y += w as f32 * (-0.5 * t * t).exp();
-    }
-    if y.is_finite() && y > 0.0 { y } else { 0.0 }
-}
-
-/// ∫ ȳ dλ over [a, b] for the fit of [`photopic`], exactly: on each side of a lobe's
-/// centre, ∫ exp(−½((λ − μ)/σ)²) dλ = σ√(π/2) [erf((λ − μ)/(σ√2))] (statrs's erf).
-fn photopic_integral(a: f64, b: f64) -> f64 {
-    let side = |lo: f64, hi: f64, mu: f64, s: f64| {
-        if hi <= lo {
-            return 0.0;
-        }
-        let e = |x: f64| statrs::function::erf::erf((x - mu) / (s * 2f64.sqrt()));
-        s * (PI / 2.0).sqrt() * (e(hi) - e(lo))
-    };
-    LOBES
-        .iter()
-        .map(|&(w, mu, s1, s2)| w * (side(a, b.min(mu), mu, s1) + side(a.max(mu), b, mu, s2)))
-        .sum()
+    super::cie::Y.eval(lambda_nm)
 }
 
 /// A sensor's spectral response R(λ), weighting a spectral measurement ∫ R(λ) M(λ) dλ.
@@ -102,7 +70,7 @@ impl Response {
         };
         match self {
             Response::Flat => finite_f64(b - a),
-            Response::Photopic => finite_f64(photopic_integral(a, b)),
+            Response::Photopic => finite_f64(super::cie::Y.integral(a, b)),
             Response::Sampled(s) => s.integral(band),
         }
     }

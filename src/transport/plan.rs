@@ -74,6 +74,10 @@ pub struct TimeDesc {
     /// exposure of light arriving in the bin).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bin: Option<[f64; 2]>,
+    /// Arrival-time bin edges t₀ < … < t_K in seconds: a time-resolved histogram, one
+    /// estimate per bin (see [`crate::case::bins`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bins: Option<Vec<f64>>,
 }
 
 /// What one estimate simulates.

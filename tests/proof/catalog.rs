@@ -122,7 +122,7 @@ fn catalog_matches_closed_forms() {
     } else {
         let k = cases
             .iter()
-            .map(|c| c.desc.estimators.len() * c.samplers().len())
+            .map(|c| c.desc.estimators.len() * c.samplers().len() * (1 + c.bins.len()))
             .sum();
         outcomes.iter_mut().for_each(|o| o.judge(ALPHA, k));
         k

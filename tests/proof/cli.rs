@@ -101,9 +101,12 @@ fn bad_input_is_named_and_exits_2() {
 fn a_passing_case_exits_0_and_prints_the_table() {
     let p = tmp("good.json", GOOD);
     let json = p.with_extension("out.json");
+    let html = p.with_extension("out.html");
     let out = bin()
         .args(["verify", "--threads", "2", "--json"])
         .arg(&json)
+        .arg("--html")
+        .arg(&html)
         .arg(&p)
         .output()
         .unwrap();
@@ -121,6 +124,11 @@ fn a_passing_case_exits_0_and_prints_the_table() {
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(doc["outcomes"].as_array().unwrap().len(), 2);
+    // The verdict page: both outcomes, with the case's teaching line.
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>") && page.ends_with("</html>\n"));
+    assert_eq!(page.matches("<tr class=\"outcome\"").count(), 2);
+    assert!(page.contains("E = π L R²/(R² + h²)"), "{page}");
 }
 
 #[test]
@@ -222,6 +230,17 @@ fn unwritable_output_exits_3() {
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");
+    let html = blocker.join("verdicts.html");
+    let out = bin()
+        .arg("verify")
+        .arg("--html")
+        .arg(&html)
+        .arg(&case)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(err.contains(&html.display().to_string()), "{err}");
     let with_camera = tmp(
         "camera_case.json",
         &GOOD.replace(
@@ -344,10 +363,15 @@ fn render_takes_threads_and_max_depth() {
         assert_eq!(data.len(), w * h);
         data
     };
-    assert!(pixels(0).iter().all(|&v| v == 0.0), "depth 0 sees no floor");
     assert!(
-        pixels(1).iter().all(|&v| v > 0.0),
-        "depth 1 lights the floor"
+        pixels(0).iter().all(|&v| v == [0.0; 3]),
+        "depth 0 sees no floor"
+    );
+    assert!(
+        pixels(1)
+            .iter()
+            .all(|&[r, g, b]| r > 0.0 && r == g && g == b),
+        "depth 1 lights the grey floor grey"
     );
     render("2", Some("0"), "d0.exr");
 }
