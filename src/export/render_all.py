@@ -46,7 +46,7 @@ def main():
         for k in range(args.renders):
             img = mi.render(scene, seed=k, spp=spp)
             tmp = os.path.join(out, ".%03d.tmp.exr" % k)
-            mi.util.write_bitmap(tmp, img)
+            mi.util.write_bitmap(tmp, img, write_async=False)
             os.replace(tmp, os.path.join(out, "%03d.exr" % k))
         info = {"renderer": "mitsuba %s %s" % (mi.__version__, args.variant), "spp": spp,
                 "seeds": list(range(args.renders))}
