@@ -335,15 +335,7 @@ impl Judgement {
         }
         crate::table::Row {
             id: self.id.clone(),
-            cells: [
-                how,
-                estimate,
-                r,
-                z,
-                det,
-                "-".into(),
-                verdict.to_string(),
-            ],
+            cells: [how, estimate, r, z, det, "-".into(), verdict.to_string()],
             notes,
         }
     }
@@ -393,7 +385,11 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputErro
 }
 
 /// Judge every rendered case of an exported suite folder (`suite.json`), as one family.
-pub fn judge_suite(dir: &Path, renderer: Option<&str>, alpha: f64) -> Result<SuiteJudgement, Error> {
+pub fn judge_suite(
+    dir: &Path,
+    renderer: Option<&str>,
+    alpha: f64,
+) -> Result<SuiteJudgement, Error> {
     let suite: Suite = read_json(&dir.join("suite.json"))?;
     let mut judgements = Vec::new();
     let mut not_rendered = Vec::new();
@@ -419,7 +415,13 @@ pub fn judge_suite(dir: &Path, renderer: Option<&str>, alpha: f64) -> Result<Sui
         });
         let case = Case::load(&d.join(&manifest.case))?;
         let sample = sample(&renders, Some((manifest.width, manifest.height)))?;
-        judgements.push(Judgement::new(&case, id.clone(), label, sample, manifest.scale));
+        judgements.push(Judgement::new(
+            &case,
+            id.clone(),
+            label,
+            sample,
+            manifest.scale,
+        ));
     }
     if judgements.is_empty() {
         return Err(InputError::new(
@@ -470,11 +472,16 @@ pub fn run(
             let j = judge_case(case, renders, renderer.unwrap_or("renderer"), alpha)?;
             let summary = format!(
                 "\n{}  ({} renders; {})\n",
-                if j.passed() { "1 passed, 0 failed" } else { "0 passed, 1 failed" },
+                if j.passed() {
+                    "1 passed, 0 failed"
+                } else {
+                    "0 passed, 1 failed"
+                },
                 j.sample.renders.len(),
                 match j.sample.method {
                     Method::IndependentRenders => "replicates: independent renders",
-                    Method::PixelBlocks => "replicates: batch means over pixel blocks of one render",
+                    Method::PixelBlocks =>
+                        "replicates: batch means over pixel blocks of one render",
                 }
             );
             let doc = serde_json::to_value(&j).unwrap_or_default();
@@ -491,7 +498,10 @@ pub fn run(
     };
     let passed = judgements.iter().all(Judgement::passed);
     let text = if json {
-        format!("{}\n", serde_json::to_string_pretty(&doc).unwrap_or_default())
+        format!(
+            "{}\n",
+            serde_json::to_string_pretty(&doc).unwrap_or_default()
+        )
     } else {
         let rows: Vec<_> = judgements.iter().map(Judgement::row).collect();
         format!(

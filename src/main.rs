@@ -534,7 +534,11 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             let (text, passed) =
                 lightproof::judge::run(&files, suite.as_deref(), renderer.as_deref(), json, ALPHA)?;
             print!("{text}");
-            if passed { Ok(()) } else { Err(Failure::Verdict) }
+            if passed {
+                Ok(())
+            } else {
+                Err(Failure::Verdict)
+            }
         }
     }
 }

@@ -287,7 +287,9 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                     disk_to_world(v(*center), v(*normal).normalize(), *radius)
                 )
             }
-            GeometryDesc::Rectangle { .. } | GeometryDesc::Triangle { .. } | GeometryDesc::Mesh { .. } => {
+            GeometryDesc::Rectangle { .. }
+            | GeometryDesc::Triangle { .. }
+            | GeometryDesc::Mesh { .. } => {
                 let Some((vs, fs)) = triangles(&s.geometry) else {
                     return Err(Refusal(format!("{field}: no triangles")));
                 };
@@ -298,7 +300,9 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 )
             }
             GeometryDesc::Obj { .. } => {
-                return Err(Refusal(format!("{field}: OBJ geometry is not exported yet")));
+                return Err(Refusal(format!(
+                    "{field}: OBJ geometry is not exported yet"
+                )));
             }
         };
         let _ = writeln!(x, "  {shape}");

@@ -50,8 +50,10 @@ use std::path::{Path, PathBuf};
 /// Closed forms whose radiance field is isotropic at every interior point: a closed,
 /// uniformly emitting, uniformly diffuse enclosure (L = Le/(1 − ρ), and its partial sums
 /// over bounces). A camera inside such a case sees the reference in every pixel.
-pub const ISOTROPIC_CLOSED_FORMS: [&str; 2] =
-    ["furnace_closed_enclosure", "furnace_closed_enclosure_bounces"];
+pub const ISOTROPIC_CLOSED_FORMS: [&str; 2] = [
+    "furnace_closed_enclosure",
+    "furnace_closed_enclosure_bounces",
+];
 
 /// Smallest irradiance receiver, relative to max(1, the point's largest coordinate):
 /// 10⁻⁵, about 170 f32 ulps, so that the receiver disk is resolved.
@@ -389,7 +391,9 @@ pub fn clearance(scene: &SceneDesc, p: DVec3) -> f64 {
     let mut d = f64::INFINITY;
     for s in &scene.shapes {
         let ds = match &s.geometry {
-            GeometryDesc::Sphere { center, radius, .. } => ((p - v(*center)).length() - radius).abs(),
+            GeometryDesc::Sphere { center, radius, .. } => {
+                ((p - v(*center)).length() - radius).abs()
+            }
             GeometryDesc::Disk {
                 center,
                 normal,
@@ -707,7 +711,9 @@ mod tests {
               "reference":{"closed_form":"furnace_closed_enclosure","emitted_radiance":1,"albedo":0.5},
               "estimators":["mis"]}"#,
         );
-        assert!(matches!(probe(&furnace), Ok(Probe::Isotropic { direction, .. }) if direction == DVec3::Z));
+        assert!(
+            matches!(probe(&furnace), Ok(Probe::Isotropic { direction, .. }) if direction == DVec3::Z)
+        );
         let mut ray = furnace.clone();
         ray.reference = None;
         assert!(matches!(probe(&ray), Ok(Probe::Ray { .. })));
@@ -723,7 +729,9 @@ mod tests {
             at: [0.0, 0.0, 0.5],
             normal: [0.0, 0.0, 1.0],
         };
-        assert!(matches!(probe(&inside), Ok(Probe::Irradiance { radius, .. }) if (radius - 0.005).abs() < 1e-12));
+        assert!(
+            matches!(probe(&inside), Ok(Probe::Irradiance { radius, .. }) if (radius - 0.005).abs() < 1e-12)
+        );
         let mut timed = furnace;
         timed.time = Some(Default::default());
         assert!(probe(&timed).unwrap_err().0.contains("time"));

@@ -150,9 +150,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             ));
         }
     };
-    let depth = probe
-        .scatterings(desc.max_depth)
-        .unwrap_or(UNBOUNDED_DEPTH);
+    let depth = probe.scatterings(desc.max_depth).unwrap_or(UNBOUNDED_DEPTH);
     let mut files = Vec::new();
     let mut x = format!("# {} (lightproof export to pbrt-v4)\n", desc.name);
     let _ = writeln!(x, "LookAt {} {} {}", v3(at), v3(at + dir), v3(frame(dir).0));
@@ -247,11 +245,17 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 local = frame_transform(v(*center), axis);
                 let zmin = match theta_max {
                     Some(t) if *t < 180.0 => {
-                        format!(r#" "float zmin" [ {} ]"#, num(radius * t.to_radians().cos()))
+                        format!(
+                            r#" "float zmin" [ {} ]"#,
+                            num(radius * t.to_radians().cos())
+                        )
                     }
                     Some(_) | None => String::new(),
                 };
-                format!(r#"Shape "sphere" "float radius" [ {} ]{zmin}"#, num(*radius))
+                format!(
+                    r#"Shape "sphere" "float radius" [ {} ]{zmin}"#,
+                    num(*radius)
+                )
             }
             GeometryDesc::Disk {
                 center,
@@ -266,7 +270,9 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                     num(inner_radius.unwrap_or(0.0))
                 )
             }
-            GeometryDesc::Rectangle { .. } | GeometryDesc::Triangle { .. } | GeometryDesc::Mesh { .. } => {
+            GeometryDesc::Rectangle { .. }
+            | GeometryDesc::Triangle { .. }
+            | GeometryDesc::Mesh { .. } => {
                 let Some((vs, fs)) = triangles(&s.geometry) else {
                     return Err(Refusal(format!("{field}: no triangles")));
                 };
@@ -275,7 +281,9 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 format!(r#"Shape "plymesh" "string filename" [ "{name}" ]"#)
             }
             GeometryDesc::Obj { .. } => {
-                return Err(Refusal(format!("{field}: OBJ geometry is not exported yet")));
+                return Err(Refusal(format!(
+                    "{field}: OBJ geometry is not exported yet"
+                )));
             }
         };
         if !local.is_empty() {

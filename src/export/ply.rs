@@ -30,6 +30,9 @@ mod tests {
     fn header_counts_match_the_body() {
         let t = ascii(&[DVec3::ZERO, DVec3::X, DVec3::Y], &[[0, 1, 2]]);
         assert!(t.contains("element vertex 3\n") && t.contains("element face 1\n"));
-        assert!(t.ends_with("end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "{t}");
+        assert!(
+            t.ends_with("end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+            "{t}"
+        );
     }
 }

@@ -149,7 +149,11 @@ fn round_trip_through_lightproof_render() {
         std::fs::copy(catalog(rel), to).unwrap();
     }
     // Not a closed furnace: lightproof's pinhole camera cannot measure it; refused, listed.
-    std::fs::copy(catalog("irradiance/disk_on_axis.json"), cases.join("disk.json")).unwrap();
+    std::fs::copy(
+        catalog("irradiance/disk_on_axis.json"),
+        cases.join("disk.json"),
+    )
+    .unwrap();
     let out_dir = scratch("suite");
     let o = bin()
         .args(["export", "--all", "--to", "lightproof", "--out"])
@@ -178,10 +182,17 @@ fn round_trip_through_lightproof_render() {
         assert_eq!(j["replicates"].as_array().unwrap().len(), 16);
         let v = &j["verdict"];
         assert_eq!(v["passed"], true, "{j}");
-        assert!(v["detectable_relative_bias"].as_f64().unwrap() < 0.015, "{j}");
+        assert!(
+            v["detectable_relative_bias"].as_f64().unwrap() < 0.015,
+            "{j}"
+        );
     }
     // The table: one row per case and the closing count.
-    let o = bin().args(["judge", "--suite"]).arg(&out_dir).output().unwrap();
+    let o = bin()
+        .args(["judge", "--suite"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
     assert!(text(&o).contains("3 passed, 0 failed"), "{}", text(&o));
 
     // A wrong reference fails, from the same renders.
@@ -257,7 +268,14 @@ fn bad_renders_are_named() {
     nan[5] = f32::NAN;
     let nan_file = d.join("nan.exr");
     lightproof::render::write_exr(&nan_file, 4, 4, &nan).unwrap();
-    let run = |renders: &[&PathBuf]| bin().arg("judge").arg(&case).args(renders).output().unwrap();
+    let run = |renders: &[&PathBuf]| {
+        bin()
+            .arg("judge")
+            .arg(&case)
+            .args(renders)
+            .output()
+            .unwrap()
+    };
     for (renders, bad, why) in [
         (vec![&a, &small], &small, "expected 4 × 4"),
         (vec![&a, &not_exr], &not_exr, "EXR"),
@@ -266,12 +284,22 @@ fn bad_renders_are_named() {
         let o = run(&renders);
         let err = text(&o);
         assert_eq!(o.status.code(), Some(2), "{err}");
-        assert!(err.contains(&bad.display().to_string()) && err.contains(why), "{err}");
+        assert!(
+            err.contains(&bad.display().to_string()) && err.contains(why),
+            "{err}"
+        );
         assert!(!err.contains("panicked"), "{err}");
     }
     let o = run(&[&a, &b, &nan_file]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(text(&o).contains(&format!("{}: 1 non-finite pixels, the first at (1, 1)", nan_file.display())), "{}", text(&o));
+    assert!(
+        text(&o).contains(&format!(
+            "{}: 1 non-finite pixels, the first at (1, 1)",
+            nan_file.display()
+        )),
+        "{}",
+        text(&o)
+    );
     // Identical renders: no variance, judged exactly (2 ≠ 2.0 ± f32 rounding? equal: pass).
     let o = run(&[&a, &b]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -284,9 +312,21 @@ fn bad_renders_are_named() {
 fn inexpressible_cases_are_refused() {
     let d = scratch("refused");
     for (case, to, why) in [
-        ("irradiance/disk_on_axis.json", "pbrt", "no irradiance sensor"),
-        ("bsdf_albedo/oren_nayar_fujii_sigma0_5_60.json", "mitsuba", "Oren–Nayar"),
-        ("bsdf_albedo/white_ggx_alpha0_5_60.json", "mitsuba", "height-correlated"),
+        (
+            "irradiance/disk_on_axis.json",
+            "pbrt",
+            "no irradiance sensor",
+        ),
+        (
+            "bsdf_albedo/oren_nayar_fujii_sigma0_5_60.json",
+            "mitsuba",
+            "Oren–Nayar",
+        ),
+        (
+            "bsdf_albedo/white_ggx_alpha0_5_60.json",
+            "mitsuba",
+            "height-correlated",
+        ),
         ("solid_angle/triangle.json", "mitsuba", "geometric integral"),
     ] {
         let o = bin()
@@ -336,10 +376,19 @@ fn mitsuba_sphere_furnace_bias_is_detected() {
     let sphere = find("analytic_sphere");
     let relative = sphere["estimate"].as_f64().unwrap() / 5.0 - 1.0;
     assert_eq!(sphere["verdict"]["passed"], false, "{sphere}");
-    assert!(sphere["z"].as_f64().unwrap() > 0.0 && relative > 0.005, "{sphere}");
+    assert!(
+        sphere["z"].as_f64().unwrap() > 0.0 && relative > 0.005,
+        "{sphere}"
+    );
     let mesh = find("mesh_sphere");
     assert_eq!(mesh["verdict"]["passed"], true, "{mesh}");
-    assert!(mesh["verdict"]["detectable_relative_bias"].as_f64().unwrap() < relative, "{mesh}");
+    assert!(
+        mesh["verdict"]["detectable_relative_bias"]
+            .as_f64()
+            .unwrap()
+            < relative,
+        "{mesh}"
+    );
     let _ = std::fs::remove_dir_all(cases);
     let _ = std::fs::remove_dir_all(out_dir);
 }
