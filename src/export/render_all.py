@@ -3,7 +3,12 @@
 
 Each case folder listed in suite.json holds scene.xml and export.json; this script writes
 independent renders renders/000.exr, renders/001.exr, ... (render k uses seed k) and
-renders/render.json (variant, samples, seeds), removing earlier renders first. Then:
+renders/render.json (variant, samples, seeds), removing earlier renders first.
+
+Mitsuba's film sums a pixel's samples in float32: one render of 2^18 samples of a constant
+sky of radiance 0.7 returns 0.7018 (2^20: 0.6927). So each render is made of passes of at
+most --pass-spp samples per pixel (distinct seeds), averaged here in double precision.
+Then:
 
     lightproof judge --suite THIS_FOLDER
 
@@ -20,6 +25,7 @@ def main():
     p.add_argument("--variant", default="scalar_rgb", help="Mitsuba variant (default scalar_rgb)")
     p.add_argument("--renders", type=int, default=16, help="independent renders per case (seeds 0..n-1)")
     p.add_argument("--samples", type=int, default=65536, help="paths per render (spp = samples / pixels)")
+    p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel of one Mitsuba pass (float32 film sums)")
     p.add_argument("--only", default=None, help="render only case ids containing this text")
     args = p.parse_args()
     if args.renders < 2:
@@ -43,16 +49,25 @@ def main():
                 os.remove(os.path.join(out, name))
         pixels = man["width"] * man["height"]
         spp = max(1, -(-args.samples // pixels))
+        passes = max(1, -(-spp // args.pass_spp))
+        spp = passes * min(spp, args.pass_spp)
         for k in range(args.renders):
-            img = mi.render(scene, seed=k, spp=spp)
+            total = None
+            for q in range(passes):
+                img = mi.render(scene, seed=k * passes + q, spp=spp // passes)
+                shape = img.shape
+                flat = img.array
+                vals = [float(flat[i]) for i in range(len(flat))]
+                total = vals if total is None else [a + b for a, b in zip(total, vals)]
+            mean = mi.TensorXf([v / passes for v in total], shape)
             tmp = os.path.join(out, ".%03d.tmp.exr" % k)
-            mi.util.write_bitmap(tmp, img, write_async=False)
+            mi.util.write_bitmap(tmp, mean, write_async=False)
             os.replace(tmp, os.path.join(out, "%03d.exr" % k))
         info = {"renderer": "mitsuba %s %s" % (mi.__version__, args.variant), "spp": spp,
-                "seeds": list(range(args.renders))}
+                "passes": passes, "seeds": list(range(args.renders * passes))}
         with open(os.path.join(out, "render.json"), "w") as f:
             json.dump(info, f)
-        print("%s: %d renders x %d spp" % (cid, args.renders, spp), flush=True)
+        print("%s: %d renders x %d spp (%d passes)" % (cid, args.renders, spp, passes), flush=True)
 
 
 if __name__ == "__main__":
