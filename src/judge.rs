@@ -310,16 +310,8 @@ impl Judgement {
 
     /// Its row in the verdict table.
     pub fn row(&self) -> crate::table::Row {
-        let (r, z, det, verdict) = match &self.verdict {
-            Some(v) => (
-                format!("{:.6}", v.reference),
-                format!("{:+.2}", v.z),
-                format!("{:.3}%", 100.0 * v.detectable_relative_bias),
-                if v.passed { "pass" } else { "FAIL" },
-            ),
-            None if self.passed() => ("-".into(), "-".into(), "-".into(), "(no reference)"),
-            None => ("-".into(), "-".into(), "-".into(), "FAIL"),
-        };
+        let [r, z, det, verdict] =
+            crate::table::verdict_cells(self.verdict.as_ref(), self.passed());
         let n = self.sample.replicates.len();
         let how = match self.sample.method {
             Method::IndependentRenders => format!("{n} renders"),

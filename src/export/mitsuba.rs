@@ -28,8 +28,8 @@
 //! averages R, G and B.
 
 use super::{
-    Manifest, Probe, Refusal, Target, Written, albedo_eye, frame, num, ply, probe_scene,
-    render_size, triangles,
+    Manifest, Probe, Refusal, Target, Written, albedo_eye, frame, mesh_file, num, probe_scene,
+    render_size,
 };
 use crate::bsdf::{Bsdf, Distribution, FresnelMode, Masking};
 use crate::case::CaseDesc;
@@ -45,22 +45,22 @@ fn rgb(name: &str, v: f64) -> String {
     format!(r#"<rgb name="{name}" value="{v}, {v}, {v}"/>"#)
 }
 
-fn point(name: &str, p: DVec3) -> String {
+/// A `point` or `vector` element.
+fn xyz(tag: &str, name: &str, p: DVec3) -> String {
     format!(
-        r#"<point name="{name}" x="{}" y="{}" z="{}"/>"#,
+        r#"<{tag} name="{name}" x="{}" y="{}" z="{}"/>"#,
         num(p.x),
         num(p.y),
         num(p.z)
     )
 }
 
+fn point(name: &str, p: DVec3) -> String {
+    xyz("point", name, p)
+}
+
 fn vector(name: &str, p: DVec3) -> String {
-    format!(
-        r#"<vector name="{name}" x="{}" y="{}" z="{}"/>"#,
-        num(p.x),
-        num(p.y),
-        num(p.z)
-    )
+    xyz("vector", name, p)
 }
 
 /// A `to_world` matrix taking the unit disk (normal +z) to centre `c`, normal `n`,
@@ -290,11 +290,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             GeometryDesc::Rectangle { .. }
             | GeometryDesc::Triangle { .. }
             | GeometryDesc::Mesh { .. } => {
-                let Some((vs, fs)) = triangles(&s.geometry) else {
-                    return Err(Refusal(format!("{field}: no triangles")));
-                };
-                let name = format!("meshes/shape{i}.ply");
-                files.push((name.clone(), ply::ascii(&vs, &fs).into_bytes()));
+                let name = mesh_file(i, &s.geometry, &mut files)?;
                 format!(
                     r#"<shape type="ply"><string name="filename" value="{name}"/><boolean name="face_normals" value="true"/>{flip}{inner}</shape>"#
                 )

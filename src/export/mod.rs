@@ -404,22 +404,18 @@ pub fn clearance(scene: &SceneDesc, p: DVec3) -> f64 {
                 let q = p - v(*center);
                 q.dot(n).abs().max(q.length() - radius)
             }
-            GeometryDesc::Rectangle {
-                corner,
-                edge_u,
-                edge_v,
-            } => {
-                let (c, u, w) = (v(*corner), v(*edge_u), v(*edge_v));
-                planar(&[c, c + u, c + u + w, c + w])
-            }
-            GeometryDesc::Triangle { vertices } => planar(&vertices.map(v)),
-            GeometryDesc::Mesh { vertices, indices } => indices
-                .iter()
-                .filter_map(|t| {
-                    let q = t.map(|i| vertices.get(i as usize).copied().map(v));
-                    Some(planar(&[q[0]?, q[1]?, q[2]?]))
-                })
-                .fold(f64::INFINITY, f64::min),
+            GeometryDesc::Rectangle { .. }
+            | GeometryDesc::Triangle { .. }
+            | GeometryDesc::Mesh { .. } => match triangles(&s.geometry) {
+                Some((vs, fs)) => fs
+                    .iter()
+                    .filter_map(|t| {
+                        let q = t.map(|i| vs.get(i as usize).copied());
+                        Some(planar(&[q[0]?, q[1]?, q[2]?]))
+                    })
+                    .fold(f64::INFINITY, f64::min),
+                None => 0.0,
+            },
             GeometryDesc::Obj { .. } => 0.0,
         };
         d = d.min(ds);
@@ -502,6 +498,20 @@ pub fn triangles(g: &GeometryDesc) -> Option<(Vec<DVec3>, Vec<[u32; 3]>)> {
         }
         GeometryDesc::Sphere { .. } | GeometryDesc::Disk { .. } | GeometryDesc::Obj { .. } => None,
     }
+}
+
+/// Write a planar or mesh shape `i` as `meshes/shape{i}.ply` into `files`; its name.
+pub fn mesh_file(
+    i: usize,
+    g: &GeometryDesc,
+    files: &mut Vec<(String, Vec<u8>)>,
+) -> Result<String, Refusal> {
+    let Some((vs, fs)) = triangles(g) else {
+        return refuse(format!("scene.shapes[{i}]: no triangles"));
+    };
+    let name = format!("meshes/shape{i}.ply");
+    files.push((name.clone(), ply::ascii(&vs, &fs).into_bytes()));
+    Ok(name)
 }
 
 /// Render size of a probe: 16 × 16 pixels for a camera inside, else 1 × 1 (a ray or an

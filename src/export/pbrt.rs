@@ -26,8 +26,8 @@
 //! stochastic layered model, not the closed form), environment maps.
 
 use super::{
-    Manifest, Probe, Refusal, Target, Written, albedo_eye, frame, num, ply, probe_scene,
-    render_size, triangles,
+    Manifest, Probe, Refusal, Target, Written, albedo_eye, frame, mesh_file, num, probe_scene,
+    render_size,
 };
 use crate::bsdf::{Bsdf, Distribution, FresnelMode, Masking};
 use crate::case::CaseDesc;
@@ -273,11 +273,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             GeometryDesc::Rectangle { .. }
             | GeometryDesc::Triangle { .. }
             | GeometryDesc::Mesh { .. } => {
-                let Some((vs, fs)) = triangles(&s.geometry) else {
-                    return Err(Refusal(format!("{field}: no triangles")));
-                };
-                let name = format!("meshes/shape{i}.ply");
-                files.push((name.clone(), ply::ascii(&vs, &fs).into_bytes()));
+                let name = mesh_file(i, &s.geometry, &mut files)?;
                 format!(r#"Shape "plymesh" "string filename" [ "{name}" ]"#)
             }
             GeometryDesc::Obj { .. } => {
