@@ -381,6 +381,17 @@ fn mitsuba_sphere_furnace_bias_is_detected() {
         "{sphere}"
     );
     let mesh = find("mesh_sphere");
+    for j in [&sphere, &mesh] {
+        eprintln!(
+            "{}: {} ± {} (reference 5, {:+.3}%), z = {}, passed {}",
+            j["id"],
+            j["estimate"],
+            j["std_error"],
+            100.0 * (j["estimate"].as_f64().unwrap() / 5.0 - 1.0),
+            j["z"],
+            j["verdict"]["passed"]
+        );
+    }
     assert_eq!(mesh["verdict"]["passed"], true, "{mesh}");
     assert!(
         mesh["verdict"]["detectable_relative_bias"]
