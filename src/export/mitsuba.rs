@@ -6,7 +6,7 @@
 //! |---|---|
 //! | radiance along a ray | `radiancemeter` (1×1 film, box filter) |
 //! | radiance in a closed furnace | `perspective` camera inside, 16×16, fov 60° |
-//! | irradiance at a point | `irradiancemeter` on a `disk` of radius d/100 with a `null` BSDF |
+//! | irradiance at a point | `irradiancemeter` on a `disk` of radius d/100 with a `null` BSDF (refused with point, spot or directional lights: its rays can never hit them) |
 //! | albedo of a BSDF | the BSDF on a 2000-wide plane, `constant` sky 1, a `radiancemeter` from ωo |
 //! | `max_depth` k (scatterings) | `path` `max_depth` k + 1 for radiance (Mitsuba counts the emitter seen directly), k for irradiance (the meter's ray is lightproof's first scattering); unbounded: −1 |
 //! | `lambertian` ρ | `twosided` `diffuse` reflectance ρ |
@@ -215,6 +215,18 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             );
         }
         Probe::Irradiance { at, normal, radius } => {
+            for (i, e) in scene.emitters.iter().enumerate() {
+                match e {
+                    EmitterDesc::Point { .. }
+                    | EmitterDesc::Spot { .. }
+                    | EmitterDesc::Directional { .. } => {
+                        return Err(Refusal(format!(
+                            "scene.emitters[{i}]: a delta light, which Mitsuba's irradiancemeter cannot see (its rays leave the receiver and can never hit a point or direction)"
+                        )));
+                    }
+                    EmitterDesc::Constant { .. } | EmitterDesc::Envmap { .. } => {}
+                }
+            }
             let _ = writeln!(
                 x,
                 r#"  <shape type="disk">{}<bsdf type="null"/><sensor type="irradiancemeter">{}</sensor></shape>"#,
