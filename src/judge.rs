@@ -463,12 +463,13 @@ pub fn run(
         (None, [case, renders @ ..]) if !renders.is_empty() => {
             let j = judge_case(case, renders, renderer.unwrap_or("renderer"), alpha)?;
             let summary = format!(
-                "\n{}  ({} renders; {})\n",
+                "\n{}  ({}: {} renders; {})\n",
                 if j.passed() {
                     "1 passed, 0 failed"
                 } else {
                     "0 passed, 1 failed"
                 },
+                j.renderer,
                 j.sample.renders.len(),
                 match j.sample.method {
                     Method::IndependentRenders => "replicates: independent renders",
