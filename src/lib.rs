@@ -55,7 +55,9 @@
 pub mod bsdf;
 pub mod case;
 pub mod error;
+pub mod export;
 pub mod io;
+pub mod judge;
 pub mod math;
 pub mod quadrature;
 pub mod render;

@@ -170,6 +170,34 @@ enum Command {
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
         exposure: f32,
     },
+    /// Export a case (or with --all the catalog) as a scene for another renderer.
+    Export {
+        /// The case file (or with --all, folders; default the catalog).
+        paths: Vec<PathBuf>,
+        /// Export every expressible case of the paths (default: the catalog) as a suite.
+        #[arg(long)]
+        all: bool,
+        /// The renderer: mitsuba, pbrt or lightproof.
+        #[arg(long, value_parser = lightproof::export::Target::parse)]
+        to: lightproof::export::Target,
+        /// Output folder.
+        #[arg(long, default_value = "export")]
+        out: PathBuf,
+    },
+    /// Judge a renderer's EXR renders of a case (or of an exported suite) against the reference.
+    Judge {
+        /// The case file, then its renders (several independent renders, or one with many pixels).
+        files: Vec<PathBuf>,
+        /// Judge every rendered case of an exported suite folder as one family.
+        #[arg(long)]
+        suite: Option<PathBuf>,
+        /// The renderer's name, for the output.
+        #[arg(long)]
+        renderer: Option<String>,
+        /// Print JSON instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// A whole number in [lo, hi], or a message saying the range.
@@ -351,7 +379,10 @@ fn main() -> ExitCode {
         | Command::Estimate { threads, .. }
         | Command::Report { threads, .. }
         | Command::Render { threads, .. } => *threads,
-        Command::Chi2 { .. } | Command::Merge { .. } => None,
+        Command::Chi2 { .. }
+        | Command::Merge { .. }
+        | Command::Export { .. }
+        | Command::Judge { .. } => None,
     };
     let pool = match rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
@@ -497,6 +528,35 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 rayon::current_num_threads()
             );
             Ok(())
+        }
+        Command::Export {
+            paths,
+            all,
+            to,
+            out,
+        } => {
+            let paths = if all && paths.is_empty() {
+                vec![default_catalog()]
+            } else {
+                paths
+            };
+            println!("{}", lightproof::export::run(&paths, all, to, &out)?);
+            Ok(())
+        }
+        Command::Judge {
+            files,
+            suite,
+            renderer,
+            json,
+        } => {
+            let (text, passed) =
+                lightproof::judge::run(&files, suite.as_deref(), renderer.as_deref(), json, ALPHA)?;
+            print!("{text}");
+            if passed {
+                Ok(())
+            } else {
+                Err(Failure::Verdict)
+            }
         }
     }
 }

@@ -9,6 +9,7 @@
 //! its first row.
 
 use crate::sampling::SamplerKind;
+use crate::stats::Verdict;
 use crate::stats::chi2::Chi2Outcome;
 use crate::verdict::Outcome;
 use std::fmt::Write;
@@ -39,18 +40,28 @@ pub struct Row {
     pub notes: Vec<String>,
 }
 
-/// The row of an outcome of the case with file id `id`.
-pub fn outcome_row(id: &str, o: &Outcome) -> Row {
-    let (r, z, det, verdict) = match &o.verdict {
-        Some(v) => (
+/// The reference, z, detectable-bias and verdict cells of a verdict (or of its absence:
+/// `passed` says whether an outcome without a reference passed).
+pub fn verdict_cells(v: Option<&Verdict>, passed: bool) -> [String; 4] {
+    match v {
+        Some(v) => [
             format!("{:.6}", v.reference),
             format!("{:+.2}", v.z),
             format!("{:.3}%", 100.0 * v.detectable_relative_bias),
-            if v.passed { "pass" } else { "FAIL" },
-        ),
-        None if o.passed() => ("-".into(), "-".into(), "-".into(), "(no reference)"),
-        None => ("-".into(), "-".into(), "-".into(), "FAIL"),
-    };
+            if v.passed { "pass" } else { "FAIL" }.into(),
+        ],
+        None => [
+            "-".into(),
+            "-".into(),
+            "-".into(),
+            if passed { "(no reference)" } else { "FAIL" }.into(),
+        ],
+    }
+}
+
+/// The row of an outcome of the case with file id `id`.
+pub fn outcome_row(id: &str, o: &Outcome) -> Row {
+    let [r, z, det, verdict] = verdict_cells(o.verdict.as_ref(), o.passed());
     let estimator = match o.sampler {
         SamplerKind::Independent => o.estimator.name().to_string(),
         SamplerKind::Stratified | SamplerKind::Sobol => {
@@ -77,7 +88,7 @@ pub fn outcome_row(id: &str, o: &Outcome) -> Row {
             z,
             det,
             format!("{:.2}s", o.seconds),
-            verdict.to_string(),
+            verdict,
         ],
         notes,
     }

@@ -17,6 +17,7 @@
 //! | [`fuzz_cases`] | property-based mutations of catalog cases never panic |
 //! | [`report`] | convergence reports against their schema |
 //! | [`examples`] | every example runs and passes |
+//! | [`export_judge`] | export → render → judge: furnaces pass, wrong references and bad renders are caught; opt-in Mitsuba |
 
 mod bsdf_contract;
 mod bsdf_stability;
@@ -26,6 +27,7 @@ mod common;
 mod effects_soundness;
 mod engine;
 mod examples;
+mod export_judge;
 mod fuzz_cases;
 mod hostile;
 mod phase_space;

@@ -1,0 +1,313 @@
+//! pbrt-v4 scenes (`scene.pbrt`) and the shell driver `render_all.sh`. Written to the
+//! pbrt-v4 file format's documentation; not yet rendered by a pbrt build here.
+//!
+//! | lightproof | pbrt-v4 |
+//! |---|---|
+//! | radiance along a ray | `perspective` camera at the point, fov 10⁻³°, 1×1 film, `box` filter (rays within 9·10⁻⁶ rad of the ray) |
+//! | radiance in a closed furnace | `perspective` camera inside, 16×16, fov 60° |
+//! | irradiance | refused: pbrt-v4 has no irradiance sensor |
+//! | albedo of a BSDF | the BSDF on a plane, `infinite` light L = 1, a camera from ωo |
+//! | `max_depth` k | `path` `maxdepth` k (the same count: 1 is direct lighting); unbounded: 65536 |
+//! | `lambertian` ρ | `diffuse` reflectance ρ (pbrt's BSDFs are two-sided) |
+//! | `conductor` η, k | `conductor` constant spectra eta, k, roughness 0 |
+//! | `dielectric` η | `dielectric` eta η, roughness 0 |
+//! | `rough_conductor` / `rough_dielectric` α, GGX, height-correlated | roughness α with `remaproughness` false (pbrt's Trowbridge–Reitz G is 1/(1 + Λ(ωo) + Λ(ωi))) |
+//! | one- or two-sided `emission` L | `AreaLightSource "diffuse"` rgb L, `twosided` |
+//! | sphere (cap) / disk (annulus) | `sphere` (zmin = r cos θmax about `axis`) / `disk` (innerradius) |
+//! | rectangle / triangle / mesh | `plymesh` (ASCII PLY) |
+//! | `flip_normals` | `ReverseOrientation` |
+//! | point / spot / directional / constant | `point` / `spot` (conedelta = cone − falloff start, pbrt's smoothstep, as lightproof's) / `distant` / `infinite` |
+//!
+//! RGB: pbrt-v4 turns an RGB light into the colour space's illuminant spectrum scaled to
+//! 1 nit per unit, and its `rgb` film maps that back, so a grey (L, L, L) renders as L
+//! (stated by pbrt-v4's design; to be confirmed with a pbrt build). Refused: irradiance,
+//! Beckmann and uncorrelated masking (pbrt-v4 has Trowbridge–Reitz, height-correlated,
+//! only), F ≡ 1 conductors, Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
+//! stochastic layered model, not the closed form), environment maps.
+
+use super::{
+    Manifest, Probe, Refusal, Target, Written, albedo_eye, frame, mesh_file, num, probe_scene,
+    render_size,
+};
+use crate::bsdf::{Bsdf, Distribution, FresnelMode, Masking};
+use crate::case::CaseDesc;
+use crate::scene::load::{EmitterDesc, GeometryDesc};
+use glam::DVec3;
+use std::fmt::Write;
+
+/// The driver written beside a pbrt suite.
+pub const DRIVER: &str = include_str!("render_all_pbrt.sh");
+
+/// "unbounded" depth for pbrt's integer `maxdepth`.
+const UNBOUNDED_DEPTH: u32 = 65536;
+
+fn v3(p: DVec3) -> String {
+    format!("{} {} {}", num(p.x), num(p.y), num(p.z))
+}
+
+fn grey(x: f64) -> String {
+    let v = num(x);
+    format!("[ {v} {v} {v} ]")
+}
+
+/// A constant spectrum over the visible range and beyond.
+fn constant_spectrum(x: f64) -> String {
+    format!("[ 300 {0} 900 {0} ]", num(x))
+}
+
+/// `ConcatTransform` taking the local frame (z along `n`) to `c` (pbrt reads the 16
+/// numbers column by column).
+fn frame_transform(c: DVec3, n: DVec3) -> String {
+    let (t, b) = frame(n);
+    format!(
+        "ConcatTransform [ {} 0 {} 0 {} 0 {} 1 ]",
+        v3(t),
+        v3(b),
+        v3(n),
+        v3(c)
+    )
+}
+
+fn material(b: &Bsdf) -> Result<String, Refusal> {
+    let micro = |d: Distribution, m: Masking, what: &str| -> Result<(), Refusal> {
+        let why = match (d, m) {
+            (Distribution::Ggx, Masking::HeightCorrelated) => return Ok(()),
+            (Distribution::Beckmann, Masking::HeightCorrelated | Masking::Uncorrelated) => {
+                "Beckmann (pbrt-v4 has Trowbridge–Reitz only)"
+            }
+            (Distribution::Ggx, Masking::Uncorrelated) => {
+                "uncorrelated masking (pbrt-v4's G is height-correlated)"
+            }
+        };
+        Err(Refusal(format!("{what}: {why}")))
+    };
+    Ok(match b {
+        Bsdf::Lambertian(l) => format!(
+            r#"Material "diffuse" "rgb reflectance" {}"#,
+            grey(l.albedo as f64)
+        ),
+        Bsdf::OrenNayar(_) | Bsdf::OrenNayarClassic(_) => {
+            return Err(Refusal(format!(
+                "{}: pbrt-v4 has no Oren–Nayar BSDF",
+                b.name()
+            )));
+        }
+        Bsdf::Conductor(c) => format!(
+            r#"Material "conductor" "spectrum eta" {} "spectrum k" {} "float roughness" [ 0 ]"#,
+            constant_spectrum(c.eta as f64),
+            constant_spectrum(c.k as f64)
+        ),
+        Bsdf::Dielectric(d) => format!(
+            r#"Material "dielectric" "float eta" [ {} ] "float roughness" [ 0 ]"#,
+            num(d.eta as f64)
+        ),
+        Bsdf::RoughConductor(r) => {
+            micro(r.distribution, r.masking, "rough_conductor")?;
+            match r.fresnel {
+                FresnelMode::None => {
+                    return Err(Refusal(
+                        "rough_conductor with F ≡ 1: pbrt-v4's conductor has no such mode".into(),
+                    ));
+                }
+                FresnelMode::Conductor => format!(
+                    r#"Material "conductor" "spectrum eta" {} "spectrum k" {} "float roughness" [ {} ] "bool remaproughness" false"#,
+                    constant_spectrum(r.eta.unwrap_or(1.0) as f64),
+                    constant_spectrum(r.k.unwrap_or(0.0) as f64),
+                    num(r.alpha as f64)
+                ),
+            }
+        }
+        Bsdf::RoughDielectric(r) => {
+            micro(r.distribution, r.masking, "rough_dielectric")?;
+            format!(
+                r#"Material "dielectric" "float eta" [ {} ] "float roughness" [ {} ] "bool remaproughness" false"#,
+                num(r.eta as f64),
+                num(r.alpha as f64)
+            )
+        }
+        Bsdf::Plastic(_) => {
+            return Err(Refusal(
+                "plastic: pbrt-v4's coateddiffuse is a stochastic layered model, not this closed form".into(),
+            ));
+        }
+    })
+}
+
+/// The pbrt-v4 scene of a case measured by `probe`.
+pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
+    let scene = probe_scene(desc, probe);
+    let (w, h) = render_size(probe);
+    let (at, dir, fov) = match probe {
+        Probe::Ray { at, direction } => (*at, *direction, 1e-3),
+        Probe::Isotropic { at, direction } => (*at, *direction, 60.0),
+        Probe::Albedo { wo, .. } => {
+            let (a, d) = albedo_eye(*wo);
+            (a, d, 1e-3)
+        }
+        Probe::Irradiance { .. } => {
+            return Err(Refusal(
+                "irradiance: pbrt-v4 has no irradiance sensor".into(),
+            ));
+        }
+    };
+    let depth = probe.scatterings(desc.max_depth).unwrap_or(UNBOUNDED_DEPTH);
+    let mut files = Vec::new();
+    let mut x = format!("# {} (lightproof export to pbrt-v4)\n", desc.name);
+    let _ = writeln!(x, "LookAt {} {} {}", v3(at), v3(at + dir), v3(frame(dir).0));
+    let _ = writeln!(x, r#"Camera "perspective" "float fov" [ {} ]"#, num(fov));
+    let _ = writeln!(x, r#"Sampler "independent" "integer pixelsamples" [ 64 ]"#);
+    let _ = writeln!(x, r#"Integrator "path" "integer maxdepth" [ {depth} ]"#);
+    let _ = writeln!(
+        x,
+        r#"PixelFilter "box" "float xradius" [ 0.5 ] "float yradius" [ 0.5 ]"#
+    );
+    let _ = writeln!(
+        x,
+        r#"Film "rgb" "integer xresolution" [ {w} ] "integer yresolution" [ {h} ] "string filename" [ "render.exr" ]"#
+    );
+    x.push_str("WorldBegin\n");
+    for (i, e) in scene.emitters.iter().enumerate() {
+        let v = DVec3::from_array;
+        let el = match e {
+            EmitterDesc::Point {
+                position,
+                intensity,
+                ..
+            } => format!(
+                r#"LightSource "point" "point3 from" [ {} ] "rgb I" {}"#,
+                v3(v(*position)),
+                grey(*intensity)
+            ),
+            EmitterDesc::Spot {
+                position,
+                direction,
+                intensity,
+                cone_angle,
+                falloff_start,
+                ..
+            } => format!(
+                r#"LightSource "spot" "point3 from" [ {} ] "point3 to" [ {} ] "float coneangle" [ {} ] "float conedelta" [ {} ] "rgb I" {}"#,
+                v3(v(*position)),
+                v3(v(*position) + v(*direction)),
+                num(*cone_angle),
+                num(cone_angle - falloff_start),
+                grey(*intensity)
+            ),
+            EmitterDesc::Directional {
+                direction,
+                irradiance,
+                ..
+            } => format!(
+                r#"LightSource "distant" "point3 from" [ 0 0 0 ] "point3 to" [ {} ] "rgb L" {}"#,
+                v3(v(*direction)),
+                grey(*irradiance)
+            ),
+            EmitterDesc::Constant { radiance, .. } => {
+                format!(r#"LightSource "infinite" "rgb L" {}"#, grey(*radiance))
+            }
+            EmitterDesc::Envmap { .. } => {
+                return Err(Refusal(format!(
+                    "scene.emitters[{i}]: environment maps are not exported yet (lat-long orientation conventions differ)"
+                )));
+            }
+        };
+        let _ = writeln!(x, "{el}");
+    }
+    for (i, s) in scene.shapes.iter().enumerate() {
+        let field = format!("scene.shapes[{i}]");
+        let mat = match &s.material {
+            Some(m) => match scene.materials.get(m) {
+                Some(b) => material(b)?,
+                None => return Err(Refusal(format!("{field}.material: `{m}` is not defined"))),
+            },
+            None => format!(r#"Material "diffuse" "rgb reflectance" {}"#, grey(0.0)),
+        };
+        x.push_str("AttributeBegin\n");
+        let _ = writeln!(x, "  {mat}");
+        if let Some(e) = &s.emission {
+            let _ = writeln!(
+                x,
+                r#"  AreaLightSource "diffuse" "rgb L" {} "bool twosided" {}"#,
+                grey(e.radiance),
+                e.two_sided
+            );
+        }
+        let v = DVec3::from_array;
+        let mut local = String::new();
+        let shape = match &s.geometry {
+            GeometryDesc::Sphere {
+                center,
+                radius,
+                theta_max,
+                axis,
+            } => {
+                let axis = v(axis.unwrap_or([0.0, 0.0, 1.0])).normalize();
+                local = frame_transform(v(*center), axis);
+                let zmin = match theta_max {
+                    Some(t) if *t < 180.0 => {
+                        format!(
+                            r#" "float zmin" [ {} ]"#,
+                            num(radius * t.to_radians().cos())
+                        )
+                    }
+                    Some(_) | None => String::new(),
+                };
+                format!(
+                    r#"Shape "sphere" "float radius" [ {} ]{zmin}"#,
+                    num(*radius)
+                )
+            }
+            GeometryDesc::Disk {
+                center,
+                normal,
+                radius,
+                inner_radius,
+            } => {
+                local = frame_transform(v(*center), v(*normal).normalize());
+                format!(
+                    r#"Shape "disk" "float radius" [ {} ] "float innerradius" [ {} ]"#,
+                    num(*radius),
+                    num(inner_radius.unwrap_or(0.0))
+                )
+            }
+            GeometryDesc::Rectangle { .. }
+            | GeometryDesc::Triangle { .. }
+            | GeometryDesc::Mesh { .. } => {
+                let name = mesh_file(i, &s.geometry, &mut files)?;
+                format!(r#"Shape "plymesh" "string filename" [ "{name}" ]"#)
+            }
+            GeometryDesc::Obj { .. } => {
+                return Err(Refusal(format!(
+                    "{field}: OBJ geometry is not exported yet"
+                )));
+            }
+        };
+        if !local.is_empty() {
+            let _ = writeln!(x, "  {local}");
+        }
+        if s.flip_normals {
+            x.push_str("  ReverseOrientation\n");
+        }
+        let _ = writeln!(x, "  {shape}\nAttributeEnd");
+    }
+    files.push(("scene.pbrt".into(), x.into_bytes()));
+    Ok(Written {
+        files,
+        manifest: Manifest {
+            renderer: Target::Pbrt,
+            source: String::new(),
+            name: desc.name.clone(),
+            case: "case.json".into(),
+            scene: "scene.pbrt".into(),
+            sensor: probe.sensor().into(),
+            width: w,
+            height: h,
+            scale: 1.0,
+            conventions: vec![
+                "grey RGB; pbrt-v4 normalises RGB lights to the film's white".into(),
+                format!("path maxdepth {depth} (lightproof's count)"),
+                format!("perspective camera, fov {fov}°, {w}×{h}"),
+            ],
+        },
+    })
+}

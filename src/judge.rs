@@ -1,0 +1,506 @@
+//! Judging another renderer's EXR renders of a case against its closed form, with the
+//! same verdict as `estimate` ([`crate::verdict::judge_parts`]: z or t test at a
+//! Šidák-corrected level, detectable bias at 99% power, exact class when there is no
+//! variance).
+//!
+//! **Value of a pixel**: the mean of its R, G and B (exported cases are grey), times the
+//! export's `scale` = the reference's expected value per pixel (1 for every current
+//! export).
+//!
+//! **Standard error.** The pixels of one render share the renderer's sampler (its seed,
+//! its sample sequence), so they are not trusted as independent samples:
+//! - several renders (independent seeds): each render's pixel mean is one replicate; the
+//!   estimate is their mean, the error their standard error, judged by Student's t with
+//!   R − 1 degrees of freedom;
+//! - one render: batch means over [`BLOCKS`] contiguous blocks of pixels (row-major),
+//!   t with B − 1 degrees of freedom — valid when blocks are independent, as with
+//!   per-pixel seeding; independent renders are the safer choice;
+//! - one render of one pixel has no error to estimate: bad input.
+//!
+//! **Bad renders** are bad input (exit 2, naming the file): not an EXR, no R, G, B
+//! channels, a size other than the export's (or than the first render's), more than
+//! [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels. **Non-finite pixels** (NaN, ±∞) are
+//! the renderer's answer, not a malformed file: they are counted and fail the verdict
+//! (exit 1), and the note names the file and the first such pixel.
+
+use crate::case::Case;
+use crate::error::{Error, InputError};
+use crate::export::{Manifest, Suite};
+use crate::stats::{Accumulator, Verdict, is_exact};
+use crate::verdict::{ErrorBar, judge_parts};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Pixel blocks of a single render's batch means.
+pub const BLOCKS: usize = 32;
+
+/// One render: its size and per-pixel grey values (non-finite ones kept).
+pub struct Render {
+    /// Width.
+    pub width: usize,
+    /// Height.
+    pub height: usize,
+    /// Pixels, row-major, (R + G + B)/3.
+    pub pixels: Vec<f64>,
+}
+
+/// Read an EXR render's first RGB layer (see the module notes for what is refused).
+pub fn read_render(path: &Path) -> Result<Render, InputError> {
+    use exr::prelude::*;
+    let file = path.display().to_string();
+    let bad = |r: String| InputError::new(&file, "-", r);
+    let len = crate::io::check_input_file(path, crate::io::MAX_ASSET_BYTES).map_err(bad)?;
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| bad(format!("not a readable EXR: {e}")))?;
+    let Some(header) = meta.headers.first() else {
+        return Err(bad("the EXR has no layer".into()));
+    };
+    let (w, h) = (header.layer_size.width(), header.layer_size.height());
+    let max = crate::scene::load::MAX_ENVMAP_PIXELS;
+    if w.checked_mul(h).is_none_or(|n| n > max || n == 0) {
+        return Err(bad(format!(
+            "the EXR claims {w} × {h} pixels (1 to {max} allowed)"
+        )));
+    }
+    let table: u64 = meta.headers.iter().map(|h| h.chunk_count as u64 * 8).sum();
+    if table > len {
+        return Err(bad(format!(
+            "the EXR is truncated: its header claims {w} × {h} pixels, the file is {len} bytes"
+        )));
+    }
+    let names: Vec<String> = header
+        .channels
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    if let Some(missing) = ["R", "G", "B"]
+        .into_iter()
+        .find(|c| !names.iter().any(|n| n == c))
+    {
+        return Err(bad(format!(
+            "the EXR has no {missing} channel (channels: {}); a render needs R, G and B",
+            names.join(", ")
+        )));
+    }
+    let image = read_first_rgba_layer_from_file(
+        path,
+        move |res, _| -> (usize, Vec<f64>) {
+            let n = res.width().saturating_mul(res.height()).min(max);
+            (res.width(), vec![0.0; n])
+        },
+        |(w, data), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            if let Some(v) = data.get_mut(pos.y() * *w + pos.x()) {
+                *v = (r as f64 + g as f64 + b as f64) / 3.0;
+            }
+        },
+    )
+    .map_err(|e| bad(format!("cannot read the EXR: {e}")))?;
+    let (_, pixels) = image.layer_data.channel_data.pixels;
+    Ok(Render {
+        width: w,
+        height: h,
+        pixels,
+    })
+}
+
+/// How the replicates were formed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// One replicate per independent render.
+    IndependentRenders,
+    /// Batch means over blocks of one render's pixels.
+    PixelBlocks,
+}
+
+/// The replicates of a set of renders, and what was not finite.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sample {
+    /// The render files.
+    pub renders: Vec<String>,
+    /// Width × height of every render.
+    pub size: [usize; 2],
+    /// How replicates were formed.
+    pub method: Method,
+    /// Replicate means.
+    pub replicates: Vec<f64>,
+    /// Non-finite pixels over all renders.
+    pub non_finite: u64,
+    /// Notes (where non-finite pixels are).
+    pub notes: Vec<String>,
+}
+
+/// Mean of the finite values and the count of non-finite ones.
+fn finite_mean(v: &[f64]) -> (Option<f64>, u64) {
+    let mut acc = Accumulator::new();
+    for &x in v {
+        acc.push(x);
+    }
+    ((acc.count > 0).then_some(acc.mean), acc.non_finite)
+}
+
+/// Read `files` and form the replicates; every render must be `expect` (width, height)
+/// when given, else the size of the first.
+pub fn sample(files: &[PathBuf], expect: Option<(usize, usize)>) -> Result<Sample, InputError> {
+    let Some(first) = files.first() else {
+        return Err(InputError::new(
+            "<command line>",
+            "RENDER.exr",
+            "give at least one render",
+        ));
+    };
+    let mut size = expect;
+    let mut replicates = Vec::new();
+    let mut non_finite = 0;
+    let mut notes = Vec::new();
+    let mut method = Method::IndependentRenders;
+    for f in files {
+        let r = read_render(f)?;
+        let (w, h) = *size.get_or_insert((r.width, r.height));
+        if (r.width, r.height) != (w, h) {
+            return Err(InputError::new(
+                f.display().to_string(),
+                "-",
+                format!(
+                    "the render is {} × {} pixels, expected {w} × {h}",
+                    r.width, r.height
+                ),
+            ));
+        }
+        if let Some(i) = r.pixels.iter().position(|x| !x.is_finite()) {
+            let count = r.pixels.iter().filter(|x| !x.is_finite()).count();
+            notes.push(format!(
+                "{}: {count} non-finite pixels, the first at ({}, {}) = {}",
+                f.display(),
+                i % w,
+                i / w,
+                r.pixels[i]
+            ));
+        }
+        if files.len() == 1 {
+            let n = r.pixels.len();
+            if n < 2 {
+                return Err(InputError::new(
+                    first.display().to_string(),
+                    "-",
+                    "one render of one pixel has no standard error: give several independent renders (different seeds)",
+                ));
+            }
+            method = Method::PixelBlocks;
+            let b = BLOCKS.min(n);
+            for j in 0..b {
+                let (m, bad) = finite_mean(&r.pixels[j * n / b..(j + 1) * n / b]);
+                non_finite += bad;
+                replicates.extend(m);
+            }
+        } else {
+            let (m, bad) = finite_mean(&r.pixels);
+            non_finite += bad;
+            replicates.extend(m);
+        }
+    }
+    let (w, h) = size.unwrap_or((0, 0));
+    Ok(Sample {
+        renders: files.iter().map(|f| f.display().to_string()).collect(),
+        size: [w, h],
+        method,
+        replicates,
+        non_finite,
+        notes,
+    })
+}
+
+/// A judged case: the sample, the reference and the verdict (as `estimate` prints it).
+#[derive(Clone, Debug, Serialize)]
+pub struct Judgement {
+    /// Case name.
+    pub case: String,
+    /// Case id (its folder in a suite, else the file).
+    pub id: String,
+    /// The renderer's name.
+    pub renderer: String,
+    /// The renders and their replicates.
+    #[serde(flatten)]
+    pub sample: Sample,
+    /// Mean of the replicates.
+    pub estimate: f64,
+    /// Its standard error (absent when exact).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std_error: Option<f64>,
+    /// Degrees of freedom of the t test.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dof: Option<u64>,
+    /// Expected value of a pixel (the reference × the export's scale).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<f64>,
+    /// z score.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
+    /// The verdict.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
+}
+
+impl Judgement {
+    /// Build from a sample (unjudged).
+    fn new(case: &Case, id: String, renderer: String, sample: Sample, scale: f64) -> Self {
+        let mut acc = Accumulator::new();
+        for &x in &sample.replicates {
+            acc.push(x);
+        }
+        let bar = if is_exact(&acc) {
+            ErrorBar {
+                std_error: None,
+                dof: None,
+            }
+        } else {
+            ErrorBar {
+                std_error: Some(acc.std_error()),
+                dof: Some(acc.count.saturating_sub(1)),
+            }
+        };
+        Judgement {
+            case: case.desc.name.clone(),
+            id,
+            renderer,
+            estimate: acc.mean,
+            std_error: bar.std_error,
+            dof: bar.dof,
+            reference: case.reference.map(|r| r * scale),
+            z: None,
+            verdict: None,
+            sample,
+        }
+    }
+
+    /// Whether it is a member of the Šidák family.
+    pub fn is_statistical(&self) -> bool {
+        self.reference.is_some() && self.std_error.is_some()
+    }
+
+    /// Judge in a family of `tests` statistical tests at level `alpha`.
+    pub fn judge(&mut self, alpha: f64, tests: usize) {
+        if let Some(r) = self.reference {
+            let bar = ErrorBar {
+                std_error: self.std_error,
+                dof: self.dof,
+            };
+            let v = judge_parts(
+                self.estimate,
+                &bar,
+                r,
+                self.sample.non_finite,
+                self.sample.replicates.len() as u64,
+                alpha,
+                tests,
+            );
+            self.z = Some(v.z);
+            self.verdict = Some(v);
+        }
+    }
+
+    /// Passed: the verdict, or without a reference, no non-finite pixel.
+    pub fn passed(&self) -> bool {
+        match &self.verdict {
+            Some(v) => v.passed,
+            None => self.sample.non_finite == 0,
+        }
+    }
+
+    /// Its row in the verdict table.
+    pub fn row(&self) -> crate::table::Row {
+        let [r, z, det, verdict] =
+            crate::table::verdict_cells(self.verdict.as_ref(), self.passed());
+        let n = self.sample.replicates.len();
+        let how = match self.sample.method {
+            Method::IndependentRenders => format!("{n} renders"),
+            Method::PixelBlocks => format!("{n} blocks"),
+        };
+        let estimate = match self.std_error {
+            Some(se) => format!("{:.6} ± {se:.6}", self.estimate),
+            None => format!("{:.6} (exact)", self.estimate),
+        };
+        let mut notes: Vec<String> = self.sample.notes.iter().map(|n| format!("↳ {n}")).collect();
+        if let Some(reason) = self.verdict.as_ref().and_then(|v| v.reason.as_ref()) {
+            notes.push(format!("↳ {reason}"));
+        }
+        crate::table::Row {
+            id: self.id.clone(),
+            cells: [how, estimate, r, z, det, "-".into(), verdict.to_string()],
+            notes,
+        }
+    }
+}
+
+/// Judge renders of one case file (a family of one test at `alpha`).
+pub fn judge_case(
+    case_file: &Path,
+    renders: &[PathBuf],
+    renderer: &str,
+    alpha: f64,
+) -> Result<Judgement, Error> {
+    let case = Case::load(case_file)?;
+    let sample = sample(renders, None)?;
+    let mut j = Judgement::new(
+        &case,
+        case_file.display().to_string(),
+        renderer.to_string(),
+        sample,
+        1.0,
+    );
+    j.judge(alpha, 1);
+    Ok(j)
+}
+
+/// A judged suite: every rendered case, judged as one Šidák family, and the cases that
+/// were exported but have no renders yet.
+#[derive(Clone, Debug, Serialize)]
+pub struct SuiteJudgement {
+    /// Family-wise level.
+    pub alpha: f64,
+    /// Family size k.
+    pub tests: usize,
+    /// The judged cases.
+    pub judgements: Vec<Judgement>,
+    /// Exported cases without renders.
+    pub not_rendered: Vec<String>,
+    /// Cases the export refused, with the reason.
+    pub refused: Vec<(String, String)>,
+}
+
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
+    let file = path.display().to_string();
+    let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+        .map_err(|e| InputError::new(&file, "-", e))?;
+    crate::error::parse_json(&file, &text)
+}
+
+/// Judge every rendered case of an exported suite folder (`suite.json`), as one family.
+pub fn judge_suite(
+    dir: &Path,
+    renderer: Option<&str>,
+    alpha: f64,
+) -> Result<SuiteJudgement, Error> {
+    let suite: Suite = read_json(&dir.join("suite.json"))?;
+    let mut judgements = Vec::new();
+    let mut not_rendered = Vec::new();
+    for id in &suite.cases {
+        let d = dir.join(id);
+        let manifest: Manifest = read_json(&d.join("export.json"))?;
+        let renders = crate::io::collect_files(&[d.join("renders")], false, |p| {
+            p.extension().is_some_and(|x| x == "exr")
+                && !p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        })
+        .unwrap_or_default();
+        if renders.is_empty() {
+            not_rendered.push(id.clone());
+            continue;
+        }
+        let label = renderer.map(str::to_string).unwrap_or_else(|| {
+            read_json::<serde_json::Value>(&d.join("renders/render.json"))
+                .ok()
+                .and_then(|v| v.get("renderer").and_then(|r| r.as_str()).map(String::from))
+                .unwrap_or_else(|| manifest.renderer.name().to_string())
+        });
+        let case = Case::load(&d.join(&manifest.case))?;
+        let sample = sample(&renders, Some((manifest.width, manifest.height)))?;
+        judgements.push(Judgement::new(
+            &case,
+            id.clone(),
+            label,
+            sample,
+            manifest.scale,
+        ));
+    }
+    if judgements.is_empty() {
+        return Err(InputError::new(
+            dir.display().to_string(),
+            "-",
+            "no case of the suite has renders yet: run its render_all driver first",
+        )
+        .into());
+    }
+    let k = judgements.iter().filter(|j| j.is_statistical()).count();
+    for j in &mut judgements {
+        j.judge(alpha, k);
+    }
+    Ok(SuiteJudgement {
+        alpha,
+        tests: k,
+        judgements,
+        not_rendered,
+        refused: suite.refused,
+    })
+}
+
+/// The `judge` command: `files` = CASE.json then its renders, or a `suite` folder.
+/// Returns the text to print (the table, or JSON) and whether everything passed.
+pub fn run(
+    files: &[PathBuf],
+    suite: Option<&Path>,
+    renderer: Option<&str>,
+    json: bool,
+    alpha: f64,
+) -> Result<(String, bool), Error> {
+    let (judgements, summary, doc) = match (suite, files) {
+        (Some(dir), []) => {
+            let s = judge_suite(dir, renderer, alpha)?;
+            let failed = s.judgements.iter().filter(|j| !j.passed()).count();
+            let summary = format!(
+                "\n{} passed, {failed} failed  ({} cases judged, Šidák over k = {} at family α = {alpha}; {} exported cases without renders, {} refused by the export)\n",
+                s.judgements.len() - failed,
+                s.judgements.len(),
+                s.tests,
+                s.not_rendered.len(),
+                s.refused.len()
+            );
+            let doc = serde_json::to_value(&s).unwrap_or_default();
+            (s.judgements, summary, doc)
+        }
+        (None, [case, renders @ ..]) if !renders.is_empty() => {
+            let j = judge_case(case, renders, renderer.unwrap_or("renderer"), alpha)?;
+            let summary = format!(
+                "\n{}  ({}: {} renders; {})\n",
+                if j.passed() {
+                    "1 passed, 0 failed"
+                } else {
+                    "0 passed, 1 failed"
+                },
+                j.renderer,
+                j.sample.renders.len(),
+                match j.sample.method {
+                    Method::IndependentRenders => "replicates: independent renders",
+                    Method::PixelBlocks =>
+                        "replicates: batch means over pixel blocks of one render",
+                }
+            );
+            let doc = serde_json::to_value(&j).unwrap_or_default();
+            (vec![j], summary, doc)
+        }
+        _ => {
+            return Err(InputError::new(
+                "<command line>",
+                "judge",
+                "give CASE.json RENDER.exr... or --suite DIR (not both)",
+            )
+            .into());
+        }
+    };
+    let passed = judgements.iter().all(Judgement::passed);
+    let text = if json {
+        format!(
+            "{}\n",
+            serde_json::to_string_pretty(&doc).unwrap_or_default()
+        )
+    } else {
+        let rows: Vec<_> = judgements.iter().map(Judgement::row).collect();
+        format!(
+            "{}{summary}",
+            crate::table::render(&rows, crate::table::terminal_width())
+        )
+    };
+    Ok((text, passed))
+}

@@ -1,0 +1,405 @@
+//! Judging a renderer: `export` → a renderer → `judge`. Without a peer, the renderer is
+//! lightproof's own `render` (driven by the exported `render_all.sh`): closed furnaces
+//! pass, a wrong reference fails, bad renders exit 2 naming the file, non-finite pixels
+//! fail the verdict. With `LIGHTPROOF_MITSUBA=python3` (a Python with `mitsuba`
+//! installed), Mitsuba 3 renders the analytic-sphere furnace and a triangle-mesh sphere
+//! furnace: the first's known excess radiance must be detected, the second must pass.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_lightproof"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lightproof-export-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn catalog(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("analytic/cases")
+        .join(rel)
+}
+
+/// The closed furnace with albedo `rho` as a case file: an analytic sphere, or (with
+/// `subdivisions`) an icosphere of 20·4ⁿ triangles inscribed in it, normals flipped
+/// inward like the sphere's.
+fn furnace(rho: f64, subdivisions: Option<u32>) -> String {
+    let geometry = match subdivisions {
+        None => r#"{ "type": "sphere", "center": [0, 0, 0], "radius": 1 }"#.to_string(),
+        Some(n) => {
+            let (v, f) = icosphere(n);
+            format!(
+                r#"{{ "type": "mesh", "vertices": {}, "indices": {} }}"#,
+                serde_json::to_string(&v).unwrap(),
+                serde_json::to_string(&f).unwrap()
+            )
+        }
+    };
+    format!(
+        r#"{{ "name": "furnace", "teaches": "L = Le/(1 − ρ)",
+  "scene": {{ "materials": {{ "grey": {{ "type": "lambertian", "albedo": {rho} }} }},
+    "shapes": [ {{ "geometry": {geometry}, "material": "grey", "flip_normals": true, "emission": {{ "radiance": 1 }} }} ] }},
+  "measure": {{ "radiance": {{ "at": [0.1, 0, 0.05], "direction": [0, 0.6, 0.8] }} }},
+  "reference": {{ "closed_form": "furnace_closed_enclosure", "emitted_radiance": 1, "albedo": {rho} }},
+  "estimators": ["mis"] }}"#
+    )
+}
+
+/// An icosphere on the unit sphere, counter-clockwise seen from outside.
+fn icosphere(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<[f64; 3]> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .to_vec();
+    let unit = |p: [f64; 3]| {
+        let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        [p[0] / l, p[1] / l, p[2] / l]
+    };
+    v.iter_mut().for_each(|p| *p = unit(*p));
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..n {
+        let mut mids = std::collections::HashMap::new();
+        let mut mid = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| -> u32 {
+            *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (v[a as usize], v[b as usize]);
+                v.push(unit([p[0] + q[0], p[1] + q[1], p[2] + q[2]]));
+                (v.len() - 1) as u32
+            })
+        };
+        f = f
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (mid(a, b, &mut v), mid(b, c, &mut v), mid(c, a, &mut v));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    (v, f)
+}
+
+fn judge_suite_json(dir: &Path) -> (Output, Value) {
+    let out = bin()
+        .args(["judge", "--json", "--suite"])
+        .arg(dir)
+        .output()
+        .unwrap();
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap_or(Value::Null);
+    (out, doc)
+}
+
+/// Export closed furnaces for lightproof's `render`, render them with the exported
+/// driver, judge them: all pass, each able to see a 1.5% bias; then a wrong reference
+/// (albedo 0.52 for 0.5: 4% more radiance) fails, also judged from one render's pixels.
+#[test]
+fn round_trip_through_lightproof_render() {
+    let cases = scratch("cases");
+    for rel in [
+        "furnace/closed_sphere_0_5.json",
+        "furnace/closed_cube_mesh_0_5.json",
+        "depth/closed_sphere_4_bounces_0_8.json",
+    ] {
+        let to = cases.join(rel.replace('/', "_"));
+        std::fs::copy(catalog(rel), to).unwrap();
+    }
+    // Not a closed furnace: lightproof's pinhole camera cannot measure it; refused, listed.
+    std::fs::copy(
+        catalog("irradiance/disk_on_axis.json"),
+        cases.join("disk.json"),
+    )
+    .unwrap();
+    let out_dir = scratch("suite");
+    let o = bin()
+        .args(["export", "--all", "--to", "lightproof", "--out"])
+        .arg(&out_dir)
+        .arg(&cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("exported 3 cases"), "{}", text(&o));
+    let o = Command::new("sh")
+        .arg(out_dir.join("render_all.sh"))
+        .env("LIGHTPROOF", env!("CARGO_BIN_EXE_lightproof"))
+        .env("RENDERS", "16")
+        .env("SPP", (64 * common_scale()).to_string())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let (o, doc) = judge_suite_json(&out_dir);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let js = doc["judgements"].as_array().unwrap();
+    assert_eq!(js.len(), 3);
+    assert_eq!(doc["tests"], 3);
+    assert_eq!(doc["refused"].as_array().unwrap().len(), 1, "{doc}");
+    for j in js {
+        assert_eq!(j["method"], "independent_renders");
+        assert_eq!(j["replicates"].as_array().unwrap().len(), 16);
+        let v = &j["verdict"];
+        assert_eq!(v["passed"], true, "{j}");
+        assert!(
+            v["detectable_relative_bias"].as_f64().unwrap() < 0.015,
+            "{j}"
+        );
+    }
+    // The table: one row per case and the closing count.
+    let o = bin()
+        .args(["judge", "--suite"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(text(&o).contains("3 passed, 0 failed"), "{}", text(&o));
+
+    // A wrong reference fails, from the same renders.
+    let sphere = out_dir.join("furnace_closed_sphere_0_5");
+    let wrong = std::fs::read_to_string(sphere.join("case.json"))
+        .unwrap()
+        .replace("\"albedo\": 0.5 }", "\"albedo\": 0.52 }");
+    assert!(wrong.contains("0.52"));
+    let wrong_case = cases.join("wrong.json");
+    std::fs::write(&wrong_case, wrong).unwrap();
+    let renders: Vec<PathBuf> = (0..16)
+        .map(|k| sphere.join(format!("renders/{k:03}.exr")))
+        .collect();
+    let o = bin()
+        .args(["judge", "--json"])
+        .arg(&wrong_case)
+        .args(&renders)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let j: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(j["z"].as_f64().unwrap() < -5.0, "{j}");
+    // One render: batch means over its pixel blocks; right and wrong reference.
+    let one = |case: &Path| {
+        bin()
+            .args(["judge", "--json"])
+            .arg(case)
+            .arg(&renders[0])
+            .output()
+            .unwrap()
+    };
+    let o = one(&sphere.join("case.json"));
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let j: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["method"], "pixel_blocks");
+    assert_eq!(j["replicates"].as_array().unwrap().len(), 32);
+    assert_eq!(one(&wrong_case).status.code(), Some(1));
+    let _ = std::fs::remove_dir_all(cases);
+    let _ = std::fs::remove_dir_all(out_dir);
+}
+
+fn common_scale() -> u64 {
+    super::common::scale()
+}
+
+/// Bad renders exit 2 naming the file; non-finite pixels fail the verdict (exit 1).
+#[test]
+fn bad_renders_are_named() {
+    let d = scratch("bad");
+    let case = catalog("furnace/closed_sphere_0_5.json");
+    let write = |name: &str, w: usize, h: usize, v: f32| {
+        let p = d.join(name);
+        lightproof::render::write_exr(&p, w, h, &vec![v; w * h]).unwrap();
+        p
+    };
+    let a = write("a.exr", 4, 4, 2.0);
+    let b = write("b.exr", 4, 4, 2.0);
+    let small = write("small.exr", 2, 4, 2.0);
+    let not_exr = d.join("text.exr");
+    std::fs::write(&not_exr, "not an image").unwrap();
+    let y_only = d.join("y.exr");
+    use exr::prelude::WritableImage;
+    exr::prelude::Image::from_channels(
+        (2, 2),
+        exr::prelude::SpecificChannels::build()
+            .with_channel("Y")
+            .with_pixel_fn(|_| (1.0f32,)),
+    )
+    .write()
+    .to_file(&y_only)
+    .unwrap();
+    let mut nan = vec![2.0f32; 16];
+    nan[5] = f32::NAN;
+    let nan_file = d.join("nan.exr");
+    lightproof::render::write_exr(&nan_file, 4, 4, &nan).unwrap();
+    let run = |renders: &[&PathBuf]| {
+        bin()
+            .arg("judge")
+            .arg(&case)
+            .args(renders)
+            .output()
+            .unwrap()
+    };
+    for (renders, bad, why) in [
+        (vec![&a, &small], &small, "expected 4 × 4"),
+        (vec![&a, &not_exr], &not_exr, "EXR"),
+        (vec![&y_only], &y_only, "no R channel"),
+    ] {
+        let o = run(&renders);
+        let err = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains(&bad.display().to_string()) && err.contains(why),
+            "{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let o = run(&[&a, &b, &nan_file]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains(&format!(
+            "{}: 1 non-finite pixels, the first at (1, 1)",
+            nan_file.display()
+        )),
+        "{}",
+        text(&o)
+    );
+    // Identical renders: no variance, judged exactly (2 ≠ 2.0 ± f32 rounding? equal: pass).
+    let o = run(&[&a, &b]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("(exact)"), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(d);
+}
+
+/// A case a renderer cannot express exits 2 with the reason.
+#[test]
+fn inexpressible_cases_are_refused() {
+    let d = scratch("refused");
+    for (case, to, why) in [
+        (
+            "irradiance/disk_on_axis.json",
+            "pbrt",
+            "no irradiance sensor",
+        ),
+        (
+            "bsdf_albedo/oren_nayar_fujii_sigma0_5_60.json",
+            "mitsuba",
+            "Oren–Nayar",
+        ),
+        (
+            "bsdf_albedo/white_ggx_alpha0_5_60.json",
+            "mitsuba",
+            "height-correlated",
+        ),
+        ("solid_angle/triangle.json", "mitsuba", "geometric integral"),
+    ] {
+        let o = bin()
+            .args(["export", "--to", to, "--out"])
+            .arg(&d)
+            .arg(catalog(case))
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{case}: {}", text(&o));
+        assert!(text(&o).contains(why), "{case}: {}", text(&o));
+    }
+    let _ = std::fs::remove_dir_all(d);
+}
+
+/// Opt-in: with `LIGHTPROOF_MITSUBA` naming a Python that has `mitsuba`, Mitsuba 3
+/// (scalar_rgb) renders the analytic-sphere furnace (ρ = 0.8, L = 5) and a mesh sphere
+/// (1280 triangles) with 16 renders × 65 536 paths each: the analytic sphere's excess
+/// radiance is detected, the mesh sphere passes.
+#[test]
+fn mitsuba_sphere_furnace_bias_is_detected() {
+    let Ok(python) = std::env::var("LIGHTPROOF_MITSUBA") else {
+        eprintln!("skipped: set LIGHTPROOF_MITSUBA=python3 (a Python with mitsuba) to run");
+        return;
+    };
+    let cases = scratch("mi-cases");
+    std::fs::write(cases.join("analytic_sphere.json"), furnace(0.8, None)).unwrap();
+    std::fs::write(cases.join("mesh_sphere.json"), furnace(0.8, Some(3))).unwrap();
+    let out_dir = scratch("mi-suite");
+    let o = bin()
+        .args(["export", "--all", "--to", "mitsuba", "--out"])
+        .arg(&out_dir)
+        .arg(&cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o = Command::new(python)
+        .arg(out_dir.join("render_all.py"))
+        .args(["--renders", "16", "--samples"])
+        .arg((65536 * common_scale()).to_string())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let (o, doc) = judge_suite_json(&out_dir);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let js = doc["judgements"].as_array().unwrap();
+    let find = |id: &str| js.iter().find(|j| j["id"] == id).unwrap().clone();
+    let sphere = find("analytic_sphere");
+    let relative = sphere["estimate"].as_f64().unwrap() / 5.0 - 1.0;
+    assert_eq!(sphere["verdict"]["passed"], false, "{sphere}");
+    assert!(
+        sphere["z"].as_f64().unwrap() > 0.0 && relative > 0.005,
+        "{sphere}"
+    );
+    let mesh = find("mesh_sphere");
+    for j in [&sphere, &mesh] {
+        eprintln!(
+            "{}: {} ± {} (reference 5, {:+.3}%), z = {}, passed {}",
+            j["id"],
+            j["estimate"],
+            j["std_error"],
+            100.0 * (j["estimate"].as_f64().unwrap() / 5.0 - 1.0),
+            j["z"],
+            j["verdict"]["passed"]
+        );
+    }
+    assert_eq!(mesh["verdict"]["passed"], true, "{mesh}");
+    assert!(
+        mesh["verdict"]["detectable_relative_bias"]
+            .as_f64()
+            .unwrap()
+            < relative,
+        "{mesh}"
+    );
+    let _ = std::fs::remove_dir_all(cases);
+    let _ = std::fs::remove_dir_all(out_dir);
+}
