@@ -242,7 +242,11 @@ mod tests {
     #[test]
     fn mix64_is_the_splitmix64_finaliser() {
         for (k, want) in SPLITMIX_FROM_ZERO.iter().enumerate() {
-            assert_eq!(mix64(GOLDEN.wrapping_mul(k as u64 + 1)), *want, "output {k}");
+            assert_eq!(
+                mix64(GOLDEN.wrapping_mul(k as u64 + 1)),
+                *want,
+                "output {k}"
+            );
         }
         assert_eq!(mix64(0), 0);
     }

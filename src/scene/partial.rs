@@ -257,4 +257,77 @@ mod tests {
             )
         });
     }
+    #[test]
+    fn areas_match_their_closed_forms() {
+        use std::f64::consts::PI as PI64;
+        // Cap of a sphere of radius 2 with 1 − cos θmax = ½ (θmax = 60°): 2π·4·½ = 4π;
+        // the whole sphere (1 − cos θmax = 2) is 4πR².
+        assert!((cap_area(2.0, 0.5) as f64 - 4.0 * PI64).abs() < 1e-5);
+        assert!((cap_area(3.0, 2.0) as f64 - 36.0 * PI64).abs() < 1e-4);
+        // Annulus r = 0.4, R = 1: π(1 − 0.16).
+        assert!((annulus_area(0.4, 1.0) as f64 - 0.84 * PI64).abs() < 1e-6);
+        assert!((annulus_area(0.0, 2.0) as f64 - 4.0 * PI64).abs() < 1e-5);
+    }
+
+    /// A sampled point's error bound covers at least the last rounding of each of its
+    /// coordinates (½ ulp ≤ ε/2 |p|) and is a few ulps of the operands' size, not more.
+    fn error_bounds_are_sound_and_tight(p: Primitive, scale: Vec3) {
+        for u1 in [0.05f32, 0.3, 0.55, 0.9] {
+            for u2 in [0.1f32, 0.45, 0.8] {
+                let s = p.sample_area(Vec2::new(u1, u2));
+                for k in 0..3 {
+                    assert!(
+                        s.p_error[k] >= 0.5 * f32::EPSILON * s.p[k].abs(),
+                        "{p:?} {u1} {u2}: axis {k}: {} < ulp of {}",
+                        s.p_error[k],
+                        s.p[k]
+                    );
+                    assert!(
+                        s.p_error[k] <= 8.0 * f32::EPSILON * scale[k],
+                        "{p:?}: axis {k}: {} too loose",
+                        s.p_error[k]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_points_carry_sound_error_bounds() {
+        // |centre| + R per axis bounds each operand of p = centre + rel.
+        let c = cap(120.0);
+        error_bounds_are_sound_and_tight(c, Vec3::new(0.5, 0.2, 1.0) + 2.0);
+        let a = annulus();
+        error_bounds_are_sound_and_tight(a, Vec3::new(0.0, 0.0, 1.0) + 1.0);
+    }
+
+    #[test]
+    fn sampled_cap_points_have_their_closed_form() {
+        // Hat-box: z = 1 − u₁(1 − cos θmax) along the axis, azimuth 2πu₂ in the axis
+        // frame, so the point is centre + R (sin θ cos φ s + sin θ sin φ t + z n).
+        let c = cap(100.0);
+        let Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            one_minus_cos,
+            ..
+        } = c
+        else {
+            unreachable!()
+        };
+        let f = Frame::from_z(axis);
+        for (u1, u2) in [(0.2f64, 0.7f64), (0.9, 0.15), (0.5, 0.5)] {
+            let z = 1.0 - u1 * one_minus_cos as f64;
+            let st = (1.0 - z * z).sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let n = f.s.as_dvec3() * (st * phi.cos())
+                + f.t.as_dvec3() * (st * phi.sin())
+                + f.n.as_dvec3() * z;
+            let want = center.as_dvec3() + n * radius as f64;
+            let s = c.sample_area(Vec2::new(u1 as f32, u2 as f32));
+            assert!((s.p.as_dvec3() - want).length() < 1e-5, "{} vs {want}", s.p);
+            assert!((s.n.as_dvec3() - n).length() < 1e-5);
+        }
+    }
 }
