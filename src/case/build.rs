@@ -529,3 +529,178 @@ pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// A case description with `extra` fields over a minimal microfacet case.
+    fn desc(extra: serde_json::Value) -> CaseDesc {
+        let mut v = json!({
+            "name": "t",
+            "teaches": "t",
+            "measure": {"microfacet": {"distribution": "ggx", "alpha": 0.5,
+                                       "integral": "normalisation"}},
+            "estimators": ["uniform"]
+        });
+        for (k, x) in extra.as_object().unwrap() {
+            v[k] = x.clone();
+        }
+        serde_json::from_value(v).unwrap()
+    }
+
+    fn mf(alpha: f64, theta: f64, integral: MicrofacetIntegral) -> Result<Measure, InputError> {
+        microfacet_measure("c.json", Distribution::Beckmann, alpha, theta, integral)
+    }
+
+    #[test]
+    fn microfacet_ranges_are_inclusive_except_the_visible_horizon() {
+        use MicrofacetIntegral::{Normalisation, Visible};
+        for (alpha, ok) in [(1e-4, true), (1.0, true), (0.99e-4, false), (1.01, false)] {
+            let r = mf(alpha, 30.0, Normalisation);
+            assert_eq!(r.is_ok(), ok, "α {alpha}");
+            if let Err(e) = r {
+                assert_eq!(e.field, "measure.microfacet.alpha");
+            }
+        }
+        for (theta, integral, ok) in [
+            (0.0, Visible, true),
+            (89.9, Visible, true),
+            (90.0, Visible, false),
+            (90.0, Normalisation, true),
+            (90.1, Normalisation, false),
+            (-0.1, Normalisation, false),
+        ] {
+            let r = mf(0.5, theta, integral);
+            assert_eq!(r.is_ok(), ok, "θ {theta} {integral:?}");
+            if let Err(e) = r {
+                assert_eq!(e.field, "measure.microfacet.theta_degrees");
+            }
+        }
+        // θo = 60° in the xz plane; the model is the named one at that α.
+        let Ok(Measure::Microfacet { microfacet, wo, .. }) = mf(0.25, 60.0, Visible) else {
+            panic!("a microfacet measure")
+        };
+        assert!((wo - glam::Vec3::new(0.75f32.sqrt(), 0.0, 0.5)).length() < 1e-6);
+        assert_eq!(microfacet.alpha, 0.25);
+        assert_eq!(microfacet.distribution, Distribution::Beckmann);
+    }
+
+    #[test]
+    fn samples_lie_within_their_inclusive_range() {
+        for (n, ok) in [
+            (MIN_SAMPLES, true),
+            (MAX_SAMPLES, true),
+            (MIN_SAMPLES - 1, false),
+            (MAX_SAMPLES + 1, false),
+        ] {
+            let r = check_samples("c.json", &desc(json!({ "samples": n })));
+            assert_eq!(r.is_ok(), ok, "{n}");
+        }
+        assert!(check_samples("c.json", &desc(json!({}))).is_ok());
+    }
+
+    #[test]
+    fn max_depth_applies_to_light_paths_within_its_range() {
+        let irr = Measure::Irradiance {
+            at: glam::Vec3::ZERO,
+            normal: glam::Vec3::Z,
+        };
+        let d = |k: u32| desc(json!({ "max_depth": k }));
+        assert_eq!(max_bounces("c.json", &desc(json!({})), &irr).unwrap(), None);
+        // The receiver is the first scattering: depth k is k − 1 bounces.
+        assert_eq!(max_bounces("c.json", &d(1), &irr).unwrap(), Some(0));
+        assert_eq!(
+            max_bounces("c.json", &d(MAX_PATH_BOUNCES), &irr).unwrap(),
+            Some(MAX_PATH_BOUNCES - 1)
+        );
+        for bad in [0, MAX_PATH_BOUNCES + 1] {
+            let e = max_bounces("c.json", &d(bad), &irr).unwrap_err();
+            assert_eq!(e.field, "max_depth");
+        }
+        let m = mf(0.5, 0.0, MicrofacetIntegral::Normalisation).unwrap();
+        let e = max_bounces("c.json", &d(2), &m).unwrap_err();
+        assert!(e.reason.contains("light paths"), "{e}");
+    }
+
+    #[test]
+    fn estimators_are_named_and_fit_the_measurement() {
+        let m = mf(0.5, 0.0, MicrofacetIntegral::Normalisation).unwrap();
+        assert!(check_estimators("c.json", &desc(json!({})), &m).is_ok());
+        let e = check_estimators("c.json", &desc(json!({ "estimators": [] })), &m).unwrap_err();
+        assert_eq!(e.field, "estimators");
+        let two = desc(json!({ "estimators": ["cosine", "light"] }));
+        let e = check_estimators("c.json", &two, &m).unwrap_err();
+        assert_eq!(e.field, "estimators[1]");
+    }
+
+    #[test]
+    fn wavelengths_and_bands_as_f32_sees_them() {
+        let check = |s: serde_json::Value| check_spectral_and_time("c.json", &desc(s));
+        let one = |l: f64| check(json!({ "spectral": { "wavelength": l } }));
+        assert!(one(MAX_WAVELENGTH_NM).is_ok());
+        assert!(one(0.5).is_ok());
+        for bad in [0.0, MAX_WAVELENGTH_NM * 1.000_001] {
+            assert_eq!(one(bad).unwrap_err().field, "spectral.wavelength");
+        }
+        let band = |a: f64, b: f64| check(json!({ "spectral": { "band": [a, b] } }));
+        assert!(band(400.0, 700.0).is_ok());
+        // 1e-4 of 500 nm is 0.05 nm: 0.06 passes, 0.04 is refused.
+        assert!(band(500.0, 500.06).is_ok());
+        for (a, b) in [
+            (500.0, 500.04),
+            (500.0, 500.0),
+            (600.0, 500.0),
+            (0.0, 500.0),
+        ] {
+            assert_eq!(band(a, b).unwrap_err().field, "spectral.band", "[{a}, {b}]");
+        }
+        assert!(band(400.0, MAX_WAVELENGTH_NM * 1.000_001).is_err());
+    }
+
+    #[test]
+    fn moving_lights_stay_in_range_over_the_shutter() {
+        // A point light at speed v over the shutter [t0, t1] travels v·max(|t0|, |t1|).
+        let moving = |v: f64, t0: f64, t1: f64| {
+            check_spectral_and_time(
+                "c.json",
+                &desc(json!({
+                    "scene": { "emitters": [{ "type": "point", "position": [0, 0, 2],
+                                               "intensity": 1, "velocity": [0, v, 0] }] },
+                    "time": { "shutter": [t0, t1] }
+                })),
+            )
+        };
+        let lim = crate::error::MAX_COORDINATE;
+        assert!(moving(1.5, -0.5, 2.0).is_ok());
+        // Exactly at the limit is in range; twice it (from t1 = 2 or t0 = −2) is not.
+        assert!(moving(lim, 0.0, 1.0).is_ok());
+        for (t0, t1) in [(-0.5, 2.0), (-2.0, 0.5)] {
+            let e = moving(lim, t0, t1).unwrap_err();
+            assert_eq!(e.field, "scene.emitters[0].velocity", "[{t0}, {t1}]");
+        }
+    }
+
+    #[test]
+    fn the_reference_is_the_oracles_value_times_its_scale() {
+        let r = |m: serde_json::Value| reference("c.json", &desc(json!({ "reference": m })));
+        assert_eq!(reference("c.json", &desc(json!({}))).unwrap(), None);
+        // ∫ D cos θ dm = 1 for every α: the oracle's value is 1.
+        let norm = json!({"closed_form": "microfacet_normalisation",
+                          "distribution": "ggx", "alpha": 0.3});
+        let one = r(norm.clone()).unwrap().unwrap();
+        assert!((one - 1.0).abs() < 1e-9, "{one}");
+        let mut scaled = norm.clone();
+        scaled["scale"] = json!(2.5);
+        assert!((r(scaled.clone()).unwrap().unwrap() - 2.5).abs() < 1e-8);
+        for bad in [json!(0.0), json!(-1.0), json!("two")] {
+            scaled["scale"] = bad;
+            assert_eq!(r(scaled.clone()).unwrap_err().field, "reference.scale");
+        }
+        let e = r(json!({"distribution": "ggx"})).unwrap_err();
+        assert_eq!(e.field, "reference.closed_form");
+        let e = r(json!({"closed_form": "no_such_form"})).unwrap_err();
+        assert_eq!(e.field, "reference");
+    }
+}
