@@ -301,6 +301,33 @@ mod tests {
         }
     }
 
+    /// Each Sobol batch starts the sequence afresh: the first four samples of every batch
+    /// (here batches of 5, so not aligned with the sequence's blocks of four) are the
+    /// sequence's first four points, which fall in four different quarters of every
+    /// dimension.
+    #[test]
+    fn every_sobol_batch_starts_at_the_first_point() {
+        for seed in 0..8u64 {
+            let s = Sampler::new(SamplerKind::Sobol, seed, 5);
+            for batch in 0..3u64 {
+                let mut streams: Vec<SampleStream> =
+                    (0..4).map(|i| s.stream(5 * batch + i)).collect();
+                for dim in 0..8 {
+                    let mut quarters: Vec<usize> = streams
+                        .iter_mut()
+                        .map(|st| (st.next_1d() * 4.0) as usize)
+                        .collect();
+                    quarters.sort_unstable();
+                    assert_eq!(
+                        quarters,
+                        [0, 1, 2, 3],
+                        "seed {seed} batch {batch} dim {dim}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn small_permutations_depend_on_the_seed() {
         for n in 2..=16u64 {
