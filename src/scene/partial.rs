@@ -330,4 +330,25 @@ mod tests {
             assert!((s.n.as_dvec3() - n).length() < 1e-5);
         }
     }
+    #[test]
+    fn chords_below_the_rim_miss_and_above_it_hit() {
+        // A hemisphere (θmax = 90°): a chord perpendicular to the axis at height z
+        // (relative to the centre, along the axis) meets the sphere twice at height z;
+        // both hits are on the cap for z > 0, neither for z < 0.
+        let c = cap(90.0);
+        let Primitive::SphericalCap { center, axis, .. } = c else {
+            unreachable!()
+        };
+        let f = Frame::from_z(axis);
+        for z in [-0.3f32, -0.05, 0.05, 0.3] {
+            let o = center + axis * z - f.s * 5.0;
+            let h = c.intersect(o, f.s, 0.0, f32::INFINITY);
+            if z > 0.0 {
+                let h = h.expect("a chord above the rim hits the cap");
+                assert!(((h.p - center).dot(axis) - z).abs() < 1e-5);
+            } else {
+                assert!(h.is_none(), "z = {z}: {:?}", h.map(|h| h.p));
+            }
+        }
+    }
 }
