@@ -351,4 +351,26 @@ mod tests {
             }
         }
     }
+    #[test]
+    fn sampled_annulus_points_have_their_closed_form() {
+        // ρ² = r² + u₁(R² − r²), φ = 2πu₂ in the frame about the normal:
+        // p = centre + ρ (cos φ s + sin φ t).
+        let (center, normal, r, big_r) = (
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            0.4,
+            1.0,
+        );
+        let a = annulus();
+        let f = Frame::from_z(normal);
+        for (u1, u2) in [(0.2f64, 0.7f64), (0.9, 0.15), (0.5, 0.4)] {
+            let rho = (r * r + u1 * (big_r * big_r - r * r)).sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let want =
+                center.as_dvec3() + (f.s.as_dvec3() * phi.cos() + f.t.as_dvec3() * phi.sin()) * rho;
+            let s = a.sample_area(Vec2::new(u1 as f32, u2 as f32));
+            assert!((s.p.as_dvec3() - want).length() < 1e-6, "{} vs {want}", s.p);
+            assert_eq!(s.n, normal);
+        }
+    }
 }
