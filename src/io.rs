@@ -337,4 +337,22 @@ mod tests {
         assert!(!dead.exists());
         std::fs::remove_dir_all(dir).unwrap();
     }
+    #[test]
+    fn a_file_that_outgrows_its_size_is_cut_at_the_limit() {
+        // Linux's /proc files are regular files that report a length of 0 and read as
+        // more: the size check passes, and the read must stop one byte past the limit.
+        let status = Path::new("/proc/self/status");
+        if !status.exists() {
+            return;
+        }
+        assert_eq!(check_input_file(status, 10), Ok(0));
+        let e = read_input(status, 10).unwrap_err();
+        assert!(e.contains("grew past the limit of 10 bytes"), "{e}");
+    }
+
+    #[test]
+    fn asset_limit_is_one_gibibyte_and_json_limit_64_mebibytes() {
+        assert_eq!(MAX_ASSET_BYTES, 1024 * 1024 * 1024);
+        assert_eq!(MAX_JSON_BYTES, 64 * 1024 * 1024);
+    }
 }
