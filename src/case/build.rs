@@ -703,4 +703,174 @@ mod tests {
         let e = r(json!({"closed_form": "no_such_form"})).unwrap_err();
         assert_eq!(e.field, "reference");
     }
+    /// Two disks facing each other a unit apart: shape 0 (radius 1, at z = 1, facing
+    /// down) emits L = 1 one-sided, shape 1 (radius ½, at the origin) does not; `extra`
+    /// emitters follow the area light.
+    fn two_disks(measure: serde_json::Value, extra: serde_json::Value) -> CaseDesc {
+        desc(json!({
+            "scene": {
+                "shapes": [
+                    {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                                  "radius": 1}, "emission": {"radiance": 1}},
+                    {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                  "radius": 0.5}}
+                ],
+                "emitters": extra
+            },
+            "measure": measure
+        }))
+    }
+
+    /// The measurement as the case builds it (origin, scene, then the measure step).
+    fn built(d: &CaseDesc) -> Result<Measure, InputError> {
+        let origin = origin("c.json", d)?;
+        let scene = d
+            .scene
+            .build("c.json", "scene", std::path::Path::new("."), origin)?;
+        measure("c.json", &d.measure, &scene, origin)
+    }
+
+    fn field(m: serde_json::Value, extra: serde_json::Value) -> String {
+        built(&two_disks(m, extra)).unwrap_err().field
+    }
+
+    #[test]
+    fn shapes_are_named_by_an_index_that_exists() {
+        use glam::Vec3;
+        for i in [0usize, 1] {
+            let m = built(&two_disks(
+                json!({"solid_angle": {"from": [3, 2, 5], "shape": i}}),
+                json!([]),
+            ));
+            let Ok(Measure::SolidAngle { from, shape }) = m else {
+                panic!("shape {i}: {m:?}")
+            };
+            assert_eq!(shape, i);
+            // The scene is rebased on the viewpoint: it sits at the origin.
+            assert_eq!(from, Vec3::ZERO);
+        }
+        let e = built(&two_disks(
+            json!({"solid_angle": {"from": [3, 2, 5], "shape": 2}}),
+            json!([]),
+        ))
+        .unwrap_err();
+        assert_eq!(e.field, "measure.shape");
+        assert!(e.reason.contains("the scene has 2 shapes"), "{e}");
+    }
+
+    #[test]
+    fn power_names_one_finite_emitter() {
+        let point = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2}]);
+        let emitter =
+            |m: serde_json::Value, extra: serde_json::Value| match built(&two_disks(m, extra)) {
+                Ok(Measure::Power { emitter }) => emitter,
+                other => panic!("{other:?}"),
+            };
+        assert_eq!(emitter(json!({"power": {"shape": 0}}), point.clone()), 0);
+        // Entries of `scene.emitters` come after the area lights.
+        assert_eq!(emitter(json!({"power": {"emitter": 0}}), point.clone()), 1);
+        assert_eq!(
+            field(json!({"power": {"emitter": 1}}), point.clone()),
+            "measure.emitter"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 1}}), point.clone()),
+            "measure.shape"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 2}}), point.clone()),
+            "measure.shape"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 0, "emitter": 0}}), point),
+            "measure"
+        );
+        let sun = json!([{"type": "directional", "direction": [0, 0, -1], "irradiance": 1}]);
+        assert_eq!(field(json!({"power": {"emitter": 0}}), sun), "measure");
+    }
+
+    #[test]
+    fn view_factors_divide_by_pi_l_a_of_the_one_emitter() {
+        use glam::Vec3;
+        // Receiver: shape 1, anchored at the centre of its bounds (the scene is rebased
+        // on that point); factor 1/(π L A) = 1/(π · 1 · π).
+        let m = built(&two_disks(
+            json!({"flux": {"shape": 1, "view_factor": true}}),
+            json!([]),
+        ));
+        let Ok(Measure::Flux {
+            shape,
+            anchor,
+            factor,
+        }) = m
+        else {
+            panic!("{m:?}")
+        };
+        assert_eq!(shape, 1);
+        assert!(anchor.length() < 1e-6, "{anchor}");
+        let want = 1.0 / (std::f64::consts::PI * std::f64::consts::PI);
+        assert!((factor as f64 / want - 1.0).abs() < 1e-6, "{factor}");
+        // Without a view factor the flux is plain.
+        let Ok(Measure::Flux { factor, anchor, .. }) =
+            built(&two_disks(json!({"flux": {"shape": 0}}), json!([])))
+        else {
+            panic!()
+        };
+        assert_eq!(factor, 1.0);
+        assert_eq!(anchor, Vec3::ZERO);
+        let vf = "measure.flux.view_factor";
+        // The receiver is the emitter; a second emitter; an emitter that is not a shape.
+        assert_eq!(
+            field(
+                json!({"flux": {"shape": 0, "view_factor": true}}),
+                json!([])
+            ),
+            vf
+        );
+        let point = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2}]);
+        assert_eq!(
+            field(json!({"flux": {"shape": 1, "view_factor": true}}), point),
+            vf
+        );
+        assert_eq!(
+            field(json!({"flux": {"shape": 2}}), json!([])),
+            "measure.flux.shape"
+        );
+    }
+
+    #[test]
+    fn mean_path_length_segments_and_albedo_angles_have_inclusive_ranges() {
+        let segments = |n: u32| {
+            built(&two_disks(
+                json!({"mean_path_length": {"shape": 1, "segments": n}}),
+                json!([]),
+            ))
+        };
+        for (n, ok) in [
+            (1, true),
+            (1 << 16, true),
+            (0, false),
+            ((1 << 16) + 1, false),
+        ] {
+            assert_eq!(segments(n).is_ok(), ok, "{n}");
+        }
+        let Ok(Measure::MeanPathLength { segments: got, .. }) = segments(7) else {
+            panic!()
+        };
+        assert_eq!(got, 7);
+        let albedo = |theta: f64, phi: f64| {
+            built(&two_disks(
+                json!({"albedo": {"bsdf": {"type": "lambertian", "albedo": 0.5},
+                              "theta_degrees": theta, "phi_degrees": phi}}),
+                json!([]),
+            ))
+        };
+        assert!(albedo(180.0, 0.0).is_ok() && albedo(0.0, 0.0).is_ok());
+        assert!(albedo(180.1, 0.0).is_err() && albedo(-0.1, 0.0).is_err());
+        // θ = 90°, φ = 90°: ωo = +y.
+        let Ok(Measure::Albedo { wo, .. }) = albedo(90.0, 90.0) else {
+            panic!()
+        };
+        assert!((wo - glam::Vec3::Y).length() < 1e-6, "{wo}");
+    }
 }
