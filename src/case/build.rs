@@ -873,4 +873,42 @@ mod tests {
         };
         assert!((wo - glam::Vec3::Y).length() < 1e-6, "{wo}");
     }
+    /// The coaxial disks with the emitter's `emission` and the receiver's extra fields
+    /// replaced, measured as a view factor onto shape 1.
+    fn view_factor(
+        emission: serde_json::Value,
+        receiver: serde_json::Value,
+    ) -> Result<Measure, InputError> {
+        let mut d = json!({
+            "shapes": [
+                {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                              "radius": 1}, "emission": emission},
+                {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                              "radius": 0.5}}
+            ]
+        });
+        for (k, x) in receiver.as_object().unwrap() {
+            d["shapes"][1][k] = x.clone();
+        }
+        built(&desc(json!({
+            "scene": d,
+            "measure": {"flux": {"shape": 1, "view_factor": true}}
+        })))
+    }
+
+    #[test]
+    fn view_factors_need_a_one_sided_grey_steady_bright_emitter_and_a_still_receiver() {
+        assert!(view_factor(json!({"radiance": 2}), json!({})).is_ok());
+        let why = |emission: serde_json::Value| {
+            let e = view_factor(emission, json!({})).unwrap_err();
+            assert_eq!(e.field, "measure.flux.view_factor");
+            e.reason
+        };
+        assert!(why(json!({"radiance": 1, "two_sided": true})).contains("two-sided"));
+        assert!(why(json!({"radiance": 1, "pulse_at": 1e-9})).contains("grey, steady"));
+        assert!(why(json!({"radiance": 0})).contains("must be positive"));
+        let e = view_factor(json!({"radiance": 1}), json!({"velocity": [0, 0, 1]})).unwrap_err();
+        assert_eq!(e.field, "measure.flux.shape");
+        assert!(e.reason.contains("moving receiver"), "{e}");
+    }
 }
