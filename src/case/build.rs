@@ -657,6 +657,9 @@ mod tests {
             assert_eq!(band(a, b).unwrap_err().field, "spectral.band", "[{a}, {b}]");
         }
         assert!(band(400.0, MAX_WAVELENGTH_NM * 1.000_001).is_err());
+        // An empty band is refused as an order error, before its width is looked at.
+        let e = band(500.0, 500.0).unwrap_err();
+        assert!(e.reason.contains("0 < λ₁ < λ₂"), "{e}");
     }
 
     #[test]
