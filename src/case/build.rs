@@ -914,4 +914,27 @@ mod tests {
         assert_eq!(e.field, "measure.flux.shape");
         assert!(e.reason.contains("moving receiver"), "{e}");
     }
+    #[test]
+    fn one_wavelength_is_checked_as_the_nanometre_above_it() {
+        // A weak Sellmeier pole at √0.25 µm = 500 nm (b = 0.001: n² stays positive up to
+        // 0.5 nm below it): λ = 499.5 nm measures [499.5, 500.5] nm, which holds the pole;
+        // λ = 501 nm measures [501, 502] nm, which does not.
+        let at = |l: f64| {
+            check_spectral_and_time(
+                "c.json",
+                &desc(json!({
+                    "scene": {
+                        "materials": {"glass": {"type": "dielectric", "eta": 1.5}},
+                        "dispersion": {"glass": {"eta": {"sellmeier": {
+                            "b": [0.001, 0.0, 0.0], "c": [0.25, 0.0, 0.0]}}}}
+                    },
+                    "spectral": {"wavelength": l}
+                })),
+            )
+        };
+        assert!(at(501.0).is_ok());
+        let e = at(499.5).unwrap_err();
+        assert_eq!(e.field, "scene.dispersion.glass");
+        assert!(e.reason.contains("pole"), "{e}");
+    }
 }
