@@ -701,6 +701,17 @@ mod tests {
             scaled["scale"] = bad;
             assert_eq!(r(scaled.clone()).unwrap_err().field, "reference.scale");
         }
+        // The mean chord of a sphere is 4r/3 (Cauchy): 40/3 for r = 10, which a scale
+        // of 1e308 takes past f64's range: refused.
+        let chord = r(json!({"closed_form": "mean_chord_sphere", "radius": 10})).unwrap();
+        assert!((chord.unwrap() - 40.0 / 3.0).abs() < 1e-9);
+        let e = r(json!({"closed_form": "mean_chord_sphere", "radius": 10, "scale": 1e308}))
+            .unwrap_err();
+        assert_eq!(e.field, "reference");
+        assert!(
+            e.reason.contains("give parameters where it is finite"),
+            "{e}"
+        );
         let e = r(json!({"distribution": "ggx"})).unwrap_err();
         assert_eq!(e.field, "reference.closed_form");
         let e = r(json!({"closed_form": "no_such_form"})).unwrap_err();
