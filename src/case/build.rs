@@ -921,6 +921,20 @@ mod tests {
         assert!(why(json!({"radiance": 1, "two_sided": true})).contains("two-sided"));
         assert!(why(json!({"radiance": 1, "pulse_at": 1e-9})).contains("grey, steady"));
         assert!(why(json!({"radiance": 0})).contains("must be positive"));
+        // A faint, tiny emitter: π L A ≈ 1.2e-43 is fine as a power, but its inverse
+        // overflows f32.
+        let faint = built(&desc(json!({
+            "scene": {"shapes": [
+                {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                              "radius": 1e-3}, "emission": {"radiance": 1.2e-38}},
+                {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                              "radius": 0.5}}
+            ]},
+            "measure": {"flux": {"shape": 1, "view_factor": true}}
+        })))
+        .unwrap_err();
+        assert_eq!(faint.field, "measure.flux.view_factor");
+        assert!(faint.reason.contains("finite f32 factor"), "{faint}");
         let e = view_factor(json!({"radiance": 1}), json!({"velocity": [0, 0, 1]})).unwrap_err();
         assert_eq!(e.field, "measure.flux.shape");
         assert!(e.reason.contains("moving receiver"), "{e}");
