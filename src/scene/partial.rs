@@ -129,6 +129,21 @@ mod tests {
         }
     }
 
+    /// A cap's centre, radius, axis and 1 − cos θmax.
+    fn cap_parts(p: Primitive) -> (Vec3, f32, Vec3, f32) {
+        let Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            one_minus_cos,
+            ..
+        } = p
+        else {
+            unreachable!()
+        };
+        (center, radius, axis, one_minus_cos)
+    }
+
     fn annulus() -> Primitive {
         Primitive::Annulus {
             center: Vec3::new(0.0, 0.0, 1.0),
@@ -222,16 +237,7 @@ mod tests {
     fn cap_area_sampling_is_uniform() {
         for deg in [30.0, 150.0, 180.0] {
             let p = cap(deg);
-            let Primitive::SphericalCap {
-                center,
-                radius,
-                axis,
-                one_minus_cos,
-                ..
-            } = p
-            else {
-                unreachable!()
-            };
+            let (center, radius, axis, one_minus_cos) = cap_parts(p);
             let f = Frame::from_z(axis);
             area_sampling_is_uniform(p, |q| {
                 let r = ((q - center) / radius).as_dvec3();
@@ -306,16 +312,7 @@ mod tests {
         // Hat-box: z = 1 − u₁(1 − cos θmax) along the axis, azimuth 2πu₂ in the axis
         // frame, so the point is centre + R (sin θ cos φ s + sin θ sin φ t + z n).
         let c = cap(100.0);
-        let Primitive::SphericalCap {
-            center,
-            radius,
-            axis,
-            one_minus_cos,
-            ..
-        } = c
-        else {
-            unreachable!()
-        };
+        let (center, radius, axis, one_minus_cos) = cap_parts(c);
         let f = Frame::from_z(axis);
         for (u1, u2) in [(0.2f64, 0.7f64), (0.9, 0.15), (0.5, 0.5)] {
             let z = 1.0 - u1 * one_minus_cos as f64;
@@ -336,9 +333,7 @@ mod tests {
         // (relative to the centre, along the axis) meets the sphere twice at height z;
         // both hits are on the cap for z > 0, neither for z < 0.
         let c = cap(90.0);
-        let Primitive::SphericalCap { center, axis, .. } = c else {
-            unreachable!()
-        };
+        let (center, _, axis, _) = cap_parts(c);
         let f = Frame::from_z(axis);
         for z in [-0.3f32, -0.05, 0.05, 0.3] {
             let o = center + axis * z - f.s * 5.0;
