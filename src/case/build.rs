@@ -783,6 +783,9 @@ mod tests {
         assert_eq!(emitter(json!({"power": {"shape": 0}}), point.clone()), 0);
         // Entries of `scene.emitters` come after the area lights.
         assert_eq!(emitter(json!({"power": {"emitter": 0}}), point.clone()), 1);
+        let two = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2},
+                         {"type": "point", "position": [0, 1, 3], "intensity": 1}]);
+        assert_eq!(emitter(json!({"power": {"emitter": 1}}), two), 2);
         assert_eq!(
             field(json!({"power": {"emitter": 1}}), point.clone()),
             "measure.emitter"
@@ -832,6 +835,20 @@ mod tests {
         };
         assert_eq!(factor, 1.0);
         assert_eq!(anchor, Vec3::ZERO);
+        // A rectangle's anchor is the centre of its bounds, half its edges from the
+        // corner the scene is rebased on.
+        let rect = built(&desc(json!({
+            "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [3, 1, 0],
+                                               "edge_u": [1, 0, 0], "edge_v": [0, 2, 0]}}]},
+            "measure": {"flux": {"shape": 0}}
+        })));
+        let Ok(Measure::Flux { anchor, .. }) = rect else {
+            panic!("{rect:?}")
+        };
+        assert!(
+            (anchor - Vec3::new(0.5, 1.0, 0.0)).length() < 1e-6,
+            "{anchor}"
+        );
         let vf = "measure.flux.view_factor";
         // The receiver is the emitter; a second emitter; an emitter that is not a shape.
         assert_eq!(
