@@ -903,6 +903,12 @@ mod tests {
             panic!()
         };
         assert!((wo - glam::Vec3::Y).length() < 1e-6, "{wo}");
+        // θ = 60°, φ = 30°: ωo = (sin 60° cos 30°, sin 60° sin 30°, cos 60°).
+        let Ok(Measure::Albedo { wo, .. }) = albedo(60.0, 30.0) else {
+            panic!()
+        };
+        let want = glam::Vec3::new(0.75, 0.75f32.sqrt() * 0.5, 0.5);
+        assert!((wo - want).length() < 1e-6, "{wo}");
     }
     /// The coaxial disks with the emitter's `emission` and the receiver's extra fields
     /// replaced, measured as a view factor onto shape 1.
