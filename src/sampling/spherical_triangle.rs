@@ -318,6 +318,7 @@ pub(crate) mod tests {
         // In front (towards A + B + C) but outside one edge; behind; no direction at all.
         assert!(!t.contains(Vec3::new(1.0, 1.0, -0.1)));
         assert!(!t.contains(Vec3::new(-0.1, 1.0, 1.0)));
+        assert!(!t.contains(Vec3::new(1.0, -0.1, 1.0)));
         assert!(!t.contains(Vec3::new(-0.2, -0.3, -0.5)));
         assert!(!t.contains(Vec3::ZERO));
         // A wide triangle around the pole seen from just below its plane: every sample,
