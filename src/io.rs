@@ -287,4 +287,72 @@ mod tests {
         assert_eq!(read_input(&big, MAX_JSON_BYTES).unwrap(), "{}");
         std::fs::remove_dir_all(dir).unwrap();
     }
+    #[test]
+    fn the_limit_is_inclusive_and_named_in_the_refusal() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-lim-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("ten.json");
+        std::fs::write(&p, b"0123456789").unwrap();
+        // Exactly at the limit: accepted and read whole.
+        assert_eq!(check_input_file(&p, 10), Ok(10));
+        assert_eq!(read_input(&p, 10).unwrap(), "0123456789");
+        // One byte over: refused, with the limit in bytes and MiB.
+        let e = check_input_file(&p, 9).unwrap_err();
+        assert!(
+            e.contains("is 10 bytes") && e.contains("limit of 9 bytes"),
+            "{e}"
+        );
+        let e = read_input(&p, 9).unwrap_err();
+        assert!(e.contains("limit of 9 bytes"), "{e}");
+        std::fs::write(&p, vec![b' '; (3 << 20) + 1]).unwrap();
+        let e = check_input_file(&p, 3 << 20).unwrap_err();
+        assert!(e.contains("(3 MiB)"), "{e}");
+        // Folders and devices are told apart.
+        assert!(check_input_file(&dir, 10).unwrap_err().contains("folder"));
+        let dev = check_input_file(Path::new("/dev/null"), 10).unwrap_err();
+        assert!(dev.contains("not a regular file"), "{dev}");
+        // Not UTF-8.
+        std::fs::write(&p, [0xffu8, 0xfe]).unwrap();
+        assert!(read_input(&p, 10).unwrap_err().contains("UTF-8"));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn live_writers_temporaries_are_kept() {
+        if !Path::new("/proc/self").exists() {
+            return;
+        }
+        let dir = std::env::temp_dir().join(format!("lightproof-io-live-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // This process's own EXR temporary and one of process 1 (alive on Linux) are
+        // not stale; a dead process's is.
+        let own = dir.join(format!(".a.json.tmp{}.exr", std::process::id()));
+        let init = dir.join(".a.json.tmp1");
+        let dead = dir.join(".a.json.tmp4294967295.exr");
+        for p in [&own, &init, &dead] {
+            std::fs::write(p, b"half").unwrap();
+        }
+        write_atomic(&dir.join("a.json"), b"{}").unwrap();
+        assert!(own.exists() && init.exists());
+        assert!(!dead.exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+    #[test]
+    fn a_file_that_outgrows_its_size_is_cut_at_the_limit() {
+        // Linux's /proc files are regular files that report a length of 0 and read as
+        // more: the size check passes, and the read must stop one byte past the limit.
+        let status = Path::new("/proc/self/status");
+        if !status.exists() {
+            return;
+        }
+        assert_eq!(check_input_file(status, 10), Ok(0));
+        let e = read_input(status, 10).unwrap_err();
+        assert!(e.contains("grew past the limit of 10 bytes"), "{e}");
+    }
+
+    #[test]
+    fn asset_limit_is_one_gibibyte_and_json_limit_64_mebibytes() {
+        assert_eq!(MAX_ASSET_BYTES, 1024 * 1024 * 1024);
+        assert_eq!(MAX_JSON_BYTES, 64 * 1024 * 1024);
+    }
 }

@@ -529,3 +529,460 @@ pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// A case description with `extra` fields over a minimal microfacet case.
+    fn desc(extra: serde_json::Value) -> CaseDesc {
+        let mut v = json!({
+            "name": "t",
+            "teaches": "t",
+            "measure": {"microfacet": {"distribution": "ggx", "alpha": 0.5,
+                                       "integral": "normalisation"}},
+            "estimators": ["uniform"]
+        });
+        for (k, x) in extra.as_object().unwrap() {
+            v[k] = x.clone();
+        }
+        serde_json::from_value(v).unwrap()
+    }
+
+    fn mf(alpha: f64, theta: f64, integral: MicrofacetIntegral) -> Result<Measure, InputError> {
+        microfacet_measure("c.json", Distribution::Beckmann, alpha, theta, integral)
+    }
+
+    #[test]
+    fn microfacet_ranges_are_inclusive_except_the_visible_horizon() {
+        use MicrofacetIntegral::{Normalisation, Visible};
+        for (alpha, ok) in [(1e-4, true), (1.0, true), (0.99e-4, false), (1.01, false)] {
+            let r = mf(alpha, 30.0, Normalisation);
+            assert_eq!(r.is_ok(), ok, "α {alpha}");
+            if let Err(e) = r {
+                assert_eq!(e.field, "measure.microfacet.alpha");
+            }
+        }
+        for (theta, integral, ok) in [
+            (0.0, Visible, true),
+            (89.9, Visible, true),
+            (90.0, Visible, false),
+            (90.0, Normalisation, true),
+            (90.1, Normalisation, false),
+            (-0.1, Normalisation, false),
+        ] {
+            let r = mf(0.5, theta, integral);
+            assert_eq!(r.is_ok(), ok, "θ {theta} {integral:?}");
+            if let Err(e) = r {
+                assert_eq!(e.field, "measure.microfacet.theta_degrees");
+            }
+        }
+        // θo = 60° in the xz plane; the model is the named one at that α.
+        let Ok(Measure::Microfacet { microfacet, wo, .. }) = mf(0.25, 60.0, Visible) else {
+            panic!("a microfacet measure")
+        };
+        assert!((wo - glam::Vec3::new(0.75f32.sqrt(), 0.0, 0.5)).length() < 1e-6);
+        assert_eq!(microfacet.alpha, 0.25);
+        assert_eq!(microfacet.distribution, Distribution::Beckmann);
+    }
+
+    #[test]
+    fn samples_lie_within_their_inclusive_range() {
+        for (n, ok) in [
+            (MIN_SAMPLES, true),
+            (MAX_SAMPLES, true),
+            (MIN_SAMPLES - 1, false),
+            (MAX_SAMPLES + 1, false),
+        ] {
+            let r = check_samples("c.json", &desc(json!({ "samples": n })));
+            assert_eq!(r.is_ok(), ok, "{n}");
+        }
+        assert!(check_samples("c.json", &desc(json!({}))).is_ok());
+    }
+
+    #[test]
+    fn max_depth_applies_to_light_paths_within_its_range() {
+        let irr = Measure::Irradiance {
+            at: glam::Vec3::ZERO,
+            normal: glam::Vec3::Z,
+        };
+        let d = |k: u32| desc(json!({ "max_depth": k }));
+        assert_eq!(max_bounces("c.json", &desc(json!({})), &irr).unwrap(), None);
+        // The receiver is the first scattering: depth k is k − 1 bounces.
+        assert_eq!(max_bounces("c.json", &d(1), &irr).unwrap(), Some(0));
+        assert_eq!(
+            max_bounces("c.json", &d(MAX_PATH_BOUNCES), &irr).unwrap(),
+            Some(MAX_PATH_BOUNCES - 1)
+        );
+        for bad in [0, MAX_PATH_BOUNCES + 1] {
+            let e = max_bounces("c.json", &d(bad), &irr).unwrap_err();
+            assert_eq!(e.field, "max_depth");
+        }
+        let m = mf(0.5, 0.0, MicrofacetIntegral::Normalisation).unwrap();
+        let e = max_bounces("c.json", &d(2), &m).unwrap_err();
+        assert!(e.reason.contains("light paths"), "{e}");
+    }
+
+    #[test]
+    fn estimators_are_named_and_fit_the_measurement() {
+        let m = mf(0.5, 0.0, MicrofacetIntegral::Normalisation).unwrap();
+        assert!(check_estimators("c.json", &desc(json!({})), &m).is_ok());
+        let e = check_estimators("c.json", &desc(json!({ "estimators": [] })), &m).unwrap_err();
+        assert_eq!(e.field, "estimators");
+        let two = desc(json!({ "estimators": ["cosine", "light"] }));
+        let e = check_estimators("c.json", &two, &m).unwrap_err();
+        assert_eq!(e.field, "estimators[1]");
+    }
+
+    #[test]
+    fn wavelengths_and_bands_as_f32_sees_them() {
+        let check = |s: serde_json::Value| check_spectral_and_time("c.json", &desc(s));
+        let one = |l: f64| check(json!({ "spectral": { "wavelength": l } }));
+        assert!(one(MAX_WAVELENGTH_NM).is_ok());
+        assert!(one(0.5).is_ok());
+        for bad in [0.0, MAX_WAVELENGTH_NM * 1.000_001] {
+            assert_eq!(one(bad).unwrap_err().field, "spectral.wavelength");
+        }
+        let band = |a: f64, b: f64| check(json!({ "spectral": { "band": [a, b] } }));
+        assert!(band(400.0, 700.0).is_ok());
+        // 1e-4 of 500 nm is 0.05 nm: 0.06 passes, 0.04 is refused.
+        assert!(band(500.0, 500.06).is_ok());
+        for (a, b) in [
+            (500.0, 500.04),
+            (500.0, 500.0),
+            (600.0, 500.0),
+            (0.0, 500.0),
+        ] {
+            assert_eq!(band(a, b).unwrap_err().field, "spectral.band", "[{a}, {b}]");
+        }
+        assert!(band(400.0, MAX_WAVELENGTH_NM * 1.000_001).is_err());
+        // An empty band is refused as an order error, before its width is looked at.
+        let e = band(500.0, 500.0).unwrap_err();
+        assert!(e.reason.contains("0 < λ₁ < λ₂"), "{e}");
+    }
+
+    #[test]
+    fn moving_lights_stay_in_range_over_the_shutter() {
+        // A point light at speed v over the shutter [t0, t1] travels v·max(|t0|, |t1|).
+        let moving = |v: f64, t0: f64, t1: f64| {
+            check_spectral_and_time(
+                "c.json",
+                &desc(json!({
+                    "scene": { "emitters": [{ "type": "point", "position": [0, 0, 2],
+                                               "intensity": 1, "velocity": [0, v, 0] }] },
+                    "time": { "shutter": [t0, t1] }
+                })),
+            )
+        };
+        let lim = crate::error::MAX_COORDINATE;
+        assert!(moving(1.5, -0.5, 2.0).is_ok());
+        // Exactly at the limit is in range; twice it (from t1 = 2 or t0 = −2) is not.
+        assert!(moving(lim, 0.0, 1.0).is_ok());
+        for (t0, t1) in [(-0.5, 2.0), (-2.0, 0.5)] {
+            let e = moving(lim, t0, t1).unwrap_err();
+            assert_eq!(e.field, "scene.emitters[0].velocity", "[{t0}, {t1}]");
+        }
+    }
+
+    #[test]
+    fn the_reference_is_the_oracles_value_times_its_scale() {
+        let r = |m: serde_json::Value| reference("c.json", &desc(json!({ "reference": m })));
+        assert_eq!(reference("c.json", &desc(json!({}))).unwrap(), None);
+        // ∫ D cos θ dm = 1 for every α: the oracle's value is 1.
+        let norm = json!({"closed_form": "microfacet_normalisation",
+                          "distribution": "ggx", "alpha": 0.3});
+        let one = r(norm.clone()).unwrap().unwrap();
+        assert!((one - 1.0).abs() < 1e-9, "{one}");
+        let mut scaled = norm.clone();
+        scaled["scale"] = json!(2.5);
+        assert!((r(scaled.clone()).unwrap().unwrap() - 2.5).abs() < 1e-8);
+        for bad in [json!(0.0), json!(-1.0), json!("two")] {
+            scaled["scale"] = bad;
+            assert_eq!(r(scaled.clone()).unwrap_err().field, "reference.scale");
+        }
+        // The mean chord of a sphere is 4r/3 (Cauchy): 40/3 for r = 10, which a scale
+        // of 1e308 takes past f64's range: refused.
+        let chord = r(json!({"closed_form": "mean_chord_sphere", "radius": 10})).unwrap();
+        assert!((chord.unwrap() - 40.0 / 3.0).abs() < 1e-9);
+        let e = r(json!({"closed_form": "mean_chord_sphere", "radius": 10, "scale": 1e308}))
+            .unwrap_err();
+        assert_eq!(e.field, "reference");
+        assert!(
+            e.reason.contains("give parameters where it is finite"),
+            "{e}"
+        );
+        let e = r(json!({"distribution": "ggx"})).unwrap_err();
+        assert_eq!(e.field, "reference.closed_form");
+        let e = r(json!({"closed_form": "no_such_form"})).unwrap_err();
+        assert_eq!(e.field, "reference");
+    }
+    /// Two disks facing each other a unit apart: shape 0 (radius 1, at z = 1, facing
+    /// down) emits L = 1 one-sided, shape 1 (radius ½, at the origin) does not; `extra`
+    /// emitters follow the area light.
+    fn two_disks(measure: serde_json::Value, extra: serde_json::Value) -> CaseDesc {
+        desc(json!({
+            "scene": {
+                "shapes": [
+                    {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                                  "radius": 1}, "emission": {"radiance": 1}},
+                    {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                  "radius": 0.5}}
+                ],
+                "emitters": extra
+            },
+            "measure": measure
+        }))
+    }
+
+    /// The measurement as the case builds it (origin, scene, then the measure step).
+    fn built(d: &CaseDesc) -> Result<Measure, InputError> {
+        let origin = origin("c.json", d)?;
+        let scene = d
+            .scene
+            .build("c.json", "scene", std::path::Path::new("."), origin)?;
+        measure("c.json", &d.measure, &scene, origin)
+    }
+
+    fn field(m: serde_json::Value, extra: serde_json::Value) -> String {
+        built(&two_disks(m, extra)).unwrap_err().field
+    }
+
+    #[test]
+    fn shapes_are_named_by_an_index_that_exists() {
+        use glam::Vec3;
+        for i in [0usize, 1] {
+            let m = built(&two_disks(
+                json!({"solid_angle": {"from": [3, 2, 5], "shape": i}}),
+                json!([]),
+            ));
+            let Ok(Measure::SolidAngle { from, shape }) = m else {
+                panic!("shape {i}: {m:?}")
+            };
+            assert_eq!(shape, i);
+            // The scene is rebased on the viewpoint: it sits at the origin.
+            assert_eq!(from, Vec3::ZERO);
+        }
+        let e = built(&two_disks(
+            json!({"solid_angle": {"from": [3, 2, 5], "shape": 2}}),
+            json!([]),
+        ))
+        .unwrap_err();
+        assert_eq!(e.field, "measure.shape");
+        assert!(e.reason.contains("the scene has 2 shapes"), "{e}");
+    }
+
+    #[test]
+    fn power_names_one_finite_emitter() {
+        let point = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2}]);
+        let emitter =
+            |m: serde_json::Value, extra: serde_json::Value| match built(&two_disks(m, extra)) {
+                Ok(Measure::Power { emitter }) => emitter,
+                other => panic!("{other:?}"),
+            };
+        assert_eq!(emitter(json!({"power": {"shape": 0}}), point.clone()), 0);
+        // Entries of `scene.emitters` come after the area lights.
+        assert_eq!(emitter(json!({"power": {"emitter": 0}}), point.clone()), 1);
+        let two = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2},
+                         {"type": "point", "position": [0, 1, 3], "intensity": 1}]);
+        assert_eq!(emitter(json!({"power": {"emitter": 1}}), two), 2);
+        assert_eq!(
+            field(json!({"power": {"emitter": 1}}), point.clone()),
+            "measure.emitter"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 1}}), point.clone()),
+            "measure.shape"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 2}}), point.clone()),
+            "measure.shape"
+        );
+        assert_eq!(
+            field(json!({"power": {"shape": 0, "emitter": 0}}), point),
+            "measure"
+        );
+        let sun = json!([{"type": "directional", "direction": [0, 0, -1], "irradiance": 1}]);
+        assert_eq!(field(json!({"power": {"emitter": 0}}), sun), "measure");
+    }
+
+    #[test]
+    fn view_factors_divide_by_pi_l_a_of_the_one_emitter() {
+        use glam::Vec3;
+        // Receiver: shape 1, anchored at the centre of its bounds (the scene is rebased
+        // on that point); factor 1/(π L A) = 1/(π · 1 · π).
+        let m = built(&two_disks(
+            json!({"flux": {"shape": 1, "view_factor": true}}),
+            json!([]),
+        ));
+        let Ok(Measure::Flux {
+            shape,
+            anchor,
+            factor,
+        }) = m
+        else {
+            panic!("{m:?}")
+        };
+        assert_eq!(shape, 1);
+        assert!(anchor.length() < 1e-6, "{anchor}");
+        let want = 1.0 / (std::f64::consts::PI * std::f64::consts::PI);
+        assert!((factor as f64 / want - 1.0).abs() < 1e-6, "{factor}");
+        // Without a view factor the flux is plain.
+        let Ok(Measure::Flux { factor, anchor, .. }) =
+            built(&two_disks(json!({"flux": {"shape": 0}}), json!([])))
+        else {
+            panic!()
+        };
+        assert_eq!(factor, 1.0);
+        assert_eq!(anchor, Vec3::ZERO);
+        // A rectangle's anchor is the centre of its bounds, half its edges from the
+        // corner the scene is rebased on.
+        let rect = built(&desc(json!({
+            "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [3, 1, 0],
+                                               "edge_u": [1, 0, 0], "edge_v": [0, 2, 0]}}]},
+            "measure": {"flux": {"shape": 0}}
+        })));
+        let Ok(Measure::Flux { anchor, .. }) = rect else {
+            panic!("{rect:?}")
+        };
+        assert!(
+            (anchor - Vec3::new(0.5, 1.0, 0.0)).length() < 1e-6,
+            "{anchor}"
+        );
+        let vf = "measure.flux.view_factor";
+        // The receiver is the emitter; a second emitter; an emitter that is not a shape.
+        assert_eq!(
+            field(
+                json!({"flux": {"shape": 0, "view_factor": true}}),
+                json!([])
+            ),
+            vf
+        );
+        let point = json!([{"type": "point", "position": [0, 0, 3], "intensity": 2}]);
+        assert_eq!(
+            field(json!({"flux": {"shape": 1, "view_factor": true}}), point),
+            vf
+        );
+        assert_eq!(
+            field(json!({"flux": {"shape": 2}}), json!([])),
+            "measure.flux.shape"
+        );
+    }
+
+    #[test]
+    fn mean_path_length_segments_and_albedo_angles_have_inclusive_ranges() {
+        let segments = |n: u32| {
+            built(&two_disks(
+                json!({"mean_path_length": {"shape": 1, "segments": n}}),
+                json!([]),
+            ))
+        };
+        for (n, ok) in [
+            (1, true),
+            (1 << 16, true),
+            (0, false),
+            ((1 << 16) + 1, false),
+        ] {
+            assert_eq!(segments(n).is_ok(), ok, "{n}");
+        }
+        let Ok(Measure::MeanPathLength { segments: got, .. }) = segments(7) else {
+            panic!()
+        };
+        assert_eq!(got, 7);
+        let albedo = |theta: f64, phi: f64| {
+            built(&two_disks(
+                json!({"albedo": {"bsdf": {"type": "lambertian", "albedo": 0.5},
+                              "theta_degrees": theta, "phi_degrees": phi}}),
+                json!([]),
+            ))
+        };
+        assert!(albedo(180.0, 0.0).is_ok() && albedo(0.0, 0.0).is_ok());
+        assert!(albedo(180.1, 0.0).is_err() && albedo(-0.1, 0.0).is_err());
+        // θ = 90°, φ = 90°: ωo = +y.
+        let Ok(Measure::Albedo { wo, .. }) = albedo(90.0, 90.0) else {
+            panic!()
+        };
+        assert!((wo - glam::Vec3::Y).length() < 1e-6, "{wo}");
+        // θ = 60°, φ = 30°: ωo = (sin 60° cos 30°, sin 60° sin 30°, cos 60°).
+        let Ok(Measure::Albedo { wo, .. }) = albedo(60.0, 30.0) else {
+            panic!()
+        };
+        let want = glam::Vec3::new(0.75, 0.75f32.sqrt() * 0.5, 0.5);
+        assert!((wo - want).length() < 1e-6, "{wo}");
+    }
+    /// The coaxial disks with the emitter's `emission` and the receiver's extra fields
+    /// replaced, measured as a view factor onto shape 1.
+    fn view_factor(
+        emission: serde_json::Value,
+        receiver: serde_json::Value,
+    ) -> Result<Measure, InputError> {
+        let mut d = json!({
+            "shapes": [
+                {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                              "radius": 1}, "emission": emission},
+                {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                              "radius": 0.5}}
+            ]
+        });
+        for (k, x) in receiver.as_object().unwrap() {
+            d["shapes"][1][k] = x.clone();
+        }
+        built(&desc(json!({
+            "scene": d,
+            "measure": {"flux": {"shape": 1, "view_factor": true}}
+        })))
+    }
+
+    #[test]
+    fn view_factors_need_a_one_sided_grey_steady_bright_emitter_and_a_still_receiver() {
+        assert!(view_factor(json!({"radiance": 2}), json!({})).is_ok());
+        let why = |emission: serde_json::Value| {
+            let e = view_factor(emission, json!({})).unwrap_err();
+            assert_eq!(e.field, "measure.flux.view_factor");
+            e.reason
+        };
+        assert!(why(json!({"radiance": 1, "two_sided": true})).contains("two-sided"));
+        assert!(why(json!({"radiance": 1, "pulse_at": 1e-9})).contains("grey, steady"));
+        assert!(why(json!({"radiance": 0})).contains("must be positive"));
+        // A faint, tiny emitter: π L A ≈ 1.2e-43 is fine as a power, but its inverse
+        // overflows f32.
+        let faint = built(&desc(json!({
+            "scene": {"shapes": [
+                {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                              "radius": 1e-3}, "emission": {"radiance": 1.2e-38}},
+                {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                              "radius": 0.5}}
+            ]},
+            "measure": {"flux": {"shape": 1, "view_factor": true}}
+        })))
+        .unwrap_err();
+        assert_eq!(faint.field, "measure.flux.view_factor");
+        assert!(faint.reason.contains("finite f32 factor"), "{faint}");
+        let e = view_factor(json!({"radiance": 1}), json!({"velocity": [0, 0, 1]})).unwrap_err();
+        assert_eq!(e.field, "measure.flux.shape");
+        assert!(e.reason.contains("moving receiver"), "{e}");
+    }
+    #[test]
+    fn one_wavelength_is_checked_as_the_nanometre_above_it() {
+        // A weak Sellmeier pole at √0.25 µm = 500 nm (b = 0.001: n² stays positive up to
+        // 0.5 nm below it): λ = 499.5 nm measures [499.5, 500.5] nm, which holds the pole;
+        // λ = 501 nm measures [501, 502] nm, which does not.
+        let at = |l: f64| {
+            check_spectral_and_time(
+                "c.json",
+                &desc(json!({
+                    "scene": {
+                        "materials": {"glass": {"type": "dielectric", "eta": 1.5}},
+                        "dispersion": {"glass": {"eta": {"sellmeier": {
+                            "b": [0.001, 0.0, 0.0], "c": [0.25, 0.0, 0.0]}}}}
+                    },
+                    "spectral": {"wavelength": l}
+                })),
+            )
+        };
+        assert!(at(501.0).is_ok());
+        let e = at(499.5).unwrap_err();
+        assert_eq!(e.field, "scene.dispersion.glass");
+        assert!(e.reason.contains("pole"), "{e}");
+    }
+}

@@ -229,6 +229,105 @@ mod tests {
         assert_eq!(fnv1a(*b"foobar"), 0x8594_4171_f739_67e8);
     }
 
+    /// SplitMix64 seeded with 0 (Vigna's reference `splitmix64.c`): its k-th output is
+    /// mix64(k · 0x9e3779b97f4a7c15).
+    const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
+    const SPLITMIX_FROM_ZERO: [u64; 4] = [
+        0xe220_a839_7b1d_cdaf,
+        0x6e78_9e6a_a1b9_65f4,
+        0x06c4_5d18_8009_454f,
+        0xf88b_b8a8_724c_81ec,
+    ];
+
+    #[test]
+    fn mix64_is_the_splitmix64_finaliser() {
+        for (k, want) in SPLITMIX_FROM_ZERO.iter().enumerate() {
+            assert_eq!(
+                mix64(GOLDEN.wrapping_mul(k as u64 + 1)),
+                *want,
+                "output {k}"
+            );
+        }
+        assert_eq!(mix64(0), 0);
+    }
+
+    /// hash_words starts from the golden ratio and folds each word w as
+    /// h ← mix64(h ⊕ (w + golden)): words chosen so that h ⊕ (w + golden) is k · golden
+    /// land on SplitMix64's reference outputs.
+    #[test]
+    fn hash_words_chains_mix64_from_the_golden_ratio() {
+        assert_eq!(hash_words(&[]), GOLDEN);
+        // golden ⊕ (0 + golden) = 0, and mix64(0) = 0.
+        assert_eq!(hash_words(&[0]), 0);
+        // w = −golden: golden ⊕ 0 = golden.
+        let w1 = GOLDEN.wrapping_neg();
+        assert_eq!(hash_words(&[w1]), SPLITMIX_FROM_ZERO[0]);
+        assert_eq!(hash_words(&[0, 0]), SPLITMIX_FROM_ZERO[0]);
+        let w2 = (SPLITMIX_FROM_ZERO[0] ^ GOLDEN.wrapping_mul(2)).wrapping_sub(GOLDEN);
+        assert_eq!(hash_words(&[w1, w2]), SPLITMIX_FROM_ZERO[1]);
+    }
+
+    #[test]
+    fn names_are_the_json_spellings() {
+        for kind in SamplerKind::ALL {
+            let json = serde_json::to_string(&kind).unwrap();
+            assert_eq!(json, format!("\"{}\"", kind.name()));
+        }
+        assert_eq!(SamplerKind::default(), SamplerKind::Independent);
+    }
+
+    #[test]
+    fn permutation_of_zero_or_one_place_is_zero_and_the_widest_stays_in_range() {
+        assert_eq!(permute(5, 0, 9), 0);
+        assert_eq!(permute(0, 1, 9), 0);
+        // n = 2⁶⁴ − 1: the mask is every bit (no 1 << 64 overflow).
+        for i in [0u64, 1, 1 << 40, u64::MAX - 1] {
+            assert!(permute(i, u64::MAX, 3) < u64::MAX);
+        }
+    }
+
+    #[test]
+    fn streams_count_their_dimensions_and_sobol_falls_back_past_256() {
+        for kind in SamplerKind::ALL {
+            let mut st = Sampler::new(kind, 1, 64).stream(5);
+            st.next_2d();
+            st.next_1d();
+            assert_eq!(st.dimension(), 3);
+            for _ in 3..300 {
+                let u = st.next_1d();
+                assert!((0.0..1.0).contains(&u), "{kind:?}: {u}");
+            }
+            assert_eq!(st.dimension(), 300);
+        }
+    }
+
+    /// Each Sobol batch starts the sequence afresh: the first four samples of every batch
+    /// (here batches of 5, so not aligned with the sequence's blocks of four) are the
+    /// sequence's first four points, which fall in four different quarters of every
+    /// dimension.
+    #[test]
+    fn every_sobol_batch_starts_at_the_first_point() {
+        for seed in 0..8u64 {
+            let s = Sampler::new(SamplerKind::Sobol, seed, 5);
+            for batch in 0..3u64 {
+                let mut streams: Vec<SampleStream> =
+                    (0..4).map(|i| s.stream(5 * batch + i)).collect();
+                for dim in 0..8 {
+                    let mut quarters: Vec<usize> = streams
+                        .iter_mut()
+                        .map(|st| (st.next_1d() * 4.0) as usize)
+                        .collect();
+                    quarters.sort_unstable();
+                    assert_eq!(
+                        quarters,
+                        [0, 1, 2, 3],
+                        "seed {seed} batch {batch} dim {dim}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn small_permutations_depend_on_the_seed() {
         for n in 2..=16u64 {

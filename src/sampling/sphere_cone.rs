@@ -327,4 +327,20 @@ mod tests {
             assert!(outcome.passed, "gap {gap}: {outcome:?}");
         }
     }
+    /// u₀ = 1 (accepted, though no sampler draws it) is the cone's rim, where s = 0: the
+    /// direction is finite, on the rim, and points at a point of the sphere.
+    #[test]
+    fn the_rim_is_sampled_at_u0_one() {
+        let (p, c) = (Vec3::ZERO, Vec3::new(0.0, 0.0, 3.0));
+        let s = SphereCone::new(p, c, 1.0).unwrap();
+        for u1 in [0.0f32, 0.3, 0.8] {
+            let w = s.sample(p, Vec2::new(1.0, u1));
+            let q = s.sample_point(Vec2::new(1.0, u1));
+            assert!(w.is_finite() && q.is_finite(), "{w} {q}");
+            assert!(s.contains(w));
+            // cos θ = cos θmax = √8/3 at the rim.
+            assert!((w.z as f64 - 8f64.sqrt() / 3.0).abs() < 1e-6, "{w}");
+            assert!(((q - c).length() - 1.0).abs() < 1e-6);
+        }
+    }
 }

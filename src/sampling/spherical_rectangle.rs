@@ -246,4 +246,13 @@ mod tests {
             );
         }
     }
+    #[test]
+    fn density_is_one_over_the_solid_angle() {
+        // A unit square centred 1 below the viewer: Ω = 4 atan(ab/(d√(a² + b² + d²)))
+        // with half-sides a = b = ½ and d = 1.
+        let r = SphericalRectangle::new(Vec3::ZERO, Vec3::new(-0.5, -0.5, -1.0), Vec3::X, Vec3::Y)
+            .unwrap();
+        let omega = 4.0 * (0.25f64 / 1.5f64.sqrt()).atan();
+        assert!((r.pdf() as f64 * omega - 1.0).abs() < 1e-6, "{}", r.pdf());
+    }
 }

@@ -309,4 +309,34 @@ pub(crate) mod tests {
             }
         }
     }
+    #[test]
+    fn density_is_one_over_the_solid_angle_and_contains_is_the_triangle() {
+        // The octant subtends π/2: density 2/π.
+        let t = SphericalTriangle::new(Vec3::ZERO, [Vec3::X, Vec3::Y, Vec3::Z]).unwrap();
+        assert!((t.pdf() - 2.0 / std::f32::consts::PI).abs() < 1e-6);
+        assert!(t.contains(Vec3::new(0.2, 0.3, 0.5)));
+        // In front (towards A + B + C) but outside one edge; behind; no direction at all.
+        assert!(!t.contains(Vec3::new(1.0, 1.0, -0.1)));
+        assert!(!t.contains(Vec3::new(-0.1, 1.0, 1.0)));
+        assert!(!t.contains(Vec3::new(1.0, -0.1, 1.0)));
+        assert!(!t.contains(Vec3::new(-0.2, -0.3, -0.5)));
+        assert!(!t.contains(Vec3::ZERO));
+        // A wide triangle around the pole seen from just below its plane: every sample,
+        // even near a vertex, lies inside it.
+        let v = [
+            Vec3::new(1.0, 0.0, 0.1),
+            Vec3::new(-0.5, 0.866, 0.1),
+            Vec3::new(-0.5, -0.866, 0.1),
+        ];
+        let wide = SphericalTriangle::new(Vec3::ZERO, v).unwrap();
+        for u0 in [0.01f32, 0.3, 0.7, 0.99] {
+            for u1 in [0.01f32, 0.5, 0.99] {
+                let w = wide.sample(Vec2::new(u0, u1));
+                assert!(wide.contains(w), "{u0} {u1}: {w}");
+            }
+        }
+        for w in v {
+            assert!(wide.contains(w * 0.98 + Vec3::Z * 0.02));
+        }
+    }
 }

@@ -129,6 +129,21 @@ mod tests {
         }
     }
 
+    /// A cap's centre, radius, axis and 1 − cos θmax.
+    fn cap_parts(p: Primitive) -> (Vec3, f32, Vec3, f32) {
+        let Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            one_minus_cos,
+            ..
+        } = p
+        else {
+            unreachable!()
+        };
+        (center, radius, axis, one_minus_cos)
+    }
+
     fn annulus() -> Primitive {
         Primitive::Annulus {
             center: Vec3::new(0.0, 0.0, 1.0),
@@ -222,16 +237,7 @@ mod tests {
     fn cap_area_sampling_is_uniform() {
         for deg in [30.0, 150.0, 180.0] {
             let p = cap(deg);
-            let Primitive::SphericalCap {
-                center,
-                radius,
-                axis,
-                one_minus_cos,
-                ..
-            } = p
-            else {
-                unreachable!()
-            };
+            let (center, radius, axis, one_minus_cos) = cap_parts(p);
             let f = Frame::from_z(axis);
             area_sampling_is_uniform(p, |q| {
                 let r = ((q - center) / radius).as_dvec3();
@@ -256,5 +262,110 @@ mod tests {
                 r.y.atan2(r.x).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU,
             )
         });
+    }
+    #[test]
+    fn areas_match_their_closed_forms() {
+        use std::f64::consts::PI as PI64;
+        // Cap of a sphere of radius 2 with 1 − cos θmax = ½ (θmax = 60°): 2π·4·½ = 4π;
+        // the whole sphere (1 − cos θmax = 2) is 4πR².
+        assert!((cap_area(2.0, 0.5) as f64 - 4.0 * PI64).abs() < 1e-5);
+        assert!((cap_area(3.0, 2.0) as f64 - 36.0 * PI64).abs() < 1e-4);
+        // Annulus r = 0.4, R = 1: π(1 − 0.16).
+        assert!((annulus_area(0.4, 1.0) as f64 - 0.84 * PI64).abs() < 1e-6);
+        assert!((annulus_area(0.0, 2.0) as f64 - 4.0 * PI64).abs() < 1e-5);
+    }
+
+    /// A sampled point's error bound covers at least the last rounding of each of its
+    /// coordinates (½ ulp ≤ ε/2 |p|) and is a few ulps of the operands' size, not more.
+    fn error_bounds_are_sound_and_tight(p: Primitive, scale: Vec3) {
+        for u1 in [0.05f32, 0.3, 0.55, 0.9] {
+            for u2 in [0.1f32, 0.45, 0.8] {
+                let s = p.sample_area(Vec2::new(u1, u2));
+                for k in 0..3 {
+                    assert!(
+                        s.p_error[k] >= 0.5 * f32::EPSILON * s.p[k].abs(),
+                        "{p:?} {u1} {u2}: axis {k}: {} < ulp of {}",
+                        s.p_error[k],
+                        s.p[k]
+                    );
+                    assert!(
+                        s.p_error[k] <= 8.0 * f32::EPSILON * scale[k],
+                        "{p:?}: axis {k}: {} too loose",
+                        s.p_error[k]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_points_carry_sound_error_bounds() {
+        // |centre| + R per axis bounds each operand of p = centre + rel.
+        let c = cap(120.0);
+        error_bounds_are_sound_and_tight(c, Vec3::new(0.5, 0.2, 1.0) + 2.0);
+        let a = annulus();
+        error_bounds_are_sound_and_tight(a, Vec3::new(0.0, 0.0, 1.0) + 1.0);
+    }
+
+    #[test]
+    fn sampled_cap_points_have_their_closed_form() {
+        // Hat-box: z = 1 − u₁(1 − cos θmax) along the axis, azimuth 2πu₂ in the axis
+        // frame, so the point is centre + R (sin θ cos φ s + sin θ sin φ t + z n).
+        let c = cap(100.0);
+        let (center, radius, axis, one_minus_cos) = cap_parts(c);
+        let f = Frame::from_z(axis);
+        for (u1, u2) in [(0.2f64, 0.7f64), (0.9, 0.15), (0.5, 0.5)] {
+            let z = 1.0 - u1 * one_minus_cos as f64;
+            let st = (1.0 - z * z).sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let n = f.s.as_dvec3() * (st * phi.cos())
+                + f.t.as_dvec3() * (st * phi.sin())
+                + f.n.as_dvec3() * z;
+            let want = center.as_dvec3() + n * radius as f64;
+            let s = c.sample_area(Vec2::new(u1 as f32, u2 as f32));
+            assert!((s.p.as_dvec3() - want).length() < 1e-5, "{} vs {want}", s.p);
+            assert!((s.n.as_dvec3() - n).length() < 1e-5);
+        }
+    }
+    #[test]
+    fn chords_below_the_rim_miss_and_above_it_hit() {
+        // A hemisphere (θmax = 90°): a chord perpendicular to the axis at height z
+        // (relative to the centre, along the axis) meets the sphere twice at height z;
+        // both hits are on the cap for z > 0, neither for z < 0.
+        let c = cap(90.0);
+        let (center, _, axis, _) = cap_parts(c);
+        let f = Frame::from_z(axis);
+        for z in [-0.3f32, -0.05, 0.05, 0.3] {
+            let o = center + axis * z - f.s * 5.0;
+            let h = c.intersect(o, f.s, 0.0, f32::INFINITY);
+            if z > 0.0 {
+                let h = h.expect("a chord above the rim hits the cap");
+                assert!(((h.p - center).dot(axis) - z).abs() < 1e-5);
+            } else {
+                assert!(h.is_none(), "z = {z}: {:?}", h.map(|h| h.p));
+            }
+        }
+    }
+    #[test]
+    fn sampled_annulus_points_have_their_closed_form() {
+        // ρ² = r² + u₁(R² − r²), φ = 2πu₂ in the frame about the normal:
+        // p = centre + ρ (cos φ s + sin φ t).
+        let (center, normal, r, big_r) = (
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            0.4,
+            1.0,
+        );
+        let a = annulus();
+        let f = Frame::from_z(normal);
+        for (u1, u2) in [(0.2f64, 0.7f64), (0.9, 0.15), (0.5, 0.4)] {
+            let rho = (r * r + u1 * (big_r * big_r - r * r)).sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let want =
+                center.as_dvec3() + (f.s.as_dvec3() * phi.cos() + f.t.as_dvec3() * phi.sin()) * rho;
+            let s = a.sample_area(Vec2::new(u1 as f32, u2 as f32));
+            assert!((s.p.as_dvec3() - want).length() < 1e-6, "{} vs {want}", s.p);
+            assert_eq!(s.n, normal);
+        }
     }
 }

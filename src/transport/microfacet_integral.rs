@@ -126,4 +126,10 @@ mod tests {
         );
         assert!(v.is_nan());
     }
+    #[test]
+    fn only_the_visible_normals_need_the_direction_above() {
+        assert!(MicrofacetIntegral::Visible.needs_wo_above());
+        assert!(!MicrofacetIntegral::Normalisation.needs_wo_above());
+        assert!(!MicrofacetIntegral::ProjectedArea.needs_wo_above());
+    }
 }
