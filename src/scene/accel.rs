@@ -81,6 +81,54 @@ struct Tree {
     slots: Vec<Slot>,
 }
 
+/// What a traversal does after a primitive.
+enum Visit {
+    /// Go on.
+    Go,
+    /// Go on with this new end of the segment (a closer hit).
+    Shorten(f32),
+    /// Stop (a shadow ray's first hit).
+    Stop,
+}
+
+impl Tree {
+    /// Visit, in obvhs's order, every primitive not skipped whose box the ray meets within
+    /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot and the
+    /// current tmax.
+    fn walk(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+        mut visit: impl FnMut(&Slot, f32) -> Visit,
+    ) {
+        let r = BoxRay::new(o, d, tmin);
+        let mut tm = tmax;
+        let mut state = Traversal::default();
+        state.reinit(order_direction(d));
+        let mut node;
+        'outer: {
+            obvhs::traverse!(
+                self,
+                node,
+                state,
+                child_hits(node, &r, tm, state.oct_inv4),
+                {
+                    let s = &self.slots[state.primitive_id as usize];
+                    if !s.skip {
+                        match visit(s, tm) {
+                            Visit::Go => {}
+                            Visit::Shorten(t) => tm = t,
+                            Visit::Stop => break 'outer,
+                        }
+                    }
+                }
+            );
+        }
+    }
+}
+
 /// A ray as the box test reads it.
 struct BoxRay {
     o: [f32; 3],
@@ -192,6 +240,17 @@ fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -
     all
 }
 
+/// The primitives' padded bounds as obvhs's boxes (what its build reads).
+fn obvhs_boxes(prims: &[Primitive]) -> Vec<Aabb> {
+    prims
+        .iter()
+        .map(|p| {
+            let (lo, hi) = p.bounds();
+            Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
+        })
+        .collect()
+}
+
 /// Acceleration structure over primitives.
 pub struct Accel {
     prims: Vec<Primitive>,
@@ -204,13 +263,7 @@ impl Accel {
     /// Build over `prims`.
     pub fn new(prims: Vec<Primitive>) -> Self {
         let tree = (prims.len() > LINEAR_LIMIT).then(|| {
-            let aabbs: Vec<Aabb> = prims
-                .iter()
-                .map(|p| {
-                    let (lo, hi) = p.bounds();
-                    Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
-                })
-                .collect();
+            let aabbs = obvhs_boxes(&prims);
             let mut t = std::time::Duration::default();
             // The build preset matters little here: on the 100k-triangle bench sphere,
             // `slow`, `very_slow` and leaves of 1, 2 or 4 primitives were all within the
@@ -271,27 +324,16 @@ impl Accel {
                 best
             }
             Some(tree) => {
-                let r = BoxRay::new(o, d, tmin);
-                let mut tm = tmax;
                 let mut best: Option<(usize, Hit)> = None;
-                let mut state = Traversal::default();
-                state.reinit(order_direction(d));
-                let mut node;
-                obvhs::traverse!(
-                    tree,
-                    node,
-                    state,
-                    child_hits(node, &r, tm, state.oct_inv4),
-                    {
-                        let s = &tree.slots[state.primitive_id as usize];
-                        if !s.skip
-                            && let Some(h) = s.prim.intersect(o, d, tmin, tm)
-                        {
-                            tm = h.t;
+                tree.walk(o, d, tmin, tmax, |s, tm| {
+                    match s.prim.intersect(o, d, tmin, tm) {
+                        Some(h) => {
                             best = Some((s.index as usize, h));
+                            Visit::Shorten(h.t)
                         }
+                        None => Visit::Go,
                     }
-                );
+                });
                 best
             }
         }
@@ -306,26 +348,15 @@ impl Accel {
                 .zip(&self.skip)
                 .all(|(p, &skip)| skip || p.intersect(o, d, tmin, tmax).is_none()),
             Some(tree) => {
-                let r = BoxRay::new(o, d, tmin);
-                let mut state = Traversal::default();
-                state.reinit(order_direction(d));
-                let mut node;
                 let mut clear = true;
-                'outer: {
-                    obvhs::traverse!(
-                        tree,
-                        node,
-                        state,
-                        child_hits(node, &r, tmax, state.oct_inv4),
-                        {
-                            let s = &tree.slots[state.primitive_id as usize];
-                            if !s.skip && s.prim.intersect(o, d, tmin, tmax).is_some() {
-                                clear = false;
-                                break 'outer;
-                            }
-                        }
-                    );
-                }
+                tree.walk(o, d, tmin, tmax, |s, _| {
+                    if s.prim.intersect(o, d, tmin, tmax).is_some() {
+                        clear = false;
+                        Visit::Stop
+                    } else {
+                        Visit::Go
+                    }
+                });
                 clear
             }
         }
@@ -559,15 +590,8 @@ mod tests {
         // plane from 10⁻⁵ straight above. If a later obvhs finds it, this fails and the
         // workaround can be reconsidered.
         let prims = tiles(Vec3::ZERO, 1.0);
-        let aabbs: Vec<Aabb> = prims
-            .iter()
-            .map(|p| {
-                let (lo, hi) = p.bounds();
-                Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
-            })
-            .collect();
         let bvh = obvhs::cwbvh::builder::build_cwbvh(
-            &aabbs,
+            &obvhs_boxes(&prims),
             obvhs::BvhBuildParams::medium_build(),
             &mut std::time::Duration::default(),
         );
