@@ -533,13 +533,23 @@ fn powered_samples(test: &MeanTest, pilot: &Pilot, reference: f64, two_sided: bo
 }
 
 /// The range [0, w] every energy weight of a model lies in, where its theory promises
-/// one: a rough conductor's weight is F·G2/G1 and a rough dielectric's energy weight
-/// G2/G1 (see their module notes), both ≤ 1 since F ≤ 1 and G2 ≤ G1 (the f32 quotient
-/// of g2 ≤ g1 rounds to at most 1; the allowance γ₁₂₈ covers the Fresnel factor).
+/// one:
+/// - a rough conductor's weight is F·G2/G1 and a rough dielectric's energy weight G2/G1
+///   (see their module notes), both ≤ 1 since F ≤ 1 and G2 ≤ G1 (the f32 quotient of
+///   g2 ≤ g1 rounds to at most 1; the allowance γ₁₂₈ covers the Fresnel factor);
+/// - a plastic's coat sample weighs F/P_s = s = F + (1 − F) a ≤ 1 and its base sample
+///   f_d π/(1 − P_s) = s (1 − F(θi))/(η² (1 − F_dr,int)) ≤ 1/(η² (1 − F_dr,int))
+///   (module notes of `plastic`), F_dr,int from the oracle; 10⁻³ of slack covers the
+///   engine's own F_dr,int and its f32 rounding.
 fn energy_bound(b: &Bsdf) -> Option<f64> {
     match b {
         Bsdf::RoughConductor(_) | Bsdf::RoughDielectric(_) => {
             Some(1.0 + lightproof::stats::exact_relative_tolerance())
+        }
+        Bsdf::Plastic(p) => {
+            let eta = p.eta as f64;
+            let fdr = lightproof_analytic::fresnel::dielectric_average_inside(eta);
+            Some((1.0 / (eta * eta * (1.0 - fdr))).max(1.0) * (1.0 + 1e-3))
         }
         _ => None,
     }
