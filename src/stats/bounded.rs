@@ -33,7 +33,7 @@
 //! passes the smallest and largest sample seen: one sample outside fails the verdict
 //! (the model broke the bound the test relies on).
 
-use crate::stats::{Accumulator, MeanTest, Verdict, VerdictClass, is_exact_at};
+use crate::stats::{Accumulator, MeanTest, Verdict, is_exact_at};
 use statrs::distribution::{ContinuousCDF, Normal};
 
 /// Samples' promised interval and the extremes actually seen.
@@ -185,8 +185,6 @@ impl MeanTest {
         let tau = self.rounding_allowance(reference);
         let excess = if two_sided { diff.abs() } else { diff } - tau;
         let p_value = (sides * (-b.level(excess)).exp()).min(1.0);
-        let z = if s > 0.0 { diff / s } else { 0.0 };
-        let critical = if s > 0.0 { h / s } else { f64::INFINITY };
         let detectable_bias =
             tau + h + Normal::standard().inverse_cdf(crate::stats::hypothesis::POWER) * s;
         let reason = if acc.non_finite > 0 {
@@ -207,21 +205,17 @@ impl MeanTest {
         } else {
             None
         };
+        // The z test's record of the estimate, with the Bernstein statistic in place of
+        // the normal one.
+        let z_test = self.judge_parts(acc.mean, s, reference, None, acc.non_finite, acc.count);
         Verdict {
-            class: VerdictClass::Statistical,
-            estimate: acc.mean,
-            std_error: s,
-            reference,
-            z,
             p_value,
-            alpha,
-            critical,
+            critical: if s > 0.0 { h / s } else { f64::INFINITY },
             detectable_bias,
             detectable_relative_bias: detectable_bias / reference.abs().max(f64::MIN_POSITIVE),
-            dof: None,
-            non_finite: acc.non_finite,
             passed: reason.is_none(),
             reason,
+            ..z_test
         }
     }
 }
@@ -229,11 +223,10 @@ impl MeanTest {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stats::VerdictClass;
 
     fn acc_of(xs: impl IntoIterator<Item = f64>) -> Accumulator {
-        let mut a = Accumulator::new();
-        xs.into_iter().for_each(|x| a.push(x));
-        a
+        xs.into_iter().collect()
     }
 
     /// [0, 1], every sample inside.
@@ -282,6 +275,9 @@ mod tests {
             v.detectable_bias
         );
         assert_eq!(v.p_value, 1.0);
+        assert!(v.passed && v.class == VerdictClass::Statistical && v.dof.is_none());
+        assert!((v.z - 0.0).abs() < 1e-12 && (v.std_error - acc.std_error()).abs() < 1e-15);
+        assert!((outside.z - (acc.mean - outside.reference) / acc.std_error()).abs() < 1e-9);
         assert!(
             (t.bounded_detectable_bias(20_000, acc.variance(), 1.0, acc.mean, true) - det).abs()
                 < 1e-9,

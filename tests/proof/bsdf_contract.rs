@@ -5,7 +5,11 @@
 //!
 //! Statistical tests form two Šidák families at family-wise α = 1e-4: the chi-square
 //! tests ([`CHI2_SUITE`]) and the mean tests on albedos ([`ALBEDO_SUITE`]). Every
-//! albedo verdict must have a detectable relative bias ≤ 1% (at 99% power).
+//! albedo verdict must have a detectable relative bias ≤ 1% (at 99% power). Albedo runs
+//! are sized from a pilot: the z test needs the samples its power and its CLT guard
+//! (skewness) ask for; for models whose energy weights lie in a range their theory
+//! promises ([`energy_bound`]), the empirical Bernstein test
+//! ([`lightproof::stats::bounded`]) needs no CLT guard and is used when it needs fewer.
 //! Deterministic checks (consistency, reciprocity, microfacet quadrature) use the
 //! tolerances documented in `lightproof::bsdf::contract`.
 //!
