@@ -6,7 +6,7 @@
 //! | sampling distribution | [`chi2_bsdf`], [`chi2_bsdf_cap`] (near-delta lobes) | `sample` not drawing from `pdf` (shape and normalisation) |
 //! | consistency | [`check_consistency`] | a weight ≠ eval·\|cos\|/pdf, a returned pdf ≠ `pdf(wo, wi)`, wrong lobe flags: a wrong `eval` with a right `pdf`, which chi-square cannot see |
 //! | reciprocity | [`check_reciprocity`] | f(ωi→ωo)/η_o² ≠ f(ωo→ωi)/η_i² |
-//! | energy | [`albedo`] + [`judge_at_most`] / [`judge_equal`] | albedo > 1, or ≠ the reflectance a model promises |
+//! | energy | [`albedo`] + [`judge_at_most`] / [`judge_equal`] (or, for weights in a promised range, [`judge_at_most_within`] / [`judge_equal_within`]) | albedo > 1, or ≠ the reflectance a model promises |
 //! | microfacet identities | [`microfacet_integrals`], [`chi2_microfacet`] | D not normalised, G1 inconsistent with D, visible-normal sampler wrong |
 //!
 //! **Delta lobes** are excluded from the chi-square histogram (a Dirac lobe has no
@@ -31,7 +31,7 @@ use crate::math::Frame;
 use crate::sampling::Sampler;
 use crate::sampling::sphere::uniform_sphere;
 use crate::stats::chi2::{Chi2Outcome, Chi2Test, Domain};
-use crate::stats::{Accumulator, MeanTest, Verdict};
+use crate::stats::{Accumulator, MeanTest, Range, Verdict};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -442,7 +442,7 @@ pub fn check_reciprocity(
 // ---------------------------------------------------------------------------------
 
 /// Monte Carlo estimates of a model's directional albedo at ωo.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct Albedo {
     /// Radiance weights f|cos θi|/pdf (0 for a failed draw): ∫ f(ωi→ωo)|cos θi| dωi.
     pub radiance: Accumulator,
@@ -453,6 +453,21 @@ pub struct Albedo {
     pub reflected: Accumulator,
     /// Indicator of a reflected sample (its mean is the reflection probability).
     pub reflect_fraction: Accumulator,
+    /// The smallest and largest finite energy weight drawn (+∞ and −∞ before any), for
+    /// a test that relies on the range a model promises ([`judge_equal_within`]).
+    pub energy_extremes: (f64, f64),
+}
+
+impl Default for Albedo {
+    fn default() -> Self {
+        Albedo {
+            radiance: Accumulator::default(),
+            energy: Accumulator::default(),
+            reflected: Accumulator::default(),
+            reflect_fraction: Accumulator::default(),
+            energy_extremes: (f64::INFINITY, f64::NEG_INFINITY),
+        }
+    }
 }
 
 /// Estimate [`Albedo`] from `samples` draws.
@@ -473,6 +488,9 @@ pub fn albedo(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> Albed
                 };
                 a.radiance.push(w);
                 a.energy.push(e);
+                if e.is_finite() {
+                    a.energy_extremes = (a.energy_extremes.0.min(e), a.energy_extremes.1.max(e));
+                }
                 a.reflected.push(if refl { e } else { 0.0 });
                 a.reflect_fraction.push(if refl { 1.0 } else { 0.0 });
             }
@@ -485,6 +503,10 @@ pub fn albedo(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> Albed
         t.energy.merge(&a.energy);
         t.reflected.merge(&a.reflected);
         t.reflect_fraction.merge(&a.reflect_fraction);
+        t.energy_extremes = (
+            t.energy_extremes.0.min(a.energy_extremes.0),
+            t.energy_extremes.1.max(a.energy_extremes.1),
+        );
         t
     })
 }
@@ -501,6 +523,32 @@ pub fn judge_at_most(test: &MeanTest, acc: &Accumulator, bound: f64) -> Verdict 
 /// exact comparison for a zero-variance estimate.
 pub fn judge_equal(test: &MeanTest, acc: &Accumulator, reference: f64) -> Verdict {
     test.with_term_scale(1.0).judge(acc, reference)
+}
+
+/// The energy weights' range [0, `bound`] a model promises, with the extremes drawn.
+fn energy_range(a: &Albedo, bound: f64) -> Range {
+    Range {
+        lo: 0.0,
+        hi: bound,
+        min: a.energy_extremes.0,
+        max: a.energy_extremes.1,
+    }
+}
+
+/// [`judge_equal`] for a model whose every energy weight lies in [0, `bound`] (a
+/// microfacet model's G2/G1 ≤ 1): the empirical Bernstein test
+/// ([`crate::stats::bounded`]), valid at any sample count however skewed the weights;
+/// a weight outside the range fails it.
+pub fn judge_equal_within(test: &MeanTest, a: &Albedo, bound: f64, reference: f64) -> Verdict {
+    test.with_term_scale(1.0)
+        .judge_bounded(&a.energy, energy_range(a, bound), reference)
+}
+
+/// [`judge_at_most`] for a model whose every energy weight lies in [0, `bound`]: the
+/// one-sided empirical Bernstein test; a weight above `bound` fails it.
+pub fn judge_at_most_within(test: &MeanTest, a: &Albedo, bound: f64, limit: f64) -> Verdict {
+    test.with_term_scale(1.0)
+        .judge_bounded_at_most(&a.energy, energy_range(a, bound), limit)
 }
 
 // ---------------------------------------------------------------------------------

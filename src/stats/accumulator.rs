@@ -85,6 +85,15 @@ impl Accumulator {
     }
 }
 
+impl FromIterator<f64> for Accumulator {
+    /// The accumulator of a stream of samples, pushed in order.
+    fn from_iter<I: IntoIterator<Item = f64>>(xs: I) -> Self {
+        let mut a = Accumulator::new();
+        xs.into_iter().for_each(|x| a.push(x));
+        a
+    }
+}
+
 /// Batch means: the run's samples are cut into equal consecutive batches and the
 /// standard error is estimated from the spread of the batch means (Law & Kelton,
 /// "Simulation Modeling and Analysis", §9.5.3). Robust when single samples are heavy

@@ -6,17 +6,21 @@
 //! - [`hypothesis`]: the one-sample test of an estimate against a reference: z (or t
 //!   for batch means), two-sided p, the verdict at a Šidák-corrected level, and the
 //!   smallest relative bias the test detects with 99% power.
+//! - [`bounded`]: the empirical Bernstein test for samples in a known range (no
+//!   central limit theorem needed: rare-loss weights at any sample count).
 //! - [`slope`]: least-squares slope of log–log data (convergence rates).
 //! - [`cost`]: the cost line t = t₀ + c·N of a sweep (robust, relative least squares).
 //! - [`chi2`]: chi-square goodness of fit of a sampler against its density.
 
 pub mod accumulator;
+pub mod bounded;
 pub mod chi2;
 pub mod cost;
 pub mod hypothesis;
 pub mod slope;
 
 pub use accumulator::{Accumulator, BatchMeans};
+pub use bounded::Range;
 pub use cost::{CostFit, fit_cost};
 pub use hypothesis::{
     MeanTest, Verdict, VerdictClass, exact_relative_tolerance, is_exact, is_exact_at, sidak_alpha,
