@@ -255,4 +255,27 @@ mod tests {
         let omega = 4.0 * (0.25f64 / 1.5f64.sqrt()).atan();
         assert!((r.pdf() as f64 * omega - 1.0).abs() < 1e-6, "{}", r.pdf());
     }
+
+    /// The inverse CDF in x for a viewer 1e-4 from the plane and 1e-4 inside the edge
+    /// y0, with the rectangle at x ∈ [1, 2]: there fu² − s0² cancels and the sampler
+    /// takes the (cos au − c₊)(cos au − c₋)/sin²au form, at sin²au ≈ 1/2 (so the form's
+    /// division is seen: nearer the edge's line sin²au → 1). The strip [x0, xu] of a
+    /// point drawn at u must subtend the fraction u of the rectangle's solid angle.
+    #[test]
+    fn strip_fractions_beside_an_edge_near_the_plane() {
+        let (o, s) = (Vec3::ZERO, Vec3::new(1.0, -1e-4, -1e-4));
+        let r = SphericalRectangle::new(o, s, Vec3::X, Vec3::Y).unwrap();
+        for i in 1..20 {
+            let u = i as f32 / 20.0;
+            let xu = r.sample_point_f64(Vec2::new(u, 0.5)).x;
+            let strip =
+                SphericalRectangle::new(o, s, Vec3::new((xu - 1.0) as f32, 0.0, 0.0), Vec3::Y)
+                    .map_or(0.0, |q| q.solid_angle as f64);
+            let fraction = strip / r.solid_angle;
+            assert!(
+                (fraction - u as f64).abs() < 1e-4,
+                "u = {u}: fraction {fraction}"
+            );
+        }
+    }
 }
