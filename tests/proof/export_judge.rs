@@ -245,7 +245,7 @@ fn bad_renders_are_named() {
     let case = catalog("furnace/closed_sphere_0_5.json");
     let write = |name: &str, w: usize, h: usize, v: f32| {
         let p = d.join(name);
-        lightproof::render::write_exr(&p, w, h, &vec![v; w * h]).unwrap();
+        lightproof::render::write_exr(&p, w, h, &vec![[v; 3]; w * h]).unwrap();
         p
     };
     let a = write("a.exr", 4, 4, 2.0);
@@ -264,8 +264,8 @@ fn bad_renders_are_named() {
     .write()
     .to_file(&y_only)
     .unwrap();
-    let mut nan = vec![2.0f32; 16];
-    nan[5] = f32::NAN;
+    let mut nan = vec![[2.0f32; 3]; 16];
+    nan[5] = [f32::NAN; 3];
     let nan_file = d.join("nan.exr");
     lightproof::render::write_exr(&nan_file, 4, 4, &nan).unwrap();
     let run = |renders: &[&PathBuf]| {
