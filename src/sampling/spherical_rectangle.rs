@@ -270,7 +270,7 @@ mod tests {
             let xu = r.sample_point_f64(Vec2::new(u, 0.5)).x;
             let strip =
                 SphericalRectangle::new(o, s, Vec3::new((xu - 1.0) as f32, 0.0, 0.0), Vec3::Y)
-                    .map_or(0.0, |q| q.solid_angle as f64);
+                    .map_or(0.0, |q| q.solid_angle);
             let fraction = strip / r.solid_angle;
             assert!(
                 (fraction - u as f64).abs() < 1e-4,
