@@ -207,6 +207,34 @@ mod tests {
         assert!((fr_conductor(1.0, 1.5, 0.0) - 0.04).abs() < 1e-6);
     }
 
+    /// Both sides of the interface against the Fresnel equations in their angle form
+    /// (Hecht, Optics, eqs. 4.42–4.43): R_s = sin²(θi − θt)/sin²(θi + θt),
+    /// R_p = tan²(θi − θt)/tan²(θi + θt), θt from Snell's law sin θt = sin θi/η, with 1/η
+    /// for a direction inside; total internal reflection gives R = 1, T = 0.
+    #[test]
+    fn dielectric_matches_the_angle_form_on_both_sides() {
+        for c in [-0.95, -0.6, -0.3, -0.05, 0.05, 0.3, 0.6, 0.95] {
+            for eta in [1.0001f64, 1.33, 1.5, 2.4, 0.7] {
+                let rel = if c < 0.0 { 1.0 / eta } else { eta };
+                let ti = (c as f64).abs().acos();
+                let st = ti.sin() / rel;
+                let (r, t) = if st >= 1.0 {
+                    (1.0, 0.0)
+                } else {
+                    let tt = st.asin();
+                    let rs = ((ti - tt).sin() / (ti + tt).sin()).powi(2);
+                    let rp = ((ti - tt).tan() / (ti + tt).tan()).powi(2);
+                    let r = 0.5 * (rs + rp);
+                    (r, 1.0 - r)
+                };
+                let (fr, tr) = (fr_dielectric(c, eta as f32), tr_dielectric(c, eta as f32));
+                assert!((fr as f64 - r).abs() < 2e-6, "R({c}, {eta}) = {fr}, not {r}");
+                assert!((tr as f64 - t).abs() < 2e-6, "T({c}, {eta}) = {tr}, not {t}");
+                assert!((fr_dielectric_f64(c as f64, eta) - r).abs() < 1e-12, "{c} {eta}");
+            }
+        }
+    }
+
     #[test]
     fn diffuse_reflectance_etendue_identity() {
         for eta in [1.0001, 1.33, 1.5, 2.4] {
