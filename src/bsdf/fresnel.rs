@@ -228,9 +228,18 @@ mod tests {
                     (r, 1.0 - r)
                 };
                 let (fr, tr) = (fr_dielectric(c, eta as f32), tr_dielectric(c, eta as f32));
-                assert!((fr as f64 - r).abs() < 2e-6, "R({c}, {eta}) = {fr}, not {r}");
-                assert!((tr as f64 - t).abs() < 2e-6, "T({c}, {eta}) = {tr}, not {t}");
-                assert!((fr_dielectric_f64(c as f64, eta) - r).abs() < 1e-12, "{c} {eta}");
+                assert!(
+                    (fr as f64 - r).abs() < 2e-6,
+                    "R({c}, {eta}) = {fr}, not {r}"
+                );
+                assert!(
+                    (tr as f64 - t).abs() < 2e-6,
+                    "T({c}, {eta}) = {tr}, not {t}"
+                );
+                assert!(
+                    (fr_dielectric_f64(c as f64, eta) - r).abs() < 1e-12,
+                    "{c} {eta}"
+                );
             }
         }
     }
