@@ -69,16 +69,21 @@ pub fn sample(
             integral.integrand(mf, wo, m) * TWO_PI
         }
         Sampling::Geometric(Geometric::Cosine) => {
-            let m = cosine_hemisphere(s.next_2d());
-            if !(m.z > 0.0) {
-                // Density zero: a normal on the horizon is never drawn with weight.
-                return 0.0;
-            }
-            // Not clamped: a non-finite value is counted and fails the verdict.
-            integral.integrand(mf, wo, m) * PI / m.z
+            cosine_weighted(mf, wo, integral, cosine_hemisphere(s.next_2d()))
         }
         Sampling::Geometric(Geometric::Area) | Sampling::Transport(_) => f32::NAN,
     }
+}
+
+/// The integrand over the cosine density cos θm/π at a normal `m` drawn from it. Cosine
+/// sampling puts a normal exactly on the horizon (m.z = 0, density zero) when the disk
+/// point rounds onto the unit circle: such a draw carries no weight.
+fn cosine_weighted(mf: &Microfacet, wo: Vec3, integral: MicrofacetIntegral, m: Vec3) -> f32 {
+    if !(m.z > 0.0) {
+        return 0.0;
+    }
+    // Not clamped: a non-finite value is counted and fails the verdict.
+    integral.integrand(mf, wo, m) * PI / m.z
 }
 
 #[cfg(test)]
@@ -86,6 +91,27 @@ mod tests {
     use super::*;
     use crate::bsdf::microfacet::{Distribution, Masking};
     use crate::sampling::Sampler;
+
+    /// A cosine draw on the horizon (density zero) weighs nothing, for every integral,
+    /// where dividing by its cos θm = 0 would give a non-finite sample.
+    #[test]
+    fn a_cosine_draw_on_the_horizon_weighs_nothing() {
+        let mf = Microfacet::new(Distribution::Ggx, 0.5, Masking::HeightCorrelated);
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        for integral in [
+            MicrofacetIntegral::Normalisation,
+            MicrofacetIntegral::ProjectedArea,
+            MicrofacetIntegral::Visible,
+        ] {
+            for m in [Vec3::X, Vec3::new(0.6, 0.8, 0.0), Vec3::new(0.0, 1.0, -0.0)] {
+                assert_eq!(cosine_weighted(&mf, wo, integral, m), 0.0, "{integral:?} at {m}");
+            }
+            // Just above the horizon the sample is the integrand over cos θm/π.
+            let m = Vec3::new(1.0, 0.0, 1e-3).normalize();
+            let w = cosine_weighted(&mf, wo, integral, m);
+            assert!(w.is_finite() && w >= 0.0, "{integral:?}: {w}");
+        }
+    }
 
     /// The three integrals by both estimators, with a lax 6σ check (the statistical
     /// verdicts live in the catalog cases).
