@@ -113,4 +113,17 @@ mod tests {
         assert!((wide.pdf(at(110.0)) - 1.0 / (3.0 * pi)).abs() < 1e-6);
         assert!(wide.contains(at(119.0)) && !wide.contains(at(121.0)));
     }
+
+    /// A cone 10⁻⁴ rad wide: 1 − cos θ is 5·10⁻⁹ at its rim, below the f32 spacing of
+    /// cos θ near 1 (6·10⁻⁸), so `contains` must not compute 1 − cos θ by subtraction
+    /// (then every direction within 3.5·10⁻⁴ rad of the axis would count as inside).
+    #[test]
+    fn a_tiny_cone_contains_only_its_own_directions() {
+        let c = Cone::from_half_angle(1e-4);
+        let at = |t: f32| Vec3::new(t.sin() * 0.6, t.sin() * 0.8, t.cos());
+        assert!(c.contains(Vec3::Z) && c.contains(at(0.9e-4)));
+        for t in [1.1e-4, 2e-4, 3e-4] {
+            assert!(!c.contains(at(t)), "θ = {t} rad counted inside");
+        }
+    }
 }

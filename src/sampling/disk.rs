@@ -88,6 +88,16 @@ mod tests {
             assert_eq!(concentric_disk_pdf(p), INV_PI);
         }
         assert_eq!(concentric_disk(Vec2::splat(0.5)), Vec2::ZERO);
+        // On the axes (one of o's components zero, not both) the point is not the centre:
+        // u = (0.5, 0.75) gives o = (0, 0.5), r = 0.5, θ = π/2; u = (0.25, 0.5) gives
+        // o = (−0.5, 0), r = −0.5, θ = 0.
+        for (u, want) in [
+            (Vec2::new(0.5, 0.75), polar(0.5, pi / 2.0)),
+            (Vec2::new(0.25, 0.5), polar(-0.5, 0.0)),
+        ] {
+            let p = concentric_disk(u);
+            assert!((p - want).abs().max_element() < 1e-6, "{u}: {p} vs {want}");
+        }
         assert_eq!(invert_concentric_disk(Vec2::ZERO), Vec2::splat(0.5));
         assert_eq!(concentric_disk_pdf(Vec2::new(0.8, 0.7)), 0.0);
         assert_eq!(concentric_disk_pdf(Vec2::new(1.0, 0.0)), INV_PI);
