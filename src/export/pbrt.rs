@@ -163,7 +163,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
     );
     let _ = writeln!(
         x,
-        r#"Film "rgb" "integer xresolution" [ {w} ] "integer yresolution" [ {h} ] "string filename" [ "render.exr" ]"#
+        r#"Film "rgb" "integer xresolution" [ {w} ] "integer yresolution" [ {h} ] "string filename" [ "render.exr" ] "bool savefp16" false"#
     );
     x.push_str("WorldBegin\n");
     for (i, e) in scene.emitters.iter().enumerate() {
@@ -310,4 +310,29 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             ],
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene_of(json: &str) -> String {
+        let desc: CaseDesc = serde_json::from_str(json).unwrap();
+        let probe = super::super::probe(&desc).unwrap();
+        let w = write(&desc, &probe).unwrap();
+        let (_, bytes) = w.files.iter().find(|(n, _)| n == "scene.pbrt").unwrap();
+        String::from_utf8(bytes.clone()).unwrap()
+    }
+
+    /// pbrt-v4's `rgb` film writes half floats unless told otherwise: a render of an
+    /// exact value (a mirror under a constant sky) would be off by up to 2⁻¹² relative.
+    #[test]
+    fn film_writes_full_floats() {
+        let x = scene_of(
+            r#"{"name":"n","teaches":"t","scene":{"emitters":[{"type":"constant","radiance":0.7}]},
+              "measure":{"radiance":{"at":[0,0,0],"direction":[0,0,1]}},"estimators":["bsdf"]}"#,
+        );
+        let film = x.lines().find(|l| l.starts_with("Film")).unwrap();
+        assert!(film.contains(r#""bool savefp16" false"#), "{film}");
+    }
 }
