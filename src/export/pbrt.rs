@@ -11,7 +11,7 @@
 //! | `lambertian` ρ | `diffuse` reflectance ρ (pbrt's BSDFs are two-sided) |
 //! | `conductor` η, k | `conductor` constant spectra eta, k, roughness 0 |
 //! | `dielectric` η | `dielectric` eta η, roughness 0 |
-//! | `rough_conductor` / `rough_dielectric` α, GGX, height-correlated | roughness α with `remaproughness` false (pbrt's Trowbridge–Reitz G is 1/(1 + Λ(ωo) + Λ(ωi))) |
+//! | `rough_conductor` / `rough_dielectric` α, GGX, height-correlated | roughness α with `remaproughness` false (pbrt's Trowbridge–Reitz G is 1/(1 + Λ(ωo) + Λ(ωi))); F ≡ 1 as η = 1, k = 10⁶ |
 //! | one- or two-sided `emission` L | `AreaLightSource "diffuse"` rgb L, `twosided` |
 //! | sphere (cap) / disk (annulus) | `sphere` (zmin = r cos θmax about `axis`) / `disk` (innerradius) |
 //! | rectangle / triangle / mesh | `plymesh` (ASCII PLY) |
@@ -22,7 +22,7 @@
 //! 1 nit per unit, and its `rgb` film maps that back, so a grey (L, L, L) renders as L
 //! (stated by pbrt-v4's design; to be confirmed with a pbrt build). Refused: irradiance,
 //! Beckmann and uncorrelated masking (pbrt-v4 has Trowbridge–Reitz, height-correlated,
-//! only), F ≡ 1 conductors, Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
+//! only), Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
 //! stochastic layered model, not the closed form), environment maps.
 
 use super::{
@@ -37,6 +37,13 @@ use std::fmt::Write;
 
 /// The driver written beside a pbrt suite.
 pub const DRIVER: &str = include_str!("render_all_pbrt.sh");
+
+/// The extinction coefficient k of a conductor with η = 1 that stands for F ≡ 1, which
+/// pbrt-v4's conductor has no mode for. With η̃ = 1 + ik the Fresnel equations (Born &
+/// Wolf §14.2) give 1 − |r_s|² = 4 cos θ/((1 + cos θ)² + k²) + O(k⁻³) and
+/// 1 − |r_p|² ≈ 4/(k² cos θ) for k cos θ ≫ 1, so 1 − F ≤ 4/(k² cos θ) = 4·10⁻¹²/cos θ:
+/// below f32 resolution wherever cos θ > 10⁻⁴.
+const WHITE_CONDUCTOR_K: f64 = 1e6;
 
 /// "unbounded" depth for pbrt's integer `maxdepth`.
 const UNBOUNDED_DEPTH: u32 = 65536;
@@ -103,19 +110,16 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         ),
         Bsdf::RoughConductor(r) => {
             micro(r.distribution, r.masking, "rough_conductor")?;
-            match r.fresnel {
-                FresnelMode::None => {
-                    return Err(Refusal(
-                        "rough_conductor with F ≡ 1: pbrt-v4's conductor has no such mode".into(),
-                    ));
-                }
-                FresnelMode::Conductor => format!(
-                    r#"Material "conductor" "spectrum eta" {} "spectrum k" {} "float roughness" [ {} ] "bool remaproughness" false"#,
-                    constant_spectrum(r.eta.unwrap_or(1.0) as f64),
-                    constant_spectrum(r.k.unwrap_or(0.0) as f64),
-                    num(r.alpha as f64)
-                ),
-            }
+            let (eta, k) = match r.fresnel {
+                FresnelMode::None => (1.0, WHITE_CONDUCTOR_K),
+                FresnelMode::Conductor => (r.eta.unwrap_or(1.0) as f64, r.k.unwrap_or(0.0) as f64),
+            };
+            format!(
+                r#"Material "conductor" "spectrum eta" {} "spectrum k" {} "float roughness" [ {} ] "bool remaproughness" false"#,
+                constant_spectrum(eta),
+                constant_spectrum(k),
+                num(r.alpha as f64)
+            )
         }
         Bsdf::RoughDielectric(r) => {
             micro(r.distribution, r.masking, "rough_dielectric")?;
@@ -334,5 +338,21 @@ mod tests {
         );
         let film = x.lines().find(|l| l.starts_with("Film")).unwrap();
         assert!(film.contains(r#""bool savefp16" false"#), "{film}");
+    }
+    /// F ≡ 1 (pbrt-v4 has no such conductor) is exported as η = 1, k = 10⁶, the GGX α
+    /// as pbrt's roughness itself (no remapping).
+    #[test]
+    fn white_rough_conductor_is_a_huge_k_conductor() {
+        let x = scene_of(
+            r#"{"name":"n","teaches":"t","measure":{"albedo":{"bsdf":{"type":"rough_conductor",
+              "alpha":0.5,"fresnel":"none"},"theta_degrees":60}},"estimators":["bsdf"]}"#,
+        );
+        let m = x.lines().find(|l| l.contains("Material")).unwrap();
+        assert!(
+            m.contains(
+                r#""spectrum eta" [ 300 1 900 1 ] "spectrum k" [ 300 1000000 900 1000000 ]"#
+            ) && m.contains(r#""float roughness" [ 0.5 ] "bool remaproughness" false"#),
+            "{m}"
+        );
     }
 }
