@@ -403,3 +403,60 @@ fn mitsuba_sphere_furnace_bias_is_detected() {
     let _ = std::fs::remove_dir_all(cases);
     let _ = std::fs::remove_dir_all(out_dir);
 }
+
+/// Opt-in: with `LIGHTPROOF_PBRT` naming a pbrt-v4 binary, pbrt renders the catalog's
+/// glass-sphere limb case (`transport/radiance_invariance_sphere_far`: the eye at the
+/// centre of a glass sphere, η = 1.33, looking at 0.99 of a distant sphere light's
+/// angular radius) twice: as exported (the eye ray leaves the glass sphere 0.00099 rad
+/// from its pole) and with the glass sphere's axis turned to +x (the ray leaves at its
+/// equator). pbrt-v4 computes a sphere's normal from sin θ = √(1 − cos²θ) in f32, off
+/// by ~10⁻⁵ rad near the poles: the refracted rays miss the light's limb, so the first
+/// must fail low and the second must pass (16 renders × 65 536 paths each).
+#[test]
+fn pbrt_sphere_pole_normal_bias_is_detected() {
+    let Ok(pbrt) = std::env::var("LIGHTPROOF_PBRT") else {
+        eprintln!("skipped: set LIGHTPROOF_PBRT=path/to/pbrt (pbrt-v4) to run");
+        return;
+    };
+    let cases = scratch("pbrt-cases");
+    let limb =
+        std::fs::read_to_string(catalog("transport/radiance_invariance_sphere_far.json")).unwrap();
+    let mut equator: Value = serde_json::from_str(&limb).unwrap();
+    // The whole sphere (a "cap" of 180°) about +x.
+    equator["scene"]["shapes"][0]["geometry"]["axis"] = serde_json::json!([1, 0, 0]);
+    equator["scene"]["shapes"][0]["geometry"]["theta_max"] = serde_json::json!(180);
+    std::fs::write(cases.join("pole.json"), &limb).unwrap();
+    std::fs::write(cases.join("equator.json"), equator.to_string()).unwrap();
+    let out_dir = scratch("pbrt-suite");
+    let o = bin()
+        .args(["export", "--all", "--to", "pbrt", "--out"])
+        .arg(&out_dir)
+        .arg(&cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o = Command::new("sh")
+        .arg(out_dir.join("render_all.sh"))
+        .env("PBRT", pbrt)
+        .env("RENDERS", "16")
+        .env("SAMPLES", (65536 * common_scale()).to_string())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let (o, doc) = judge_suite_json(&out_dir);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let js = doc["judgements"].as_array().unwrap();
+    let find = |id: &str| js.iter().find(|j| j["id"] == id).unwrap().clone();
+    let (pole, equator) = (find("pole"), find("equator"));
+    for j in [&pole, &equator] {
+        eprintln!(
+            "{}: {} ± {} (reference {}), z = {}, passed {}",
+            j["id"], j["estimate"], j["std_error"], j["reference"], j["z"], j["verdict"]["passed"]
+        );
+    }
+    assert_eq!(pole["verdict"]["passed"], false, "{pole}");
+    assert!(pole["z"].as_f64().unwrap() < 0.0, "{pole}");
+    assert_eq!(equator["verdict"]["passed"], true, "{equator}");
+    let _ = std::fs::remove_dir_all(cases);
+    let _ = std::fs::remove_dir_all(out_dir);
+}
