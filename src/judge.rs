@@ -3,9 +3,9 @@
 //! Šidák-corrected level, detectable bias at 99% power, exact class when there is no
 //! variance).
 //!
-//! **Value of a pixel**: the mean of its R, G and B (exported cases are grey), times the
-//! export's `scale` = the reference's expected value per pixel (1 for every current
-//! export).
+//! **Value of a pixel**: the mean of its R, G and B (exported cases are grey); its
+//! expected value is the reference times the export's `scale` (1, except for a flux or a
+//! view factor, measured as the receiver's mean irradiance: 1/A₂ or π L₁ A₁/A₂).
 //!
 //! **Standard error.** The pixels of one render share the renderer's sampler (its seed,
 //! its sample sequence), so they are not trusted as independent samples:
@@ -333,7 +333,10 @@ impl Judgement {
     }
 }
 
-/// Judge renders of one case file (a family of one test at `alpha`).
+/// Judge renders of one case file (a family of one test at `alpha`). When the case is
+/// the `case.json` of an export folder (its `export.json` names it), the export's scale
+/// and render size apply; a case whose pixels are not the reference itself (a flux,
+/// judged as the receiver's mean irradiance) must be judged that way.
 pub fn judge_case(
     case_file: &Path,
     renders: &[PathBuf],
@@ -341,16 +344,43 @@ pub fn judge_case(
     alpha: f64,
 ) -> Result<Judgement, Error> {
     let case = Case::load(case_file)?;
-    let sample = sample(renders, None)?;
+    let manifest = export_manifest(case_file)?;
+    let (scale, size) = match &manifest {
+        Some(m) => (m.scale, Some((m.width, m.height))),
+        None => {
+            if let crate::case::MeasureDesc::Flux { .. } = case.desc.measure {
+                return Err(InputError::new(
+                    case_file.display().to_string(),
+                    "measure.flux",
+                    "a renderer measures a flux as the receiver's mean irradiance: judge the `case.json` of its export folder (its export.json gives the scale), or `judge --suite`",
+                )
+                .into());
+            }
+            (1.0, None)
+        }
+    };
+    let sample = sample(renders, size)?;
     let mut j = Judgement::new(
         &case,
         case_file.display().to_string(),
         renderer.to_string(),
         sample,
-        1.0,
+        scale,
     );
     j.judge(alpha, 1);
     Ok(j)
+}
+
+/// The manifest of the export folder holding `case_file`, if its `export.json` names it.
+fn export_manifest(case_file: &Path) -> Result<Option<Manifest>, InputError> {
+    let dir = case_file.parent().unwrap_or(Path::new("."));
+    let path = dir.join("export.json");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let m: Manifest = read_json(&path)?;
+    let own = case_file.file_name().is_some_and(|n| *n == *m.case);
+    Ok(own.then_some(m))
 }
 
 /// A judged suite: every rendered case, judged as one Šidák family, and the cases that

@@ -12,7 +12,11 @@ Then:
 
     lightproof judge --suite THIS_FOLDER
 
-Usage: python3 render_all.py [--variant scalar_rgb] [--renders 16] [--samples 65536] [--only SUBSTRING]
+Usage: python3 render_all.py [--variant scalar_rgb] [--renders 16] [--samples 65536] [--only SUBSTRING] [--threads N]
+
+Variants: any Mitsuba variant whose colours are RGB (scalar_rgb, llvm_ad_rgb, cuda_ad_rgb).
+The llvm_* variants need a libLLVM >= 16; if Dr.Jit does not find it, point
+DRJIT_LIBLLVM_PATH at it (e.g. /usr/lib/x86_64-linux-gnu/libLLVM-19.so).
 """
 import argparse
 import json
@@ -27,11 +31,15 @@ def main():
     p.add_argument("--samples", type=int, default=65536, help="paths per render (spp = samples / pixels)")
     p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel of one Mitsuba pass (float32 film sums)")
     p.add_argument("--only", default=None, help="render only case ids containing this text")
+    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all cores)")
     args = p.parse_args()
     if args.renders < 2:
         sys.exit("--renders must be at least 2: the judge estimates the error from independent renders")
     import mitsuba as mi
     mi.set_variant(args.variant)
+    if args.threads:
+        import drjit as dr
+        dr.set_thread_count(args.threads)
     root = os.path.dirname(os.path.abspath(__file__))
     with open(os.path.join(root, "suite.json")) as f:
         suite = json.load(f)
