@@ -5,7 +5,9 @@
 //!
 //! **Value of a pixel**: the mean of its R, G and B (exported cases are grey); its
 //! expected value is the reference times the export's `scale` (1, except for a flux or a
-//! view factor, measured as the receiver's mean irradiance: 1/A₂ or π L₁ A₁/A₂).
+//! view factor, measured as the receiver's mean irradiance: 1/A₂ or π L₁ A₁/A₂). Each
+//! replicate is divided by the scale, so estimates are in the case's own units (those of
+//! `estimate`: Φ, or F for a view factor).
 //!
 //! **Standard error.** The pixels of one render share the renderer's sampler (its seed,
 //! its sample sequence), so they are not trusted as independent samples:
@@ -123,7 +125,7 @@ pub struct Sample {
     pub size: [usize; 2],
     /// How replicates were formed.
     pub method: Method,
-    /// Replicate means.
+    /// Replicate means (divided by the export's scale once judged: the case's units).
     pub replicates: Vec<f64>,
     /// Non-finite pixels over all renders.
     pub non_finite: u64,
@@ -231,7 +233,7 @@ pub struct Judgement {
     /// Degrees of freedom of the t test.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dof: Option<u64>,
-    /// Expected value of a pixel (the reference × the export's scale).
+    /// The case's reference (the estimate's units).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
     /// z score.
@@ -243,11 +245,12 @@ pub struct Judgement {
 }
 
 impl Judgement {
-    /// Build from a sample (unjudged).
-    fn new(case: &Case, id: String, renderer: String, sample: Sample, scale: f64) -> Self {
+    /// Build from a sample (unjudged), its replicates divided by the export's `scale`.
+    fn new(case: &Case, id: String, renderer: String, mut sample: Sample, scale: f64) -> Self {
         let mut acc = Accumulator::new();
-        for &x in &sample.replicates {
-            acc.push(x);
+        for x in &mut sample.replicates {
+            *x /= scale;
+            acc.push(*x);
         }
         let bar = if is_exact(&acc) {
             ErrorBar {
@@ -267,7 +270,7 @@ impl Judgement {
             estimate: acc.mean,
             std_error: bar.std_error,
             dof: bar.dof,
-            reference: case.reference.map(|r| r * scale),
+            reference: case.reference,
             z: None,
             verdict: None,
             sample,

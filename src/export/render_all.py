@@ -37,8 +37,8 @@ def main():
         sys.exit("--renders must be at least 2: the judge estimates the error from independent renders")
     import mitsuba as mi
     mi.set_variant(args.variant)
+    import drjit as dr
     if args.threads:
-        import drjit as dr
         dr.set_thread_count(args.threads)
     root = os.path.dirname(os.path.abspath(__file__))
     with open(os.path.join(root, "suite.json")) as f:
@@ -69,7 +69,13 @@ def main():
                 total = vals if total is None else [a + b for a, b in zip(total, vals)]
             mean = mi.TensorXf([v / passes for v in total], shape)
             tmp = os.path.join(out, ".%03d.tmp.exr" % k)
+            # Mitsuba 3.9.1 (Dr.Jit 1.5) deadlocks writing an EXR when its pool has one
+            # thread (reports/mitsuba/exr_write_one_thread.py): write with two.
+            if args.threads == 1:
+                dr.set_thread_count(2)
             mi.util.write_bitmap(tmp, mean, write_async=False)
+            if args.threads == 1:
+                dr.set_thread_count(1)
             os.replace(tmp, os.path.join(out, "%03d.exr" % k))
         info = {"renderer": "mitsuba %s %s" % (mi.__version__, args.variant), "spp": spp,
                 "passes": passes, "seeds": list(range(args.renders * passes))}

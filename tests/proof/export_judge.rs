@@ -351,7 +351,7 @@ const SKY_FLUX_CASE: &str = r#"{ "name": "flux onto a disk under a sky", "teache
   "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 0.5 } } ],
     "emitters": [ { "type": "constant", "radiance": 1 } ] },
   "measure": { "flux": { "shape": 0 } },
-  "reference": { "closed_form": "constant_environment", "radiance": 1, "scale": 0.7853981633974483 },
+  "reference": { "closed_form": "constant_environment_irradiance", "radiance": 1, "scale": 0.7853981633974483 },
   "estimators": ["bsdf"] }"#;
 
 /// Uniform numbers in [0, 1) from a PCG stream (53 bits).
@@ -461,6 +461,12 @@ fn flux_is_judged_as_mean_irradiance() {
                 text(&o)
             );
             assert_eq!(o.status.code(), Some(if passes { 0 } else { 1 }));
+            // Judged in the case's units (Φ, or F), not the meter's.
+            let relative = j["estimate"].as_f64().unwrap() / j["reference"].as_f64().unwrap();
+            assert!(
+                (relative / bias - 1.0).abs() < 0.02,
+                "{case:?} × {bias}: {j}"
+            );
         }
         // The case file alone has no scale: judging it is refused, not misjudged.
         let renders: Vec<PathBuf> = (0..16)
@@ -589,7 +595,7 @@ fn mitsuba_flux_cases_pass() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     for j in doc["judgements"].as_array().unwrap() {
         eprintln!(
-            "{}: {} ± {} (expected {}), z = {}",
+            "{}: {} ± {} (reference {}), z = {}",
             j["id"], j["estimate"], j["std_error"], j["reference"], j["z"]
         );
         assert_eq!(j["verdict"]["passed"], true, "{j}");
