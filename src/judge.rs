@@ -3,9 +3,11 @@
 //! Šidák-corrected level, detectable bias at 99% power, exact class when there is no
 //! variance).
 //!
-//! **Value of a pixel**: the mean of its R, G and B (exported cases are grey), times the
-//! export's `scale` = the reference's expected value per pixel (1 for every current
-//! export).
+//! **Value of a pixel**: the mean of its R, G and B (exported cases are grey); its
+//! expected value is the reference times the export's `scale` (1, except for a flux or a
+//! view factor, measured as the receiver's mean irradiance: 1/A₂ or π L₁ A₁/A₂). Each
+//! replicate is divided by the scale, so estimates are in the case's own units (those of
+//! `estimate`: Φ, or F for a view factor).
 //!
 //! **Standard error.** The pixels of one render share the renderer's sampler (its seed,
 //! its sample sequence), so they are not trusted as independent samples:
@@ -123,7 +125,7 @@ pub struct Sample {
     pub size: [usize; 2],
     /// How replicates were formed.
     pub method: Method,
-    /// Replicate means.
+    /// Replicate means (divided by the export's scale once judged: the case's units).
     pub replicates: Vec<f64>,
     /// Non-finite pixels over all renders.
     pub non_finite: u64,
@@ -231,7 +233,7 @@ pub struct Judgement {
     /// Degrees of freedom of the t test.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dof: Option<u64>,
-    /// Expected value of a pixel (the reference × the export's scale).
+    /// The case's reference (the estimate's units).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
     /// z score.
@@ -243,11 +245,12 @@ pub struct Judgement {
 }
 
 impl Judgement {
-    /// Build from a sample (unjudged).
-    fn new(case: &Case, id: String, renderer: String, sample: Sample, scale: f64) -> Self {
+    /// Build from a sample (unjudged), its replicates divided by the export's `scale`.
+    fn new(case: &Case, id: String, renderer: String, mut sample: Sample, scale: f64) -> Self {
         let mut acc = Accumulator::new();
-        for &x in &sample.replicates {
-            acc.push(x);
+        for x in &mut sample.replicates {
+            *x /= scale;
+            acc.push(*x);
         }
         let bar = if is_exact(&acc) {
             ErrorBar {
@@ -267,7 +270,7 @@ impl Judgement {
             estimate: acc.mean,
             std_error: bar.std_error,
             dof: bar.dof,
-            reference: case.reference.map(|r| r * scale),
+            reference: case.reference,
             z: None,
             verdict: None,
             sample,
@@ -333,7 +336,10 @@ impl Judgement {
     }
 }
 
-/// Judge renders of one case file (a family of one test at `alpha`).
+/// Judge renders of one case file (a family of one test at `alpha`). When the case is
+/// the `case.json` of an export folder (its `export.json` names it), the export's scale
+/// and render size apply; a case whose pixels are not the reference itself (a flux,
+/// judged as the receiver's mean irradiance) must be judged that way.
 pub fn judge_case(
     case_file: &Path,
     renders: &[PathBuf],
@@ -341,16 +347,43 @@ pub fn judge_case(
     alpha: f64,
 ) -> Result<Judgement, Error> {
     let case = Case::load(case_file)?;
-    let sample = sample(renders, None)?;
+    let manifest = export_manifest(case_file)?;
+    let (scale, size) = match &manifest {
+        Some(m) => (m.scale, Some((m.width, m.height))),
+        None => {
+            if let crate::case::MeasureDesc::Flux { .. } = case.desc.measure {
+                return Err(InputError::new(
+                    case_file.display().to_string(),
+                    "measure.flux",
+                    "a renderer measures a flux as the receiver's mean irradiance: judge the `case.json` of its export folder (its export.json gives the scale), or `judge --suite`",
+                )
+                .into());
+            }
+            (1.0, None)
+        }
+    };
+    let sample = sample(renders, size)?;
     let mut j = Judgement::new(
         &case,
         case_file.display().to_string(),
         renderer.to_string(),
         sample,
-        1.0,
+        scale,
     );
     j.judge(alpha, 1);
     Ok(j)
+}
+
+/// The manifest of the export folder holding `case_file`, if its `export.json` names it.
+fn export_manifest(case_file: &Path) -> Result<Option<Manifest>, InputError> {
+    let dir = case_file.parent().unwrap_or(Path::new("."));
+    let path = dir.join("export.json");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let m: Manifest = read_json(&path)?;
+    let own = case_file.file_name().is_some_and(|n| *n == *m.case);
+    Ok(own.then_some(m))
 }
 
 /// A judged suite: every rendered case, judged as one Šidák family, and the cases that

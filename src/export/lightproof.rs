@@ -14,7 +14,10 @@ pub const DRIVER: &str = include_str!("render_all_lightproof.sh");
 pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
     let (at, direction) = match probe {
         Probe::Isotropic { at, direction } => (*at, *direction),
-        Probe::Ray { .. } | Probe::Irradiance { .. } | Probe::Albedo { .. } => {
+        Probe::Ray { .. }
+        | Probe::Irradiance { .. }
+        | Probe::Albedo { .. }
+        | Probe::Flux { .. } => {
             return Err(Refusal(format!(
                 "lightproof's `render` has a pinhole camera only, which sees the measured value in every pixel just inside a closed furnace; this {} case is for `lightproof estimate`",
                 probe.sensor()

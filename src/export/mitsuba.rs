@@ -7,6 +7,7 @@
 //! | radiance along a ray | `radiancemeter` (1×1 film, box filter) |
 //! | radiance in a closed furnace | `perspective` camera inside, 16×16, fov 60° |
 //! | irradiance at a point | `irradiancemeter` on a `disk` of radius d/100 with a `null` BSDF (refused with point, spot or directional lights: its rays can never hit them) |
+//! | flux onto shape i, view factor | `irradiancemeter` inside shape i (which keeps its material): the mean irradiance Φ/A, judged against the reference × 1/A (flux) or × π L₁ A₁/A (view factor); delta lights refused as above |
 //! | albedo of a BSDF | the BSDF on a 2000-wide plane, `constant` sky 1, a `radiancemeter` from ωo |
 //! | `max_depth` k (scatterings) | `path` `max_depth` k + 1 for radiance (Mitsuba counts the emitter seen directly), k for irradiance (the meter's ray is lightproof's first scattering); unbounded: −1 |
 //! | `lambertian` ρ | `twosided` `diffuse` reflectance ρ |
@@ -167,6 +168,24 @@ fn bsdf(b: &Bsdf, id: &str) -> Result<String, Refusal> {
     })
 }
 
+/// Refuse delta lights for an `irradiancemeter`: its rays leave the receiver and can
+/// never hit a point or a direction.
+fn no_delta_lights(emitters: &[EmitterDesc]) -> Result<(), Refusal> {
+    for (i, e) in emitters.iter().enumerate() {
+        match e {
+            EmitterDesc::Point { .. }
+            | EmitterDesc::Spot { .. }
+            | EmitterDesc::Directional { .. } => {
+                return Err(Refusal(format!(
+                    "scene.emitters[{i}]: a delta light, which Mitsuba's irradiancemeter cannot see (its rays leave the receiver and can never hit a point or direction)"
+                )));
+            }
+            EmitterDesc::Constant { .. } | EmitterDesc::Envmap { .. } => {}
+        }
+    }
+    Ok(())
+}
+
 /// The Mitsuba scene of a case measured by `probe`.
 pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
     let scene = probe_scene(desc, probe);
@@ -174,7 +193,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
     let mut x = String::from("<scene version=\"3.0.0\">\n");
     let depth = match (probe.scatterings(desc.max_depth), probe) {
         (None, _) => -1i64,
-        (Some(k), Probe::Irradiance { .. }) => k as i64,
+        (Some(k), Probe::Irradiance { .. } | Probe::Flux { .. }) => k as i64,
         (Some(k), Probe::Ray { .. } | Probe::Isotropic { .. } | Probe::Albedo { .. }) => {
             k as i64 + 1
         }
@@ -215,18 +234,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             );
         }
         Probe::Irradiance { at, normal, radius } => {
-            for (i, e) in scene.emitters.iter().enumerate() {
-                match e {
-                    EmitterDesc::Point { .. }
-                    | EmitterDesc::Spot { .. }
-                    | EmitterDesc::Directional { .. } => {
-                        return Err(Refusal(format!(
-                            "scene.emitters[{i}]: a delta light, which Mitsuba's irradiancemeter cannot see (its rays leave the receiver and can never hit a point or direction)"
-                        )));
-                    }
-                    EmitterDesc::Constant { .. } | EmitterDesc::Envmap { .. } => {}
-                }
-            }
+            no_delta_lights(&scene.emitters)?;
             let _ = writeln!(
                 x,
                 r#"  <shape type="disk">{}<bsdf type="null"/><sensor type="irradiancemeter">{}</sensor></shape>"#,
@@ -234,6 +242,8 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 film(w, h)
             );
         }
+        // The meter goes inside the receiver's own shape element, below.
+        Probe::Flux { .. } => no_delta_lights(&scene.emitters)?,
     }
     let ids: Vec<&String> = scene.materials.keys().collect();
     for (i, (_, b)) in scene.materials.iter().enumerate() {
@@ -259,6 +269,20 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 r#"<emitter type="area">{}</emitter>"#,
                 rgb("radiance", e.radiance)
             );
+        }
+        match probe {
+            Probe::Flux { shape, .. } if *shape == i => {
+                let _ = write!(
+                    inner,
+                    r#"<sensor type="irradiancemeter">{}</sensor>"#,
+                    film(w, h)
+                );
+            }
+            Probe::Flux { .. }
+            | Probe::Ray { .. }
+            | Probe::Isotropic { .. }
+            | Probe::Irradiance { .. }
+            | Probe::Albedo { .. } => {}
         }
         let flip = format!(
             r#"<boolean name="flip_normals" value="{}"/>"#,
@@ -382,6 +406,9 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
         Probe::Albedo { .. } => {
             "BSDF on a plane under a constant sky of radiance 1, radiancemeter from ωo".into()
         }
+        Probe::Flux { shape, area, scale } => format!(
+            "irradiancemeter on scene.shapes[{shape}] (its material kept): the mean irradiance over its area {area:e}, expected reference × {scale:e}"
+        ),
     });
     Ok(Written {
         files,
@@ -394,7 +421,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
             sensor: probe.sensor().into(),
             width: w,
             height: h,
-            scale: 1.0,
+            scale: probe.scale(),
             conventions,
         },
     })

@@ -19,9 +19,16 @@
 //! - a BSDF's directional albedo → [`Probe::Albedo`]: the BSDF on a plane 2·10³ wide
 //!   under a unit constant sky, seen by one ray from ωo: L(ωo) = ∫ f cos θi dωi · 1 is
 //!   the albedo (one scattering: a plane cannot see itself). Transmitting BSDFs are
-//!   refused (the sky below the plane would count with the η² radiance scaling).
+//!   refused (the sky below the plane would count with the η² radiance scaling);
+//! - flux onto a receiver shape, or a view factor → [`Probe::Flux`]: a sensor on the
+//!   receiver itself (Mitsuba's `irradiancemeter`: a point sampled on the shape by area,
+//!   a cosine-weighted direction about its normal, weight π) measures the mean irradiance
+//!   Ē = Φ/A₂ over it, so a pixel's expected value is the reference times
+//!   [`Probe::Flux::scale`] = 1/A₂ for a flux, π L₁ A₁/A₂ for a view factor
+//!   F₁₂ = Φ₂/(π L₁ A₁). The receiver keeps its own material (black without one): in
+//!   lightproof it is an ordinary shape of the scene, which occludes and reflects.
 //!
-//! Everything else (solid angles, power, intensity, flux, microfacet integrals, path
+//! Everything else (solid angles, power, intensity, microfacet integrals, path
 //! lengths; spectral and time-resolved cases; moving, transformed or OBJ shapes; pulsed or
 //! spectral emitters) is refused with the reason; each target adds its own refusals
 //! (matches on the project's enums are exhaustive: a new variant must decide).
@@ -130,6 +137,16 @@ pub enum Probe {
         /// Outgoing direction.
         wo: DVec3,
     },
+    /// Power onto receiver `shape` (on the side its normal faces), measured as the mean
+    /// irradiance Ē = Φ/A over it.
+    Flux {
+        /// The receiver: an index of `scene.shapes`.
+        shape: usize,
+        /// Its area A (f64, from the case's geometry).
+        area: f64,
+        /// Ē per unit of the reference: 1/A for a flux, π L₁ A₁/A for a view factor.
+        scale: f64,
+    },
 }
 
 impl Probe {
@@ -138,7 +155,10 @@ impl Probe {
     pub fn scatterings(&self, max_depth: Option<u32>) -> Option<u32> {
         match self {
             Probe::Albedo { .. } => Some(1),
-            Probe::Ray { .. } | Probe::Isotropic { .. } | Probe::Irradiance { .. } => max_depth,
+            Probe::Ray { .. }
+            | Probe::Isotropic { .. }
+            | Probe::Irradiance { .. }
+            | Probe::Flux { .. } => max_depth,
         }
     }
 
@@ -149,6 +169,18 @@ impl Probe {
             Probe::Isotropic { .. } => "camera_inside",
             Probe::Irradiance { .. } => "irradiance",
             Probe::Albedo { .. } => "albedo",
+            Probe::Flux { .. } => "flux",
+        }
+    }
+
+    /// A pixel's expected value per unit of the case's reference (the manifest's `scale`).
+    pub fn scale(&self) -> f64 {
+        match self {
+            Probe::Flux { scale, .. } => *scale,
+            Probe::Ray { .. }
+            | Probe::Isotropic { .. }
+            | Probe::Irradiance { .. }
+            | Probe::Albedo { .. } => 1.0,
         }
     }
 }
@@ -167,7 +199,7 @@ pub struct Manifest {
     pub case: String,
     /// The scene file for the renderer.
     pub scene: String,
-    /// The sensor (`ray`, `camera_inside`, `irradiance`, `albedo`).
+    /// The sensor (`ray`, `camera_inside`, `irradiance`, `albedo`, `flux`).
     pub sensor: String,
     /// Render width in pixels.
     pub width: usize,
@@ -294,7 +326,90 @@ pub fn probe(desc: &CaseDesc) -> Result<Probe, Refusal> {
         MeasureDesc::Power { .. } | MeasureDesc::Intensity { .. } => {
             refuse("power and intensity of an emitter have no renderer sensor")
         }
-        MeasureDesc::Flux { .. } => refuse("flux onto a receiver shape is not exported yet"),
+        MeasureDesc::Flux { shape, view_factor } => flux(&desc.scene, *shape, *view_factor),
+    }
+}
+
+/// The flux probe of receiver `shape`: its area and the scale from the reference to the
+/// mean irradiance over it (module notes). The case has been validated (one one-sided
+/// shape emitter for a view factor); what does not fit is refused, not a panic.
+fn flux(scene: &SceneDesc, shape: usize, view_factor: bool) -> Result<Probe, Refusal> {
+    let field = format!("measure.flux.shape: scene.shapes[{shape}]");
+    let Some(receiver) = scene.shapes.get(shape) else {
+        return refuse(format!("{field} does not exist"));
+    };
+    let positive = |a: Option<f64>| a.filter(|a| a.is_finite() && *a > 0.0);
+    let Some(a2) = positive(area(&receiver.geometry)) else {
+        return refuse(format!("{field}: its area is not a positive finite number"));
+    };
+    let scale = if view_factor {
+        let emitting: Vec<_> = scene
+            .shapes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.emission.as_ref().map(|e| (i, s, e)))
+            .collect();
+        let [(i, emitter, emission)] = emitting.as_slice() else {
+            return refuse(format!(
+                "measure.flux.view_factor: {} emitting shapes, a view factor needs one",
+                emitting.len()
+            ));
+        };
+        let Some(a1) = positive(area(&emitter.geometry)) else {
+            return refuse(format!(
+                "scene.shapes[{i}]: the emitter's area is not a positive finite number"
+            ));
+        };
+        std::f64::consts::PI * emission.radiance * a1 / a2
+    } else {
+        1.0 / a2
+    };
+    if !(scale.is_finite() && scale > 0.0) {
+        return refuse(format!(
+            "{field}: the mean irradiance per unit of the reference ({scale:e}) is not finite"
+        ));
+    }
+    Ok(Probe::Flux {
+        shape,
+        area: a2,
+        scale,
+    })
+}
+
+/// Area of a shape in f64 from its description: a sphere 4πR², a cap 2πR²(1 − cos θmax);
+/// a disk πR², an annulus π(R² − r²); planar shapes and meshes the sum of their
+/// triangles' ½‖(p₁ − p₀) × (p₂ − p₀)‖. `None` for OBJ files (not read here) and meshes
+/// whose indices are out of range.
+pub fn area(g: &GeometryDesc) -> Option<f64> {
+    use std::f64::consts::PI;
+    match g {
+        GeometryDesc::Sphere {
+            radius, theta_max, ..
+        } => {
+            let one_minus_cos = theta_max.map_or(2.0, |t| 1.0 - t.to_radians().cos());
+            Some(2.0 * PI * radius * radius * one_minus_cos)
+        }
+        GeometryDesc::Disk {
+            radius,
+            inner_radius,
+            ..
+        } => {
+            let r = inner_radius.unwrap_or(0.0);
+            Some(PI * (radius * radius - r * r))
+        }
+        GeometryDesc::Rectangle { .. }
+        | GeometryDesc::Triangle { .. }
+        | GeometryDesc::Mesh { .. } => {
+            let (vs, fs) = triangles(g)?;
+            fs.iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| vs.get(i as usize).copied());
+                    let (a, b, c) = (a?, b?, c?);
+                    Some(0.5 * (b - a).cross(c - a).length())
+                })
+                .sum()
+        }
+        GeometryDesc::Obj { .. } => None,
     }
 }
 
@@ -467,9 +582,10 @@ pub fn probe_scene(desc: &CaseDesc, probe: &Probe) -> SceneDesc {
             });
             scene
         }
-        Probe::Ray { .. } | Probe::Isotropic { .. } | Probe::Irradiance { .. } => {
-            desc.scene.clone()
-        }
+        Probe::Ray { .. }
+        | Probe::Isotropic { .. }
+        | Probe::Irradiance { .. }
+        | Probe::Flux { .. } => desc.scene.clone(),
     }
 }
 
@@ -515,11 +631,14 @@ pub fn mesh_file(
 }
 
 /// Render size of a probe: 16 × 16 pixels for a camera inside, else 1 × 1 (a ray or an
-/// irradiance meter; replicates come from independent renders).
+/// irradiance meter, also on a receiver shape; replicates come from independent renders).
 pub fn render_size(probe: &Probe) -> (usize, usize) {
     match probe {
         Probe::Isotropic { .. } => (16, 16),
-        Probe::Ray { .. } | Probe::Irradiance { .. } | Probe::Albedo { .. } => (1, 1),
+        Probe::Ray { .. }
+        | Probe::Irradiance { .. }
+        | Probe::Albedo { .. }
+        | Probe::Flux { .. } => (1, 1),
     }
 }
 
@@ -745,5 +864,75 @@ mod tests {
         let mut timed = furnace;
         timed.time = Some(Default::default());
         assert!(probe(&timed).unwrap_err().0.contains("time"));
+    }
+
+    #[test]
+    fn flux_probes_scale_the_reference_to_the_mean_irradiance() {
+        use std::f64::consts::PI;
+        // C-41: unit disk emitter (L = 2 here), receiver disk of radius 0.5.
+        let c41 = |view_factor: bool| {
+            case(&format!(
+                r#"{{"name":"n","teaches":"t","scene":{{"shapes":[
+                  {{"geometry":{{"type":"disk","center":[0,0,1],"normal":[0,0,-1],"radius":1}},"emission":{{"radiance":2}}}},
+                  {{"geometry":{{"type":"disk","center":[0,0,0],"normal":[0,0,1],"radius":0.5}}}}]}},
+                  "measure":{{"flux":{{"shape":1,"view_factor":{view_factor}}}}},"estimators":["mis"]}}"#
+            ))
+        };
+        let Ok(Probe::Flux { shape, area, scale }) = probe(&c41(true)) else {
+            panic!("{:?}", probe(&c41(true)));
+        };
+        assert_eq!(shape, 1);
+        assert!((area - PI / 4.0).abs() < 1e-15);
+        assert!(
+            (scale - PI * 2.0 * PI / (PI / 4.0)).abs() < 1e-12,
+            "{scale}"
+        );
+        let flux = probe(&c41(false)).unwrap();
+        assert!((flux.scale() - 4.0 / PI).abs() < 1e-15, "{flux:?}");
+        assert_eq!(flux.sensor(), "flux");
+    }
+
+    #[test]
+    fn areas_follow_the_geometry() {
+        use std::f64::consts::PI;
+        let g = |json: &str| serde_json::from_str::<GeometryDesc>(json).unwrap();
+        let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-13 * b);
+        let cases = [
+            (
+                r#"{"type":"sphere","center":[0,0,0],"radius":2}"#,
+                16.0 * PI,
+            ),
+            // A hemisphere cap: half the sphere.
+            (
+                r#"{"type":"sphere","center":[0,0,0],"radius":2,"theta_max":90}"#,
+                8.0 * PI,
+            ),
+            (
+                r#"{"type":"disk","center":[0,0,0],"normal":[0,0,1],"radius":2,"inner_radius":1}"#,
+                3.0 * PI,
+            ),
+            (
+                r#"{"type":"rectangle","corner":[0,0,0],"edge_u":[2,0,0],"edge_v":[0,0,3]}"#,
+                6.0,
+            ),
+            (
+                r#"{"type":"triangle","vertices":[[0,0,0],[2,0,0],[0,2,0]]}"#,
+                2.0,
+            ),
+            (
+                r#"{"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,1]],"indices":[[0,1,2],[0,2,3]]}"#,
+                0.5 + 0.5 * 3f64.sqrt(),
+            ),
+        ];
+        for (json, want) in cases {
+            assert!(
+                close(area(&g(json)), want),
+                "{json}: {:?} for {want}",
+                area(&g(json))
+            );
+        }
+        let broken =
+            g(r#"{"type":"mesh","vertices":[[0,0,0],[1,0,0],[1,1,0]],"indices":[[0,1,7]]}"#);
+        assert_eq!(area(&broken), None);
     }
 }

@@ -154,6 +154,11 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 "irradiance: pbrt-v4 has no irradiance sensor".into(),
             ));
         }
+        Probe::Flux { .. } => {
+            return Err(Refusal(
+                "flux: pbrt-v4 has no sensor on a shape (no irradiance meter; its cameras measure radiance along rays)".into(),
+            ));
+        }
     };
     let depth = probe.scatterings(desc.max_depth).unwrap_or(UNBOUNDED_DEPTH);
     let mut files = Vec::new();

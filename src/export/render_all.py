@@ -12,7 +12,11 @@ Then:
 
     lightproof judge --suite THIS_FOLDER
 
-Usage: python3 render_all.py [--variant scalar_rgb] [--renders 16] [--samples 65536] [--only SUBSTRING]
+Usage: python3 render_all.py [--variant scalar_rgb] [--renders 16] [--samples 65536] [--only SUBSTRING] [--threads N]
+
+Variants: any Mitsuba variant whose colours are RGB (scalar_rgb, llvm_ad_rgb, cuda_ad_rgb).
+The llvm_* variants need a libLLVM >= 16; if Dr.Jit does not find it, point
+DRJIT_LIBLLVM_PATH at it (e.g. /usr/lib/x86_64-linux-gnu/libLLVM-19.so).
 """
 import argparse
 import json
@@ -27,11 +31,15 @@ def main():
     p.add_argument("--samples", type=int, default=65536, help="paths per render (spp = samples / pixels)")
     p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel of one Mitsuba pass (float32 film sums)")
     p.add_argument("--only", default=None, help="render only case ids containing this text")
+    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all cores)")
     args = p.parse_args()
     if args.renders < 2:
         sys.exit("--renders must be at least 2: the judge estimates the error from independent renders")
     import mitsuba as mi
     mi.set_variant(args.variant)
+    import drjit as dr
+    if args.threads:
+        dr.set_thread_count(args.threads)
     root = os.path.dirname(os.path.abspath(__file__))
     with open(os.path.join(root, "suite.json")) as f:
         suite = json.load(f)
@@ -61,7 +69,13 @@ def main():
                 total = vals if total is None else [a + b for a, b in zip(total, vals)]
             mean = mi.TensorXf([v / passes for v in total], shape)
             tmp = os.path.join(out, ".%03d.tmp.exr" % k)
+            # Mitsuba 3.9.1 (Dr.Jit 1.5) deadlocks writing an EXR when its pool has one
+            # thread (reports/mitsuba/exr_write_one_thread.py): write with two.
+            if args.threads == 1:
+                dr.set_thread_count(2)
             mi.util.write_bitmap(tmp, mean, write_async=False)
+            if args.threads == 1:
+                dr.set_thread_count(1)
             os.replace(tmp, os.path.join(out, "%03d.exr" % k))
         info = {"renderer": "mitsuba %s %s" % (mi.__version__, args.variant), "spp": spp,
                 "passes": passes, "seeds": list(range(args.renders * passes))}

@@ -1,9 +1,13 @@
 //! Judging a renderer: `export` → a renderer → `judge`. Without a peer, the renderer is
 //! lightproof's own `render` (driven by the exported `render_all.sh`): closed furnaces
 //! pass, a wrong reference fails, bad renders exit 2 naming the file, non-finite pixels
-//! fail the verdict. With `LIGHTPROOF_MITSUBA=python3` (a Python with `mitsuba`
+//! fail the verdict. Flux and view-factor cases export as a meter on the receiver
+//! measuring its mean irradiance: renders made by an independent renderer here (the
+//! oracle's point irradiance at random receiver points) pass at the exported scale, and
+//! a 4% error fails. With `LIGHTPROOF_MITSUBA=python3` (a Python with `mitsuba`
 //! installed), Mitsuba 3 renders the analytic-sphere furnace and a triangle-mesh sphere
-//! furnace: the first's known excess radiance must be detected, the second must pass.
+//! furnace: the first's known excess radiance must be detected, the second must pass;
+//! and it renders three flux cases, which must pass.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -341,6 +345,155 @@ fn inexpressible_cases_are_refused() {
     let _ = std::fs::remove_dir_all(d);
 }
 
+/// A flux case without a view factor: a disk of radius 0.5 (area π/4) under a unit sky
+/// receives Φ = π L · π/4 (the constant-environment irradiance, scaled by the area).
+const SKY_FLUX_CASE: &str = r#"{ "name": "flux onto a disk under a sky", "teaches": "Φ = π L A",
+  "scene": { "shapes": [ { "geometry": { "type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 0.5 } } ],
+    "emitters": [ { "type": "constant", "radiance": 1 } ] },
+  "measure": { "flux": { "shape": 0 } },
+  "reference": { "closed_form": "constant_environment_irradiance", "radiance": 1, "scale": 0.7853981633974483 },
+  "estimators": ["bsdf"] }"#;
+
+/// Uniform numbers in [0, 1) from a PCG stream (53 bits).
+fn uniforms(seed: u64) -> impl FnMut() -> f64 {
+    use rand::Rng;
+    let mut rng = rand_pcg::Pcg32::new(seed, 0xda3e_39cb_94b9_5bdb);
+    move || (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// An independent "renderer" of a receiver's mean irradiance: render k is the mean of the
+/// oracle's point irradiance `e(u, v)` at `n` receiver points drawn uniformly by area
+/// (`(u, v)` uniform in the unit square, mapped by `e`), written as a 1 × 1 EXR with every
+/// value times `bias`.
+fn fake_meter_renders(
+    dir: &Path,
+    renders: u64,
+    n: usize,
+    bias: f64,
+    e: impl Fn(f64, f64) -> f64,
+) -> Vec<PathBuf> {
+    std::fs::create_dir_all(dir).unwrap();
+    (0..renders)
+        .map(|k| {
+            let mut u = uniforms(super::common::seed() ^ (k << 32));
+            let mean = (0..n).map(|_| e(u(), u())).sum::<f64>() / n as f64;
+            let v = (mean * bias) as f32;
+            let p = dir.join(format!("{k:03}.exr"));
+            lightproof::render::write_exr(&p, 1, 1, &[[v; 3]]).unwrap();
+            p
+        })
+        .collect()
+}
+
+/// Flux and view factors export as Mitsuba's `irradiancemeter` inside the receiver shape,
+/// whose pixel is the mean irradiance Φ/A₂: the manifest's scale must be 1/A₂ for a flux
+/// and π L₁ A₁/A₂ for a view factor. Renders of that mean irradiance made here without
+/// the engine (the oracle's point irradiance from the emitter, at receiver points drawn by
+/// area) pass; the same renders 4% high fail. pbrt-v4 and lightproof's `render` refuse.
+#[test]
+fn flux_is_judged_as_mean_irradiance() {
+    use lightproof_analytic::geom::Vec3;
+    use std::f64::consts::PI;
+    let d = scratch("flux");
+    let sky = d.join("sky_flux.json");
+    std::fs::write(&sky, SKY_FLUX_CASE).unwrap();
+    // (case, expected scale, the receiver's mean irradiance at (u, v)).
+    type PointIrradiance = Box<dyn Fn(f64, f64) -> f64>;
+    let cases: [(PathBuf, f64, PointIrradiance); 3] = [
+        // C-41: unit disk emitter at height 1 facing down, receiver disk of radius 0.5.
+        (
+            catalog("view_factor/coaxial_disks_c41.json"),
+            PI * PI / (PI * 0.25),
+            Box::new(|u, v| {
+                let (r, phi) = (0.5 * u.sqrt(), 2.0 * PI * v);
+                let p = Vec3::new(r * phi.cos(), r * phi.sin(), 0.0);
+                let z = Vec3::new(0.0, 0.0, 1.0);
+                lightproof_analytic::irradiance::disk(p, z, z, z, 1.0, 1.0)
+            }),
+        ),
+        // C-14: unit square emitter in z = 0, receiver the unit square in y = 0 facing +y.
+        (
+            catalog("view_factor/perpendicular_rectangles_c14.json"),
+            PI,
+            Box::new(|u, v| {
+                let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+                    .map(|[x, y]| Vec3::new(x, y, 0.0));
+                let p = Vec3::new(v, 0.0, u);
+                lightproof_analytic::irradiance::polygon(p, Vec3::new(0.0, 1.0, 0.0), &square, 1.0)
+            }),
+        ),
+        // Under a unit sky every receiver point has E = π.
+        (sky.clone(), 1.0 / (PI * 0.25), Box::new(|_, _| PI)),
+    ];
+    for (case, scale, e) in &cases {
+        let out = d.join(case.file_stem().unwrap());
+        let o = bin()
+            .args(["export", "--to", "mitsuba", "--out"])
+            .arg(&out)
+            .arg(case)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o));
+        let manifest: Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("export.json")).unwrap())
+                .unwrap();
+        assert_eq!(manifest["sensor"], "flux", "{manifest}");
+        let got = manifest["scale"].as_f64().unwrap();
+        assert!(
+            (got / scale - 1.0).abs() < 1e-12,
+            "{case:?}: scale {got}, expected {scale}"
+        );
+        let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+        assert_eq!(xml.matches("irradiancemeter").count(), 1, "{xml}");
+        for (bias, passes) in [(1.0, true), (1.04, false)] {
+            let renders = fake_meter_renders(&out.join("renders"), 16, 1024, bias, e);
+            let o = bin()
+                .args(["judge", "--json"])
+                .arg(out.join("case.json"))
+                .args(&renders)
+                .output()
+                .unwrap();
+            let j: Value = serde_json::from_slice(&o.stdout).unwrap_or(Value::Null);
+            assert_eq!(
+                j["verdict"]["passed"],
+                passes,
+                "{case:?} × {bias}: {}",
+                text(&o)
+            );
+            assert_eq!(o.status.code(), Some(if passes { 0 } else { 1 }));
+            // Judged in the case's units (Φ, or F), not the meter's.
+            let relative = j["estimate"].as_f64().unwrap() / j["reference"].as_f64().unwrap();
+            assert!(
+                (relative / bias - 1.0).abs() < 0.02,
+                "{case:?} × {bias}: {j}"
+            );
+        }
+        // The case file alone has no scale: judging it is refused, not misjudged.
+        let renders: Vec<PathBuf> = (0..16)
+            .map(|k| out.join(format!("renders/{k:03}.exr")))
+            .collect();
+        let o = bin()
+            .arg("judge")
+            .arg(case)
+            .args(&renders)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains("mean irradiance"), "{}", text(&o));
+        for to in ["pbrt", "lightproof"] {
+            let o = bin()
+                .args(["export", "--to", to, "--out"])
+                .arg(d.join("refused"))
+                .arg(case)
+                .output()
+                .unwrap();
+            assert_eq!(o.status.code(), Some(2), "{to}: {}", text(&o));
+            assert!(text(&o).contains("flux"), "{to}: {}", text(&o));
+        }
+    }
+    let _ = std::fs::remove_dir_all(d);
+}
+
 /// Opt-in: with `LIGHTPROOF_MITSUBA` naming a Python that has `mitsuba`, Mitsuba 3
 /// (scalar_rgb) renders the analytic-sphere furnace (ρ = 0.8, L = 5) and a mesh sphere
 /// (1280 triangles) with 16 renders × 65 536 paths each: the analytic sphere's excess
@@ -457,6 +610,53 @@ fn pbrt_sphere_pole_normal_bias_is_detected() {
     assert_eq!(pole["verdict"]["passed"], false, "{pole}");
     assert!(pole["z"].as_f64().unwrap() < 0.0, "{pole}");
     assert_eq!(equator["verdict"]["passed"], true, "{equator}");
+    let _ = std::fs::remove_dir_all(cases);
+    let _ = std::fs::remove_dir_all(out_dir);
+}
+
+/// Opt-in: with `LIGHTPROOF_MITSUBA` naming a Python that has `mitsuba`, Mitsuba 3
+/// (scalar_rgb) renders flux cases through its `irradiancemeter` on the receiver (the
+/// view factors C-41 and C-14, and a flux under a sky), 16 renders × 65 536 paths each:
+/// all pass.
+#[test]
+fn mitsuba_flux_cases_pass() {
+    let Ok(python) = std::env::var("LIGHTPROOF_MITSUBA") else {
+        eprintln!("skipped: set LIGHTPROOF_MITSUBA=python3 (a Python with mitsuba) to run");
+        return;
+    };
+    let cases = scratch("mi-flux-cases");
+    for rel in [
+        "view_factor/coaxial_disks_c41.json",
+        "view_factor/perpendicular_rectangles_c14.json",
+    ] {
+        std::fs::copy(catalog(rel), cases.join(rel.replace('/', "_"))).unwrap();
+    }
+    std::fs::write(cases.join("sky_flux.json"), SKY_FLUX_CASE).unwrap();
+    let out_dir = scratch("mi-flux-suite");
+    let o = bin()
+        .args(["export", "--all", "--to", "mitsuba", "--out"])
+        .arg(&out_dir)
+        .arg(&cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("exported 3 cases"), "{}", text(&o));
+    let o = Command::new(python)
+        .arg(out_dir.join("render_all.py"))
+        .args(["--renders", "16", "--samples"])
+        .arg((65536 * common_scale()).to_string())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let (o, doc) = judge_suite_json(&out_dir);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    for j in doc["judgements"].as_array().unwrap() {
+        eprintln!(
+            "{}: {} ± {} (reference {}), z = {}",
+            j["id"], j["estimate"], j["std_error"], j["reference"], j["z"]
+        );
+        assert_eq!(j["verdict"]["passed"], true, "{j}");
+    }
     let _ = std::fs::remove_dir_all(cases);
     let _ = std::fs::remove_dir_all(out_dir);
 }
