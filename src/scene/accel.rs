@@ -14,9 +14,11 @@
 //! also replaces any component below `f32::EPSILON` by ±1/`f32::EPSILON`, which shrinks
 //! the slab of a ray nearly parallel to it. We keep obvhs's build and its traversal order
 //! (the `traverse!` macro and each node's child ordering) and test the children with
-//! [`child_hits`]: world-space `f32` boxes, the union of the padded [`Primitive::bounds`]
-//! of the primitives below (tighter than the 8-bit quantised boxes), slab distances with
-//! the exact reciprocal (±∞ for a zero component) and the ray's own (tmin, tmax).
+//! [`child_hits`]: boxes containing the union of the padded [`Primitive::bounds`] of the
+//! primitives below, quantised to 8 bits per plane like obvhs's but checked at build time
+//! to contain that union in the `f32` arithmetic the traversal decodes them with
+//! ([`quantise_axis`]), slab distances with the exact reciprocal (±∞ for a zero
+//! component) and the ray's own (tmin, tmax).
 
 use crate::scene::shape::{Hit, Primitive};
 use glam::{UVec2, Vec3, Vec3A};
@@ -60,19 +62,45 @@ struct Slot {
     skip: bool,
 }
 
-/// A CWBVH node with world-space child boxes: `lo[axis][child]`, `hi[axis][child]` (an
-/// empty child slot holds an empty box; its meta bits are zero, so it is never entered).
-/// The field names `child_base_idx`, `primitive_base_idx` and `imask` are the ones
-/// obvhs's `traverse!` macro reads. 256 bytes, aligned to cache lines.
-#[repr(C, align(64))]
+/// A CWBVH node with conservatively quantised child boxes, 80 bytes like obvhs's own
+/// node (Ylitie et al. 2017, §3.1): per axis a grid origin `p` and a step s = 2^(e − 127)
+/// ([`step`]), and per child an 8-bit low and high plane index, which stand for the
+/// planes p + q·s ([`plane`]). Unlike obvhs's quantisation, each index is chosen at
+/// build time by evaluating [`plane`] itself, the `f32` arithmetic of the traversal, so
+/// the decoded box is checked to contain the child's box ([`quantise_axis`]); the slab
+/// test then reads the decoded planes exactly as it would world-space ones. An empty
+/// child slot has zero meta bits, so it is never entered whatever its planes. The field
+/// names `child_base_idx`, `primitive_base_idx` and `imask` are the ones obvhs's
+/// `traverse!` macro reads.
+#[repr(C, align(16))]
 struct Node {
-    /// obvhs's child meta data (`CwBvhNode::child_meta`), which orders the children.
-    child_meta: [u8; 8],
+    /// The grid origin per axis (NaN: the axis never culls, see [`quantise_axis`]).
+    p: [f32; 3],
+    /// The grid step per axis, as the biased exponent of a power of two (1..=254).
+    e: [u8; 3],
+    imask: u8,
     child_base_idx: u32,
     primitive_base_idx: u32,
-    imask: u8,
-    lo: [[f32; 8]; 3],
-    hi: [[f32; 8]; 3],
+    /// obvhs's child meta data (`CwBvhNode::child_meta`), which orders the children.
+    child_meta: [u8; 8],
+    /// Plane indices: row 2a holds axis a's low planes, row 2a + 1 its high planes, one
+    /// byte per child.
+    q: [[u8; 8]; 6],
+}
+
+/// The grid step 2^(e − 127) that a node's exponent byte stands for (a normal power of
+/// two for e in 1..=254: the product q·s below is exact or overflows to +∞).
+#[inline(always)]
+fn step(e: u8) -> f32 {
+    f32::from_bits(u32::from(e) << 23)
+}
+
+/// The plane that index q stands for on a grid (p, s): p + q·s, one rounding (q·s is
+/// exact). The build chooses q with this very function, so what the traversal decodes is
+/// what the build checked.
+#[inline(always)]
+fn plane(p: f32, s: f32, q: u8) -> f32 {
+    p + f32::from(q) * s
 }
 
 /// The BVH and its primitives in slot order.
@@ -134,15 +162,20 @@ struct BoxRay {
     o: [f32; 3],
     /// 1/d per component, exactly rounded; ±∞ for a ±0 component.
     inv: [f32; 3],
+    /// Per axis, the row of [`Node::q`] holding the entry planes: 2a + 1 (the high
+    /// planes) where 1/d < 0, 2a otherwise; the exit planes are the other row.
+    near_row: [usize; 3],
     tmin: f32,
 }
 
 impl BoxRay {
     fn new(o: Vec3, d: Vec3, tmin: f32) -> Self {
         debug_assert!(tmin >= 0.0, "box test needs tmin ≥ 0, got {tmin}");
+        let inv = d.recip().to_array();
         BoxRay {
             o: o.to_array(),
-            inv: d.recip().to_array(),
+            inv,
+            near_row: [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0)),
             tmin,
         }
     }
@@ -154,55 +187,125 @@ impl BoxRay {
 ///
 /// Per axis the entry distance is (near plane − o)·(1/d), the near plane being the box's
 /// low plane for 1/d > 0 and its high plane otherwise; a NaN (0·∞: the origin on a
-/// plane of a slab parallel to the ray) leaves the interval unchanged, as it should,
-/// since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the rounding.
+/// plane of a slab parallel to the ray, or a NaN plane) leaves the interval unchanged, as
+/// it should, since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the
+/// rounding. The eight children go through each step together (structure of arrays, the
+/// comparisons written as selects), which compiles to four-wide SSE2 at the x86-64
+/// baseline.
 #[inline(always)]
 fn child_hits(node: &Node, r: &BoxRay, tmax: f32, oct_inv4: u32) -> u32 {
     let mut near = [r.tmin; 8];
     let mut far = [tmax; 8];
     for a in 0..3 {
-        let (np, fp) = if r.inv[a] < 0.0 {
-            (&node.hi[a], &node.lo[a])
-        } else {
-            (&node.lo[a], &node.hi[a])
-        };
+        let (p, s) = (node.p[a], step(node.e[a]));
+        let np = &node.q[r.near_row[a]];
+        let fp = &node.q[r.near_row[a] ^ 1];
         for c in 0..8 {
-            let tn = (np[c] - r.o[a]) * r.inv[a];
-            let tf = (fp[c] - r.o[a]) * r.inv[a];
+            let tn = (plane(p, s, np[c]) - r.o[a]) * r.inv[a];
+            let tf = (plane(p, s, fp[c]) - r.o[a]) * r.inv[a];
             near[c] = if tn > near[c] { tn } else { near[c] };
             far[c] = if tf < far[c] { tf } else { far[c] };
         }
     }
-    // Only the meta data is read: the rest of obvhs's node (80 bytes) stays out of the
-    // cache lines a node costs.
+    let mut met = 0u32;
+    for c in 0..8 {
+        met |= u32::from(near[c] * NEAR_SCALE <= far[c] * FAR_SCALE) << c;
+    }
+    // Only the meta data is read: the rest of obvhs's node stays out of the cache lines
+    // a node costs.
     let meta = CwBvhNode {
         child_meta: node.child_meta,
         ..CwBvhNode::default()
     };
     let (bits, index) = meta.get_child_and_index_bits(oct_inv4);
     let mut mask = 0u32;
-    for c in 0..8 {
-        if near[c] * NEAR_SCALE <= far[c] * FAR_SCALE {
-            let b = ((bits >> (8 * c)) & 0xff) as u32;
-            let i = ((index >> (8 * c)) & 0xff) as u32;
-            mask |= b << i;
-        }
+    while met != 0 {
+        let c = met.trailing_zeros();
+        met &= met - 1;
+        let b = ((bits >> (8 * c)) & 0xff) as u32;
+        let i = ((index >> (8 * c)) & 0xff) as u32;
+        mask |= b << i;
     }
     mask
 }
 
-/// The nodes of `bvh` with world-space child boxes from the primitives' bounds.
+/// Quantise one axis of a node's child boxes `(lo, hi)` (empty children are `None`):
+/// the grid (p, e) and each child's (low, high) plane indices, such that every decoded
+/// low plane is ≤ the child's low bound and every decoded high plane ≥ its high bound.
+///
+/// p is the node's low bound, and e the smallest exponent whose grid reaches the node's
+/// high bound at index 255 (at e = 254, 255·2¹²⁷ overflows to +∞, which reaches
+/// anything). Each low index starts at ⌊(lo − p)/s⌋ and each high one at ⌈(hi − p)/s⌉
+/// (in f64), then steps until [`plane`] itself decodes to a conservative plane, and on to
+/// the tightest one: index 0 decodes to p ≤ lo and index 255 to at least the node's high
+/// bound, so the search always ends conservative. A node with a non-finite or NaN bound
+/// gets p = NaN: every plane decodes to NaN, which the slab test reads as no constraint.
+fn quantise_axis(children: &[Option<(f32, f32)>; 8]) -> (f32, u8, [u8; 8], [u8; 8]) {
+    let (node_lo, node_hi) = children
+        .iter()
+        .flatten()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &(lo, hi)| {
+            (l.min(lo), h.max(hi))
+        });
+    let (mut qlo, mut qhi) = ([0u8; 8], [0u8; 8]);
+    let nan = children
+        .iter()
+        .flatten()
+        .any(|(lo, hi)| lo.is_nan() || hi.is_nan());
+    if nan || !(node_lo.is_finite() && node_hi.is_finite()) {
+        return (f32::NAN, 127, qlo, qhi);
+    }
+    let p = node_lo;
+    let reaches = |e: u8| plane(p, step(e), 255) >= node_hi;
+    let extent = (f64::from(node_hi) - f64::from(p)) / 255.0;
+    let guess = if extent > 0.0 {
+        extent.log2().ceil() as i32 + 127
+    } else {
+        1
+    };
+    let mut e = guess.clamp(1, 254) as u8;
+    while e > 1 && reaches(e - 1) {
+        e -= 1;
+    }
+    while !reaches(e) {
+        e += 1;
+    }
+    let s = step(e);
+    let index = |x: f64| x.clamp(0.0, 255.0) as u8;
+    for (c, child) in children.iter().enumerate() {
+        let Some((lo, hi)) = *child else { continue };
+        let mut l = index(((f64::from(lo) - f64::from(p)) / f64::from(s)).floor());
+        while !(plane(p, s, l) <= lo) {
+            l -= 1;
+        }
+        while l < 255 && plane(p, s, l + 1) <= lo {
+            l += 1;
+        }
+        let mut h = index(((f64::from(hi) - f64::from(p)) / f64::from(s)).ceil());
+        while !(plane(p, s, h) >= hi) {
+            h += 1;
+        }
+        while h > 0 && plane(p, s, h - 1) >= hi {
+            h -= 1;
+        }
+        (qlo[c], qhi[c]) = (l, h);
+    }
+    (p, e, qlo, qhi)
+}
+
+/// The nodes of `bvh` with quantised child boxes from the primitives' bounds.
 fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
     let mut nodes: Vec<Node> = bvh
         .nodes
         .iter()
         .map(|cw| Node {
-            lo: [[f32::INFINITY; 8]; 3],
-            hi: [[f32::NEG_INFINITY; 8]; 3],
-            child_meta: cw.child_meta,
+            p: [0.0; 3],
+            e: [127; 3],
+            imask: cw.imask,
             child_base_idx: cw.child_base_idx,
             primitive_base_idx: cw.primitive_base_idx,
-            imask: cw.imask,
+            child_meta: cw.child_meta,
+            q: [[0; 8]; 6],
         })
         .collect();
     if !nodes.is_empty() {
@@ -211,15 +314,16 @@ fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
     nodes
 }
 
-/// Fill node `i`'s child boxes (children first) and return the union of them.
+/// Quantise node `i`'s child boxes (children first) and return the union of the
+/// children's exact boxes (what its parent quantises).
 fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -> (Vec3, Vec3) {
     let cw = cws[i];
-    let mut all = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for c in 0..8 {
+    let mut boxes: [Option<(Vec3, Vec3)>; 8] = [None; 8];
+    for (c, b) in boxes.iter_mut().enumerate() {
         if cw.is_child_empty(c) {
             continue;
         }
-        let (lo, hi) = if cw.is_leaf(c) {
+        *b = Some(if cw.is_leaf(c) {
             let (start, count) = cw.child_primitives(c);
             slots[start as usize..(start + count) as usize].iter().fold(
                 (Vec3::INFINITY, Vec3::NEG_INFINITY),
@@ -230,14 +334,19 @@ fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -
             )
         } else {
             fill_boxes(nodes, cws, cw.child_node_index(c) as usize, slots)
-        };
-        for a in 0..3 {
-            nodes[i].lo[a][c] = lo[a];
-            nodes[i].hi[a][c] = hi[a];
-        }
-        all = (all.0.min(lo), all.1.max(hi));
+        });
     }
-    all
+    let node = &mut nodes[i];
+    for a in 0..3 {
+        let (p, e, lo, hi) = quantise_axis(&boxes.map(|b| b.map(|(lo, hi)| (lo[a], hi[a]))));
+        (node.p[a], node.e[a], node.q[2 * a], node.q[2 * a + 1]) = (p, e, lo, hi);
+    }
+    boxes
+        .iter()
+        .flatten()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &(lo, hi)| {
+            (l.min(lo), h.max(hi))
+        })
 }
 
 /// The primitives' padded bounds as obvhs's boxes (what its build reads).
