@@ -141,7 +141,7 @@ impl Tree {
                 self,
                 node,
                 state,
-                child_hits(node, &r, tm, state.oct_inv4),
+                child_hits(node, &r, tm, state.oct_inv4, &self.nodes, &self.slots),
                 {
                     let s = &self.slots[state.primitive_id as usize];
                     if !s.skip {
@@ -181,19 +181,17 @@ impl BoxRay {
     }
 }
 
-/// Which children of `node` the ray meets within (tmin, tmax), as obvhs's hit mask
-/// (leaf children's primitive bits in the low 24 bits, internal children's priority bits
-/// in the high 8), ordered by `oct_inv4`.
+/// Which children of `node` the ray meets within (tmin, tmax): bit c for child c.
 ///
 /// Per axis the entry distance is (near plane − o)·(1/d), the near plane being the box's
 /// low plane for 1/d > 0 and its high plane otherwise; a NaN (0·∞: the origin on a
 /// plane of a slab parallel to the ray, or a NaN plane) leaves the interval unchanged, as
 /// it should, since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the
-/// rounding. The eight children go through each step together (structure of arrays, the
-/// comparisons written as selects), which compiles to four-wide SSE2 at the x86-64
-/// baseline.
+/// rounding. This is the definition; on x86-64 [`met_children_sse2`] computes the same
+/// bits four children at a time.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
 #[inline(always)]
-fn child_hits(node: &Node, r: &BoxRay, tmax: f32, oct_inv4: u32) -> u32 {
+fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     let mut near = [r.tmin; 8];
     let mut far = [tmax; 8];
     for a in 0..3 {
@@ -211,6 +209,80 @@ fn child_hits(node: &Node, r: &BoxRay, tmax: f32, oct_inv4: u32) -> u32 {
     for c in 0..8 {
         met |= u32::from(near[c] * NEAR_SCALE <= far[c] * FAR_SCALE) << c;
     }
+    met
+}
+
+/// [`met_children`] in SSE2 (the x86-64 baseline), children 0–3 and 4–7 in one register
+/// each, every operation the same IEEE one in the same order: a row of 8 plane indices
+/// widened u8 → i32 → f32 (exact), the plane p + q·s, then (plane − o)·(1/d).
+/// `maxps(t, near)` is `t > near ? t : near` and `minps(t, far)` is `t < far ? t : far`,
+/// NaN included, as in [`met_children`].
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        __m128, _mm_add_ps, _mm_cmple_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_max_ps,
+        _mm_min_ps, _mm_movemask_ps, _mm_mul_ps, _mm_set1_ps, _mm_setzero_si128, _mm_sub_ps,
+        _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+    };
+    /// A row's planes for children 0–3 and 4–7.
+    #[inline(always)]
+    fn planes(row: &[u8; 8], p: __m128, s: __m128) -> [__m128; 2] {
+        // SAFETY: value-only SSE2 operations (no memory access), and SSE2 is part of the
+        // x86-64 baseline.
+        unsafe {
+            let zero = _mm_setzero_si128();
+            let q16 = _mm_unpacklo_epi8(_mm_cvtsi64_si128(i64::from_le_bytes(*row)), zero);
+            [_mm_unpacklo_epi16(q16, zero), _mm_unpackhi_epi16(q16, zero)]
+                .map(|q| _mm_add_ps(p, _mm_mul_ps(_mm_cvtepi32_ps(q), s)))
+        }
+    }
+    // SAFETY: as in `planes`.
+    unsafe {
+        let mut near = [_mm_set1_ps(r.tmin); 2];
+        let mut far = [_mm_set1_ps(tmax); 2];
+        for a in 0..3 {
+            let p = _mm_set1_ps(node.p[a]);
+            let s = _mm_set1_ps(step(node.e[a]));
+            let o = _mm_set1_ps(r.o[a]);
+            let inv = _mm_set1_ps(r.inv[a]);
+            let np = planes(&node.q[r.near_row[a]], p, s);
+            let fp = planes(&node.q[r.near_row[a] ^ 1], p, s);
+            for h in 0..2 {
+                let tn = _mm_mul_ps(_mm_sub_ps(np[h], o), inv);
+                let tf = _mm_mul_ps(_mm_sub_ps(fp[h], o), inv);
+                near[h] = _mm_max_ps(tn, near[h]);
+                far[h] = _mm_min_ps(tf, far[h]);
+            }
+        }
+        let (ns, fs) = (_mm_set1_ps(NEAR_SCALE), _mm_set1_ps(FAR_SCALE));
+        let met = |h: usize| {
+            _mm_movemask_ps(_mm_cmple_ps(
+                _mm_mul_ps(near[h], ns),
+                _mm_mul_ps(far[h], fs),
+            )) as u32
+        };
+        met(0) | met(1) << 4
+    }
+}
+
+/// Which children of `node` the ray meets within (tmin, tmax) ([`met_children`]), as
+/// obvhs's hit mask (leaf children's primitive bits in the low 24 bits, internal
+/// children's priority bits in the high 8), ordered by `oct_inv4`; the nodes and
+/// primitives of the children met are prefetched.
+#[inline(always)]
+fn child_hits(
+    node: &Node,
+    r: &BoxRay,
+    tmax: f32,
+    oct_inv4: u32,
+    nodes: &[Node],
+    slots: &[Slot],
+) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    let mut met = met_children_sse2(node, r, tmax);
+    #[cfg(not(target_arch = "x86_64"))]
+    let mut met = met_children(node, r, tmax);
     // Only the meta data is read: the rest of obvhs's node stays out of the cache lines
     // a node costs.
     let meta = CwBvhNode {
@@ -225,8 +297,39 @@ fn child_hits(node: &Node, r: &BoxRay, tmax: f32, oct_inv4: u32) -> u32 {
         let b = ((bits >> (8 * c)) & 0xff) as u32;
         let i = ((index >> (8 * c)) & 0xff) as u32;
         mask |= b << i;
+        let m = node.child_meta[c as usize];
+        if m >> 5 == 1 && m & 0b11111 >= 24 {
+            // An internal child: its node, both cache lines.
+            let slot = u32::from(m & 0b11111) - 24;
+            let rel = (u32::from(node.imask) & !(u32::MAX << slot)).count_ones();
+            if let Some(n) = nodes.get((node.child_base_idx + rel) as usize) {
+                prefetch(n);
+                prefetch(&n.q[4]);
+            }
+        } else if m != 0 {
+            // A leaf: its first and last primitive.
+            let start = (node.primitive_base_idx + u32::from(m & 0b11111)) as usize;
+            let count = (m >> 5).count_ones() as usize;
+            if let Some(s) = slots.get(start) {
+                prefetch(s);
+            }
+            if let Some(s) = slots.get(start + count - 1) {
+                prefetch(s);
+            }
+        }
     }
     mask
+}
+
+/// Ask the CPU to bring `x`'s cache line in (a hint: no effect on any result).
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults and writes nothing; `x` is a valid reference.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast());
+    }
 }
 
 /// Quantise one axis of a node's child boxes `(lo, hi)` (empty children are `None`):
