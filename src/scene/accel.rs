@@ -20,7 +20,7 @@
 //! ([`quantise_axis`]), slab distances with the exact reciprocal (±∞ for a zero
 //! component) and the ray's own (tmin, tmax).
 
-use crate::scene::shape::{Hit, Primitive};
+use crate::scene::shape::{Hit, Primitive, Ray};
 use glam::{UVec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::node::CwBvhNode;
@@ -520,6 +520,7 @@ impl Accel {
 
     /// Closest hit with t in (tmin, tmax), tmin ≥ 0: (primitive index, hit).
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, Hit)> {
+        let ray = Ray::new(o, d);
         match &self.tree {
             None => {
                 let mut best: Option<(usize, Hit)> = None;
@@ -528,7 +529,7 @@ impl Accel {
                     if self.skip[i] {
                         continue;
                     }
-                    if let Some(h) = p.intersect(o, d, tmin, tm) {
+                    if let Some(h) = p.intersect_ray(&ray, tmin, tm) {
                         tm = h.t;
                         best = Some((i, h));
                     }
@@ -538,7 +539,7 @@ impl Accel {
             Some(tree) => {
                 let mut best: Option<(usize, Hit)> = None;
                 tree.walk(o, d, tmin, tmax, |s, tm| {
-                    match s.prim.intersect(o, d, tmin, tm) {
+                    match s.prim.intersect_ray(&ray, tmin, tm) {
                         Some(h) => {
                             best = Some((s.index as usize, h));
                             Visit::Shorten(h.t)
@@ -553,16 +554,17 @@ impl Accel {
 
     /// Whether nothing lies on the segment t ∈ (tmin, tmax), tmin ≥ 0.
     pub fn unoccluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        let ray = Ray::new(o, d);
         match &self.tree {
             None => self
                 .prims
                 .iter()
                 .zip(&self.skip)
-                .all(|(p, &skip)| skip || p.intersect(o, d, tmin, tmax).is_none()),
+                .all(|(p, &skip)| skip || p.intersect_ray(&ray, tmin, tmax).is_none()),
             Some(tree) => {
                 let mut clear = true;
                 tree.walk(o, d, tmin, tmax, |s, _| {
-                    if s.prim.intersect(o, d, tmin, tmax).is_some() {
+                    if s.prim.intersect_ray(&ray, tmin, tmax).is_some() {
                         clear = false;
                         Visit::Stop
                     } else {
