@@ -49,19 +49,6 @@ fn order_direction(d: Vec3) -> Vec3A {
     Vec3A::from(d) + Vec3A::ZERO
 }
 
-/// A primitive in BVH order: what a leaf's callback reads, contiguous for the
-/// primitives of one leaf (no look-up through `primitive_indices`, one cache line or two
-/// per leaf instead of a random access per primitive; the same tests in the same order).
-#[derive(Clone, Copy, Debug)]
-struct Slot {
-    /// The primitive.
-    prim: Primitive,
-    /// Its index in [`Accel::prims`].
-    index: u32,
-    /// Whether the queries skip it (a moving shape's).
-    skip: bool,
-}
-
 /// A CWBVH node with conservatively quantised child boxes, 80 bytes like obvhs's own
 /// node (Ylitie et al. 2017, §3.1): per axis a grid origin `p` and a step s = 2^(e − 127)
 /// ([`step`]), and per child an 8-bit low and high plane index, which stand for the
@@ -103,10 +90,19 @@ fn plane(p: f32, s: f32, q: u8) -> f32 {
     p + f32::from(q) * s
 }
 
-/// The BVH and its primitives in slot order.
+/// The BVH and its primitives in slot order: what a leaf's callback reads, contiguous
+/// for the primitives of one leaf (no look-up through `primitive_indices`, one cache line
+/// or two per leaf instead of a random access per primitive; the same tests in the same
+/// order). The primitives alone (40 bytes each), so a leaf spans as few cache lines as
+/// it can; what only a hit or a skipped shape needs lies beside them.
 struct Tree {
     nodes: Vec<Node>,
-    slots: Vec<Slot>,
+    /// The primitives in slot order.
+    slots: Vec<Primitive>,
+    /// Each slot's index in [`Accel::prims`].
+    index: Vec<u32>,
+    /// Whether the queries skip each slot (a moving shape's); `None` when none is skipped.
+    skip: Option<Vec<bool>>,
 }
 
 /// What a traversal does after a primitive.
@@ -121,15 +117,15 @@ enum Visit {
 
 impl Tree {
     /// Visit, in obvhs's order, every primitive not skipped whose box the ray meets within
-    /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot and the
-    /// current tmax.
+    /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot, its primitive
+    /// and the current tmax.
     fn walk(
         &self,
         o: Vec3,
         d: Vec3,
         tmin: f32,
         tmax: f32,
-        mut visit: impl FnMut(&Slot, f32) -> Visit,
+        mut visit: impl FnMut(usize, &Primitive, f32) -> Visit,
     ) {
         let r = BoxRay::new(o, d, tmin);
         let mut tm = tmax;
@@ -143,9 +139,9 @@ impl Tree {
                 state,
                 child_hits(node, &r, tm, state.oct_inv4, &self.nodes, &self.slots),
                 {
-                    let s = &self.slots[state.primitive_id as usize];
-                    if !s.skip {
-                        match visit(s, tm) {
+                    let slot = state.primitive_id as usize;
+                    if !self.skip.as_ref().is_some_and(|skip| skip[slot]) {
+                        match visit(slot, &self.slots[slot], tm) {
                             Visit::Go => {}
                             Visit::Shorten(t) => tm = t,
                             Visit::Stop => break 'outer,
@@ -277,7 +273,7 @@ fn child_hits(
     tmax: f32,
     oct_inv4: u32,
     nodes: &[Node],
-    slots: &[Slot],
+    slots: &[Primitive],
 ) -> u32 {
     #[cfg(target_arch = "x86_64")]
     let mut met = met_children_sse2(node, r, tmax);
@@ -397,7 +393,7 @@ fn quantise_axis(children: &[Option<(f32, f32)>; 8]) -> (f32, u8, [u8; 8], [u8; 
 }
 
 /// The nodes of `bvh` with quantised child boxes from the primitives' bounds.
-fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
+fn nodes_with_boxes(bvh: &CwBvh, slots: &[Primitive]) -> Vec<Node> {
     let mut nodes: Vec<Node> = bvh
         .nodes
         .iter()
@@ -419,7 +415,12 @@ fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
 
 /// Quantise node `i`'s child boxes (children first) and return the union of the
 /// children's exact boxes (what its parent quantises).
-fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -> (Vec3, Vec3) {
+fn fill_boxes(
+    nodes: &mut [Node],
+    cws: &[CwBvhNode],
+    i: usize,
+    slots: &[Primitive],
+) -> (Vec3, Vec3) {
     let cw = cws[i];
     let mut boxes: [Option<(Vec3, Vec3)>; 8] = [None; 8];
     for (c, b) in boxes.iter_mut().enumerate() {
@@ -431,7 +432,7 @@ fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -
             slots[start as usize..(start + count) as usize].iter().fold(
                 (Vec3::INFINITY, Vec3::NEG_INFINITY),
                 |(lo, hi), s| {
-                    let (l, h) = s.prim.bounds();
+                    let (l, h) = s.bounds();
                     (lo.min(l), hi.max(h))
                 },
             )
@@ -486,17 +487,18 @@ impl Accel {
                 obvhs::BvhBuildParams::medium_build(),
                 &mut t,
             );
-            let slots: Vec<Slot> = bvh
+            let slots: Vec<Primitive> = bvh
                 .primitive_indices
                 .iter()
-                .map(|&i| Slot {
-                    prim: prims[i as usize],
-                    index: i,
-                    skip: false,
-                })
+                .map(|&i| prims[i as usize])
                 .collect();
             let nodes = nodes_with_boxes(&bvh, &slots);
-            Tree { nodes, slots }
+            Tree {
+                nodes,
+                slots,
+                index: bvh.primitive_indices,
+                skip: None,
+            }
         });
         let skip = vec![false; prims.len()];
         Accel { prims, tree, skip }
@@ -506,9 +508,9 @@ impl Accel {
     pub fn set_skip(&mut self, skip: Vec<bool>) {
         assert_eq!(skip.len(), self.prims.len());
         if let Some(tree) = &mut self.tree {
-            for slot in &mut tree.slots {
-                slot.skip = skip[slot.index as usize];
-            }
+            tree.skip = skip
+                .contains(&true)
+                .then(|| tree.index.iter().map(|&i| skip[i as usize]).collect());
         }
         self.skip = skip;
     }
@@ -538,16 +540,18 @@ impl Accel {
             }
             Some(tree) => {
                 let mut best: Option<(usize, Hit)> = None;
-                tree.walk(o, d, tmin, tmax, |s, tm| {
-                    match s.prim.intersect_ray(&ray, tmin, tm) {
+                tree.walk(o, d, tmin, tmax, |slot, prim, tm| {
+                    match prim.intersect_ray(&ray, tmin, tm) {
                         Some(h) => {
-                            best = Some((s.index as usize, h));
+                            // Read after the traversal: fetched meanwhile.
+                            prefetch(&tree.index[slot]);
+                            best = Some((slot, h));
                             Visit::Shorten(h.t)
                         }
                         None => Visit::Go,
                     }
                 });
-                best
+                best.map(|(slot, h)| (tree.index[slot] as usize, h))
             }
         }
     }
@@ -563,8 +567,8 @@ impl Accel {
                 .all(|(p, &skip)| skip || p.intersect_ray(&ray, tmin, tmax).is_none()),
             Some(tree) => {
                 let mut clear = true;
-                tree.walk(o, d, tmin, tmax, |s, _| {
-                    if s.prim.intersect_ray(&ray, tmin, tmax).is_some() {
+                tree.walk(o, d, tmin, tmax, |_, prim, _| {
+                    if prim.intersect_ray(&ray, tmin, tmax).is_some() {
                         clear = false;
                         Visit::Stop
                     } else {
