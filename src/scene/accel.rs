@@ -915,6 +915,300 @@ mod tests {
     }
 
     #[test]
+    fn nodes_are_80_bytes() {
+        assert_eq!(std::mem::size_of::<Node>(), 80);
+    }
+
+    /// The one-sided distance, in grid steps, from a decoded plane to the bound it covers.
+    fn slack(dec: f32, bound: f32, s: f32) -> f64 {
+        (f64::from(dec) - f64::from(bound)).abs() / f64::from(s)
+    }
+
+    #[test]
+    fn quantised_planes_contain_each_child_and_stay_within_a_step() {
+        // Children at every magnitude f32 holds, far from the origin or across it, of
+        // extents from zero (a point) up to the node's; plus the extremes of the range.
+        let sampler = Sampler::independent(23);
+        let mut cases: Vec<[Option<(f32, f32)>; 8]> = vec![
+            [Some((1.0, 1.0)); 8],
+            [
+                Some((-f32::MAX, f32::MAX)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((f32::MAX / 2.0, f32::MAX)),
+                Some((f32::MAX, f32::MAX)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((0.0, f32::from_bits(1))),
+                Some((-f32::from_bits(3), 0.0)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((-1e-30, 1e-30)),
+                Some((1e5, 1e5 + 1.0)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+        ];
+        for i in 0..4000u64 {
+            let mut st = sampler.stream(i);
+            let base = [0.0, 1.0, -1e5, 3e7, -2e30, 1e-20][(st.next_1d() * 6.0) as usize % 6];
+            let scale = 10f32.powf(-30.0 + 60.0 * st.next_1d());
+            let mut children = [None; 8];
+            for c in children.iter_mut() {
+                if st.next_1d() < 0.8 {
+                    let lo = base + scale * (2.0 * st.next_1d() - 1.0);
+                    let w = if st.next_1d() < 0.1 {
+                        0.0
+                    } else {
+                        scale * st.next_1d()
+                    };
+                    *c = Some((lo, lo + w));
+                }
+            }
+            if children.iter().any(Option::is_some) {
+                cases.push(children);
+            }
+        }
+        for children in &cases {
+            let (p, e, ql, qh) = quantise_axis(children);
+            assert!(
+                p.is_finite() && (1..=254).contains(&e),
+                "{children:?}: p {p}, e {e}"
+            );
+            let s = step(e);
+            let (node_lo, node_hi) = children
+                .iter()
+                .flatten()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &(lo, hi)| {
+                    (l.min(lo), h.max(hi))
+                });
+            // The step is the smallest power of two that spans the node.
+            assert!(
+                e == 1 || plane(p, step(e - 1), 255) < node_hi,
+                "{children:?}: e {e} not the smallest"
+            );
+            for (c, child) in children.iter().enumerate() {
+                let Some((lo, hi)) = *child else { continue };
+                let (dl, dh) = (plane(p, s, ql[c]), plane(p, s, qh[c]));
+                assert!(
+                    dl <= lo && dh >= hi,
+                    "{children:?} child {c}: [{dl}, {dh}] ⊉ [{lo}, {hi}]"
+                );
+                // No looser than a step plus the rounding of p + q·s (a few ulps of p).
+                let ulps = 4.0 * f64::from(f32::EPSILON) * f64::from(p.abs().max(node_hi.abs()));
+                let tol = 1.0 + ulps / f64::from(s);
+                assert!(
+                    slack(dl, lo, s) <= tol,
+                    "{children:?} child {c}: low plane {dl} for {lo}, step {s}"
+                );
+                if dh.is_finite() {
+                    assert!(
+                        slack(dh, hi, s) <= tol,
+                        "{children:?} child {c}: high plane {dh} for {hi}, step {s}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_bounds_quantise_to_planes_that_never_cull() {
+        for bad in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+            let children = [
+                Some((0.0, 1.0)),
+                Some((bad, bad)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ];
+            let (p, e, ql, qh) = quantise_axis(&children);
+            assert!(plane(p, step(e), ql[0]).is_nan() && plane(p, step(e), qh[1]).is_nan());
+        }
+        // A NaN plane leaves the slab interval as it was: the child is met.
+        let mut node = Node {
+            p: [f32::NAN, 0.0, 0.0],
+            e: [127; 3],
+            imask: 0,
+            child_base_idx: 0,
+            primitive_base_idx: 0,
+            child_meta: [0; 8],
+            q: [[0; 8], [1; 8], [0; 8], [1; 8], [0; 8], [1; 8]],
+        };
+        let r = BoxRay::new(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.6, 0.0, 0.8), 0.0);
+        assert_eq!(met_children(&node, &r, f32::INFINITY), 0xff);
+        node.p[0] = 2.0;
+        assert_eq!(met_children(&node, &r, f32::INFINITY), 0);
+    }
+
+    #[test]
+    fn every_primitive_lies_inside_each_decoded_box_above_it() {
+        // Walk each tree from the root: every primitive's padded bounds within every box
+        // on its way down, for scenes near and far from the origin at several scales.
+        let sampler = Sampler::independent(41);
+        for (k, (base, scale)) in [
+            (Vec3::ZERO, 1.0),
+            (Vec3::ZERO, 1e-3),
+            (Vec3::new(1e5, -3e4, 7e4), 1.0),
+            (Vec3::new(-2e7, 1e6, 0.0), 1e3),
+            (Vec3::new(0.5, 0.5, 0.5), 1e-6),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let mut prims = tiles(base, scale);
+            for i in 0..300u64 {
+                let mut st = sampler.stream(1000 * k as u64 + i);
+                let c = base + Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * (10.0 * scale);
+                let a = uniform_sphere(st.next_2d()) * scale;
+                let b = uniform_sphere(st.next_2d()) * scale;
+                prims.push(match i % 3 {
+                    0 => Primitive::Sphere {
+                        center: c,
+                        radius: 0.1 * scale,
+                    },
+                    1 => Primitive::Triangle {
+                        p: [c, c + a, c + b],
+                    },
+                    _ => Primitive::Rectangle {
+                        corner: c,
+                        u: a,
+                        v: b,
+                    },
+                });
+            }
+            let accel = Accel::new(prims);
+            let tree = accel.tree.as_ref().unwrap();
+            let mut seen = 0;
+            let mut stack = vec![(0usize, Vec::<(Vec3, Vec3)>::new())];
+            while let Some((i, above)) = stack.pop() {
+                let node = &tree.nodes[i];
+                for c in 0..8 {
+                    let m = node.child_meta[c];
+                    if m == 0 {
+                        continue;
+                    }
+                    let mut boxes = above.clone();
+                    let dec =
+                        |row: usize, a: usize| plane(node.p[a], step(node.e[a]), node.q[row][c]);
+                    boxes.push((
+                        Vec3::new(dec(0, 0), dec(2, 1), dec(4, 2)),
+                        Vec3::new(dec(1, 0), dec(3, 1), dec(5, 2)),
+                    ));
+                    if node.imask & (1 << c) != 0 {
+                        let slot = u32::from(m & 0b11111) - 24;
+                        let rel = (u32::from(node.imask) & !(u32::MAX << slot)).count_ones();
+                        stack.push(((node.child_base_idx + rel) as usize, boxes));
+                    } else {
+                        let start = (node.primitive_base_idx + u32::from(m & 0b11111)) as usize;
+                        for prim in &tree.slots[start..start + (m >> 5).count_ones() as usize] {
+                            let (lo, hi) = prim.bounds();
+                            for (blo, bhi) in &boxes {
+                                assert!(
+                                    blo.cmple(lo).all() && bhi.cmpge(hi).all(),
+                                    "scene {k}: {prim:?} outside [{blo:?}, {bhi:?}]"
+                                );
+                            }
+                            seen += 1;
+                        }
+                    }
+                }
+            }
+            assert_eq!(seen, tree.slots.len());
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn sse2_box_test_equals_the_definition() {
+        // Random nodes (any grid, any plane indices, empty and inverted boxes, NaN grids)
+        // and rays (zero and −0 components, tmin 0 or not, tmax finite or not): the same
+        // bits.
+        let sampler = Sampler::independent(9);
+        let mut met = 0u32;
+        for i in 0..20_000u64 {
+            let mut st = sampler.stream(i);
+            let mut byte = || (st.next_1d() * 256.0) as u8;
+            // Low planes in the grid's lower half, high ones in its upper half; every fifth
+            // node any bytes (boxes inverted on some axes: empty).
+            let mut q = [[0u8; 8]; 6];
+            for (r, row) in q.iter_mut().enumerate() {
+                for b in row.iter_mut() {
+                    *b = match (i % 5, r % 2) {
+                        (0, _) => byte(),
+                        (_, 0) => byte() / 2,
+                        _ => 128 + byte() / 2,
+                    };
+                }
+            }
+            let mut st = sampler.stream(1 << 40 | i);
+            let mut p = [0.0f32; 3];
+            let mut e = [0u8; 3];
+            for a in 0..3 {
+                p[a] = -1.5 - 0.5 * st.next_1d();
+                e[a] = 120 + (st.next_1d() * 3.0) as u8;
+            }
+            if i % 50 == 0 {
+                p[i as usize / 50 % 3] = f32::NAN;
+            }
+            let node = Node {
+                p,
+                e,
+                imask: 0,
+                child_base_idx: 0,
+                primitive_base_idx: 0,
+                child_meta: [0; 8],
+                q,
+            };
+            let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
+            let mut d = uniform_sphere(st.next_2d());
+            match i % 7 {
+                0 => d.x = 0.0,
+                1 => d.y = -0.0,
+                2 => d = Vec3::new(-0.0, 0.0, -1.0),
+                _ => {}
+            }
+            let tmin = if i % 3 == 0 { st.next_1d() } else { 0.0 };
+            let tmax = if i % 2 == 0 {
+                f32::INFINITY
+            } else {
+                4.0 * st.next_1d()
+            };
+            let r = BoxRay::new(o, d, tmin);
+            let want = met_children(&node, &r, tmax);
+            assert_eq!(met_children_sse2(&node, &r, tmax), want, "node {i}");
+            met += want.count_ones();
+        }
+        // Both outcomes occur often.
+        assert!(met > 20_000 && met < 140_000, "{met} children met");
+    }
+
+    #[test]
     fn bvh_agrees_with_brute_force() {
         let sampler = Sampler::independent(5);
         let mut prims = Vec::new();
