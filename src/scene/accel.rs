@@ -1005,6 +1005,7 @@ mod tests {
                 .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &(lo, hi)| {
                     (l.min(lo), h.max(hi))
                 });
+            assert_eq!(p, node_lo);
             // The step is the smallest power of two that spans the node.
             assert!(
                 e == 1 || plane(p, step(e - 1), 255) < node_hi,
