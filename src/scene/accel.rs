@@ -14,11 +14,13 @@
 //! also replaces any component below `f32::EPSILON` by ±1/`f32::EPSILON`, which shrinks
 //! the slab of a ray nearly parallel to it. We keep obvhs's build and its traversal order
 //! (the `traverse!` macro and each node's child ordering) and test the children with
-//! [`child_hits`]: world-space `f32` boxes, the union of the padded [`Primitive::bounds`]
-//! of the primitives below (tighter than the 8-bit quantised boxes), slab distances with
-//! the exact reciprocal (±∞ for a zero component) and the ray's own (tmin, tmax).
+//! [`child_hits`]: boxes containing the union of the padded [`Primitive::bounds`] of the
+//! primitives below, quantised to 8 bits per plane like obvhs's but checked at build time
+//! to contain that union in the `f32` arithmetic the traversal decodes them with
+//! ([`quantise_axis`]), slab distances with the exact reciprocal (±∞ for a zero
+//! component) and the ray's own (tmin, tmax).
 
-use crate::scene::shape::{Hit, Primitive};
+use crate::scene::shape::{Hit, Primitive, Ray};
 use glam::{UVec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::node::CwBvhNode;
@@ -47,38 +49,60 @@ fn order_direction(d: Vec3) -> Vec3A {
     Vec3A::from(d) + Vec3A::ZERO
 }
 
-/// A primitive in BVH order: what a leaf's callback reads, contiguous for the
-/// primitives of one leaf (no look-up through `primitive_indices`, one cache line or two
-/// per leaf instead of a random access per primitive; the same tests in the same order).
-#[derive(Clone, Copy, Debug)]
-struct Slot {
-    /// The primitive.
-    prim: Primitive,
-    /// Its index in [`Accel::prims`].
-    index: u32,
-    /// Whether the queries skip it (a moving shape's).
-    skip: bool,
-}
-
-/// A CWBVH node with world-space child boxes: `lo[axis][child]`, `hi[axis][child]` (an
-/// empty child slot holds an empty box; its meta bits are zero, so it is never entered).
-/// The field names `child_base_idx`, `primitive_base_idx` and `imask` are the ones
-/// obvhs's `traverse!` macro reads. 256 bytes, aligned to cache lines.
-#[repr(C, align(64))]
+/// A CWBVH node with conservatively quantised child boxes, 80 bytes like obvhs's own
+/// node (Ylitie et al. 2017, §3.1): per axis a grid origin `p` and a step s = 2^(e − 127)
+/// ([`step`]), and per child an 8-bit low and high plane index, which stand for the
+/// planes p + q·s ([`plane`]). Unlike obvhs's quantisation, each index is chosen at
+/// build time by evaluating [`plane`] itself, the `f32` arithmetic of the traversal, so
+/// the decoded box is checked to contain the child's box ([`quantise_axis`]); the slab
+/// test then reads the decoded planes exactly as it would world-space ones. An empty
+/// child slot has zero meta bits, so it is never entered whatever its planes. The field
+/// names `child_base_idx`, `primitive_base_idx` and `imask` are the ones obvhs's
+/// `traverse!` macro reads.
+#[repr(C, align(16))]
 struct Node {
-    /// obvhs's child meta data (`CwBvhNode::child_meta`), which orders the children.
-    child_meta: [u8; 8],
+    /// The grid origin per axis (NaN: the axis never culls, see [`quantise_axis`]).
+    p: [f32; 3],
+    /// The grid step per axis, as the biased exponent of a power of two (1..=254).
+    e: [u8; 3],
+    imask: u8,
     child_base_idx: u32,
     primitive_base_idx: u32,
-    imask: u8,
-    lo: [[f32; 8]; 3],
-    hi: [[f32; 8]; 3],
+    /// obvhs's child meta data (`CwBvhNode::child_meta`), which orders the children.
+    child_meta: [u8; 8],
+    /// Plane indices: row 2a holds axis a's low planes, row 2a + 1 its high planes, one
+    /// byte per child.
+    q: [[u8; 8]; 6],
 }
 
-/// The BVH and its primitives in slot order.
+/// The grid step 2^(e − 127) that a node's exponent byte stands for (a normal power of
+/// two for e in 1..=254: the product q·s below is exact or overflows to +∞).
+#[inline(always)]
+fn step(e: u8) -> f32 {
+    f32::from_bits(u32::from(e) << 23)
+}
+
+/// The plane that index q stands for on a grid (p, s): p + q·s, one rounding (q·s is
+/// exact). The build chooses q with this very function, so what the traversal decodes is
+/// what the build checked.
+#[inline(always)]
+fn plane(p: f32, s: f32, q: u8) -> f32 {
+    p + f32::from(q) * s
+}
+
+/// The BVH and its primitives in slot order: what a leaf's callback reads, contiguous
+/// for the primitives of one leaf (no look-up through `primitive_indices`, one cache line
+/// or two per leaf instead of a random access per primitive; the same tests in the same
+/// order). The primitives alone (40 bytes each), so a leaf spans as few cache lines as
+/// it can; what only a hit or a skipped shape needs lies beside them.
 struct Tree {
     nodes: Vec<Node>,
-    slots: Vec<Slot>,
+    /// The primitives in slot order.
+    slots: Vec<Primitive>,
+    /// Each slot's index in [`Accel::prims`].
+    index: Vec<u32>,
+    /// Whether the queries skip each slot (a moving shape's); `None` when none is skipped.
+    skip: Option<Vec<bool>>,
 }
 
 /// What a traversal does after a primitive.
@@ -93,15 +117,15 @@ enum Visit {
 
 impl Tree {
     /// Visit, in obvhs's order, every primitive not skipped whose box the ray meets within
-    /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot and the
-    /// current tmax.
+    /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot, its primitive
+    /// and the current tmax.
     fn walk(
         &self,
         o: Vec3,
         d: Vec3,
         tmin: f32,
         tmax: f32,
-        mut visit: impl FnMut(&Slot, f32) -> Visit,
+        mut visit: impl FnMut(usize, &Primitive, f32) -> Visit,
     ) {
         let r = BoxRay::new(o, d, tmin);
         let mut tm = tmax;
@@ -113,11 +137,11 @@ impl Tree {
                 self,
                 node,
                 state,
-                child_hits(node, &r, tm, state.oct_inv4),
+                child_hits(node, &r, tm, state.oct_inv4, &self.nodes, &self.slots),
                 {
-                    let s = &self.slots[state.primitive_id as usize];
-                    if !s.skip {
-                        match visit(s, tm) {
+                    let slot = state.primitive_id as usize;
+                    if !self.skip.as_ref().is_some_and(|skip| skip[slot]) {
+                        match visit(slot, &self.slots[slot], tm) {
                             Visit::Go => {}
                             Visit::Shorten(t) => tm = t,
                             Visit::Stop => break 'outer,
@@ -134,75 +158,253 @@ struct BoxRay {
     o: [f32; 3],
     /// 1/d per component, exactly rounded; ±∞ for a ±0 component.
     inv: [f32; 3],
+    /// Per axis, the row of [`Node::q`] holding the entry planes: 2a + 1 (the high
+    /// planes) where 1/d < 0, 2a otherwise; the exit planes are the other row.
+    near_row: [usize; 3],
     tmin: f32,
 }
 
 impl BoxRay {
     fn new(o: Vec3, d: Vec3, tmin: f32) -> Self {
         debug_assert!(tmin >= 0.0, "box test needs tmin ≥ 0, got {tmin}");
+        let inv = d.recip().to_array();
         BoxRay {
             o: o.to_array(),
-            inv: d.recip().to_array(),
+            inv,
+            near_row: [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0)),
             tmin,
         }
     }
 }
 
-/// Which children of `node` the ray meets within (tmin, tmax), as obvhs's hit mask
-/// (leaf children's primitive bits in the low 24 bits, internal children's priority bits
-/// in the high 8), ordered by `oct_inv4`.
+/// Which children of `node` the ray meets within (tmin, tmax): bit c for child c.
 ///
 /// Per axis the entry distance is (near plane − o)·(1/d), the near plane being the box's
 /// low plane for 1/d > 0 and its high plane otherwise; a NaN (0·∞: the origin on a
-/// plane of a slab parallel to the ray) leaves the interval unchanged, as it should,
-/// since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the rounding.
+/// plane of a slab parallel to the ray, or a NaN plane) leaves the interval unchanged, as
+/// it should, since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the
+/// rounding. This is the definition; on x86-64 [`met_children_sse2`] computes the same
+/// bits four children at a time.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
 #[inline(always)]
-fn child_hits(node: &Node, r: &BoxRay, tmax: f32, oct_inv4: u32) -> u32 {
+fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     let mut near = [r.tmin; 8];
     let mut far = [tmax; 8];
     for a in 0..3 {
-        let (np, fp) = if r.inv[a] < 0.0 {
-            (&node.hi[a], &node.lo[a])
-        } else {
-            (&node.lo[a], &node.hi[a])
-        };
+        let (p, s) = (node.p[a], step(node.e[a]));
+        let np = &node.q[r.near_row[a]];
+        let fp = &node.q[r.near_row[a] ^ 1];
         for c in 0..8 {
-            let tn = (np[c] - r.o[a]) * r.inv[a];
-            let tf = (fp[c] - r.o[a]) * r.inv[a];
+            let tn = (plane(p, s, np[c]) - r.o[a]) * r.inv[a];
+            let tf = (plane(p, s, fp[c]) - r.o[a]) * r.inv[a];
             near[c] = if tn > near[c] { tn } else { near[c] };
             far[c] = if tf < far[c] { tf } else { far[c] };
         }
     }
-    // Only the meta data is read: the rest of obvhs's node (80 bytes) stays out of the
-    // cache lines a node costs.
+    let mut met = 0u32;
+    for c in 0..8 {
+        met |= u32::from(near[c] * NEAR_SCALE <= far[c] * FAR_SCALE) << c;
+    }
+    met
+}
+
+/// [`met_children`] in SSE2 (the x86-64 baseline), children 0–3 and 4–7 in one register
+/// each, every operation the same IEEE one in the same order: a row of 8 plane indices
+/// widened u8 → i32 → f32 (exact), the plane p + q·s, then (plane − o)·(1/d).
+/// `maxps(t, near)` is `t > near ? t : near` and `minps(t, far)` is `t < far ? t : far`,
+/// NaN included, as in [`met_children`].
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        __m128, _mm_add_ps, _mm_cmple_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_max_ps,
+        _mm_min_ps, _mm_movemask_ps, _mm_mul_ps, _mm_set1_ps, _mm_setzero_si128, _mm_sub_ps,
+        _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+    };
+    /// A row's planes for children 0–3 and 4–7.
+    #[inline(always)]
+    fn planes(row: &[u8; 8], p: __m128, s: __m128) -> [__m128; 2] {
+        // SAFETY: value-only SSE2 operations (no memory access), and SSE2 is part of the
+        // x86-64 baseline.
+        unsafe {
+            let zero = _mm_setzero_si128();
+            let q16 = _mm_unpacklo_epi8(_mm_cvtsi64_si128(i64::from_le_bytes(*row)), zero);
+            [_mm_unpacklo_epi16(q16, zero), _mm_unpackhi_epi16(q16, zero)]
+                .map(|q| _mm_add_ps(p, _mm_mul_ps(_mm_cvtepi32_ps(q), s)))
+        }
+    }
+    // SAFETY: as in `planes`.
+    unsafe {
+        let mut near = [_mm_set1_ps(r.tmin); 2];
+        let mut far = [_mm_set1_ps(tmax); 2];
+        for a in 0..3 {
+            let p = _mm_set1_ps(node.p[a]);
+            let s = _mm_set1_ps(step(node.e[a]));
+            let o = _mm_set1_ps(r.o[a]);
+            let inv = _mm_set1_ps(r.inv[a]);
+            let np = planes(&node.q[r.near_row[a]], p, s);
+            let fp = planes(&node.q[r.near_row[a] ^ 1], p, s);
+            for h in 0..2 {
+                let tn = _mm_mul_ps(_mm_sub_ps(np[h], o), inv);
+                let tf = _mm_mul_ps(_mm_sub_ps(fp[h], o), inv);
+                near[h] = _mm_max_ps(tn, near[h]);
+                far[h] = _mm_min_ps(tf, far[h]);
+            }
+        }
+        let (ns, fs) = (_mm_set1_ps(NEAR_SCALE), _mm_set1_ps(FAR_SCALE));
+        let met = |h: usize| {
+            _mm_movemask_ps(_mm_cmple_ps(
+                _mm_mul_ps(near[h], ns),
+                _mm_mul_ps(far[h], fs),
+            )) as u32
+        };
+        met(0) | met(1) << 4
+    }
+}
+
+/// Which children of `node` the ray meets within (tmin, tmax) ([`met_children`]), as
+/// obvhs's hit mask (leaf children's primitive bits in the low 24 bits, internal
+/// children's priority bits in the high 8), ordered by `oct_inv4`; the nodes and
+/// primitives of the children met are prefetched.
+#[inline(always)]
+fn child_hits(
+    node: &Node,
+    r: &BoxRay,
+    tmax: f32,
+    oct_inv4: u32,
+    nodes: &[Node],
+    slots: &[Primitive],
+) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    let mut met = met_children_sse2(node, r, tmax);
+    #[cfg(not(target_arch = "x86_64"))]
+    let mut met = met_children(node, r, tmax);
+    // Only the meta data is read: the rest of obvhs's node stays out of the cache lines
+    // a node costs.
     let meta = CwBvhNode {
         child_meta: node.child_meta,
         ..CwBvhNode::default()
     };
     let (bits, index) = meta.get_child_and_index_bits(oct_inv4);
     let mut mask = 0u32;
-    for c in 0..8 {
-        if near[c] * NEAR_SCALE <= far[c] * FAR_SCALE {
-            let b = ((bits >> (8 * c)) & 0xff) as u32;
-            let i = ((index >> (8 * c)) & 0xff) as u32;
-            mask |= b << i;
+    while met != 0 {
+        let c = met.trailing_zeros();
+        met &= met - 1;
+        let b = ((bits >> (8 * c)) & 0xff) as u32;
+        let i = ((index >> (8 * c)) & 0xff) as u32;
+        mask |= b << i;
+        let m = node.child_meta[c as usize];
+        if m >> 5 == 1 && m & 0b11111 >= 24 {
+            // An internal child: its node, both cache lines.
+            let slot = u32::from(m & 0b11111) - 24;
+            let rel = (u32::from(node.imask) & !(u32::MAX << slot)).count_ones();
+            if let Some(n) = nodes.get((node.child_base_idx + rel) as usize) {
+                prefetch(n);
+                prefetch(&n.q[4]);
+            }
+        } else if m != 0 {
+            // A leaf: its first and last primitive.
+            let start = (node.primitive_base_idx + u32::from(m & 0b11111)) as usize;
+            let count = (m >> 5).count_ones() as usize;
+            if let Some(s) = slots.get(start) {
+                prefetch(s);
+            }
+            if let Some(s) = slots.get(start + count - 1) {
+                prefetch(s);
+            }
         }
     }
     mask
 }
 
-/// The nodes of `bvh` with world-space child boxes from the primitives' bounds.
-fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
+/// Ask the CPU to bring `x`'s cache line in (a hint: no effect on any result).
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults and writes nothing; `x` is a valid reference.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast());
+    }
+}
+
+/// Quantise one axis of a node's child boxes `(lo, hi)` (empty children are `None`):
+/// the grid (p, e) and each child's (low, high) plane indices, such that every decoded
+/// low plane is ≤ the child's low bound and every decoded high plane ≥ its high bound.
+///
+/// p is the node's low bound, and e the smallest exponent whose grid reaches the node's
+/// high bound at index 255 (at e = 254, 255·2¹²⁷ overflows to +∞, which reaches
+/// anything). Each low index starts at ⌊(lo − p)/s⌋ and each high one at ⌈(hi − p)/s⌉
+/// (in f64), then steps until [`plane`] itself decodes to a conservative plane, and on to
+/// the tightest one: index 0 decodes to p ≤ lo and index 255 to at least the node's high
+/// bound, so the search always ends conservative. A node with a non-finite or NaN bound
+/// gets p = NaN: every plane decodes to NaN, which the slab test reads as no constraint.
+fn quantise_axis(children: &[Option<(f32, f32)>; 8]) -> (f32, u8, [u8; 8], [u8; 8]) {
+    let (node_lo, node_hi) = children
+        .iter()
+        .flatten()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &(lo, hi)| {
+            (l.min(lo), h.max(hi))
+        });
+    let (mut qlo, mut qhi) = ([0u8; 8], [0u8; 8]);
+    let nan = children
+        .iter()
+        .flatten()
+        .any(|(lo, hi)| lo.is_nan() || hi.is_nan());
+    if nan || !(node_lo.is_finite() && node_hi.is_finite()) {
+        return (f32::NAN, 127, qlo, qhi);
+    }
+    let p = node_lo;
+    let reaches = |e: u8| plane(p, step(e), 255) >= node_hi;
+    let extent = (f64::from(node_hi) - f64::from(p)) / 255.0;
+    let guess = if extent > 0.0 {
+        extent.log2().ceil() as i32 + 127
+    } else {
+        1
+    };
+    let mut e = guess.clamp(1, 254) as u8;
+    while e > 1 && reaches(e - 1) {
+        e -= 1;
+    }
+    while !reaches(e) {
+        e += 1;
+    }
+    let s = step(e);
+    let index = |x: f64| x.clamp(0.0, 255.0) as u8;
+    for (c, child) in children.iter().enumerate() {
+        let Some((lo, hi)) = *child else { continue };
+        let mut l = index(((f64::from(lo) - f64::from(p)) / f64::from(s)).floor());
+        while !(plane(p, s, l) <= lo) {
+            l -= 1;
+        }
+        while l < 255 && plane(p, s, l + 1) <= lo {
+            l += 1;
+        }
+        let mut h = index(((f64::from(hi) - f64::from(p)) / f64::from(s)).ceil());
+        while !(plane(p, s, h) >= hi) {
+            h += 1;
+        }
+        while h > 0 && plane(p, s, h - 1) >= hi {
+            h -= 1;
+        }
+        (qlo[c], qhi[c]) = (l, h);
+    }
+    (p, e, qlo, qhi)
+}
+
+/// The nodes of `bvh` with quantised child boxes from the primitives' bounds.
+fn nodes_with_boxes(bvh: &CwBvh, slots: &[Primitive]) -> Vec<Node> {
     let mut nodes: Vec<Node> = bvh
         .nodes
         .iter()
         .map(|cw| Node {
-            lo: [[f32::INFINITY; 8]; 3],
-            hi: [[f32::NEG_INFINITY; 8]; 3],
-            child_meta: cw.child_meta,
+            p: [0.0; 3],
+            e: [127; 3],
+            imask: cw.imask,
             child_base_idx: cw.child_base_idx,
             primitive_base_idx: cw.primitive_base_idx,
-            imask: cw.imask,
+            child_meta: cw.child_meta,
+            q: [[0; 8]; 6],
         })
         .collect();
     if !nodes.is_empty() {
@@ -211,33 +413,44 @@ fn nodes_with_boxes(bvh: &CwBvh, slots: &[Slot]) -> Vec<Node> {
     nodes
 }
 
-/// Fill node `i`'s child boxes (children first) and return the union of them.
-fn fill_boxes(nodes: &mut [Node], cws: &[CwBvhNode], i: usize, slots: &[Slot]) -> (Vec3, Vec3) {
+/// Quantise node `i`'s child boxes (children first) and return the union of the
+/// children's exact boxes (what its parent quantises).
+fn fill_boxes(
+    nodes: &mut [Node],
+    cws: &[CwBvhNode],
+    i: usize,
+    slots: &[Primitive],
+) -> (Vec3, Vec3) {
     let cw = cws[i];
-    let mut all = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for c in 0..8 {
+    let mut boxes: [Option<(Vec3, Vec3)>; 8] = [None; 8];
+    for (c, b) in boxes.iter_mut().enumerate() {
         if cw.is_child_empty(c) {
             continue;
         }
-        let (lo, hi) = if cw.is_leaf(c) {
+        *b = Some(if cw.is_leaf(c) {
             let (start, count) = cw.child_primitives(c);
             slots[start as usize..(start + count) as usize].iter().fold(
                 (Vec3::INFINITY, Vec3::NEG_INFINITY),
                 |(lo, hi), s| {
-                    let (l, h) = s.prim.bounds();
+                    let (l, h) = s.bounds();
                     (lo.min(l), hi.max(h))
                 },
             )
         } else {
             fill_boxes(nodes, cws, cw.child_node_index(c) as usize, slots)
-        };
-        for a in 0..3 {
-            nodes[i].lo[a][c] = lo[a];
-            nodes[i].hi[a][c] = hi[a];
-        }
-        all = (all.0.min(lo), all.1.max(hi));
+        });
     }
-    all
+    let node = &mut nodes[i];
+    for a in 0..3 {
+        let (p, e, lo, hi) = quantise_axis(&boxes.map(|b| b.map(|(lo, hi)| (lo[a], hi[a]))));
+        (node.p[a], node.e[a], node.q[2 * a], node.q[2 * a + 1]) = (p, e, lo, hi);
+    }
+    boxes
+        .iter()
+        .flatten()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &(lo, hi)| {
+            (l.min(lo), h.max(hi))
+        })
 }
 
 /// The primitives' padded bounds as obvhs's boxes (what its build reads).
@@ -274,17 +487,18 @@ impl Accel {
                 obvhs::BvhBuildParams::medium_build(),
                 &mut t,
             );
-            let slots: Vec<Slot> = bvh
+            let slots: Vec<Primitive> = bvh
                 .primitive_indices
                 .iter()
-                .map(|&i| Slot {
-                    prim: prims[i as usize],
-                    index: i,
-                    skip: false,
-                })
+                .map(|&i| prims[i as usize])
                 .collect();
             let nodes = nodes_with_boxes(&bvh, &slots);
-            Tree { nodes, slots }
+            Tree {
+                nodes,
+                slots,
+                index: bvh.primitive_indices,
+                skip: None,
+            }
         });
         let skip = vec![false; prims.len()];
         Accel { prims, tree, skip }
@@ -294,9 +508,9 @@ impl Accel {
     pub fn set_skip(&mut self, skip: Vec<bool>) {
         assert_eq!(skip.len(), self.prims.len());
         if let Some(tree) = &mut self.tree {
-            for slot in &mut tree.slots {
-                slot.skip = skip[slot.index as usize];
-            }
+            tree.skip = skip
+                .contains(&true)
+                .then(|| tree.index.iter().map(|&i| skip[i as usize]).collect());
         }
         self.skip = skip;
     }
@@ -308,6 +522,7 @@ impl Accel {
 
     /// Closest hit with t in (tmin, tmax), tmin ≥ 0: (primitive index, hit).
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, Hit)> {
+        let ray = Ray::new(o, d);
         match &self.tree {
             None => {
                 let mut best: Option<(usize, Hit)> = None;
@@ -316,7 +531,7 @@ impl Accel {
                     if self.skip[i] {
                         continue;
                     }
-                    if let Some(h) = p.intersect(o, d, tmin, tm) {
+                    if let Some(h) = p.intersect_ray(&ray, tmin, tm) {
                         tm = h.t;
                         best = Some((i, h));
                     }
@@ -325,32 +540,35 @@ impl Accel {
             }
             Some(tree) => {
                 let mut best: Option<(usize, Hit)> = None;
-                tree.walk(o, d, tmin, tmax, |s, tm| {
-                    match s.prim.intersect(o, d, tmin, tm) {
+                tree.walk(o, d, tmin, tmax, |slot, prim, tm| {
+                    match prim.intersect_ray(&ray, tmin, tm) {
                         Some(h) => {
-                            best = Some((s.index as usize, h));
+                            // Read after the traversal: fetched meanwhile.
+                            prefetch(&tree.index[slot]);
+                            best = Some((slot, h));
                             Visit::Shorten(h.t)
                         }
                         None => Visit::Go,
                     }
                 });
-                best
+                best.map(|(slot, h)| (tree.index[slot] as usize, h))
             }
         }
     }
 
     /// Whether nothing lies on the segment t ∈ (tmin, tmax), tmin ≥ 0.
     pub fn unoccluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        let ray = Ray::new(o, d);
         match &self.tree {
             None => self
                 .prims
                 .iter()
                 .zip(&self.skip)
-                .all(|(p, &skip)| skip || p.intersect(o, d, tmin, tmax).is_none()),
+                .all(|(p, &skip)| skip || p.intersect_ray(&ray, tmin, tmax).is_none()),
             Some(tree) => {
                 let mut clear = true;
-                tree.walk(o, d, tmin, tmax, |s, _| {
-                    if s.prim.intersect(o, d, tmin, tmax).is_some() {
+                tree.walk(o, d, tmin, tmax, |_, prim, _| {
+                    if prim.intersect_ray(&ray, tmin, tmax).is_some() {
                         clear = false;
                         Visit::Stop
                     } else {
@@ -694,6 +912,301 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn nodes_are_80_bytes() {
+        assert_eq!(std::mem::size_of::<Node>(), 80);
+    }
+
+    /// The one-sided distance, in grid steps, from a decoded plane to the bound it covers.
+    fn slack(dec: f32, bound: f32, s: f32) -> f64 {
+        (f64::from(dec) - f64::from(bound)).abs() / f64::from(s)
+    }
+
+    #[test]
+    fn quantised_planes_contain_each_child_and_stay_within_a_step() {
+        // Children at every magnitude f32 holds, far from the origin or across it, of
+        // extents from zero (a point) up to the node's; plus the extremes of the range.
+        let sampler = Sampler::independent(23);
+        let mut cases: Vec<[Option<(f32, f32)>; 8]> = vec![
+            [Some((1.0, 1.0)); 8],
+            [
+                Some((-f32::MAX, f32::MAX)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((f32::MAX / 2.0, f32::MAX)),
+                Some((f32::MAX, f32::MAX)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((0.0, f32::from_bits(1))),
+                Some((-f32::from_bits(3), 0.0)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((-1e-30, 1e-30)),
+                Some((1e5, 1e5 + 1.0)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+        ];
+        for i in 0..4000u64 {
+            let mut st = sampler.stream(i);
+            let base = [0.0, 1.0, -1e5, 3e7, -2e30, 1e-20][(st.next_1d() * 6.0) as usize % 6];
+            let scale = 10f32.powf(-30.0 + 60.0 * st.next_1d());
+            let mut children = [None; 8];
+            for c in children.iter_mut() {
+                if st.next_1d() < 0.8 {
+                    let lo = base + scale * (2.0 * st.next_1d() - 1.0);
+                    let w = if st.next_1d() < 0.1 {
+                        0.0
+                    } else {
+                        scale * st.next_1d()
+                    };
+                    *c = Some((lo, lo + w));
+                }
+            }
+            if children.iter().any(Option::is_some) {
+                cases.push(children);
+            }
+        }
+        for children in &cases {
+            let (p, e, ql, qh) = quantise_axis(children);
+            assert!(
+                p.is_finite() && (1..=254).contains(&e),
+                "{children:?}: p {p}, e {e}"
+            );
+            let s = step(e);
+            let (node_lo, node_hi) = children
+                .iter()
+                .flatten()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &(lo, hi)| {
+                    (l.min(lo), h.max(hi))
+                });
+            assert_eq!(p, node_lo);
+            // The step is the smallest power of two that spans the node.
+            assert!(
+                e == 1 || plane(p, step(e - 1), 255) < node_hi,
+                "{children:?}: e {e} not the smallest"
+            );
+            for (c, child) in children.iter().enumerate() {
+                let Some((lo, hi)) = *child else { continue };
+                let (dl, dh) = (plane(p, s, ql[c]), plane(p, s, qh[c]));
+                assert!(
+                    dl <= lo && dh >= hi,
+                    "{children:?} child {c}: [{dl}, {dh}] ⊉ [{lo}, {hi}]"
+                );
+                // No looser than a step plus the rounding of p + q·s (a few ulps of p).
+                let ulps = 4.0 * f64::from(f32::EPSILON) * f64::from(p.abs().max(node_hi.abs()));
+                let tol = 1.0 + ulps / f64::from(s);
+                assert!(
+                    slack(dl, lo, s) <= tol,
+                    "{children:?} child {c}: low plane {dl} for {lo}, step {s}"
+                );
+                if dh.is_finite() {
+                    assert!(
+                        slack(dh, hi, s) <= tol,
+                        "{children:?} child {c}: high plane {dh} for {hi}, step {s}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_bounds_quantise_to_planes_that_never_cull() {
+        for bad in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+            let children = [
+                Some((0.0, 1.0)),
+                Some((bad, bad)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ];
+            let (p, e, ql, qh) = quantise_axis(&children);
+            assert!(plane(p, step(e), ql[0]).is_nan() && plane(p, step(e), qh[1]).is_nan());
+        }
+        // A NaN plane leaves the slab interval as it was: the child is met.
+        let mut node = Node {
+            p: [f32::NAN, 0.0, 0.0],
+            e: [127; 3],
+            imask: 0,
+            child_base_idx: 0,
+            primitive_base_idx: 0,
+            child_meta: [0; 8],
+            q: [[0; 8], [1; 8], [0; 8], [1; 8], [0; 8], [1; 8]],
+        };
+        let r = BoxRay::new(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.6, 0.0, 0.8), 0.0);
+        assert_eq!(met_children(&node, &r, f32::INFINITY), 0xff);
+        node.p[0] = 2.0;
+        assert_eq!(met_children(&node, &r, f32::INFINITY), 0);
+    }
+
+    #[test]
+    fn every_primitive_lies_inside_each_decoded_box_above_it() {
+        // Walk each tree from the root: every primitive's padded bounds within every box
+        // on its way down, for scenes near and far from the origin at several scales.
+        let sampler = Sampler::independent(41);
+        for (k, (base, scale)) in [
+            (Vec3::ZERO, 1.0),
+            (Vec3::ZERO, 1e-3),
+            (Vec3::new(1e5, -3e4, 7e4), 1.0),
+            (Vec3::new(-2e7, 1e6, 0.0), 1e3),
+            (Vec3::new(0.5, 0.5, 0.5), 1e-6),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let mut prims = tiles(base, scale);
+            for i in 0..300u64 {
+                let mut st = sampler.stream(1000 * k as u64 + i);
+                let c = base + Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * (10.0 * scale);
+                let a = uniform_sphere(st.next_2d()) * scale;
+                let b = uniform_sphere(st.next_2d()) * scale;
+                prims.push(match i % 3 {
+                    0 => Primitive::Sphere {
+                        center: c,
+                        radius: 0.1 * scale,
+                    },
+                    1 => Primitive::Triangle {
+                        p: [c, c + a, c + b],
+                    },
+                    _ => Primitive::Rectangle {
+                        corner: c,
+                        u: a,
+                        v: b,
+                    },
+                });
+            }
+            let accel = Accel::new(prims);
+            let tree = accel.tree.as_ref().unwrap();
+            let mut seen = 0;
+            let mut stack = vec![(0usize, Vec::<(Vec3, Vec3)>::new())];
+            while let Some((i, above)) = stack.pop() {
+                let node = &tree.nodes[i];
+                for c in 0..8 {
+                    let m = node.child_meta[c];
+                    if m == 0 {
+                        continue;
+                    }
+                    let mut boxes = above.clone();
+                    let dec =
+                        |row: usize, a: usize| plane(node.p[a], step(node.e[a]), node.q[row][c]);
+                    boxes.push((
+                        Vec3::new(dec(0, 0), dec(2, 1), dec(4, 2)),
+                        Vec3::new(dec(1, 0), dec(3, 1), dec(5, 2)),
+                    ));
+                    if node.imask & (1 << c) != 0 {
+                        let slot = u32::from(m & 0b11111) - 24;
+                        let rel = (u32::from(node.imask) & !(u32::MAX << slot)).count_ones();
+                        stack.push(((node.child_base_idx + rel) as usize, boxes));
+                    } else {
+                        let start = (node.primitive_base_idx + u32::from(m & 0b11111)) as usize;
+                        for prim in &tree.slots[start..start + (m >> 5).count_ones() as usize] {
+                            let (lo, hi) = prim.bounds();
+                            for (blo, bhi) in &boxes {
+                                assert!(
+                                    blo.cmple(lo).all() && bhi.cmpge(hi).all(),
+                                    "scene {k}: {prim:?} outside [{blo:?}, {bhi:?}]"
+                                );
+                            }
+                            seen += 1;
+                        }
+                    }
+                }
+            }
+            assert_eq!(seen, tree.slots.len());
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn sse2_box_test_equals_the_definition() {
+        // Random nodes (any grid, any plane indices, empty and inverted boxes, NaN grids)
+        // and rays (zero and −0 components, tmin 0 or not, tmax finite or not): the same
+        // bits.
+        let sampler = Sampler::independent(9);
+        let mut met = 0u32;
+        for i in 0..20_000u64 {
+            let mut st = sampler.stream(i);
+            let mut byte = || (st.next_1d() * 256.0) as u8;
+            // Low planes in the grid's lower half, high ones in its upper half; every fifth
+            // node any bytes (boxes inverted on some axes: empty).
+            let mut q = [[0u8; 8]; 6];
+            for (r, row) in q.iter_mut().enumerate() {
+                for b in row.iter_mut() {
+                    *b = match (i % 5, r % 2) {
+                        (0, _) => byte(),
+                        (_, 0) => byte() / 2,
+                        _ => 128 + byte() / 2,
+                    };
+                }
+            }
+            let mut st = sampler.stream(1 << 40 | i);
+            let mut p = [0.0f32; 3];
+            let mut e = [0u8; 3];
+            for a in 0..3 {
+                p[a] = -1.5 - 0.5 * st.next_1d();
+                e[a] = 120 + (st.next_1d() * 3.0) as u8;
+            }
+            if i % 50 == 0 {
+                p[i as usize / 50 % 3] = f32::NAN;
+            }
+            let node = Node {
+                p,
+                e,
+                imask: 0,
+                child_base_idx: 0,
+                primitive_base_idx: 0,
+                child_meta: [0; 8],
+                q,
+            };
+            let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
+            let mut d = uniform_sphere(st.next_2d());
+            match i % 7 {
+                0 => d.x = 0.0,
+                1 => d.y = -0.0,
+                2 => d = Vec3::new(-0.0, 0.0, -1.0),
+                _ => {}
+            }
+            let tmin = if i % 3 == 0 { st.next_1d() } else { 0.0 };
+            let tmax = if i % 2 == 0 {
+                f32::INFINITY
+            } else {
+                4.0 * st.next_1d()
+            };
+            let r = BoxRay::new(o, d, tmin);
+            let want = met_children(&node, &r, tmax);
+            assert_eq!(met_children_sse2(&node, &r, tmax), want, "node {i}");
+            met += want.count_ones();
+        }
+        // Both outcomes occur often.
+        assert!(met > 20_000 && met < 140_000, "{met} children met");
     }
 
     #[test]
