@@ -564,6 +564,99 @@ mod tests {
         assert!((mid - 0.5).abs() < 1e-5);
     }
 
+    /// The `f32` shortcut of [`outside_sphere_band`] (a viewer well inside answers
+    /// `false` without the `f64` test) gives the `f64` test's answer: viewers on rays
+    /// through the centre at |p − c|/r from 0 to 1.5, stepped finely around the
+    /// shortcut's threshold √0.98 and around the band, for radii from 1e-20 to 1e18 and
+    /// centres near and far from the origin (where `f32` rounding is coarse).
+    #[test]
+    fn sphere_band_shortcut_keeps_the_answer() {
+        let band_f64 = |p: Vec3, center: Vec3, radius: f32| {
+            (p.as_dvec3() - center.as_dvec3()).length()
+                > radius as f64
+                    + 4.0
+                        * (crate::math::gamma(5) as f64 * radius as f64
+                            + crate::math::gamma(1) as f64
+                                * (center.abs().max_element() + p.abs().max_element()) as f64)
+        };
+        let dirs = [
+            Vec3::X,
+            Vec3::new(0.6, -0.8, 0.0),
+            Vec3::new(0.3, 0.4, -0.866_025_4),
+        ];
+        let mut checked = 0;
+        for radius in [1e-20f32, 1e-3, 1.0, 7.5, 1e6, 1e18] {
+            for center in [
+                Vec3::ZERO,
+                Vec3::new(3.0, -2.0, 1.0) * radius,
+                Vec3::splat(1e4),
+            ] {
+                for dir in dirs {
+                    let mut ts: Vec<f64> = (0..=150).map(|i| i as f64 / 100.0).collect();
+                    for mid in [0.98f64.sqrt(), 1.0] {
+                        ts.extend((-200..=200).map(|i| mid * (1.0 + i as f64 * 1e-7)));
+                    }
+                    for t in ts {
+                        let p = center + dir * (radius as f64 * t) as f32;
+                        assert_eq!(
+                            outside_sphere_band(p, center, radius),
+                            band_f64(p, center, radius),
+                            "r = {radius}, c = {center}, t = {t}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 50_000);
+    }
+
+    /// [`PrimDensity::solid_angle`] with the caller's length gives the bits of the former
+    /// conversion `pdf r²/|normalize_or_zero(d) · n|` (and `None` where that returned
+    /// none), including a zero, an overflowing and a NaN offset and an edge-on normal.
+    #[test]
+    fn area_density_conversion_is_the_former_one() {
+        let former = |pdf: f32, d: Vec3, n: Vec3| {
+            let r2 = d.length_squared();
+            let cos = d.normalize_or_zero().dot(n).abs();
+            if cos <= 0.0 || r2 <= 0.0 {
+                None
+            } else {
+                Some(pdf * r2 / cos)
+            }
+        };
+        let mut cases = vec![
+            (Vec3::ZERO, Vec3::Z),
+            (Vec3::new(1e30, 1e30, 0.0), Vec3::X),
+            (Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z),
+            (Vec3::new(1.0, 0.0, 0.0), Vec3::Z),
+            (Vec3::new(1e-30, 2e-30, 0.0), Vec3::X),
+        ];
+        for i in 0..1000 {
+            let f = |k: u32| ((i * 7919 + k * 104_729) % 2001) as f32 / 1000.0 - 1.0;
+            let scale = 10f32.powi((i % 13) as i32 - 6);
+            cases.push((
+                Vec3::new(f(1), f(2), f(3)) * scale,
+                Vec3::new(f(4), f(5), f(6)).normalize_or(Vec3::Z),
+            ));
+        }
+        for (d, n) in cases {
+            for pdf in [0.25f32, 1.0 / (4.0 * PI)] {
+                let got = PrimDensity::Area(pdf).solid_angle(d, d.length(), n);
+                let want = former(pdf, d, n);
+                assert_eq!(
+                    got.map(f32::to_bits),
+                    want.map(f32::to_bits),
+                    "d = {d}, n = {n}"
+                );
+            }
+            assert_eq!(
+                PrimDensity::SolidAngle(3.0).solid_angle(d, d.length(), n),
+                Some(3.0)
+            );
+        }
+    }
+
     #[test]
     fn envmap_pdf_matches_sample() {
         let vals: Vec<f32> = (0..32).map(|i| 1.0 + (i % 5) as f32).collect();
