@@ -183,6 +183,20 @@ impl SampleStream {
     /// The next uniform number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
+        // The independent stream inline (a few instructions, drawn several times per
+        // path vertex); the quasi-random kinds out of line.
+        match self.kind {
+            SamplerKind::Independent => {
+                self.dim += 1;
+                unit_float_from_bits(self.rng.next_u32()).min(ONE_MINUS_EPSILON)
+            }
+            SamplerKind::Sobol | SamplerKind::Stratified => self.next_1d_quasi(),
+        }
+    }
+
+    /// [`SampleStream::next_1d`] of the Sobol and stratified streams.
+    #[inline(never)]
+    fn next_1d_quasi(&mut self) -> f32 {
         let d = self.dim;
         self.dim += 1;
         let u = match self.kind {

@@ -8,18 +8,39 @@
 //! the height uniformly in the strip's projected (h = y/√(d² + y²)) coordinate.
 //! Computed in `f64` because Ω = γ₀ + γ₁ − k cancels for small rectangles.
 //!
+//! **Two arctangents instead of four.** With h = |z₀| and the corner at (x, y) at
+//! distance r = √(x² + y² + h²), the interior angle there is γ = π/2 ∓ F(x, y) with
+//! F(x, y) = arg(h r + i x y) = atan(x y/(h r)), the signed solid angle of the rectangle
+//! [0, x] × [0, y] spanned by the viewer's foot and the corner. Hence (inclusion and
+//! exclusion about the foot)
+//!
+//!   G(x) = F(x, y₁) − F(x, y₀) = arg(z(x, y₁) · conj z(x, y₀)),  z(x, y) = h r + i x y,
+//!   Ω = G(x₁) − G(x₀),  k = π + G(x₀),
+//!
+//! where G(x) ∈ (−π, π) is the signed solid angle of [0, x] × [y₀, y₁]: one `atan2` for
+//! each of the rectangle's two vertical edges, of complex products with no square root
+//! beyond the corner distances. Where G(x) nears ±π (a viewer just above the strip,
+//! y₀ < 0 < y₁) the imaginary part h x (y₁ r₀ − y₀ r₁) is a sum of like-signed terms, so
+//! the angle stays on the right side of the cut. Both arguments of each `atan2` are
+//! sums of two products, so each angle is exact to a few ulps of π, as the four
+//! cross-product angles it replaces were (`tests::two_arctangents_match_four`).
+//!
 //! **Near the plane.** For a viewer close to the rectangle's plane the γᵢ approach 0 or π
 //! and the strip's cosines approach ±1, where the textbook steps lose digits even in
 //! `f64`: acos of a cosine near ±1 keeps only half of them (the solid angle of a unit
 //! square seen from 1e-6 beside its plane was off by 4e-5, from 1e-7 by 4e-4, from 1e-8
 //! by 21 %; a viewer 20 units away and 1e-4 above it by 1.2e-4), and xu = −cu z0/√(1 − cu²)
-//! and yv = hv d/√(1 − hv²) take square roots of cancelled differences. Here the γᵢ come
-//! from atan2(|nᵢ × nᵢ₊₁|, −nᵢ·nᵢ₊₁), 1 − cu² and 1 − hv² are rewritten as products of
-//! quantities formed without cancellation (see the comments in the code), and the
-//! solid angle is now exact to ~1e-7 relative at every tested height down to 1e-8.
-//! What remains: the strip's first moment is off by up to 7e-5 at 1e-6 above the plane
-//! near a corner or an edge's line, 1e-3 at 1e-7 (heights below the `f32` spacing of the
-//! coordinates, where a shading point cannot be placed that precisely anyway).
+//! and yv = hv d/√(1 − hv²) take square roots of cancelled differences. Here the angles
+//! come from `atan2` of unnormalised complex numbers (above), 1 − cu² and 1 − hv² are
+//! rewritten as products of quantities formed without cancellation (see the comments in
+//! the code), and the solid angle is exact to ~1e-7 relative at every tested height down
+//! to 1e-8. What remains: the strip's first moment is off by up to 7e-5 at 1e-6 above the
+//! plane near a corner or an edge's line, 1e-3 at 1e-7 (heights below the `f32` spacing
+//! of the coordinates, where a shading point cannot be placed that precisely anyway).
+//!
+//! **Cost.** [`SphericalRectangle::new`] forms the frame, Ω and k only (what the density
+//! needs, e.g. for the MIS weight of a BSDF-sampled hit); the constants of the inverse
+//! CDF are formed by the sample that uses them.
 
 use glam::{DVec3, Vec2, Vec3};
 
@@ -35,15 +56,19 @@ pub struct SphericalRectangle {
     y0: f64,
     x1: f64,
     y1: f64,
-    b0: f64,
-    b1: f64,
-    /// 1 − b0² = z0²/(z0² + y0²).
-    s0_sq: f64,
-    /// b0b1 + s0s1 and b0b1 − s0s1 (sᵢ = √(1 − bᵢ²)), formed from y0, y1, z0.
-    c_plus: f64,
-    c_minus: f64,
+    /// k = π + G(x₀) (the module's notes).
     k: f64,
     solid_angle: f64,
+}
+
+/// arg(z(x, y₁) · conj z(x, y₀)) with z(x, y) = h r + i x y and r² = x² + y² + h²: the
+/// signed solid angle G(x) of the rectangle [0, x] × [y₀, y₁] seen from height h.
+#[inline]
+fn edge_angle(x: f64, y0: f64, y1: f64, h: f64) -> f64 {
+    let h2x2 = h * h + x * x;
+    let (a0, b0) = (h * (h2x2 + y0 * y0).sqrt(), x * y0);
+    let (a1, b1) = (h * (h2x2 + y1 * y1).sqrt(), x * y1);
+    (b1 * a0 - a1 * b0).atan2(a1 * a0 + b1 * b0)
 }
 
 impl SphericalRectangle {
@@ -70,28 +95,13 @@ impl SphericalRectangle {
         }
         let x1 = x0 + lx;
         let y1 = y0 + ly;
-        let n0 = DVec3::new(0.0, z0, -y0).normalize();
-        let n1 = DVec3::new(-z0, 0.0, x1).normalize();
-        let n2 = DVec3::new(0.0, -z0, y1).normalize();
-        let n3 = DVec3::new(z0, 0.0, -x0).normalize();
-        // Interior angles γᵢ = ∠(−nᵢ, nᵢ₊₁) by atan2 of |nᵢ × nᵢ₊₁| and −nᵢ·nᵢ₊₁: acos of
-        // the cosine alone loses half the digits near 0 and π, which is where the angles
-        // sit when the viewer is close to the rectangle's plane (Ω = Σγᵢ − 2π then cancels
-        // down to those lost digits: −4e-4 at 1e-7 beside a unit square, +21 % at 1e-8).
-        // The cross products of these normals have no subtractions (each pair shares a
-        // zero), so both arguments keep full precision.
-        let angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(-a.dot(b));
-        let g0 = angle(n0, n1);
-        let g1 = angle(n1, n2);
-        let g2 = angle(n2, n3);
-        let g3 = angle(n3, n0);
-        let k = 2.0 * std::f64::consts::PI - g2 - g3;
-        let solid_angle = g0 + g1 - k;
+        // G(x₀) and G(x₁): the module's notes.
+        let g0 = edge_angle(x0, y0, y1, -z0);
+        let g1 = edge_angle(x1, y0, y1, -z0);
+        let solid_angle = g1 - g0;
         if !(solid_angle > 0.0) || !solid_angle.is_finite() {
             return None;
         }
-        // b0b1 ± s0s1 with b0 = −y0/L0, b1 = y1/L1, sᵢ = |z0|/Lᵢ, Lᵢ = √(z0² + yᵢ²).
-        let l01 = (z0 * z0 + y0 * y0).sqrt() * (z0 * z0 + y1 * y1).sqrt();
         Some(SphericalRectangle {
             o,
             x,
@@ -102,12 +112,7 @@ impl SphericalRectangle {
             y0,
             x1,
             y1,
-            b0: n0.z,
-            b1: n2.z,
-            s0_sq: z0 * z0 / (z0 * z0 + y0 * y0),
-            c_plus: (z0 * z0 - y0 * y1) / l01,
-            c_minus: (-z0 * z0 - y0 * y1) / l01,
-            k,
+            k: std::f64::consts::PI + g0,
             solid_angle,
         })
     }
@@ -129,9 +134,15 @@ impl SphericalRectangle {
 
     /// [`SphericalRectangle::sample_point`] before rounding to `f32`.
     pub fn sample_point_f64(&self, u: Vec2) -> DVec3 {
+        // The great-circle normals' z components bᵢ (b0 = −y0/L0, b1 = y1/L1) and, for
+        // the forms below, sᵢ = |z0|/Lᵢ, with Lᵢ = √(z0² + yᵢ²).
+        let z02 = self.z0 * self.z0;
+        let (l0_sq, l1_sq) = (z02 + self.y0 * self.y0, z02 + self.y1 * self.y1);
+        let (l0, l1) = (l0_sq.sqrt(), l1_sq.sqrt());
+        let (b0, b1) = (-self.y0 / l0, self.y1 / l1);
         let au = u.x as f64 * self.solid_angle + self.k;
         let (sin_au, cos_au) = au.sin_cos();
-        let fu = (cos_au * self.b0 - self.b1) / sin_au;
+        let fu = (cos_au * b0 - b1) / sin_au;
         // xu = −cu z0/√(1 − cu²) with cu = sign(fu)/√(fu² + b0²), without forming 1 − cu²,
         // which cancels when |xu| ≫ |z0|, i.e. for a viewer close to the plane. With
         // sᵢ² = 1 − bᵢ² = z0²/(z0² + yᵢ²), (1 − cu²)/cu² = fu² + b0² − 1 has two forms:
@@ -139,11 +150,17 @@ impl SphericalRectangle {
         // edge y0 as well as near the plane), and (cos au − c₊)(cos au − c₋)/sin²au with
         // c± = b0b1 ± s0s1 (from y0, y1, z0 directly), exact there but weaker elsewhere.
         let f2 = fu * fu;
-        let t2 = f2 - self.s0_sq;
+        let t2 = f2 - z02 / l0_sq;
         let t2 = if t2 >= 1e-6 * f2 {
             t2
         } else {
-            (cos_au - self.c_plus) * (cos_au - self.c_minus) / (sin_au * sin_au)
+            // c± = b0b1 ± s0s1 = (±z0² − y0y1)/(L0L1).
+            let l01 = l0 * l1;
+            let (c_plus, c_minus) = (
+                (z02 - self.y0 * self.y1) / l01,
+                (-z02 - self.y0 * self.y1) / l01,
+            );
+            (cos_au - c_plus) * (cos_au - c_minus) / (sin_au * sin_au)
         };
         let mut xu = if t2 > 0.0 {
             -self.z0 / t2.sqrt() * 1f64.copysign(fu)
@@ -154,15 +171,18 @@ impl SphericalRectangle {
             xu = if fu > 0.0 { self.x1 } else { self.x0 };
         }
         xu = xu.clamp(self.x0, self.x1);
-        let d = (xu * xu + self.z0 * self.z0).sqrt();
+        // d² = xu² + z0² is used as it is (its root d only scales yv at the end, off the
+        // chain of dependent square roots and divisions).
+        let d2 = xu * xu + z02;
+        let d = d2.sqrt();
         // h = y/√(d² + y²) with 1 − h and 1 + h kept exactly: near the viewer's foot
         // (d ≪ |y|) h → ±1 and 1 − h² would cancel. 1 ∓ hv interpolates linearly too.
         let split = |y: f64| {
-            let l = (d * d + y * y).sqrt();
+            let l = (d2 + y * y).sqrt();
             let (omh, oph) = if y > 0.0 {
-                (d * d / (l * (l + y)), (l + y) / l)
+                (d2 / (l * (l + y)), (l + y) / l)
             } else {
-                ((l - y) / l, d * d / (l * (l - y)))
+                ((l - y) / l, d2 / (l * (l - y)))
             };
             (y / l, omh, oph)
         };
@@ -246,6 +266,100 @@ mod tests {
             );
         }
     }
+    /// The four interior angles as the set-up formed them before the two-arctangent form:
+    /// γᵢ = ∠(−nᵢ, nᵢ₊₁) by atan2 of the great-circle normals' cross and dot products.
+    /// Returns (Ω, k).
+    fn four_angles(r: &SphericalRectangle) -> (f64, f64) {
+        let (x0, y0, x1, y1, z0) = (r.x0, r.y0, r.x1, r.y1, r.z0);
+        let n0 = DVec3::new(0.0, z0, -y0).normalize();
+        let n1 = DVec3::new(-z0, 0.0, x1).normalize();
+        let n2 = DVec3::new(0.0, -z0, y1).normalize();
+        let n3 = DVec3::new(z0, 0.0, -x0).normalize();
+        let angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(-a.dot(b));
+        let k = 2.0 * std::f64::consts::PI - angle(n2, n3) - angle(n3, n0);
+        (angle(n0, n1) + angle(n1, n2) - k, k)
+    }
+
+    /// The two-arctangent Ω and k against the four cross-product angles they replace and
+    /// Ω against Van Oosterom–Strackee on two triangles (the oracle of `near_the_plane`),
+    /// across hard configurations: near the plane beside, above and on an edge's line,
+    /// grazing from afar, tiny and huge rectangles, the foot on a corner. Each angle is
+    /// a sum of a few `atan2` values below 2π, each exact to a few ulps, so Ω and k must
+    /// agree to 4 ulps of 2π in absolute terms (a wrong sign or a swapped corner is off
+    /// by a large fraction of Ω); against the oracle to its own ~1e-7 relative.
+    #[test]
+    fn two_arctangents_match_four() {
+        use crate::sampling::spherical_triangle::tests::polygon_moments;
+        let ulps = 4.0 * f64::EPSILON * std::f64::consts::TAU;
+        let unit = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        let cases: Vec<(&str, Vec3, (Vec3, Vec3, Vec3))> = vec![
+            ("centred, distance 1", Vec3::new(0.5, 0.5, 1.0), unit),
+            ("oblique", Vec3::new(-0.7, 1.9, 0.6), unit),
+            ("beside 1e-6", Vec3::new(1.5, 0.5, 1e-6), unit),
+            ("beside 1e-8", Vec3::new(1.5, 0.5, 1e-8), unit),
+            ("below, beside 1e-7", Vec3::new(-0.5, 0.5, -1e-7), unit),
+            ("on an edge's line 1e-8", Vec3::new(1.5, 1.0, 1e-8), unit),
+            ("diagonal 1e-6", Vec3::new(-0.5, -0.5, 1e-6), unit),
+            ("hemisphere 1e-8", Vec3::new(0.5, 0.5, 1e-8), unit),
+            ("foot on a corner 1e-3", Vec3::new(0.0, 0.0, 1e-3), unit),
+            ("grazing far 1e-4", Vec3::new(20.0, 0.5, 1e-4), unit),
+            ("grazing very far", Vec3::new(300.0, -50.0, 1.0), unit),
+            (
+                "tiny 1e-4",
+                Vec3::new(0.3, -0.2, 1.0),
+                (Vec3::ZERO, Vec3::X * 1e-4, Vec3::Y * 1e-4),
+            ),
+            (
+                "tiny sliver",
+                Vec3::new(0.3, -0.2, 1.0),
+                (Vec3::ZERO, Vec3::X, Vec3::Y * 1e-5),
+            ),
+            (
+                "huge 1e4 from 1",
+                Vec3::new(0.1, 0.2, 1.0),
+                (Vec3::splat(-5e3).with_z(0.0), Vec3::X * 1e4, Vec3::Y * 1e4),
+            ),
+            (
+                "huge seen from beside",
+                Vec3::new(-1.0, 3e3, 0.5),
+                (Vec3::ZERO, Vec3::X * 1e4, Vec3::Y * 1e4),
+            ),
+            (
+                "tilted",
+                Vec3::new(0.2, -0.4, 0.9),
+                (
+                    Vec3::new(-0.3, 0.1, -0.5),
+                    Vec3::new(0.6, 0.8, 0.0) * 1.5,
+                    Vec3::new(-0.8, 0.6, 0.0) * 0.7,
+                ),
+            ),
+        ];
+        for (name, p, (c, ex, ey)) in cases {
+            let r = SphericalRectangle::new(p, c, ex, ey).unwrap();
+            let (omega4, k4) = four_angles(&r);
+            assert!(
+                (r.solid_angle - omega4).abs() <= ulps,
+                "{name}: Ω = {} vs four angles {omega4}",
+                r.solid_angle
+            );
+            assert!(
+                (r.k - k4).abs() <= ulps,
+                "{name}: k = {} vs four angles {k4}",
+                r.k
+            );
+            let v: Vec<DVec3> = [c, c + ex, c + ex + ey, c + ey]
+                .iter()
+                .map(|x| x.as_dvec3())
+                .collect();
+            let (_, omega) = polygon_moments(p.as_dvec3(), &v);
+            assert!(
+                (r.solid_angle / omega - 1.0).abs() < 1e-6,
+                "{name}: Ω = {} vs oracle {omega}",
+                r.solid_angle
+            );
+        }
+    }
+
     #[test]
     fn density_is_one_over_the_solid_angle() {
         // A unit square centred 1 below the viewer: Ω = 4 atan(ab/(d√(a² + b² + d²)))

@@ -202,23 +202,33 @@ pub enum PrimSampling {
     Area,
 }
 
+/// Whether the viewer `p` is outside the sphere's cone band: farther from the centre
+/// than the radius plus 4× the error bound of a point on the sphere itself (a hit on it,
+/// error γ₅|p − c| + γ₁|c| per component), which may round to just outside, where the
+/// cone's near root would be the point itself. The band's test is in `f64`; a viewer
+/// well inside (|p − c|² < 0.98 r² in `f32`, a relative error of a few ulps, so truly
+/// inside) is answered without it, with the same answer.
+#[inline]
+fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
+    if (p - center).length_squared() < 0.98 * (radius * radius) {
+        return false;
+    }
+    (p.as_dvec3() - center.as_dvec3()).length()
+        > radius as f64
+            + 4.0
+                * (crate::math::gamma(5) as f64 * radius as f64
+                    + crate::math::gamma(1) as f64
+                        * (center.abs().max_element() + p.abs().max_element()) as f64)
+}
+
 /// Choose the sampling strategy for primitive `prim` seen from `p`. Deterministic in
 /// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
 pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
     match *prim {
-        // A point on the sphere itself (a hit on it, error γ₅|p − c| + γ₁|c| per component)
-        // may round to just outside, where the cone's near root would be the point itself:
-        // only a point outside that band (4× the bound) uses the cone, which is exact
-        // however thin the gap beyond it (it works in f64). On or inside, every point of
-        // the sphere is visible and area sampling is exact.
-        Primitive::Sphere { center, radius }
-            if (p.as_dvec3() - center.as_dvec3()).length()
-                > radius as f64
-                    + 4.0
-                        * (crate::math::gamma(5) as f64 * radius as f64
-                            + crate::math::gamma(1) as f64
-                                * (center.abs().max_element() + p.abs().max_element()) as f64) =>
-        {
+        // Only a point outside the sphere's band (see [`outside_sphere_band`]) uses the
+        // cone, which is exact however thin the gap beyond it (it works in f64). On or
+        // inside, every point of the sphere is visible and area sampling is exact.
+        Primitive::Sphere { center, radius } if outside_sphere_band(p, center, radius) => {
             SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
         }
         Primitive::Rectangle { corner, u, v }
@@ -264,8 +274,47 @@ fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
     (t > 0.0 && t.is_finite()).then(|| (p + w * t, n))
 }
 
-/// Sample a point of `prim` as seen from `p`: (point, normal, error, density in solid angle).
-pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Vec3, f32)> {
+/// The density of a point [`sample_prim`] drew.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PrimDensity {
+    /// In solid angle from the viewer (the cone and the spherical warps).
+    SolidAngle(f32),
+    /// Per unit area (area sampling): the caller converts it with the distance it forms
+    /// anyway, [`PrimDensity::solid_angle`].
+    Area(f32),
+}
+
+impl PrimDensity {
+    /// The density in solid angle of the point `q` (normal `n`, either orientation) seen
+    /// from `p`, given d = q − p and its length `dist` = |d|: per unit area times
+    /// r²/|cos θl| (`None` where the point is seen edge-on or coincides with `p`). The
+    /// cosine is formed as `d.normalize_or_zero()` would form it, from the caller's
+    /// length, so that the square root is taken once.
+    #[inline]
+    pub fn solid_angle(self, d: Vec3, dist: f32, n: Vec3) -> Option<f32> {
+        match self {
+            PrimDensity::SolidAngle(pdf) => Some(pdf),
+            PrimDensity::Area(pdf) => {
+                let r2 = d.length_squared();
+                let rcp = 1.0 / dist;
+                let cos = if rcp.is_finite() && rcp > 0.0 {
+                    (d * rcp).dot(n).abs()
+                } else {
+                    0.0
+                };
+                // Not `!(cos > 0)`: a NaN density is returned as it is (never masked).
+                if cos <= 0.0 || r2 <= 0.0 {
+                    None
+                } else {
+                    Some(pdf * r2 / cos)
+                }
+            }
+        }
+    }
+}
+
+/// Sample a point of `prim` as seen from `p`: (point, normal, error, density).
+pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Vec3, PrimDensity)> {
     match prim_strategy(prim, p) {
         PrimSampling::Cone(c) => {
             let q = c.sample_point(u);
@@ -277,7 +326,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Ve
                 q,
                 n,
                 crate::math::gamma(5) * (q - center).abs() + crate::math::gamma(1) * center.abs(),
-                c.pdf(),
+                PrimDensity::SolidAngle(c.pdf()),
             ))
         }
         PrimSampling::Rectangle(r) => {
@@ -294,7 +343,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Ve
                 q,
                 eu.cross(ev).normalize(),
                 crate::math::gamma(6) * (corner.abs() + eu.abs() + ev.abs()),
-                r.pdf(),
+                PrimDensity::SolidAngle(r.pdf()),
             ))
         }
         PrimSampling::Triangle(t) => {
@@ -307,18 +356,12 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Ve
                 q,
                 n,
                 crate::math::gamma(7) * (v[0].abs() + v[1].abs() + v[2].abs()),
-                t.pdf(),
+                PrimDensity::SolidAngle(t.pdf()),
             ))
         }
         PrimSampling::Area => {
             let s = prim.sample_area(u);
-            let d = s.p - p;
-            let r2 = d.length_squared();
-            let cos = (d.normalize_or_zero().dot(s.n)).abs();
-            if cos <= 0.0 || r2 <= 0.0 {
-                return None;
-            }
-            Some((s.p, s.n, s.p_error, s.pdf * r2 / cos))
+            Some((s.p, s.n, s.p_error, PrimDensity::Area(s.pdf)))
         }
     }
 }
@@ -519,6 +562,99 @@ mod tests {
         assert_eq!(spot_falloff(0.7, 0.8, 0.9), 0.0);
         let mid = spot_falloff(0.85, 0.8, 0.9);
         assert!((mid - 0.5).abs() < 1e-5);
+    }
+
+    /// The `f32` shortcut of [`outside_sphere_band`] (a viewer well inside answers
+    /// `false` without the `f64` test) gives the `f64` test's answer: viewers on rays
+    /// through the centre at |p − c|/r from 0 to 1.5, stepped finely around the
+    /// shortcut's threshold √0.98 and around the band, for radii from 1e-20 to 1e18 and
+    /// centres near and far from the origin (where `f32` rounding is coarse).
+    #[test]
+    fn sphere_band_shortcut_keeps_the_answer() {
+        let band_f64 = |p: Vec3, center: Vec3, radius: f32| {
+            (p.as_dvec3() - center.as_dvec3()).length()
+                > radius as f64
+                    + 4.0
+                        * (crate::math::gamma(5) as f64 * radius as f64
+                            + crate::math::gamma(1) as f64
+                                * (center.abs().max_element() + p.abs().max_element()) as f64)
+        };
+        let dirs = [
+            Vec3::X,
+            Vec3::new(0.6, -0.8, 0.0),
+            Vec3::new(0.3, 0.4, -0.866_025_4),
+        ];
+        let mut checked = 0;
+        for radius in [1e-20f32, 1e-3, 1.0, 7.5, 1e6, 1e18] {
+            for center in [
+                Vec3::ZERO,
+                Vec3::new(3.0, -2.0, 1.0) * radius,
+                Vec3::splat(1e4),
+            ] {
+                for dir in dirs {
+                    let mut ts: Vec<f64> = (0..=150).map(|i| i as f64 / 100.0).collect();
+                    for mid in [0.98f64.sqrt(), 1.0] {
+                        ts.extend((-200..=200).map(|i| mid * (1.0 + i as f64 * 1e-7)));
+                    }
+                    for t in ts {
+                        let p = center + dir * (radius as f64 * t) as f32;
+                        assert_eq!(
+                            outside_sphere_band(p, center, radius),
+                            band_f64(p, center, radius),
+                            "r = {radius}, c = {center}, t = {t}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 50_000);
+    }
+
+    /// [`PrimDensity::solid_angle`] with the caller's length gives the bits of the former
+    /// conversion `pdf r²/|normalize_or_zero(d) · n|` (and `None` where that returned
+    /// none), including a zero, an overflowing and a NaN offset and an edge-on normal.
+    #[test]
+    fn area_density_conversion_is_the_former_one() {
+        let former = |pdf: f32, d: Vec3, n: Vec3| {
+            let r2 = d.length_squared();
+            let cos = d.normalize_or_zero().dot(n).abs();
+            if cos <= 0.0 || r2 <= 0.0 {
+                None
+            } else {
+                Some(pdf * r2 / cos)
+            }
+        };
+        let mut cases = vec![
+            (Vec3::ZERO, Vec3::Z),
+            (Vec3::new(1e30, 1e30, 0.0), Vec3::X),
+            (Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z),
+            (Vec3::new(1.0, 0.0, 0.0), Vec3::Z),
+            (Vec3::new(1e-30, 2e-30, 0.0), Vec3::X),
+        ];
+        for i in 0..1000 {
+            let f = |k: u32| ((i * 7919 + k * 104_729) % 2001) as f32 / 1000.0 - 1.0;
+            let scale = 10f32.powi((i % 13) as i32 - 6);
+            cases.push((
+                Vec3::new(f(1), f(2), f(3)) * scale,
+                Vec3::new(f(4), f(5), f(6)).normalize_or(Vec3::Z),
+            ));
+        }
+        for (d, n) in cases {
+            for pdf in [0.25f32, 1.0 / (4.0 * PI)] {
+                let got = PrimDensity::Area(pdf).solid_angle(d, d.length(), n);
+                let want = former(pdf, d, n);
+                assert_eq!(
+                    got.map(f32::to_bits),
+                    want.map(f32::to_bits),
+                    "d = {d}, n = {n}"
+                );
+            }
+            assert_eq!(
+                PrimDensity::SolidAngle(3.0).solid_angle(d, d.length(), n),
+                Some(3.0)
+            );
+        }
     }
 
     #[test]

@@ -56,6 +56,20 @@ pub struct Shape {
     pub velocity: Vec3,
 }
 
+impl Shape {
+    /// Probability that light sampling picks its primitive `prim` (by area): A_prim / A.
+    /// A shape of one primitive answers 1 without dividing: its area is that primitive's
+    /// (the loader sums one term), so the quotient is 1 exactly.
+    #[inline]
+    pub fn prim_choice_pdf(&self, prim: &Primitive) -> f32 {
+        if self.area_dist.len() == 1 {
+            1.0
+        } else {
+            prim.area() / self.area
+        }
+    }
+}
+
 /// A ray's first hit on a shape.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
@@ -299,10 +313,10 @@ impl Scene {
 
     /// Probability of choosing one emitter (uniform selection).
     pub fn emitter_choice_pdf(&self) -> f32 {
-        if self.emitters.is_empty() {
-            0.0
-        } else {
-            1.0 / self.emitters.len() as f32
+        match self.emitters.len() {
+            0 => 0.0,
+            1 => 1.0,
+            n => 1.0 / n as f32,
         }
     }
 
@@ -337,7 +351,7 @@ impl Scene {
             return None;
         }
         let k = ((u_choice * n as f32) as usize).min(n - 1);
-        let choice = 1.0 / n as f32;
+        let choice = if n == 1 { 1.0 } else { 1.0 / n as f32 };
         let mut ls = match &self.emitters[k].kind {
             EmitterKind::Area {
                 shape,
@@ -357,16 +371,17 @@ impl Scene {
                 };
                 let prim_index = s.prims.start + local;
                 let prim = &self.prims()[prim_index];
-                let (q, mut nq, q_err, pdf_w) = sample_prim(
+                let (q, mut nq, q_err, density) = sample_prim(
                     prim,
                     p,
                     Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y),
                 )?;
+                let d = q - p;
+                let dist = d.length();
+                let pdf_w = density.solid_angle(d, dist, nq)?;
                 if s.flip_normals {
                     nq = -nq;
                 }
-                let d = q - p;
-                let dist = d.length();
                 if !(dist > 0.0) {
                     return None;
                 }
@@ -376,7 +391,7 @@ impl Scene {
                 } else {
                     0.0
                 };
-                let p_choice_prim = prim.area() / s.area;
+                let p_choice_prim = s.prim_choice_pdf(prim);
                 LightSample {
                     wi,
                     li,
@@ -414,7 +429,7 @@ impl Scene {
         let n = if s.flip_normals { -sh.hit.n } else { sh.hit.n };
         let shift = s.velocity * t;
         prim_pdf(prim, p - shift, sh.hit.p - shift, n)
-            * (prim.area() / s.area)
+            * s.prim_choice_pdf(prim)
             * self.emitter_choice_pdf()
     }
 

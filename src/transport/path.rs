@@ -65,15 +65,23 @@ impl Config {
     }
 
     /// MIS weight for emission reached by BSDF sampling with density `pdf_bsdf`, where
-    /// light sampling would have had density `pdf_light`.
+    /// light sampling would have had density `pdf_light()`: asked only when both
+    /// strategies could have produced the direction (not after a delta lobe or the
+    /// camera ray, nor when a strategy is off), since the light density costs a
+    /// strategy choice (and for a spherical rectangle its solid angle) per hit.
     #[inline]
-    pub fn emission_weight(&self, prev_delta: bool, pdf_bsdf: f32, pdf_light: f32) -> f32 {
+    pub fn emission_weight(
+        &self,
+        prev_delta: bool,
+        pdf_bsdf: f32,
+        pdf_light: impl FnOnce() -> f32,
+    ) -> f32 {
         if prev_delta || !self.light {
             1.0
         } else if !self.bsdf {
             0.0
         } else {
-            self.heuristic.weight(pdf_bsdf, pdf_light)
+            self.heuristic.weight(pdf_bsdf, pdf_light())
         }
     }
 
@@ -204,7 +212,7 @@ pub fn trace<P: Phase>(
     loop {
         let Some(sh) = scene.intersect_at(o, d, f32::INFINITY, phase.time()) else {
             for (e, le) in scene.escaped_each(d) {
-                let w = cfg.emission_weight(prev.delta, prev.pdf, scene.light_pdf_infinite(d));
+                let w = cfg.emission_weight(prev.delta, prev.pdf, || scene.light_pdf_infinite(d));
                 l += beta * phase.emission(scene, e, le * w, f32::INFINITY);
             }
             break;
@@ -216,11 +224,9 @@ pub fn trace<P: Phase>(
         let le = scene.emitted(&sh, wo);
         // `!= 0`, not `> 0`: a NaN or negative emission must reach the accumulator.
         if le != 0.0 {
-            let w = cfg.emission_weight(
-                prev.delta,
-                prev.pdf,
-                scene.light_pdf_surface_at(prev.p, &sh, phase.time()),
-            );
+            let w = cfg.emission_weight(prev.delta, prev.pdf, || {
+                scene.light_pdf_surface_at(prev.p, &sh, phase.time())
+            });
             let e = scene.shapes[sh.shape].emitter.unwrap_or(0);
             l += beta * phase.emission(scene, e, le * w, length);
         }
