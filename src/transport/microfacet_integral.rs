@@ -104,7 +104,11 @@ mod tests {
             MicrofacetIntegral::Visible,
         ] {
             for m in [Vec3::X, Vec3::new(0.6, 0.8, 0.0), Vec3::new(0.0, 1.0, -0.0)] {
-                assert_eq!(cosine_weighted(&mf, wo, integral, m), 0.0, "{integral:?} at {m}");
+                assert_eq!(
+                    cosine_weighted(&mf, wo, integral, m),
+                    0.0,
+                    "{integral:?} at {m}"
+                );
             }
             // Just above the horizon the sample is the integrand over cos θm/π.
             let m = Vec3::new(1.0, 0.0, 1e-3).normalize();
