@@ -58,15 +58,11 @@ pub struct Shape {
 
 impl Shape {
     /// Probability that light sampling picks its primitive `prim` (by area): A_prim / A.
-    /// A shape of one primitive answers 1 without dividing: its area is that primitive's
-    /// (the loader sums one term), so the quotient is 1 exactly.
+    /// Divided even for a shape of one primitive (where it is 1): a broken area must
+    /// reach the estimate as a NaN, never be masked (`tests/proof/engine.rs`).
     #[inline]
     pub fn prim_choice_pdf(&self, prim: &Primitive) -> f32 {
-        if self.area_dist.len() == 1 {
-            1.0
-        } else {
-            prim.area() / self.area
-        }
+        prim.area() / self.area
     }
 }
 
