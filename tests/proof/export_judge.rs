@@ -494,6 +494,47 @@ fn flux_is_judged_as_mean_irradiance() {
     let _ = std::fs::remove_dir_all(d);
 }
 
+/// A peer renderer that renders an exported suite with its driver: Mitsuba's
+/// `render_all.py` under this Python, or pbrt-v4's `render_all.sh` with this binary.
+enum Peer {
+    Mitsuba(String),
+    Pbrt(String),
+}
+
+/// Export `cases` for `peer` into `out_dir`, render each case 16 times with 65 536 paths
+/// (× `LIGHTPROOF_SCALE`), and judge the suite: the export's output, the judge's output
+/// and its JSON.
+fn export_render_judge(peer: Peer, cases: &Path, out_dir: &Path) -> (Output, Output, Value) {
+    let to = match peer {
+        Peer::Mitsuba(_) => "mitsuba",
+        Peer::Pbrt(_) => "pbrt",
+    };
+    let exported = bin()
+        .args(["export", "--all", "--to", to, "--out"])
+        .arg(out_dir)
+        .arg(cases)
+        .output()
+        .unwrap();
+    assert!(exported.status.success(), "{}", text(&exported));
+    let samples = (65536 * common_scale()).to_string();
+    let o = match peer {
+        Peer::Mitsuba(python) => Command::new(python)
+            .arg(out_dir.join("render_all.py"))
+            .args(["--renders", "16", "--samples", &samples])
+            .output(),
+        Peer::Pbrt(pbrt) => Command::new("sh")
+            .arg(out_dir.join("render_all.sh"))
+            .env("PBRT", pbrt)
+            .env("RENDERS", "16")
+            .env("SAMPLES", &samples)
+            .output(),
+    }
+    .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let (o, doc) = judge_suite_json(out_dir);
+    (exported, o, doc)
+}
+
 /// Opt-in: with `LIGHTPROOF_MITSUBA` naming a Python that has `mitsuba`, Mitsuba 3
 /// (scalar_rgb) renders the analytic-sphere furnace (ρ = 0.8, L = 5) and a mesh sphere
 /// (1280 triangles) with 16 renders × 65 536 paths each: the analytic sphere's excess
@@ -508,21 +549,7 @@ fn mitsuba_sphere_furnace_bias_is_detected() {
     std::fs::write(cases.join("analytic_sphere.json"), furnace(0.8, None)).unwrap();
     std::fs::write(cases.join("mesh_sphere.json"), furnace(0.8, Some(3))).unwrap();
     let out_dir = scratch("mi-suite");
-    let o = bin()
-        .args(["export", "--all", "--to", "mitsuba", "--out"])
-        .arg(&out_dir)
-        .arg(&cases)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    let o = Command::new(python)
-        .arg(out_dir.join("render_all.py"))
-        .args(["--renders", "16", "--samples"])
-        .arg((65536 * common_scale()).to_string())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    let (o, doc) = judge_suite_json(&out_dir);
+    let (_, o, doc) = export_render_judge(Peer::Mitsuba(python), &cases, &out_dir);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let js = doc["judgements"].as_array().unwrap();
     let find = |id: &str| js.iter().find(|j| j["id"] == id).unwrap().clone();
@@ -581,22 +608,7 @@ fn pbrt_sphere_pole_normal_bias_is_detected() {
     std::fs::write(cases.join("pole.json"), &limb).unwrap();
     std::fs::write(cases.join("equator.json"), equator.to_string()).unwrap();
     let out_dir = scratch("pbrt-suite");
-    let o = bin()
-        .args(["export", "--all", "--to", "pbrt", "--out"])
-        .arg(&out_dir)
-        .arg(&cases)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    let o = Command::new("sh")
-        .arg(out_dir.join("render_all.sh"))
-        .env("PBRT", pbrt)
-        .env("RENDERS", "16")
-        .env("SAMPLES", (65536 * common_scale()).to_string())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    let (o, doc) = judge_suite_json(&out_dir);
+    let (_, o, doc) = export_render_judge(Peer::Pbrt(pbrt), &cases, &out_dir);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let js = doc["judgements"].as_array().unwrap();
     let find = |id: &str| js.iter().find(|j| j["id"] == id).unwrap().clone();
@@ -633,22 +645,12 @@ fn mitsuba_flux_cases_pass() {
     }
     std::fs::write(cases.join("sky_flux.json"), SKY_FLUX_CASE).unwrap();
     let out_dir = scratch("mi-flux-suite");
-    let o = bin()
-        .args(["export", "--all", "--to", "mitsuba", "--out"])
-        .arg(&out_dir)
-        .arg(&cases)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    assert!(text(&o).contains("exported 3 cases"), "{}", text(&o));
-    let o = Command::new(python)
-        .arg(out_dir.join("render_all.py"))
-        .args(["--renders", "16", "--samples"])
-        .arg((65536 * common_scale()).to_string())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
-    let (o, doc) = judge_suite_json(&out_dir);
+    let (exported, o, doc) = export_render_judge(Peer::Mitsuba(python), &cases, &out_dir);
+    assert!(
+        text(&exported).contains("exported 3 cases"),
+        "{}",
+        text(&exported)
+    );
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     for j in doc["judgements"].as_array().unwrap() {
         eprintln!(
