@@ -207,10 +207,13 @@ pub enum PrimSampling {
 /// error γ₅|p − c| + γ₁|c| per component), which may round to just outside, where the
 /// cone's near root would be the point itself. The band's test is in `f64`; a viewer
 /// well inside (|p − c|² < 0.98 r² in `f32`, a relative error of a few ulps, so truly
-/// inside) is answered without it, with the same answer.
+/// inside) is answered without it, with the same answer. Only where r² is a normal
+/// number: a subnormal square carries an absolute error of half its step (2⁻¹⁵⁰), which
+/// the 2% margin no longer covers (r ≈ 1.2·10⁻²², |p − c| = 1.017 r reads as inside).
 #[inline]
 fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
-    if (p - center).length_squared() < 0.98 * (radius * radius) {
+    let r2 = radius * radius;
+    if r2 >= f32::MIN_POSITIVE && (p - center).length_squared() < 0.98 * r2 {
         return false;
     }
     (p.as_dvec3() - center.as_dvec3()).length()
@@ -584,8 +587,13 @@ mod tests {
             Vec3::new(0.6, -0.8, 0.0),
             Vec3::new(0.3, 0.4, -0.866_025_4),
         ];
+        // A sphere whose r² is subnormal (10·2⁻¹⁴⁹): |p − c|² rounds to 9·2⁻¹⁴⁹ at
+        // |p − c| = 1.017 r, "inside" in f32, outside in f64 (found in review).
+        let (r, a) = (1.183_764_5e-22f32, 6.953_042e-23f32);
+        assert!(outside_sphere_band(Vec3::splat(a), Vec3::ZERO, r));
+        assert!(band_f64(Vec3::splat(a), Vec3::ZERO, r));
         let mut checked = 0;
-        for radius in [1e-20f32, 1e-3, 1.0, 7.5, 1e6, 1e18] {
+        for radius in [1e-25f32, 1.2e-22, 1e-20, 1e-3, 1.0, 7.5, 1e6, 1e18] {
             for center in [
                 Vec3::ZERO,
                 Vec3::new(3.0, -2.0, 1.0) * radius,
