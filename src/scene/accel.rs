@@ -1084,6 +1084,15 @@ mod tests {
             let (p, e, ql, qh) = quantise_axis(&children);
             assert!(plane(p, step(e), ql[0]).is_nan() && plane(p, step(e), qh[1]).is_nan());
         }
+        // One NaN bound of a child (SSE min/max pass a NaN on one side only): the axis
+        // never culls either.
+        for nan_child in [(f32::NAN, 2.0), (-1.0, f32::NAN)] {
+            let mut children = [None; 8];
+            children[0] = Some((0.0, 1.0));
+            children[1] = Some(nan_child);
+            let (p, _, _, _) = quantise_axis(&children);
+            assert!(p.is_nan(), "{nan_child:?}");
+        }
         // A NaN plane leaves the slab interval as it was: the child is met.
         let mut node = Node {
             p: [f32::NAN, 0.0, 0.0],
