@@ -617,6 +617,13 @@ mod tests {
             }
         }
         assert!(checked > 50_000);
+        // The mirror image of the centre, far outside: a shortcut that added the centre
+        // instead of subtracting it would call it inside.
+        for radius in [1e-3f32, 1.0, 1e6] {
+            let center = Vec3::new(3.0, -2.0, 1.0) * radius;
+            assert!(outside_sphere_band(-center, center, radius));
+            assert!(band_f64(-center, center, radius));
+        }
     }
 
     /// [`PrimDensity::solid_angle`] with the caller's length gives the bits of the former
