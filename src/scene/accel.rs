@@ -658,6 +658,37 @@ mod tests {
         assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
     }
 
+    #[test]
+    fn plain_loop_agrees_with_brute_force_and_skips() {
+        // Up to LINEAR_LIMIT primitives there is no tree: five spheres on the z axis.
+        let prims: Vec<Primitive> = (0..5)
+            .map(|i| Primitive::Sphere {
+                center: Vec3::new(0.0, 0.0, 3.0 * (i + 1) as f32),
+                radius: 1.0,
+            })
+            .collect();
+        let mut accel = Accel::new(prims);
+        assert!(accel.tree.is_none());
+        let sampler = Sampler::independent(3);
+        let mut hits = 0;
+        for i in 0..400u64 {
+            let mut st = sampler.stream(i);
+            // From anywhere near the spheres toward a point near one of them.
+            let o = Vec3::new(st.next_1d(), st.next_1d(), 4.0 * st.next_1d()) * 4.0;
+            let near = Vec3::new(0.0, 0.0, 3.0 * (1 + i % 5) as f32);
+            let d = (near + 1.2 * uniform_sphere(st.next_2d()) - o).normalize();
+            hits += usize::from(agrees(&accel, o, d, 0.0, f32::INFINITY).unwrap());
+        }
+        assert!(hits > 200, "{hits} hits");
+        let mut skip = vec![false; 5];
+        skip[0] = true;
+        accel.set_skip(skip);
+        let hit = accel.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
+        assert_eq!(hit.map(|h| (h.0, h.1.t)), Some((1, 5.0)));
+        assert!(accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 4.5));
+        assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
+    }
+
     /// Brute force: every primitive in index order, the first of equal distances kept.
     fn brute(prims: &[Primitive], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, f32)> {
         let mut best: Option<(usize, f32)> = None;
@@ -961,6 +992,32 @@ mod tests {
                 None,
                 None,
             ],
+            // The node's low bound at 0 exactly.
+            [Some((0.0, 1.0)), None, None, None, None, None, None, None],
+            // Where the f64 guesses are off by one: hi − p = 255 + 10⁻²⁰ rounds to 255, so
+            // the grid 2⁰ guessed from it falls short (−255 + 255 < 10⁻²⁰); with p = −1,
+            // lo − p = 1 − 2⁻⁶⁰ rounds up to 1 and hi − p = 1 + 10⁻²⁰ down to 1, so the
+            // first low index decodes above lo and the first high one below hi.
+            [
+                Some((-255.0, -255.0)),
+                Some((1e-20, 1e-20)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((-1.0, -1.0)),
+                Some((-(2f32.powi(-60)), -(2f32.powi(-60)))),
+                Some((-1.0, 1e-20)),
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
             [
                 Some((-1e-30, 1e-30)),
                 Some((1e5, 1e5 + 1.0)),
@@ -1025,6 +1082,17 @@ mod tests {
                     slack(dl, lo, s) <= tol,
                     "{children:?} child {c}: low plane {dl} for {lo}, step {s}"
                 );
+                // The tightest such planes: the next index inward decodes past the bound.
+                assert!(
+                    ql[c] == 255 || plane(p, s, ql[c] + 1) > lo,
+                    "{children:?} child {c}: low index {} not the largest",
+                    ql[c]
+                );
+                assert!(
+                    qh[c] == 0 || plane(p, s, qh[c] - 1) < hi,
+                    "{children:?} child {c}: high index {} not the smallest",
+                    qh[c]
+                );
                 if dh.is_finite() {
                     assert!(
                         slack(dh, hi, s) <= tol,
@@ -1050,6 +1118,20 @@ mod tests {
             ];
             let (p, e, ql, qh) = quantise_axis(&children);
             assert!(plane(p, step(e), ql[0]).is_nan() && plane(p, step(e), qh[1]).is_nan());
+        }
+        // One bound NaN is enough.
+        for bad in [(f32::NAN, 1.0), (0.0, f32::NAN)] {
+            let children = [
+                Some((0.0, 1.0)),
+                Some(bad),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ];
+            assert!(quantise_axis(&children).0.is_nan(), "{bad:?}");
         }
         // A NaN plane leaves the slab interval as it was: the child is met.
         let mut node = Node {
@@ -1162,10 +1244,11 @@ mod tests {
             let dist = 10f32.powf(1.0 + 3.0 * st.next_1d());
             let inside = dist * f32::EPSILON * 0.5 * 10f32.powf(-2.0 + 3.0 * st.next_1d());
             let along = 0.1 + 0.8 * st.next_1d();
-            let target = if i % 2 == 0 {
-                Vec3::new(inside, 3.0 * along, 0.0)
-            } else {
-                Vec3::new(4.0 * along, inside, 0.0)
+            // Every tenth ray at the outline's low corner itself.
+            let target = match i % 10 {
+                0 => Vec3::new(inside, inside, 0.0),
+                k if k % 2 == 0 => Vec3::new(inside, 3.0 * along, 0.0),
+                _ => Vec3::new(4.0 * along, inside, 0.0),
             };
             let mut d = uniform_sphere(st.next_2d());
             d.z = -d.z.abs();
