@@ -658,6 +658,37 @@ mod tests {
         assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
     }
 
+    #[test]
+    fn plain_loop_agrees_with_brute_force_and_skips() {
+        // Up to LINEAR_LIMIT primitives there is no tree: five spheres on the z axis.
+        let prims: Vec<Primitive> = (0..5)
+            .map(|i| Primitive::Sphere {
+                center: Vec3::new(0.0, 0.0, 3.0 * (i + 1) as f32),
+                radius: 1.0,
+            })
+            .collect();
+        let mut accel = Accel::new(prims);
+        assert!(accel.tree.is_none());
+        let sampler = Sampler::independent(3);
+        let mut hits = 0;
+        for i in 0..400u64 {
+            let mut st = sampler.stream(i);
+            // From anywhere near the spheres toward a point near one of them.
+            let o = Vec3::new(st.next_1d(), st.next_1d(), 4.0 * st.next_1d()) * 4.0;
+            let near = Vec3::new(0.0, 0.0, 3.0 * (1 + i % 5) as f32);
+            let d = (near + 1.2 * uniform_sphere(st.next_2d()) - o).normalize();
+            hits += usize::from(agrees(&accel, o, d, 0.0, f32::INFINITY).unwrap());
+        }
+        assert!(hits > 200, "{hits} hits");
+        let mut skip = vec![false; 5];
+        skip[0] = true;
+        accel.set_skip(skip);
+        let hit = accel.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
+        assert_eq!(hit.map(|h| (h.0, h.1.t)), Some((1, 5.0)));
+        assert!(accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 4.5));
+        assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
+    }
+
     /// Brute force: every primitive in index order, the first of equal distances kept.
     fn brute(prims: &[Primitive], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, f32)> {
         let mut best: Option<(usize, f32)> = None;
@@ -994,6 +1025,32 @@ mod tests {
                 None,
                 None,
             ],
+            // The node's low bound at 0 exactly.
+            [Some((0.0, 1.0)), None, None, None, None, None, None, None],
+            // Where the f64 guesses are off by one: hi − p = 255 + 10⁻²⁰ rounds to 255, so
+            // the grid 2⁰ guessed from it falls short (−255 + 255 < 10⁻²⁰); with p = −1,
+            // lo − p = 1 − 2⁻⁶⁰ rounds up to 1 and hi − p = 1 + 10⁻²⁰ down to 1, so the
+            // first low index decodes above lo and the first high one below hi.
+            [
+                Some((-255.0, -255.0)),
+                Some((1e-20, 1e-20)),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            [
+                Some((-1.0, -1.0)),
+                Some((-(2f32.powi(-60)), -(2f32.powi(-60)))),
+                Some((-1.0, 1e-20)),
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
             [
                 Some((-1e-30, 1e-30)),
                 Some((1e5, 1e5 + 1.0)),
@@ -1057,6 +1114,17 @@ mod tests {
                 assert!(
                     slack(dl, lo, s) <= tol,
                     "{children:?} child {c}: low plane {dl} for {lo}, step {s}"
+                );
+                // The tightest such planes: the next index inward decodes past the bound.
+                assert!(
+                    ql[c] == 255 || plane(p, s, ql[c] + 1) > lo,
+                    "{children:?} child {c}: low index {} not the largest",
+                    ql[c]
+                );
+                assert!(
+                    qh[c] == 0 || plane(p, s, qh[c] - 1) < hi,
+                    "{children:?} child {c}: high index {} not the smallest",
+                    qh[c]
                 );
                 if dh.is_finite() {
                     assert!(
@@ -1184,6 +1252,145 @@ mod tests {
             }
             assert_eq!(seen, tree.slots.len());
         }
+    }
+
+    #[test]
+    fn rays_grazing_the_tiles_outline_agree_with_brute_force() {
+        // Through the BVH's boxes (SSE2 on x86-64): rays from 10 to 10⁴ away at the
+        // tiles (z = 0, whose z slab is 2·f32::MIN_POSITIVE thick, so its entry and exit
+        // round to the same t), aimed within 10⁻²–10 ulps of the distance inside the low
+        // x or y edge of the outline, where each box on the way down has its low plane
+        // exactly (a grid's origin is its node's low bound). There the exact interval is
+        // shorter than the rounding of the slab distances: without the widening a box is
+        // culled whose triangle the primitive test alone hits.
+        let accel = Accel::new(tiles(Vec3::ZERO, 1.0));
+        assert!(accel.tree.is_some());
+        let sampler = Sampler::independent(31);
+        let mut hits = 0;
+        for i in 0..6000u64 {
+            let mut st = sampler.stream(i);
+            let dist = 10f32.powf(1.0 + 3.0 * st.next_1d());
+            let inside = dist * f32::EPSILON * 0.5 * 10f32.powf(-2.0 + 3.0 * st.next_1d());
+            let along = 0.1 + 0.8 * st.next_1d();
+            // Every tenth ray at the outline's low corner itself.
+            let target = match i % 10 {
+                0 => Vec3::new(inside, inside, 0.0),
+                k if k % 2 == 0 => Vec3::new(inside, 3.0 * along, 0.0),
+                _ => Vec3::new(4.0 * along, inside, 0.0),
+            };
+            let mut d = uniform_sphere(st.next_2d());
+            d.z = -d.z.abs();
+            let o = target - d * dist;
+            match agrees(&accel, o, d, 0.0, f32::INFINITY) {
+                Ok(hit) => hits += usize::from(hit),
+                Err(e) => panic!("case {i}: {e}"),
+            }
+        }
+        assert!(hits > 1000, "{hits} hits");
+    }
+
+    /// Whether the ray (o, d) meets the closed box [lo, hi] within (tmin, tmax), in f64
+    /// from the f32 inputs: the slab interval's width relative to its far end (negative:
+    /// a miss by that much).
+    fn slab_width_f64(lo: [f32; 3], hi: [f32; 3], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> f64 {
+        let (mut near, mut far) = (f64::from(tmin), f64::from(tmax));
+        for a in 0..3 {
+            let (o, d) = (f64::from(o[a]), f64::from(d[a]));
+            let (t1, t2) = ((f64::from(lo[a]) - o) / d, (f64::from(hi[a]) - o) / d);
+            near = near.max(t1.min(t2));
+            far = far.min(t1.max(t2));
+        }
+        (far - near) / near.abs().max(far.abs())
+    }
+
+    #[test]
+    fn box_test_keeps_edge_grazing_boxes_and_culls_clear_misses() {
+        // Rays from 1 to 10⁴ box sizes away through points near a box edge, offset from
+        // it inward or outward by 10⁻¹–10⁶ ulps of the distance in both axes across the
+        // edge. A computed slab distance is three roundings from the exact one, so where
+        // the exact interval is shorter than a few ulps of t, only the widening
+        // (NEAR_SCALE, FAR_SCALE) keeps the box: every box the exact ray (f64 from the
+        // same f32 inputs) meets must be met, and every box it misses by more than the
+        // widening allows (4·10⁻⁶ of t) culled, by the definition and by SSE2.
+        let sampler = Sampler::independent(77);
+        // Grids (p, e) and plane indices (low, high): boxes [0, 1]³ and [−21.25, −13.25]³.
+        let grids = [(0.0f32, 127u8, 0u8, 1u8), (-37.25, 130, 2, 3)];
+        let (mut tight, mut culled_tight, mut far_misses) = (0, 0, 0);
+        for i in 0..40_000u64 {
+            let mut st = sampler.stream(i);
+            let (p, e, ql, qh) = grids[i as usize % 2];
+            let node = Node {
+                p: [p; 3],
+                e: [e; 3],
+                imask: 0,
+                child_base_idx: 0,
+                primitive_base_idx: 0,
+                child_meta: [0; 8],
+                q: [[ql; 8], [qh; 8], [ql; 8], [qh; 8], [ql; 8], [qh; 8]],
+            };
+            let (lo, hi) = (plane(p, step(e), ql), plane(p, step(e), qh));
+            // The edge along axis a, on the low or high face of the other two axes.
+            let a = (st.next_1d() * 3.0) as usize % 3;
+            let dist = 10f32.powf(4.0 * st.next_1d()) * (hi - lo);
+            let mut target = [0.0f32; 3];
+            let inward = st.next_1d() < 0.5;
+            for (b, x) in target.iter_mut().enumerate() {
+                *x = if b == a {
+                    lo + (hi - lo) * (0.1 + 0.8 * st.next_1d())
+                } else {
+                    // Inward by 10⁻²–10 ulps (the widening decides), outward by 10⁻¹–10⁴.
+                    let ulps = if inward {
+                        10f32.powf(-2.0 + 3.0 * st.next_1d())
+                    } else {
+                        10f32.powf(-1.0 + 5.0 * st.next_1d())
+                    };
+                    let off = dist * f32::EPSILON * 0.5 * ulps;
+                    let high = st.next_1d() < 0.5;
+                    let into = if high == inward { -off } else { off };
+                    (if high { hi } else { lo }) + into
+                };
+            }
+            let d = uniform_sphere(st.next_2d());
+            let o = Vec3::from_array(target) - d * dist;
+            let tmin = if i % 3 == 0 {
+                1e-3 * dist * st.next_1d()
+            } else {
+                0.0
+            };
+            let tmax = if i % 5 == 0 {
+                2.0 * dist
+            } else {
+                f32::INFINITY
+            };
+            let w = slab_width_f64([lo; 3], [hi; 3], o, d, tmin, tmax);
+            let r = BoxRay::new(o, d, tmin);
+            let got = met_children(&node, &r, tmax);
+            #[cfg(target_arch = "x86_64")]
+            assert_eq!(met_children_sse2(&node, &r, tmax), got, "case {i}");
+            if w > 1e-12 {
+                if w < 1e-6 {
+                    tight += 1;
+                    culled_tight += usize::from(got != 0xff);
+                } else {
+                    assert_eq!(
+                        got, 0xff,
+                        "case {i}: met by {w:e} of t, culled (o {o:?} d {d:?})"
+                    );
+                }
+            } else if w < -4e-6 {
+                assert_eq!(
+                    got, 0,
+                    "case {i}: missed by {w:e} of t, met (o {o:?} d {d:?})"
+                );
+                far_misses += 1;
+            }
+        }
+        // The cases the widening decides, and clear misses, both occur often.
+        assert!(
+            tight > 2000 && far_misses > 2000,
+            "{tight} tight, {far_misses} misses"
+        );
+        assert_eq!(culled_tight, 0, "{culled_tight} of {tight} tight");
     }
 
     #[cfg(target_arch = "x86_64")]
