@@ -637,16 +637,20 @@ mod tests {
         }
     }
 
-    #[test]
-    fn skipped_primitives_are_not_hit_through_the_bvh() {
-        // Twelve spheres on the z axis; skipping the nearest makes the next one the hit.
-        let prims: Vec<Primitive> = (0..12)
+    /// `n` unit spheres on the z axis, centred at z = 3, 6, 9, ...
+    fn spheres_on_z(n: usize) -> Vec<Primitive> {
+        (0..n)
             .map(|i| Primitive::Sphere {
                 center: Vec3::new(0.0, 0.0, 3.0 * (i + 1) as f32),
                 radius: 1.0,
             })
-            .collect();
-        let mut accel = Accel::new(prims);
+            .collect()
+    }
+
+    #[test]
+    fn skipped_primitives_are_not_hit_through_the_bvh() {
+        // Twelve spheres on the z axis; skipping the nearest makes the next one the hit.
+        let mut accel = Accel::new(spheres_on_z(12));
         assert!(accel.tree.is_some());
         let hit = |a: &Accel| a.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
         assert_eq!(hit(&accel).map(|h| h.0), Some(0));
@@ -661,13 +665,7 @@ mod tests {
     #[test]
     fn plain_loop_agrees_with_brute_force_and_skips() {
         // Up to LINEAR_LIMIT primitives there is no tree: five spheres on the z axis.
-        let prims: Vec<Primitive> = (0..5)
-            .map(|i| Primitive::Sphere {
-                center: Vec3::new(0.0, 0.0, 3.0 * (i + 1) as f32),
-                radius: 1.0,
-            })
-            .collect();
-        let mut accel = Accel::new(prims);
+        let mut accel = Accel::new(spheres_on_z(5));
         assert!(accel.tree.is_none());
         let sampler = Sampler::independent(3);
         let mut hits = 0;
