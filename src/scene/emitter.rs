@@ -688,4 +688,257 @@ mod tests {
             }
         }
     }
+
+    /// γₙ as a relative allowance in f64 (the f32 error bound of n roundings).
+    fn rel(n: i32) -> f64 {
+        crate::math::gamma(n) as f64
+    }
+
+    fn close(got: f32, want: f64, n: i32) -> bool {
+        (got as f64 - want).abs() <= rel(n) * want.abs()
+    }
+
+    fn test_map() -> EnvMap {
+        // 8 × 4 pixels, no two columns or rows alike.
+        let vals: Vec<f32> = (0..32)
+            .map(|i| 1.0 + (i % 5) as f32 + 0.25 * (i / 8) as f32)
+            .collect();
+        EnvMap::new(8, 4, vals)
+    }
+
+    #[test]
+    fn delta_and_infinite_lights_sample_their_closed_forms() {
+        let u = Vec2::new(0.3, 0.6);
+        let point = EmitterKind::Point {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            intensity: 5.0,
+        };
+        let s = point.sample_non_area(Vec3::new(1.0, 2.0, 0.0), u).unwrap();
+        assert_eq!(
+            (s.wi, s.pdf, s.p, s.n),
+            (Vec3::Z, 1.0, Vec3::new(1.0, 2.0, 3.0), -Vec3::Z)
+        );
+        assert!(close(s.li, 5.0 / 9.0, 2) && s.delta && !s.infinite, "{s:?}");
+        assert!(point.sample_non_area(Vec3::new(1.0, 2.0, 3.0), u).is_none());
+
+        // A spot 2 above the origin pointing down, falloff from cos 0.9 to cos 0.8: on the
+        // axis the full intensity, at cos θ = 0.85 half of it (smoothstep at ½).
+        let spot = EmitterKind::Spot {
+            position: Vec3::new(0.0, 0.0, 2.0),
+            frame: Frame::from_z(-Vec3::Z),
+            intensity: 4.0,
+            cos_total: 0.8,
+            cos_falloff_start: 0.9,
+        };
+        let s = spot.sample_non_area(Vec3::ZERO, u).unwrap();
+        assert!(
+            close(s.li, 1.0, 2) && s.wi == Vec3::Z && s.delta && !s.infinite,
+            "{s:?}"
+        );
+        assert_eq!((s.pdf, s.p, s.n), (1.0, Vec3::new(0.0, 0.0, 2.0), -Vec3::Z));
+        let c = 0.85f64;
+        let x = 2.0 * (1.0 - c * c).sqrt() / c;
+        let s = spot
+            .sample_non_area(Vec3::new(x as f32, 0.0, 0.0), u)
+            .unwrap();
+        let r2 = x * x + 4.0;
+        assert!(
+            (s.li as f64 - 4.0 * 0.5 / r2).abs() < 1e-4 * (2.0 / r2),
+            "{s:?}"
+        );
+        assert!(spot.sample_non_area(Vec3::new(0.0, 0.0, 2.0), u).is_none());
+        // Outside the cone: nothing.
+        assert_eq!(
+            spot.sample_non_area(Vec3::new(5.0, 0.0, 0.0), u)
+                .unwrap()
+                .li,
+            0.0
+        );
+
+        let dir = EmitterKind::Directional {
+            direction: -Vec3::Z,
+            irradiance: 3.0,
+        };
+        let s = dir.sample_non_area(Vec3::new(7.0, 1.0, 2.0), u).unwrap();
+        assert_eq!((s.wi, s.li, s.pdf, s.n), (Vec3::Z, 3.0, 1.0, -Vec3::Z));
+        assert!(s.infinite && s.delta);
+
+        let constant = EmitterKind::Constant { radiance: 2.0 };
+        let s = constant.sample_non_area(Vec3::ONE, u).unwrap();
+        assert_eq!(
+            (s.wi, s.li, s.n),
+            (uniform_sphere(u), 2.0, -uniform_sphere(u))
+        );
+        assert!(close(s.pdf, 1.0 / (4.0 * std::f64::consts::PI), 1) && s.infinite && !s.delta);
+
+        let map = EmitterKind::Map(Box::new(test_map()));
+        let EmitterKind::Map(m) = &map else {
+            unreachable!()
+        };
+        let s = map.sample_non_area(Vec3::ONE, u).unwrap();
+        assert_eq!((s.li, s.n), (m.eval(s.wi), -s.wi));
+        assert!(close(s.pdf, m.pdf(s.wi) as f64, 64) && s.infinite && !s.delta);
+
+        let area = EmitterKind::Area {
+            shape: 0,
+            radiance: 1.0,
+            two_sided: false,
+        };
+        assert!(area.sample_non_area(Vec3::ONE, u).is_none());
+
+        // Kinds: delta, infinite, and what an escaping ray sees.
+        let w = Vec3::new(0.6, 0.0, 0.8);
+        let quarter_pi = 1.0 / (4.0 * std::f64::consts::PI);
+        for (k, delta, infinite, le, pdf) in [
+            (&area, false, false, 0.0, 0.0),
+            (&point, true, false, 0.0, 0.0),
+            (&spot, true, false, 0.0, 0.0),
+            (&dir, true, true, 0.0, 0.0),
+            (&constant, false, true, 2.0, quarter_pi),
+            (&map, false, true, m.eval(w), m.pdf(w) as f64),
+        ] {
+            assert_eq!(
+                (k.is_delta(), k.is_infinite(), k.eval_infinite(w)),
+                (delta, infinite, le),
+                "{k:?}"
+            );
+            assert!(close(k.pdf_infinite(w), pdf, 1), "{k:?}");
+        }
+        assert!(m.pdf(w) > 0.0 && m.eval(w) > 0.0);
+    }
+
+    #[test]
+    fn power_is_the_integrated_emission() {
+        let pi = std::f64::consts::PI;
+        let area = |two_sided| EmitterKind::Area {
+            shape: 0,
+            radiance: 1.5,
+            two_sided,
+        };
+        assert!((area(false).power(2.0).unwrap() - pi * 3.0).abs() <= 1e-15 * pi * 3.0);
+        assert!((area(true).power(2.0).unwrap() - pi * 6.0).abs() <= 1e-15 * pi * 6.0);
+        let point = EmitterKind::Point {
+            position: Vec3::ZERO,
+            intensity: 2.5,
+        };
+        assert!((point.power(0.0).unwrap() - 10.0 * pi).abs() <= 1e-15 * 10.0 * pi);
+        // A spot's power ∫ I f(cos θ) dω = 2π I ∫₋₁¹ f(c) dc, with pbrt's smoothstep f, by
+        // the midpoint rule in f64 (its error ~1e-11 here).
+        for (ct, cs) in [(0.8f32, 0.9f32), (0.1, 0.7), (-0.5, 0.2), (0.5, 0.5)] {
+            let spot = EmitterKind::Spot {
+                position: Vec3::ZERO,
+                frame: Frame::from_z(Vec3::Z),
+                intensity: 3.0,
+                cos_total: ct,
+                cos_falloff_start: cs,
+            };
+            let (ct, cs) = (ct as f64, cs as f64);
+            let f = |c: f64| {
+                if cs <= ct {
+                    return if c >= ct { 1.0 } else { 0.0 };
+                }
+                let t = ((c - ct) / (cs - ct)).clamp(0.0, 1.0);
+                t * t * (3.0 - 2.0 * t)
+            };
+            let n = 400_000;
+            let integral: f64 = (0..n)
+                .map(|i| f(-1.0 + 2.0 * (i as f64 + 0.5) / n as f64) * 2.0 / n as f64)
+                .sum();
+            let want = 2.0 * pi * 3.0 * integral;
+            let got = spot.power(0.0).unwrap();
+            assert!(
+                (got / want - 1.0).abs() < 1e-6,
+                "({ct}, {cs}): {got} vs {want}"
+            );
+        }
+        for k in [
+            EmitterKind::Directional {
+                direction: Vec3::Z,
+                irradiance: 1.0,
+            },
+            EmitterKind::Constant { radiance: 1.0 },
+            EmitterKind::Map(Box::new(test_map())),
+        ] {
+            assert!(k.power(1.0).is_none());
+        }
+    }
+
+    #[test]
+    fn spot_falloff_follows_smoothstep() {
+        // pbrt-v4's smoothstep in cos θ between cos_total and cos_start, in f64.
+        let (ct, cs) = (0.3f32, 0.7f32);
+        for i in 0..=100 {
+            let c = -1.0 + 2.0 * i as f32 / 100.0;
+            let t = ((c as f64 - 0.3f32 as f64) / (0.7f32 as f64 - 0.3f32 as f64)).clamp(0.0, 1.0);
+            let want = t * t * (3.0 - 2.0 * t);
+            let got = spot_falloff(c, ct, cs) as f64;
+            assert!((got - want).abs() <= 1e-6, "cos {c}: {got} vs {want}");
+        }
+        // A hard edge where the falloff has no width.
+        assert_eq!(spot_falloff(0.5, 0.5, 0.5), 1.0);
+        assert_eq!(spot_falloff(0.49, 0.5, 0.5), 0.0);
+        assert_eq!(spot_falloff(0.6, 0.5, 0.4), 1.0);
+    }
+
+    #[test]
+    fn envmap_at_pixel_centres() {
+        // At each pixel's centre direction (θ = π(v + ½)/H, φ = 2π(u + ½)/W) the map returns
+        // that pixel's radiance, and the density L sin θ / Σ L sin θ · W H / (2π² sin θ).
+        let m = test_map();
+        let (w, h) = (8usize, 4usize);
+        let pi = std::f64::consts::PI;
+        let sin = |v: usize| (pi * (v as f64 + 0.5) / h as f64).sin();
+        let total: f64 = (0..w * h).map(|i| m.radiance[i] as f64 * sin(i / w)).sum();
+        for v in 0..h {
+            for u in 0..w {
+                let (theta, phi) = (
+                    pi * (v as f64 + 0.5) / h as f64,
+                    2.0 * pi * (u as f64 + 0.5) / w as f64,
+                );
+                let dir = Vec3::new(
+                    (theta.sin() * phi.cos()) as f32,
+                    (theta.sin() * phi.sin()) as f32,
+                    theta.cos() as f32,
+                );
+                let l = m.radiance[v * w + u];
+                assert_eq!(m.eval(dir), l, "pixel ({u}, {v})");
+                let want = l as f64 * sin(v) / total * (w * h) as f64 / (2.0 * pi * pi * sin(v));
+                assert!(
+                    close(m.pdf(dir), want, 32),
+                    "pixel ({u}, {v}): {} vs {want}",
+                    m.pdf(dir)
+                );
+            }
+        }
+        // The poles have no density (sin θ = 0).
+        assert_eq!(m.pdf(Vec3::Z), 0.0);
+        assert_eq!(m.pdf(-Vec3::Z), 0.0);
+    }
+
+    #[test]
+    fn area_distribution_is_proportional_to_area() {
+        let prims = [
+            Primitive::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+            Primitive::Rectangle {
+                corner: Vec3::ZERO,
+                u: Vec3::X * 2.0,
+                v: Vec3::Y * 3.0,
+            },
+        ];
+        let d = area_distribution(&prims);
+        // Mean cell value and per-cell density 2·Aᵢ/ΣA over [0, 1).
+        let a = [4.0 * std::f64::consts::PI, 6.0];
+        let total = a[0] + a[1];
+        assert!(
+            (d.integral() * 2.0 / total - 1.0).abs() < 1e-6,
+            "{}",
+            d.integral()
+        );
+        for (x, ai) in [(0.25f32, a[0]), (0.75, a[1])] {
+            assert!(close(d.pdf(x), 2.0 * ai / total, 8), "{}", d.pdf(x));
+        }
+    }
 }
