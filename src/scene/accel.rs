@@ -953,6 +953,15 @@ mod tests {
         (f64::from(dec) - f64::from(bound)).abs() / f64::from(s)
     }
 
+    /// A node's eight child slots: `boxes` first, the rest empty.
+    fn children(boxes: &[(f32, f32)]) -> [Option<(f32, f32)>; 8] {
+        let mut c = [None; 8];
+        for (slot, &b) in c.iter_mut().zip(boxes) {
+            *slot = Some(b);
+        }
+        c
+    }
+
     #[test]
     fn quantised_planes_contain_each_child_and_stay_within_a_step() {
         // Children at every magnitude f32 holds, far from the origin or across it, of
@@ -960,72 +969,22 @@ mod tests {
         let sampler = Sampler::independent(23);
         let mut cases: Vec<[Option<(f32, f32)>; 8]> = vec![
             [Some((1.0, 1.0)); 8],
-            [
-                Some((-f32::MAX, f32::MAX)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
-            [
-                Some((f32::MAX / 2.0, f32::MAX)),
-                Some((f32::MAX, f32::MAX)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
-            [
-                Some((0.0, f32::from_bits(1))),
-                Some((-f32::from_bits(3), 0.0)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
+            children(&[(-f32::MAX, f32::MAX)]),
+            children(&[(f32::MAX / 2.0, f32::MAX), (f32::MAX, f32::MAX)]),
+            children(&[(0.0, f32::from_bits(1)), (-f32::from_bits(3), 0.0)]),
             // The node's low bound at 0 exactly.
-            [Some((0.0, 1.0)), None, None, None, None, None, None, None],
+            children(&[(0.0, 1.0)]),
             // Where the f64 guesses are off by one: hi − p = 255 + 10⁻²⁰ rounds to 255, so
             // the grid 2⁰ guessed from it falls short (−255 + 255 < 10⁻²⁰); with p = −1,
             // lo − p = 1 − 2⁻⁶⁰ rounds up to 1 and hi − p = 1 + 10⁻²⁰ down to 1, so the
             // first low index decodes above lo and the first high one below hi.
-            [
-                Some((-255.0, -255.0)),
-                Some((1e-20, 1e-20)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
-            [
-                Some((-1.0, -1.0)),
-                Some((-(2f32.powi(-60)), -(2f32.powi(-60)))),
-                Some((-1.0, 1e-20)),
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
-            [
-                Some((-1e-30, 1e-30)),
-                Some((1e5, 1e5 + 1.0)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ],
+            children(&[(-255.0, -255.0), (1e-20, 1e-20)]),
+            children(&[
+                (-1.0, -1.0),
+                (-(2f32.powi(-60)), -(2f32.powi(-60))),
+                (-1.0, 1e-20),
+            ]),
+            children(&[(-1e-30, 1e-30), (1e5, 1e5 + 1.0)]),
         ];
         for i in 0..4000u64 {
             let mut st = sampler.stream(i);
@@ -1104,26 +1063,13 @@ mod tests {
     #[test]
     fn non_finite_bounds_quantise_to_planes_that_never_cull() {
         for bad in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
-            let children = [
-                Some((0.0, 1.0)),
-                Some((bad, bad)),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            ];
-            let (p, e, ql, qh) = quantise_axis(&children);
+            let (p, e, ql, qh) = quantise_axis(&children(&[(0.0, 1.0), (bad, bad)]));
             assert!(plane(p, step(e), ql[0]).is_nan() && plane(p, step(e), qh[1]).is_nan());
         }
         // One NaN bound of a child (SSE min/max pass a NaN on one side only): the axis
         // never culls either.
         for nan_child in [(f32::NAN, 2.0), (-1.0, f32::NAN)] {
-            let mut children = [None; 8];
-            children[0] = Some((0.0, 1.0));
-            children[1] = Some(nan_child);
-            let (p, _, _, _) = quantise_axis(&children);
+            let (p, _, _, _) = quantise_axis(&children(&[(0.0, 1.0), nan_child]));
             assert!(p.is_nan(), "{nan_child:?}");
         }
         // A NaN plane leaves the slab interval as it was: the child is met.
