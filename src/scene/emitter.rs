@@ -631,6 +631,7 @@ mod tests {
             (Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z),
             (Vec3::new(1.0, 0.0, 0.0), Vec3::Z),
             (Vec3::new(1e-30, 2e-30, 0.0), Vec3::X),
+            (Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::X),
         ];
         for i in 0..1000 {
             let f = |k: u32| ((i * 7919 + k * 104_729) % 2001) as f32 / 1000.0 - 1.0;
@@ -967,23 +968,30 @@ mod tests {
                 Vec3::new(0.0, 0.0, -5.0),
                 "cone",
             ),
+            // 10⁻⁶ off the surface: inside the band of a hit point's rounding.
+            (
+                "sphere from its surface",
+                sphere,
+                Vec3::new(0.0, 0.0, 3.999_999),
+                "area",
+            ),
             ("rectangle", rect(Vec3::X, Vec3::Y), o, "rectangle"),
-            // u·v against 10⁻⁶ |u||v|: just below and above.
+            // u·v against 10⁻⁶ |u||v| = 6·10⁻⁶: 5·10⁻⁶ and ±7·10⁻⁶.
             (
                 "nearly square",
-                rect(Vec3::X, Vec3::new(5e-7, 1.0, 0.0)),
+                rect(Vec3::X * 2.0, Vec3::new(2.5e-6, 3.0, 0.0)),
                 o,
                 "rectangle",
             ),
             (
                 "sheared",
-                rect(Vec3::X, Vec3::new(2e-6, 1.0, 0.0)),
+                rect(Vec3::X * 2.0, Vec3::new(3.5e-6, 3.0, 0.0)),
                 o,
                 "area",
             ),
             (
                 "sheared the other way",
-                rect(Vec3::X, Vec3::new(-2e-6, 1.0, 0.0)),
+                rect(Vec3::X * 2.0, Vec3::new(-3.5e-6, 3.0, 0.0)),
                 o,
                 "area",
             ),
@@ -1085,6 +1093,23 @@ mod tests {
             radius: 2.0,
         };
         let d = (c - base).length() as f64;
+        let o0 = Vec3::new(0.1, 0.2, -1.0);
+        let (c0, u0, v0) = (Vec3::new(-0.5, -0.5, 0.01), Vec3::X * 8.0, Vec3::Y * 8.0);
+        let rect0 = Primitive::Rectangle {
+            corner: c0,
+            u: u0,
+            v: v0,
+        };
+        let quad0 = polygon(o0, &[c0, c0 + u0, c0 + u0 + v0, c0 + v0]);
+        // (Vertices as far from the origin as the viewer: the bound γ₇ Σ|vᵢ| does not
+        // cover the rounding of p + t w where |p| exceeds the vertices, e.g. z ≈ 0.02 seen
+        // from z = −1.)
+        let t0 = [
+            Vec3::new(-0.2, -0.3, 1.02),
+            Vec3::new(9.0, -0.2, 1.01),
+            Vec3::new(-0.1, 9.0, 1.03),
+        ];
+        let tri0 = Primitive::Triangle { p: t0 };
         let cases: Vec<(&str, Primitive, Vec3, f64)> = vec![
             (
                 "cone",
@@ -1106,6 +1131,10 @@ mod tests {
                 polygon(base, &[corner, corner + u, corner + u + sv, corner + sv]),
             ),
             ("triangle", tri, base, polygon(base, &tv)),
+            // About the origin, edges longer than the corner's offset (an error bound
+            // that subtracts a term goes negative).
+            ("rectangle about the origin", rect0, o0, quad0),
+            ("triangle about the origin", tri0, o0, polygon(o0, &t0)),
             (
                 "disk",
                 disk,
