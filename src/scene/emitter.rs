@@ -646,6 +646,7 @@ mod tests {
             (Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z),
             (Vec3::new(1.0, 0.0, 0.0), Vec3::Z),
             (Vec3::new(1e-30, 2e-30, 0.0), Vec3::X),
+            (Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::X),
         ];
         for i in 0..1000 {
             let f = |k: u32| ((i * 7919 + k * 104_729) % 2001) as f32 / 1000.0 - 1.0;
@@ -940,5 +941,321 @@ mod tests {
         for (x, ai) in [(0.25f32, a[0]), (0.75, a[1])] {
             assert!(close(d.pdf(x), 2.0 * ai / total, 8), "{}", d.pdf(x));
         }
+    }
+
+    #[test]
+    fn strategy_follows_the_geometry() {
+        let is = |s: PrimSampling| match s {
+            PrimSampling::Cone(_) => "cone",
+            PrimSampling::Rectangle(_) => "rectangle",
+            PrimSampling::Triangle(_) => "triangle",
+            PrimSampling::Area => "area",
+        };
+        let rect = |u: Vec3, v: Vec3| Primitive::Rectangle {
+            corner: Vec3::new(-0.5, -0.5, 2.0),
+            u,
+            v,
+        };
+        let tri = |s: f32| Primitive::Triangle {
+            p: [
+                Vec3::new(-1.0, -1.0, 2.0) * s,
+                Vec3::new(1.0, -1.0, 2.0) * s,
+                Vec3::new(0.0, 1.0, 2.0) * s,
+            ],
+        };
+        let sphere = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 5.0),
+            radius: 1.0,
+        };
+        let o = Vec3::ZERO;
+        for (name, prim, p, want) in [
+            ("sphere from outside", sphere, o, "cone"),
+            (
+                "sphere from inside",
+                sphere,
+                Vec3::new(0.0, 0.2, 5.5),
+                "area",
+            ),
+            // Outside, at the mirror image of the centre (|p + c| = 0).
+            (
+                "sphere from −centre",
+                sphere,
+                Vec3::new(0.0, 0.0, -5.0),
+                "cone",
+            ),
+            // 10⁻⁶ off the surface: inside the band of a hit point's rounding.
+            (
+                "sphere from its surface",
+                sphere,
+                Vec3::new(0.0, 0.0, 3.999_999),
+                "area",
+            ),
+            ("rectangle", rect(Vec3::X, Vec3::Y), o, "rectangle"),
+            // u·v against 10⁻⁶ |u||v| = 6·10⁻⁶: 5·10⁻⁶ and ±7·10⁻⁶.
+            (
+                "nearly square",
+                rect(Vec3::X * 2.0, Vec3::new(2.5e-6, 3.0, 0.0)),
+                o,
+                "rectangle",
+            ),
+            (
+                "sheared",
+                rect(Vec3::X * 2.0, Vec3::new(3.5e-6, 3.0, 0.0)),
+                o,
+                "area",
+            ),
+            (
+                "sheared the other way",
+                rect(Vec3::X * 2.0, Vec3::new(-3.5e-6, 3.0, 0.0)),
+                o,
+                "area",
+            ),
+            (
+                "rectangle in its plane",
+                rect(Vec3::X, Vec3::Y),
+                Vec3::new(3.0, 0.0, 2.0),
+                "area",
+            ),
+            // Ω ≈ 10⁻¹⁰/(2·10³)² = 2.5·10⁻¹⁷ sr.
+            (
+                "tiny rectangle",
+                rect(Vec3::X * 1e-5, Vec3::Y * 1e-5),
+                Vec3::new(0.0, 0.0, -2e3),
+                "area",
+            ),
+            ("triangle", tri(1.0), o, "triangle"),
+            (
+                "tiny triangle",
+                tri(1e-6),
+                Vec3::new(0.0, 0.0, -1e3),
+                "area",
+            ),
+            // From 10⁻⁴ below an interior point the triangle fills nearly a hemisphere
+            // (Ω > 6.22 sr).
+            (
+                "triangle close up",
+                tri(1.0),
+                Vec3::new(0.0, -0.3, 2.0 - 1e-4),
+                "area",
+            ),
+            (
+                "disk",
+                Primitive::Disk {
+                    center: Vec3::new(0.0, 0.0, 2.0),
+                    normal: Vec3::Z,
+                    radius: 1.0,
+                },
+                o,
+                "area",
+            ),
+        ] {
+            assert_eq!(is(prim_strategy(&prim, p)), want, "{name}");
+        }
+    }
+
+    /// |(q − a)·n| ≤ Σ|nᵢ| eᵢ: the point lies on the plane through `a` with unit normal `n`
+    /// within its error bound `e` (in f64).
+    fn on_plane(q: Vec3, a: Vec3, n: Vec3, e: Vec3) -> bool {
+        let (q, a, n, e) = (q.as_dvec3(), a.as_dvec3(), n.as_dvec3(), e.as_dvec3());
+        (q - a).dot(n).abs() <= n.abs().dot(e)
+    }
+
+    /// For each strategy: points on the primitive within their error bound, the unit
+    /// normal of the surface there, [`prim_pdf`] equal to the sampled density, and
+    /// E[1/p(ω)] equal to the solid angle the primitive subtends (closed forms in f64:
+    /// 2π(1 − cos θmax) for a sphere, 4π from inside it, Van Oosterom–Strackee for
+    /// polygons, 2π(1 − h/√(h² + R²)) for a disk seen on its axis), by a z test.
+    #[test]
+    fn sampled_points_lie_on_the_primitive_with_unbiased_densities() {
+        use crate::sampling::Sampler;
+        use crate::sampling::spherical_triangle::tests::polygon_moments;
+        use crate::stats::accumulator::Accumulator;
+        use crate::stats::hypothesis::MeanTest;
+        use glam::DVec3;
+        let pi = std::f64::consts::PI;
+        let base = Vec3::new(100.0, -50.0, 30.0);
+        let polygon = |p: Vec3, v: &[Vec3]| {
+            let v: Vec<DVec3> = v.iter().map(|x| x.as_dvec3()).collect();
+            polygon_moments(p.as_dvec3(), &v).1
+        };
+        let (c, r) = (base + Vec3::new(0.0, 0.0, 5.0), 1.5f32);
+        let sphere = Primitive::Sphere {
+            center: c,
+            radius: r,
+        };
+        let (corner, u, v) = (
+            base + Vec3::new(-0.5, -0.7, 2.0),
+            Vec3::new(1.2, 0.0, 0.3),
+            Vec3::Y * 1.4,
+        );
+        let rect = Primitive::Rectangle { corner, u, v };
+        let quad = |p: Vec3| polygon(p, &[corner, corner + u, corner + u + v, corner + v]);
+        let sheared = Primitive::Rectangle {
+            corner,
+            u,
+            v: v + Vec3::X * 0.5,
+        };
+        let sv = v + Vec3::X * 0.5;
+        let tv = [
+            base + Vec3::new(-1.0, -1.0, 2.0),
+            base + Vec3::new(1.5, -0.5, 2.5),
+            base + Vec3::new(0.0, 1.0, 1.5),
+        ];
+        let tri = Primitive::Triangle { p: tv };
+        let disk = Primitive::Disk {
+            center: base + Vec3::new(0.0, 0.0, 3.0),
+            normal: Vec3::Z,
+            radius: 2.0,
+        };
+        let d = (c - base).length() as f64;
+        let o0 = Vec3::new(0.1, 0.2, -1.0);
+        let (c0, u0, v0) = (Vec3::new(-0.5, -0.5, 0.01), Vec3::X * 8.0, Vec3::Y * 8.0);
+        let rect0 = Primitive::Rectangle {
+            corner: c0,
+            u: u0,
+            v: v0,
+        };
+        let quad0 = polygon(o0, &[c0, c0 + u0, c0 + u0 + v0, c0 + v0]);
+        // (Vertices as far from the origin as the viewer: the bound γ₇ Σ|vᵢ| does not
+        // cover the rounding of p + t w where |p| exceeds the vertices, e.g. z ≈ 0.02 seen
+        // from z = −1.)
+        let t0 = [
+            Vec3::new(-0.2, -0.3, 1.02),
+            Vec3::new(9.0, -0.2, 1.01),
+            Vec3::new(-0.1, 9.0, 1.03),
+        ];
+        let tri0 = Primitive::Triangle { p: t0 };
+        let cases: Vec<(&str, Primitive, Vec3, f64)> = vec![
+            (
+                "cone",
+                sphere,
+                base,
+                2.0 * pi * (1.0 - (1.0 - (r as f64 / d).powi(2)).sqrt()),
+            ),
+            (
+                "sphere from inside",
+                sphere,
+                c + Vec3::new(0.3, -0.2, 0.5),
+                4.0 * pi,
+            ),
+            ("rectangle", rect, base, quad(base)),
+            (
+                "sheared",
+                sheared,
+                base,
+                polygon(base, &[corner, corner + u, corner + u + sv, corner + sv]),
+            ),
+            ("triangle", tri, base, polygon(base, &tv)),
+            // About the origin, edges longer than the corner's offset (an error bound
+            // that subtracts a term goes negative).
+            ("rectangle about the origin", rect0, o0, quad0),
+            ("triangle about the origin", tri0, o0, polygon(o0, &t0)),
+            (
+                "disk",
+                disk,
+                base,
+                2.0 * pi * (1.0 - 3.0 / (9.0f64 + 4.0).sqrt()),
+            ),
+        ];
+        let test = MeanTest::new(1e-4, cases.len());
+        let sampler = Sampler::independent(11);
+        for (k, (name, prim, p, omega)) in cases.into_iter().enumerate() {
+            let mut acc = Accumulator::new();
+            for i in 0..20_000u64 {
+                let mut st = sampler.stream(100_000 * k as u64 + i);
+                let (q, n, e, density) = sample_prim(&prim, p, st.next_2d()).unwrap();
+                assert!(
+                    (n.length() - 1.0).abs() < 1e-5 && e.min_element() >= 0.0,
+                    "{name}: {n} {e}"
+                );
+                match prim {
+                    Primitive::Sphere { center, radius } => {
+                        let off = (q.as_dvec3() - center.as_dvec3()).length() - radius as f64;
+                        assert!(
+                            off.abs() <= e.as_dvec3().length(),
+                            "{name}: {off:e} off, bound {e}"
+                        );
+                        assert!(
+                            (n - (q - center) / radius).length() < 1e-5,
+                            "{name}: normal {n}"
+                        );
+                    }
+                    Primitive::Rectangle { corner, u, v } => {
+                        let m = u.cross(v).normalize();
+                        assert!(
+                            on_plane(q, corner, m, e),
+                            "{name}: {q} off the plane, bound {e}"
+                        );
+                        assert!(n.cross(m).length() < 1e-5, "{name}: normal {n}");
+                    }
+                    Primitive::Triangle { p: t } => {
+                        let m = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+                        assert!(
+                            on_plane(q, t[0], m, e),
+                            "{name}: {q} off the plane, bound {e}"
+                        );
+                        assert!(n.cross(m).length() < 1e-5, "{name}: normal {n}");
+                    }
+                    Primitive::Disk { center, normal, .. } => {
+                        assert!(on_plane(q, center, normal, e), "{name}: {q} off the plane");
+                        assert!(n.cross(normal).length() < 1e-5, "{name}: normal {n}");
+                    }
+                    _ => unreachable!(),
+                }
+                let w = q - p;
+                let pdf = density.solid_angle(w, w.length(), n).unwrap();
+                let again = prim_pdf(&prim, p, q, n);
+                assert!(
+                    close(again, pdf as f64, 16),
+                    "{name}: prim_pdf {again} vs {pdf}"
+                );
+                acc.push(1.0 / pdf as f64);
+            }
+            let verdict = test.judge(&acc, omega);
+            assert!(verdict.passed, "{name}: {verdict:?}");
+        }
+    }
+
+    #[test]
+    fn envmap_samples_have_positive_finite_densities() {
+        // Rows and columns of zero radiance, and u on the unit square's edges (u.y = 0
+        // maps to the pole θ = 0, where no density exists): every sample returned has a
+        // positive finite density equal to pdf(w), and lands on a lit pixel.
+        let vals: Vec<f32> = (0..32)
+            .map(|i| {
+                if i % 3 == 0 || i / 8 == 2 {
+                    0.0
+                } else {
+                    1.0 + (i % 5) as f32
+                }
+            })
+            .collect();
+        let m = EnvMap::new(8, 4, vals);
+        let mut some = 0;
+        for (a, b) in [
+            (0.0f32, 0.0f32),
+            (0.3, 0.0),
+            (0.0, 0.4),
+            (0.99, 0.99),
+            (0.5, 0.5),
+        ] {
+            for u in [Vec2::new(a, b), Vec2::new(b, a)] {
+                if let Some((w, pdf)) = m.sample(u) {
+                    assert!(pdf.is_finite() && pdf > 0.0, "u {u}: pdf {pdf}");
+                    assert!(m.eval(w) > 0.0, "u {u}: dark pixel");
+                    // pdf(w) forms sin θ = √(1 − z²) from the rounded z = cos θ: a
+                    // relative error of (1 + cot²θ) times a few roundings.
+                    let z = w.z as f64;
+                    let tol = rel(8) * (1.0 + z * z / (1.0 - z * z));
+                    assert!(
+                        (m.pdf(w) as f64 / pdf as f64 - 1.0).abs() <= tol,
+                        "u {u}: {} vs {pdf}",
+                        m.pdf(w)
+                    );
+                    some += 1;
+                }
+            }
+        }
+        assert!(some >= 5, "{some} samples");
     }
 }
