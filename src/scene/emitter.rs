@@ -82,9 +82,10 @@ impl EnvMap {
         let phi = uv.x * TWO_PI;
         let (st, ct) = theta.sin_cos();
         let w = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
-        // Where cos θ rounds to ±1 (within an ulp of a pole) [`EnvMap::pdf`] has no
-        // density for w: no sample there either, so that sampler and MIS density agree.
-        if st <= 0.0 || pdf_uv <= 0.0 || safe_sqrt(1.0 - w.z * w.z) <= 0.0 {
+        // Where cos θ rounds to ±1 (at a pole, or within an ulp of one, where sin θ ≥ 0
+        // is tiny or 0) [`EnvMap::pdf`] has no density for w: no sample there either, so
+        // that sampler and MIS density agree; nor where the pixel's density rounds to 0.
+        if pdf_uv <= 0.0 || safe_sqrt(1.0 - w.z * w.z) <= 0.0 {
             return None;
         }
         Some((w, pdf_uv / (2.0 * PI * PI * st)))
@@ -733,6 +734,11 @@ mod tests {
                 }
             }
         }
+        // A pixel whose density rounds to 0 in f32 (10⁻³⁸ beside 10³⁰: a ratio of 10⁻⁶⁸)
+        // keeps a positive width in the f64 CDF, so u.x = 0 selects it: no sample.
+        let faint = EnvMap::new(2, 1, vec![1e-38, 1e30]);
+        assert_eq!(faint.sample(Vec2::new(0.0, 0.5)), None);
+        assert!(faint.sample(Vec2::new(0.75, 0.5)).is_some());
         // Away from the poles (u.y = 0.5) every u.x gives a sample.
         assert!(some >= edge.len(), "{some} samples");
     }
