@@ -98,6 +98,21 @@ fn bvh(c: &mut Criterion) {
             })
         })
     });
+    let batch: Vec<(Vec3, Vec3, f32, f32)> = rays
+        .iter()
+        .map(|&(o, d)| (o, d, 0.0, f32::INFINITY))
+        .collect();
+    g.bench_function("closest hit, interleaved batch, 1 thread", |b| {
+        b.iter_custom(|iters| {
+            cpu_iters(iters, || {
+                accel
+                    .intersect_batch(&batch)
+                    .iter()
+                    .filter(|h| h.is_some())
+                    .count()
+            })
+        })
+    });
     // Shadow segments along the same rays: of length |o| (3), reaching the target's
     // neighbourhood inside the sphere, so every one is blocked (early exit); and of
     // length |o|/2, ending outside the sphere, so nearly all are clear (a full traversal
