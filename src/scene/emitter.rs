@@ -1222,9 +1222,26 @@ mod tests {
             v: v0,
         };
         let quad0 = polygon(o0, &[c0, c0 + u0, c0 + u0 + v0, c0 + v0]);
-        // (Vertices as far from the origin as the viewer: the bound γ₇ Σ|vᵢ| does not
-        // cover the rounding of p + t w where |p| exceeds the vertices, e.g. z ≈ 0.02 seen
-        // from z = −1.)
+        // A tilted rectangle whose edges share components (|u|·|v| ≠ 0 per component)
+        // and a large sphere about the origin (|q − c| ≫ |c|): bounds that mix the terms
+        // up come out loose or too small here.
+        let (u1, v1) = (Vec3::new(6.0, 0.0, 6.0), Vec3::new(-4.0, 8.0, 4.0));
+        let rect1 = Primitive::Rectangle {
+            corner: c0,
+            u: u1,
+            v: v1,
+        };
+        let quad1 = polygon(o0, &[c0, c0 + u1, c0 + u1 + v1, c0 + v1]);
+        let (c1, r1) = (Vec3::new(0.01, -0.02, 0.03), 50.0f32);
+        let big = Primitive::Sphere {
+            center: c1,
+            radius: r1,
+        };
+        let p1 = Vec3::new(0.0, 0.0, -80.0);
+        let d1 = (c1 - p1).length() as f64;
+        // (Vertices as far from the origin as the viewer: the bound γ₇ Σ|vᵢ| alone did
+        // not cover the rounding of p + t w where |p| exceeds the vertices, e.g. z ≈ 0.02
+        // seen from z = −1; see triangle_samples_lie_within_a_tight_error_bound.)
         let t0 = [
             Vec3::new(-0.2, -0.3, 1.02),
             Vec3::new(9.0, -0.2, 1.01),
@@ -1255,6 +1272,13 @@ mod tests {
             // About the origin, edges longer than the corner's offset (an error bound
             // that subtracts a term goes negative).
             ("rectangle about the origin", rect0, o0, quad0),
+            ("tilted rectangle about the origin", rect1, o0, quad1),
+            (
+                "large sphere about the origin",
+                big,
+                p1,
+                2.0 * pi * (1.0 - (1.0 - (r1 as f64 / d1).powi(2)).sqrt()),
+            ),
             ("triangle about the origin", tri0, o0, polygon(o0, &t0)),
             (
                 "disk",
@@ -1273,6 +1297,28 @@ mod tests {
                 assert!(
                     (n.length() - 1.0).abs() < 1e-5 && e.min_element() >= 0.0,
                     "{name}: {n} {e}"
+                );
+                // Tight as well as sound: within twice the terms of each strategy's
+                // error analysis (γ₅|q − c| + γ₁|c| on a sphere, γ₆ (|corner| + |u| + |v|)
+                // on a rectangle, γ₇ Σ|vᵢ| + γ₉ (|p| + |q|) on a triangle; γₙ ≈ nε/2),
+                // so that a shadow ray's origin is not pushed off by more.
+                let eps = f32::EPSILON;
+                // (Area sampling's bounds are the shapes' own, tested with them.)
+                let allowed = match (prim_strategy(&prim, p), prim) {
+                    (PrimSampling::Cone(_), Primitive::Sphere { center, .. }) => {
+                        4.0 * eps * (q - center).abs() + eps * center.abs()
+                    }
+                    (PrimSampling::Rectangle(_), Primitive::Rectangle { corner, u, v }) => {
+                        4.0 * eps * (corner.abs() + u.abs() + v.abs())
+                    }
+                    (PrimSampling::Triangle(_), Primitive::Triangle { p: t }) => {
+                        5.0 * eps * (t[0].abs() + t[1].abs() + t[2].abs() + p.abs() + q.abs())
+                    }
+                    _ => Vec3::INFINITY,
+                };
+                assert!(
+                    (e - allowed).max_element() <= 0.0,
+                    "{name}: bound {e} loose against {allowed}"
                 );
                 match prim {
                     Primitive::Sphere { center, radius } => {
