@@ -1238,6 +1238,17 @@ mod tests {
             v: v1,
         };
         let quad1 = polygon(o0, &[c0, c0 + u1, c0 + u1 + v1, c0 + v1]);
+        let (c2, u2, v2) = (
+            base + Vec3::new(-4.0, -4.0, 6.0),
+            Vec3::X * 8.0,
+            Vec3::Y * 8.0,
+        );
+        let rect2 = Primitive::Rectangle {
+            corner: c2,
+            u: u2,
+            v: v2,
+        };
+        let quad2 = polygon(base, &[c2, c2 + u2, c2 + u2 + v2, c2 + v2]);
         let (c1, r1) = (Vec3::new(0.01, -0.02, 0.03), 50.0f32);
         let big = Primitive::Sphere {
             center: c1,
@@ -1279,6 +1290,8 @@ mod tests {
             // that subtracts a term goes negative).
             ("rectangle about the origin", rect0, o0, quad0),
             ("tilted rectangle about the origin", rect1, o0, quad1),
+            // Far out with long edges: |corner|·|u| ≫ |corner| + |u| per component.
+            ("large rectangle far out", rect2, base, quad2),
             (
                 "large sphere about the origin",
                 big,
