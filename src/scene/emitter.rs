@@ -253,7 +253,7 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
             Some(t)
                 if t.solid_angle() > 1e-9
                     && t.solid_angle() < 6.22
-                    && sliver_ratio(&v) <= SLIVER_RATIO =>
+                    && sliver_ratio(&apex(&v)) <= SLIVER_RATIO =>
             {
                 PrimSampling::Triangle(t)
             }
@@ -274,7 +274,10 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
 fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
     let (origin, n) = match *prim {
         Primitive::Rectangle { corner, u, v } => (corner, u.cross(v).normalize()),
-        Primitive::Triangle { p: v } => (v[0], (v[1] - v[0]).cross(v[2] - v[0]).normalize()),
+        Primitive::Triangle { p: v } => {
+            let a = apex(&v);
+            (a[0], (a[1] - a[0]).cross(a[2] - a[0]).normalize())
+        }
         Primitive::Disk { center, normal, .. } | Primitive::Annulus { center, normal, .. } => {
             (center, normal)
         }
@@ -304,14 +307,34 @@ fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
 /// 2|δc|/|c|, and normalising adds γ₅: the normal tilts by at most
 /// (2√2 γ₄ + γ₅) R ≤ γ₁₇ R, R = |e₁||e₂|/|e₁ × e₂| ≥ 1 (the reciprocal of the sine of
 /// the angle at v₀, large for a sliver), which moves q off the true plane by that angle
-/// times |q − v₀|. R is formed from the rounded edges and cross product; while
+/// times |q − v₀|. The vertices are first turned by [`apex`], so that v₀ is the vertex
+/// whose angle has the largest sine and R is the smallest of the three. R is formed from the rounded edges and cross product; while
 /// R ≤ [`SLIVER_RATIO`] (the spherical-triangle strategy's condition) it is within 0.1% of
 /// the exact ratio, and γ₁₈ covers both that and the term's own roundings.
 fn triangle_point_error(v: &[Vec3; 3], p: Vec3, q: Vec3) -> Vec3 {
-    let tilt = crate::math::gamma(18) * sliver_ratio(v) * (q - v[0]).length();
+    let a = apex(v);
+    let tilt = crate::math::gamma(18) * sliver_ratio(&a) * (q - a[0]).length();
     crate::math::gamma(7) * (v[0].abs() + v[1].abs() + v[2].abs())
         + crate::math::gamma(9) * (p.abs() + q.abs())
         + Vec3::splat(tilt)
+}
+
+/// The triangle's vertices turned (cyclically, so the normal keeps its orientation) to
+/// start at the vertex opposite the longest edge, whose angle has the largest sine (the
+/// law of sines): the normal formed there is the best conditioned. A needle (one short
+/// edge) has an angle near 90° there; only a cap (a vertex near the middle of the
+/// opposite edge) has small sines at every vertex.
+#[inline]
+fn apex(v: &[Vec3; 3]) -> [Vec3; 3] {
+    let opposite = |i: usize| (v[(i + 1) % 3] - v[(i + 2) % 3]).length_squared();
+    let (l0, l1, l2) = (opposite(0), opposite(1), opposite(2));
+    if l0 >= l1 && l0 >= l2 {
+        *v
+    } else if l1 >= l2 {
+        [v[1], v[2], v[0]]
+    } else {
+        [v[2], v[0], v[1]]
+    }
 }
 
 /// R = |e₁||e₂|/|e₁ × e₂| with eᵢ = vᵢ − v₀ in f32: 1/sin of the angle at v₀, the factor
@@ -828,12 +851,13 @@ mod tests {
         assert!(checked > 2000, "{checked} cases");
     }
 
-    /// Sliver triangles (angle at v₀ with 1/sin α from about 10 to 10⁴, at scales
-    /// 10⁻²…10²): the f32 normal's rounding tilts the sampler's plane by up to
-    /// ~γ₄|e₁||e₂|/|e₁ × e₂|, so q leaves the true plane (that of the f32 vertices, in f64)
-    /// by that angle times |q − v₀|. Every sampled point, whichever strategy, lies within
-    /// its bound; the bound stays tight; the spherical-triangle strategy is used only up
-    /// to [`SLIVER_RATIO`]. Each sliver is seen from a third of its length away.
+    /// Sliver triangles, caps and needles (a third vertex 10⁻¹…10⁻³·⁴ of the long edge
+    /// off it, at scales 10⁻²…10²): the f32 normal's rounding tilts the sampler's plane
+    /// by up to ~γ₄|e₁||e₂|/|e₁ × e₂|, so q leaves the true plane (that of the f32
+    /// vertices, in f64) by that angle times |q − v₀|. Every sampled point, whichever
+    /// strategy, lies within its bound; the bound stays tight; the spherical-triangle
+    /// strategy is used only up to [`SLIVER_RATIO`] at the best-conditioned vertex, and
+    /// always for needles. Each sliver is seen from a third of its length away.
     #[test]
     fn sliver_triangle_samples_lie_within_their_error_bound() {
         use crate::sampling::Sampler;
@@ -853,25 +877,27 @@ mod tests {
             let off = r3(size * [20.0, 0.5][(k / 25 % 2) as usize]);
             let a = r3(size) + Vec3::X * size;
             let b = r3(size);
-            let v = [off, off + a, off + a * 0.37 + b * thin];
+            // A cap (the third vertex near the middle of the long edge: small angles at
+            // every vertex) or a needle (near its end: one short edge).
+            let cap = k / 50 % 2 == 0;
+            let v = [off, off + a, off + a * [1.0, 0.37][cap as usize] + b * thin];
             // The viewer a third of the sliver's length off its plane, near its middle.
             let mid = (v[0] + v[1] + v[2]) / 3.0;
             let p = mid + a.cross(b).normalize_or_zero() * (a.length() / 3.0) + r3(size * 0.1);
             let prim = Primitive::Triangle { p: v };
             let spherical = matches!(prim_strategy(&prim, p), PrimSampling::Triangle(_));
-            let (e1, e2) = (
-                v[1].as_dvec3() - v[0].as_dvec3(),
-                v[2].as_dvec3() - v[0].as_dvec3(),
-            );
-            let (m, ratio) = (
-                e1.cross(e2).normalize(),
-                e1.length() * e2.length() / e1.cross(e2).length(),
-            );
-            // The policy: spherical-triangle sampling only up to SLIVER_RATIO (0.1% off).
+            let m = (v[1].as_dvec3() - v[0].as_dvec3())
+                .cross(v[2].as_dvec3() - v[0].as_dvec3())
+                .normalize();
+            let (_, ratio) = best_vertex(&v);
+            // The policy: spherical-triangle sampling only up to SLIVER_RATIO (0.1% off),
+            // where the normal is formed at the best-conditioned vertex, so that needles
+            // are sampled on the sphere however thin.
             assert!(
                 !spherical || ratio <= 1.001 * SLIVER_RATIO as f64,
                 "case {k}: 1/sin α = {ratio} sampled on the sphere"
             );
+            assert!(cap || spherical, "case {k}: a needle sampled by area");
             for _ in 0..8 {
                 let Some((q, _, e, _)) = sample_prim(&prim, p, st.next_2d()) else {
                     continue;
@@ -901,16 +927,25 @@ mod tests {
         );
     }
 
-    /// Twice the tilt term of [`triangle_point_error`]'s analysis, (2√2 γ₄ + γ₅) R |q − v₀|
-    /// ≈ 16.3 u R |q − v₀|, with R = |e₁||e₂|/|e₁ × e₂| exact (in f64): a bound that is
-    /// tight allows no more.
+    /// The vertex where the triangle's normal is best conditioned and its R = 1/sin α
+    /// (= |e₁||e₂|/|e₁ × e₂| with the edges from it), the smallest of the three, in f64.
+    fn best_vertex(v: &[Vec3; 3]) -> (glam::DVec3, f64) {
+        (0..3)
+            .map(|i| {
+                let o = v[i].as_dvec3();
+                let (e1, e2) = (v[(i + 1) % 3].as_dvec3() - o, v[(i + 2) % 3].as_dvec3() - o);
+                (o, e1.length() * e2.length() / e1.cross(e2).length())
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap()
+    }
+
+    /// Twice the tilt term of [`triangle_point_error`]'s analysis, (2√2 γ₄ + γ₅) R |q − v|
+    /// ≈ 16.3 u R |q − v| at the best-conditioned vertex v ([`best_vertex`], exact in f64):
+    /// a bound that is tight allows no more.
     fn tilt_allowance(v: &[Vec3; 3], q: Vec3) -> f64 {
-        let (e1, e2) = (
-            v[1].as_dvec3() - v[0].as_dvec3(),
-            v[2].as_dvec3() - v[0].as_dvec3(),
-        );
-        let ratio = e1.length() * e2.length() / e1.cross(e2).length();
-        2.0 * 16.4 * rel(1) * ratio * (q.as_dvec3() - v[0].as_dvec3()).length()
+        let (o, ratio) = best_vertex(v);
+        2.0 * 16.4 * rel(1) * ratio * (q.as_dvec3() - o).length()
     }
 
     /// γₙ as a relative allowance in f64 (the f32 error bound of n roundings).
