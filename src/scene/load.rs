@@ -454,11 +454,16 @@ impl SceneDesc {
                     "is too large: its area overflows f32 (keep lengths well below 1e18)",
                 ));
             }
-            if !(area > 0.0) {
+            // A subnormal area (a sphere of radius 10⁻²⁰: 1.3·10⁻³⁹) has no finite f32
+            // area density 1/A beside it: every area sample would be NaN.
+            if !(area >= f32::MIN_POSITIVE) {
                 return Err(InputError::new(
                     file,
                     format!("{f}.geometry"),
-                    "is degenerate: its area is zero (or too small for f32)",
+                    format!(
+                        "is degenerate: its area {area:e} is zero or too small for f32 (below {:e})",
+                        f32::MIN_POSITIVE
+                    ),
                 ));
             }
             if let Some(EmitterKind::Area {

@@ -143,22 +143,72 @@ pub enum Heuristic {
 
 impl Heuristic {
     /// Weight of a sample drawn with density `p` when the other strategy has density `q`.
+    ///
+    /// Formed from the ratio of the smaller density to the larger, x ≤ 1: w = 1/(1 + x^β)
+    /// for the larger density, x^β/(1 + x^β) for the smaller (β = 1 balance, 2 power).
+    /// The same weights as p^β/(p^β + q^β), but nothing overflows: a light of solid angle
+    /// 10⁻²⁰ sr has density 10²⁰, whose square is infinite in f32 (∞/∞ was read as weight
+    /// 0, and a tiny sphere light's irradiance came out 0 under the power heuristic). An
+    /// infinite `p` (a delta strategy) weighs 1; both densities 0 weigh 0 (no sample can
+    /// have them). A NaN density gives a NaN weight, which the accumulator counts.
     #[inline]
     pub fn weight(&self, p: f32, q: f32) -> f32 {
         if p.is_infinite() {
             return 1.0;
         }
-        let w = match self {
-            Heuristic::Balance => p / (p + q),
-            Heuristic::Power => (p * p) / (p * p + q * q),
+        let pow = |x: f32| match self {
+            Heuristic::Balance => x,
+            Heuristic::Power => x * x,
         };
-        if w.is_finite() { w } else { 0.0 }
+        if p >= q {
+            if p == 0.0 {
+                return 0.0;
+            }
+            1.0 / (1.0 + pow(q / p))
+        } else {
+            let x = pow(p / q);
+            x / (1.0 + x)
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Both heuristics against p^β/(p^β + q^β) in f64 (within 4 roundings), over
+    /// densities from 10⁻³⁰ to 10³⁰, where the f32 squares overflow and underflow; the two
+    /// strategies' weights sum to 1; a delta density weighs 1, zero densities 0, a NaN
+    /// density NaN.
+    #[test]
+    fn heuristic_weights_hold_over_every_density() {
+        for h in [Heuristic::Balance, Heuristic::Power] {
+            let beta = if h == Heuristic::Balance { 1 } else { 2 };
+            for i in -30..=30 {
+                for j in -30..=30 {
+                    let (p, q) = (1.7f32 * 10f32.powi(i), 0.3f32 * 10f32.powi(j));
+                    let (pb, qb) = ((p as f64).powi(beta), (q as f64).powi(beta));
+                    let want = pb / (pb + qb);
+                    let (w, v) = (h.weight(p, q), h.weight(q, p));
+                    assert!(
+                        (w as f64 - want).abs() <= 4.0 * f32::EPSILON as f64 * want
+                            || (want < 1e-38 && w < 1e-37),
+                        "{h:?} ({p}, {q}): {w} vs {want}"
+                    );
+                    assert!(
+                        ((w + v) as f64 - 1.0).abs() <= 4.0 * f32::EPSILON as f64,
+                        "{h:?} ({p}, {q}): {w} + {v}"
+                    );
+                }
+            }
+            assert_eq!(h.weight(f32::INFINITY, 3.0), 1.0);
+            assert_eq!(h.weight(0.0, 0.0), 0.0);
+            assert_eq!(h.weight(0.0, 2.0), 0.0);
+            assert_eq!(h.weight(2.0, 0.0), 1.0);
+            assert_eq!(h.weight(2.0, f32::INFINITY), 0.0);
+            assert!(h.weight(f32::NAN, 1.0).is_nan() && h.weight(1.0, f32::NAN).is_nan());
+        }
+    }
 
     const ALL: [Estimator; 7] = [
         Estimator::Light,

@@ -244,6 +244,11 @@ case("radius_1e308_message", "unclear", DISK, [("scene.shapes.0.geometry.radius"
      "scene.shapes[0].geometry.radius", "overflows")
 case("radius_1e30_message", "unclear", SHAPES, [("scene.shapes.0.geometry.radius", 1e30)], 2,
      "scene.shapes[0].geometry.radius", "too large")
+# A sphere whose area 4πr² is subnormal in f32 (r = 1e-20: 1.3e-39): its area density
+# 1/A overflowed and every sample came out NaN. Rejected; r = 1e-10 stays valid.
+case("sphere_radius_area_subnormal", "f32", SHAPES, [("scene.shapes.0.geometry.radius", 1e-20)], 2,
+     "scene.shapes[0].geometry", "too small")
+case("sphere_radius_tiny_valid", "f32", SHAPES, [("scene.shapes.0.geometry.radius", 1e-10)], "valid")
 sweep("sphere_center", SHAPES, "scene.shapes.0.geometry.center", "scene.shapes[0].geometry", COORD, vec=(0, [0, 0, 3]))
 sweep("rect_edge", SHAPES, "scene.shapes.1.geometry.edge_u", "scene.shapes[1].geometry",
       {"zero": "valid", "e39": 2, "e308": 2, "str": 2}, vec=(1, [2, 0, 0]))
