@@ -457,6 +457,7 @@ impl Scene {
 mod tests {
     use super::*;
     use crate::sampling::Sampler;
+    use crate::stats::{Accumulator, MeanTest};
     use glam::DVec3;
     use serde_json::json;
 
@@ -508,5 +509,73 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// ∫ cos θ dω over the triangle (a, b, c) seen from the origin with normal +z, by
+    /// Lambert's polygon formula (Arvo 1995, eq. 9): ½ Σ βᵢ ⟨n, ĝᵢ⟩, βᵢ the angle an edge
+    /// subtends and ĝᵢ the unit normal of the plane through it and the viewer.
+    fn triangle_cosine_integral(v: [DVec3; 3]) -> f64 {
+        let u = v.map(|x| x.normalize());
+        let mut sum = 0.0;
+        for i in 0..3 {
+            let (a, b) = (u[i], u[(i + 1) % 3]);
+            sum += a.angle_between(b) * a.cross(b).normalize().z;
+        }
+        0.5 * sum.abs()
+    }
+
+    /// Next-event estimation of irradiance through `sample_light` alone, E = ⟨Lᵢ cos θ /
+    /// pdf⟩, where the choice of emitter, of a triangle of a mesh by area and of the point
+    /// within it all matter: a sphere (L = 2), a mesh of three triangles of unequal areas
+    /// (L = 1) and a one-triangle shape (L = 3) above a receiver at the origin. The
+    /// reference is the sum of closed forms, π L (R/D)² cos θ for the sphere (Lambert) and
+    /// Lambert's polygon formula per triangle. One z test at α = 1e-4 on 2¹⁸ samples; it
+    /// sees a bias of 1% (asserted): a wrong emitter or triangle choice, or a point drawn
+    /// outside its own cell, moves E by far more.
+    #[test]
+    fn light_samples_estimate_irradiance_from_several_emitters() {
+        let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| [a, b, c].map(DVec3::from);
+        let mesh = [
+            tri([-1.0, -1.0, 1.5], [0.0, -1.0, 1.5], [-1.0, 0.5, 1.5]),
+            tri([0.2, -0.5, 1.0], [0.4, -0.5, 1.0], [0.2, -0.4, 1.0]),
+            tri([1.0, 0.0, 2.0], [2.5, 0.0, 2.0], [1.0, 2.0, 2.5]),
+        ];
+        let single = tri([-2.0, 1.0, 1.0], [-1.0, 1.0, 1.2], [-2.0, 2.0, 1.0]);
+        let vertices: Vec<[f64; 3]> = mesh.iter().flatten().map(|v| v.to_array()).collect();
+        let d: load::SceneDesc = serde_json::from_value(json!({ "shapes": [
+            { "geometry": { "type": "sphere", "center": [0.5, 0.3, 2.0], "radius": 0.4 },
+              "emission": { "radiance": 2.0 } },
+            { "geometry": { "type": "mesh", "vertices": vertices,
+                            "indices": [[0, 1, 2], [3, 4, 5], [6, 7, 8]] },
+              "emission": { "radiance": 1.0, "two_sided": true } },
+            { "geometry": { "type": "triangle", "vertices": single.map(|v| v.to_array()) },
+              "emission": { "radiance": 3.0, "two_sided": true } }
+        ]}))
+        .unwrap();
+        let scene = d
+            .build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
+            .unwrap();
+        let c = DVec3::new(0.5, 0.3, 2.0);
+        let sphere = 2.0 * std::f64::consts::PI * (0.4 / c.length()).powi(2) * c.z / c.length();
+        let reference = sphere
+            + mesh
+                .iter()
+                .map(|t| triangle_cosine_integral(*t))
+                .sum::<f64>()
+            + 3.0 * triangle_cosine_integral(single);
+        let sampler = Sampler::independent(0x5a3);
+        let mut acc = Accumulator::new();
+        for i in 0..1u64 << 18 {
+            let mut st = sampler.stream(i);
+            let v = scene
+                .sample_light(Vec3::ZERO, st.next_1d(), st.next_2d())
+                .map_or(0.0, |ls| {
+                    f64::from(ls.li) * f64::from(ls.wi.z.max(0.0)) / f64::from(ls.pdf)
+                });
+            acc.push(v);
+        }
+        let v = MeanTest::new(1e-4, 1).judge(&acc, reference);
+        assert!(v.passed, "{v:?}");
+        assert!(v.detectable_relative_bias < 0.01, "{v:?}");
     }
 }
