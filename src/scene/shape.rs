@@ -316,6 +316,19 @@ fn plane_hit(origin: Vec3, n: Vec3, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> O
     Some((t, o + d * t))
 }
 
+/// The nearer of a sphere's two ordered roots t0 ≤ t1 inside the open segment
+/// (tmin, tmax), else the farther one, else none.
+#[inline]
+fn nearest_root_within(t0: f32, t1: f32, tmin: f32, tmax: f32) -> Option<f32> {
+    if t0 > tmin && t0 < tmax {
+        Some(t0)
+    } else if t1 > tmin && t1 < tmax {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
 /// Robust ray–sphere intersection (Haines et al. 2019): with f = o − c and b = −f·d,
 /// the discriminant r² − |f + b d|² avoids the cancellation of b² − (|f|² − r²).
 fn intersect_sphere(
@@ -346,13 +359,7 @@ fn intersect_sphere(
     if t0 > t1 {
         std::mem::swap(&mut t0, &mut t1);
     }
-    let t = if t0 > tmin && t0 < tmax {
-        t0
-    } else if t1 > tmin && t1 < tmax {
-        t1
-    } else {
-        return None;
-    };
+    let t = nearest_root_within(t0, t1, tmin, tmax)?;
     // Re-project the hit onto the surface (pbrt-v4 §6.8.5): error γ₅ |p − c| about c.
     let rel = f + d * t;
     let rel = rel * (radius / rel.length());
@@ -391,13 +398,7 @@ fn intersect_sphere_wide(
     let q = b + disc.sqrt().copysign(b);
     let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (cc / q, q) };
     let (t0, t1) = (t0.min(t1) as f32, t0.max(t1) as f32);
-    let t = if t0 > tmin && t0 < tmax {
-        t0
-    } else if t1 > tmin && t1 < tmax {
-        t1
-    } else {
-        return None;
-    };
+    let t = nearest_root_within(t0, t1, tmin, tmax)?;
     let rel = f + d64 * t as f64;
     let len = rel.length();
     if !(len > 0.0 && len.is_finite()) {
