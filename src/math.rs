@@ -36,6 +36,26 @@ pub fn safe_asin(x: f32) -> f32 {
     x.clamp(-1.0, 1.0).asin()
 }
 
+/// c/|c| for every finite c ≠ 0 (the zero vector gives NaN). Where |c|² is a normal
+/// `f32` this is `c.normalize()`, bit for bit; beyond (|c| above ~1.8·10¹⁹, whose square
+/// overflows, or below ~1.1·10⁻¹⁹, whose square underflows, as for the cross product of
+/// a triangle's edges 10¹⁰ or 10⁻¹⁰ long) c is first divided by its largest component,
+/// where `normalize` alone would give 0 or NaN.
+#[inline]
+pub fn unit_vector(c: Vec3) -> Vec3 {
+    let l2 = c.length_squared();
+    if (f32::MIN_POSITIVE..f32::INFINITY).contains(&l2) {
+        c.normalize()
+    } else {
+        unit_vector_scaled(c)
+    }
+}
+
+#[cold]
+fn unit_vector_scaled(c: Vec3) -> Vec3 {
+    (c / c.abs().max_element()).normalize()
+}
+
 /// `a·b − c·d` with one rounding error (Kahan's algorithm with an FMA).
 #[inline]
 pub fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
@@ -143,6 +163,35 @@ pub fn clamp_unit(u: Vec2) -> Vec2 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn unit_vector_holds_beyond_the_f32_squares() {
+        // Within the normal range: normalize's bits.
+        for c in [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-1e-9, 3e-10, 0.0),
+            Vec3::new(1e18, 0.0, -1e18),
+        ] {
+            assert_eq!(super::unit_vector(c), c.normalize());
+        }
+        // Beyond it (|c|² overflows or underflows), a unit vector along c, where
+        // normalize gives 0 or NaN.
+        for c in [
+            Vec3::new(3e20, -4e20, 0.0),
+            Vec3::new(3e-25, -4e-25, 0.0),
+            Vec3::new(f32::MAX, f32::MAX, 0.0),
+            Vec3::new(0.0, f32::from_bits(1), 0.0),
+        ] {
+            let u = super::unit_vector(c);
+            assert!((u.length() - 1.0).abs() < 1e-6, "{c:?}: {u:?}");
+            let e = c.as_dvec3().normalize();
+            assert!(
+                (u.as_dvec3() - e).length() < 1e-6,
+                "{c:?}: {u:?} against {e:?}"
+            );
+            assert!(!c.normalize().is_normalized());
+        }
+    }
+
     use super::*;
     use proptest::prelude::*;
 

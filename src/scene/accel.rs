@@ -559,14 +559,43 @@ fn fill_boxes(
 
 /// The primitives' padded bounds as obvhs's boxes (what its build reads).
 fn obvhs_boxes(prims: &[Primitive]) -> Vec<Aabb> {
-    prims
+    let bounds: Vec<(Vec3, Vec3)> = prims.iter().map(Primitive::bounds).collect();
+    // Only the tree's shape comes from these boxes (the traversal tests boxes formed from
+    // the primitives themselves, `fill_boxes`). obvhs's build forms surface areas, the
+    // squares of extents, which overflow for a scene 10²⁰ across (its conversion to CWBVH
+    // then panicked) and underflow for one 10⁻²⁰ across; such a scene is built from its
+    // boxes moved to its centre and scaled by a power of two to unit extent. Scenes from
+    // 2⁻³⁰ to 2³⁰ across are built from their boxes as they are.
+    let (lo, hi) = bounds.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), b| (lo.min(b.0), hi.max(b.1)),
+    );
+    let (centre, half) = (lo * 0.5 + hi * 0.5, hi * 0.5 - lo * 0.5);
+    let extent = half.max_element();
+    let (shift, scale) = if (BUILD_EXTENT_LO..=BUILD_EXTENT_HI).contains(&extent)
+        || !extent.is_finite()
+        || !centre.is_finite()
+    {
+        (Vec3::ZERO, 1.0)
+    } else {
+        (centre, 2f32.powi(-(extent.log2().floor() as i32)))
+    };
+    bounds
         .iter()
-        .map(|p| {
-            let (lo, hi) = p.bounds();
-            Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
+        .map(|&(lo, hi)| {
+            Aabb::new(
+                Vec3A::from((lo - shift) * scale),
+                Vec3A::from((hi - shift) * scale),
+            )
         })
         .collect()
 }
+
+/// The half-extents of a scene whose boxes obvhs builds from as they are (see
+/// [`obvhs_boxes`]): 2⁻³⁰ …
+const BUILD_EXTENT_LO: f32 = 1.0 / (1u64 << 30) as f32;
+/// … 2³⁰.
+const BUILD_EXTENT_HI: f32 = (1u64 << 30) as f32;
 
 /// Acceleration structure over primitives.
 pub struct Accel {
@@ -1127,7 +1156,7 @@ mod tests {
         fn bvh_equals_brute_force(
             seed in 0u64..1_000_000,
             n in 9usize..60,
-            log_scale in -3i32..=3,
+            log_scale in -18i32..=18,
             far in proptest::bool::ANY,
         ) {
             let s = Sampler::independent(seed);
@@ -1146,7 +1175,8 @@ mod tests {
                     _ => Primitive::Rectangle { corner: c, u: a, v: b },
                 });
             }
-            prims.retain(|p| p.area() > 0.0);
+            prims.retain(|p| p.area() >= f32::MIN_POSITIVE);
+            proptest::prop_assume!(!prims.is_empty());
             let accel = Accel::new(prims.clone());
             for i in 0..64u64 {
                 let mut st = s.stream(1 + i);

@@ -273,10 +273,13 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
 /// Intersection of the line p + t w with the plane of a planar primitive.
 fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
     let (origin, n) = match *prim {
-        Primitive::Rectangle { corner, u, v } => (corner, u.cross(v).normalize()),
+        Primitive::Rectangle { corner, u, v } => (corner, crate::math::unit_vector(u.cross(v))),
         Primitive::Triangle { p: v } => {
             let a = apex(&v);
-            (a[0], (a[1] - a[0]).cross(a[2] - a[0]).normalize())
+            (
+                a[0],
+                crate::math::unit_vector((a[1] - a[0]).cross(a[2] - a[0])),
+            )
         }
         Primitive::Disk { center, normal, .. } | Primitive::Annulus { center, normal, .. } => {
             (center, normal)
@@ -418,7 +421,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, Ve
             };
             Some((
                 q,
-                eu.cross(ev).normalize(),
+                crate::math::unit_vector(eu.cross(ev)),
                 crate::math::gamma(6) * (corner.abs() + eu.abs() + ev.abs()),
                 PrimDensity::SolidAngle(r.pdf()),
             ))

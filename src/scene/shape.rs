@@ -8,7 +8,7 @@
 //! Wald (JCGT 2(1), 2013), so no ray slips between two triangles sharing an edge (obvhs's
 //! own triangle test is not watertight, see STACK.md).
 
-use crate::math::{Frame, gamma};
+use crate::math::{Frame, gamma, unit_vector};
 use crate::sampling::disk::concentric_disk;
 use crate::sampling::sphere::uniform_sphere;
 use crate::sampling::triangle::sample_triangle;
@@ -178,11 +178,16 @@ impl Primitive {
             }
             Primitive::Rectangle { corner, u, v } => {
                 let n = u.cross(v);
+                let nn = n.length_squared();
+                // |n|² within 2^±100 keeps every product below finite and normal (the
+                // coordinates' numerators are ~|n|², the plane's ~|corner − o||n|).
+                if !(nn > WIDE_LO && nn < WIDE_HI && (corner - o).dot(n).is_finite()) {
+                    return intersect_rectangle_wide(corner, u, v, o, d, tmin, tmax);
+                }
                 let (t, p) = plane_hit(corner, n, o, d, tmin, tmax)?;
                 // Coordinates in the (possibly skewed) edge basis: rel = a·u + b·v with
                 // a = (rel × v)·n / |n|², b = (u × rel)·n / |n|².
                 let rel = p - corner;
-                let nn = n.length_squared();
                 let a = rel.cross(v).dot(n) / nn;
                 let b = u.cross(rel).dot(n) / nn;
                 if !(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b) {
@@ -258,7 +263,7 @@ impl Primitive {
                 AreaSample {
                     p,
                     p_error,
-                    n: eu.cross(ev).normalize(),
+                    n: unit_vector(eu.cross(ev)),
                     pdf,
                 }
             }
@@ -283,7 +288,7 @@ impl Primitive {
                 AreaSample {
                     p: q,
                     p_error,
-                    n: (p[1] - p[0]).cross(p[2] - p[0]).normalize(),
+                    n: unit_vector((p[1] - p[0]).cross(p[2] - p[0])),
                     pdf,
                 }
             }
@@ -482,6 +487,15 @@ fn intersect_triangle(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<H
     let z = column(kz);
     let x = column(kx) + sx * z;
     let y = column(ky) + sy * z;
+    // Every product below (edge functions ~m², the scaled distance and its error bound
+    // ~m³) stays finite and normal for coordinates m within 2^±40 of the ray origin;
+    // beyond, the same test in f64.
+    let max_xt = x.abs().max_element();
+    let max_yt = y.abs().max_element();
+    let m = max_xt.max(max_yt).max(z.abs().max_element());
+    if !(m > TRIANGLE_LO && m < TRIANGLE_HI) {
+        return intersect_triangle_wide(p, ray, tmin, tmax);
+    }
     // Edge functions e_i = x_j·y_k − y_j·x_k for (i, j, k) cyclic.
     let (xj, xk) = (Vec3::new(x.y, x.z, x.x), Vec3::new(x.z, x.x, x.y));
     let (yj, yk) = (Vec3::new(y.y, y.z, y.x), Vec3::new(y.z, y.x, y.y));
@@ -511,7 +525,7 @@ fn intersect_triangle(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<H
         return None;
     }
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    if n.length_squared() == 0.0 {
+    if n == Vec3::ZERO {
         return None;
     }
     let inv_det = 1.0 / det;
@@ -520,8 +534,6 @@ fn intersect_triangle(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<H
     // Conservative check that t is positive beyond the error of its computation.
     let max_zt = z.abs().max_element();
     let delta_z = gamma(3) * max_zt;
-    let max_xt = x.abs().max_element();
-    let max_yt = y.abs().max_element();
     let delta_x = gamma(5) * (max_xt + max_zt);
     let delta_y = gamma(5) * (max_yt + max_zt);
     let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
@@ -537,13 +549,186 @@ fn intersect_triangle(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<H
         t,
         p: q,
         p_error,
-        n: n.normalize(),
+        n: unit_vector(n),
     })
+}
+
+/// Where [`intersect_triangle`]'s `f32` products would leave the normal range: ray-relative
+/// coordinates up to 2^±40.
+const TRIANGLE_LO: f32 = 1.0 / (1u64 << 40) as f32;
+/// See [`TRIANGLE_LO`].
+const TRIANGLE_HI: f32 = (1u64 << 40) as f32;
+/// Where a rectangle's |u × v|² leaves the range whose products stay normal: 2^±100.
+const WIDE_LO: f32 = 7.888_609e-31;
+/// See [`WIDE_LO`].
+const WIDE_HI: f32 = 1.267_650_6e30;
+
+/// [`intersect_triangle`] for coordinates beyond 2^±40 of the ray origin (a triangle
+/// 10¹⁴ across, whose edge functions' products overflowed into a NaN distance, or one
+/// 10⁻¹⁵ across, whose normal's square underflowed to 0 and was never hit): the same
+/// watertight test (translate, permute, shear, edge functions, signs, scaled distance) in
+/// `f64`, where products of three `f32` values neither overflow nor underflow. The edge
+/// functions of a shared edge are formed from the same two vertices in the same way, so
+/// the test stays watertight; the point is rounded once from `f64`, within the `f32`
+/// bound γ₇ Σ|bᵢ vᵢ| that also covers the fast path's.
+#[cold]
+fn intersect_triangle_wide(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+    let [kx, ky, kz] = ray.k;
+    let o = ray.o.as_dvec3();
+    let d = ray.d.as_dvec3();
+    let (sx, sy, sz) = (-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]);
+    let q = p.map(|v| {
+        let r = v.as_dvec3() - o;
+        glam::DVec3::new(r[kx] + sx * r[kz], r[ky] + sy * r[kz], r[kz] * sz)
+    });
+    let e = glam::DVec3::new(
+        q[1].x * q[2].y - q[1].y * q[2].x,
+        q[2].x * q[0].y - q[2].y * q[0].x,
+        q[0].x * q[1].y - q[0].y * q[1].x,
+    );
+    if !((e.x >= 0.0 && e.y >= 0.0 && e.z >= 0.0) || (e.x <= 0.0 && e.y <= 0.0 && e.z <= 0.0)) {
+        return None;
+    }
+    let det = e.x + e.y + e.z;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let b = e / det;
+    let t64 = b.x * q[0].z + b.y * q[1].z + b.z * q[2].z;
+    // t beyond the error of its computation: the f32 test's bound (pbrt-v4 §6.8.7) with
+    // f64's γₙ.
+    let g = |n: f64| n * f64::EPSILON * 0.5 / (1.0 - n * f64::EPSILON * 0.5);
+    let max = |f: fn(&glam::DVec3) -> f64| q.iter().map(f).fold(0.0, f64::max);
+    let (max_xt, max_yt, max_zt) = (max(|v| v.x.abs()), max(|v| v.y.abs()), max(|v| v.z.abs()));
+    let delta_x = g(5.0) * (max_xt + max_zt);
+    let delta_y = g(5.0) * (max_yt + max_zt);
+    let delta_e = 2.0 * (g(2.0) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = e.abs().max_element();
+    let delta_t =
+        3.0 * (g(3.0) * max_e * max_zt + delta_e * max_zt + g(3.0) * max_zt * max_e) / det.abs();
+    if !(t64 > delta_t) {
+        return None;
+    }
+    let t = t64 as f32;
+    if !(t > tmin && t < tmax) {
+        return None;
+    }
+    let pd = p.map(|v| v.as_dvec3());
+    let point = (pd[0] * b.x + pd[1] * b.y + pd[2] * b.z).as_vec3();
+    let (b0, b1, b2) = (b.x as f32, b.y as f32, b.z as f32);
+    let p_error = gamma(7) * ((p[0] * b0).abs() + (p[1] * b1).abs() + (p[2] * b2).abs());
+    let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]).normalize().as_vec3();
+    n.is_finite().then_some(Hit {
+        t,
+        p: point,
+        p_error,
+        n,
+    })
+}
+
+/// The rectangle test where its `f32` products would leave the normal range (|u × v|²
+/// beyond 2^±100, or the plane's numerator overflowing): the same plane and edge-basis
+/// coordinates in `f64`, the point rounded once, within the `f32` bound γ₆ (|c| + |a u| +
+/// |b v|).
+#[cold]
+fn intersect_rectangle_wide(
+    corner: Vec3,
+    u: Vec3,
+    v: Vec3,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    let (c, u64, v64, o64, d64) = (
+        corner.as_dvec3(),
+        u.as_dvec3(),
+        v.as_dvec3(),
+        o.as_dvec3(),
+        d.as_dvec3(),
+    );
+    let n = u64.cross(v64);
+    let denom = d64.dot(n);
+    if denom == 0.0 || !denom.is_finite() {
+        return None;
+    }
+    let t = ((c - o64).dot(n) / denom) as f32;
+    if !(t > tmin && t < tmax) {
+        return None;
+    }
+    let rel = o64 + d64 * f64::from(t) - c;
+    let nn = n.length_squared();
+    let a = rel.cross(v64).dot(n) / nn;
+    let b = u64.cross(rel).dot(n) / nn;
+    if !((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)) {
+        return None;
+    }
+    let (a, b) = (a as f32, b as f32);
+    let p = (c + u64 * f64::from(a) + v64 * f64::from(b)).as_vec3();
+    let p_error = gamma(6) * (corner.abs() + (u * a).abs() + (v * b).abs());
+    let n = n.normalize().as_vec3();
+    n.is_finite().then_some(Hit { t, p, p_error, n })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A triangle and a rectangle from 10⁻¹⁸ to 10¹⁸ across, hit from 3 sizes away at an
+    /// angle: the distance, point and normal equal the f64 closed form (the plane's
+    /// t = ⟨c − o, n⟩/⟨d, n⟩) to f32 precision. At 10¹⁴ the f32 edge functions' products
+    /// overflowed (t NaN, n = 0), below 10⁻¹⁰ the normal's square underflowed (never hit).
+    #[test]
+    fn planar_hits_hold_at_every_scale() {
+        for k in -18..=18 {
+            let s = 10f32.powi(k);
+            let (a, b) = (Vec3::new(s, 0.0, 0.0), Vec3::new(0.2 * s, s, 0.1 * s));
+            let c = Vec3::new(0.5 * s, -0.3 * s, 0.2 * s);
+            let target = c + a * 0.3 + b * 0.4;
+            let d = Vec3::new(0.3, -0.2, 1.0).normalize();
+            let o = target - d * (3.0 * s);
+            for prim in [
+                Primitive::Triangle {
+                    p: [c, c + a, c + b],
+                },
+                Primitive::Rectangle {
+                    corner: c,
+                    u: a,
+                    v: b,
+                },
+            ] {
+                let h = prim
+                    .intersect(o, d, 0.0, f32::INFINITY)
+                    .unwrap_or_else(|| panic!("scale {s:e}: {prim:?} missed"));
+                let n = a.as_dvec3().cross(b.as_dvec3());
+                let t = (c.as_dvec3() - o.as_dvec3()).dot(n) / d.as_dvec3().dot(n);
+                assert!(
+                    (f64::from(h.t) - t).abs() <= 1e-5 * t,
+                    "scale {s:e}: t {} against {t}",
+                    h.t
+                );
+                let p = o.as_dvec3() + d.as_dvec3() * t;
+                let err = (h.p.as_dvec3() - p).abs();
+                assert!(
+                    err.cmple(h.p_error.as_dvec3() + 1e-5 * p.abs()).all(),
+                    "scale {s:e}: {h:?}"
+                );
+                assert!(
+                    (h.n.as_dvec3() - n.normalize()).length() < 1e-6,
+                    "scale {s:e}: {h:?}"
+                );
+                // The same ray offset past the edge misses.
+                let beside = target + (c - target) * 2.0 - b * 0.5;
+                assert!(
+                    prim.intersect(beside - d * (3.0 * s), d, 0.0, f32::INFINITY)
+                        .is_none()
+                );
+                // The area sample's normal is a unit vector too.
+                let n2 = prim.sample_area(Vec2::new(0.3, 0.6)).n;
+                assert!((n2.length() - 1.0).abs() < 1e-6, "scale {s:e}: {n2:?}");
+            }
+        }
+    }
 
     #[test]
     fn sphere_hits_from_outside_and_inside() {
