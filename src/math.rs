@@ -56,6 +56,14 @@ fn unit_vector_scaled(c: Vec3) -> Vec3 {
     (c / c.abs().max_element()).normalize()
 }
 
+/// The power of two 2^−⌊log₂ m⌋ that brings a positive finite `m` into [1, 2): scaling
+/// by it is exact (short of the subnormal range), so a scale-invariant formula gives the
+/// same value on the scaled inputs while their squares stay normal.
+#[inline]
+pub fn pow2_scale(m: f32) -> f32 {
+    2f32.powi(-(m.log2().floor() as i32))
+}
+
 /// `a·b − c·d` with one rounding error (Kahan's algorithm with an FMA).
 #[inline]
 pub fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {

@@ -578,7 +578,7 @@ fn obvhs_boxes(prims: &[Primitive]) -> Vec<Aabb> {
     {
         (Vec3::ZERO, 1.0)
     } else {
-        (centre, 2f32.powi(-(extent.log2().floor() as i32)))
+        (centre, crate::math::pow2_scale(extent))
     };
     bounds
         .iter()

@@ -346,6 +346,28 @@ fn apex(v: &[Vec3; 3]) -> [Vec3; 3] {
 #[inline]
 fn sliver_ratio(v: &[Vec3; 3]) -> f32 {
     let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
+    let c2 = e1.cross(e2).length_squared();
+    if (f32::MIN_POSITIVE..f32::INFINITY).contains(&c2) {
+        e1.length() * e2.length() / c2.sqrt()
+    } else {
+        sliver_ratio_scaled(e1, e2)
+    }
+}
+
+/// [`sliver_ratio`] where |e₁ × e₂|² leaves the normal range (edges beyond ~10⁹ overflow
+/// it, giving R = 0 and no tilt in the error bound; edges below ~10⁻¹⁰ underflow it,
+/// giving R = ∞ and area sampling): R is scale-invariant, so the edges are first scaled
+/// by a power of two (exactly) to a largest component in [1, 2). A degenerate triangle
+/// keeps R = ∞.
+#[cold]
+fn sliver_ratio_scaled(e1: Vec3, e2: Vec3) -> f32 {
+    let m = e1.abs().max(e2.abs()).max_element();
+    // (Below the normal range no area density exists: such a triangle is never loaded.)
+    if !(m >= f32::MIN_POSITIVE && m.is_finite()) {
+        return f32::INFINITY;
+    }
+    let s = crate::math::pow2_scale(m);
+    let (e1, e2) = (e1 * s, e2 * s);
     e1.length() * e2.length() / e1.cross(e2).length()
 }
 
@@ -635,6 +657,38 @@ pub fn area_distribution(prims: &[Primitive]) -> Distribution1D {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// R = |e₁||e₂|/|e₁ × e₂| is scale-invariant, and so is the strategy it picks: from
+    /// 10⁻¹⁸ to 10¹⁸ it equals the unit triangle's to f32 rounding (the plain formula gave
+    /// ∞ below ~10⁻¹⁰, area sampling, and 0 above ~10⁹, no tilt in the error bound).
+    #[test]
+    fn sliver_ratio_holds_at_every_scale() {
+        let unit = [
+            Vec3::new(0.1, 0.2, 0.3),
+            Vec3::new(1.3, 0.1, 0.2),
+            Vec3::new(0.4, 0.05, 0.35),
+        ];
+        let r1 = sliver_ratio(&unit);
+        assert!(r1 > 1.0 && r1 < SLIVER_RATIO, "{r1}");
+        for k in -18..=18 {
+            let s = 10f32.powi(k);
+            let v = unit.map(|x| x * s);
+            let r = sliver_ratio(&v);
+            assert!(
+                (r / r1 - 1.0).abs() < 1e-5,
+                "scale {s:e}: R {r} against {r1}"
+            );
+            assert!(
+                matches!(
+                    prim_strategy(&Primitive::Triangle { p: v }, Vec3::new(0.0, 0.0, -s)),
+                    PrimSampling::Triangle(_)
+                ),
+                "scale {s:e}"
+            );
+        }
+        let degenerate = [Vec3::ONE, Vec3::ONE * 2.0, Vec3::ONE * 3.0];
+        assert_eq!(sliver_ratio(&degenerate), f32::INFINITY);
+    }
 
     #[test]
     fn spot_falloff_is_smooth_and_bounded() {

@@ -829,7 +829,9 @@ impl Builder<'_> {
                 p[j] = self.to_f32(*v);
             }
             let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
-            if !(n.length() > 0.0) || !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
+            // The f32 cross product must not vanish (its length may: its square
+            // underflows for edges below ~10⁻¹⁰, which the hit test handles).
+            if !(n.length() > 0.0) || (p[1] - p[0]).cross(p[2] - p[0]) == Vec3::ZERO {
                 return Err(InputError::new(
                     self.file,
                     format!("{gf}.indices[{k}]"),

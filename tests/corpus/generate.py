@@ -249,6 +249,14 @@ case("radius_1e30_message", "unclear", SHAPES, [("scene.shapes.0.geometry.radius
 case("sphere_radius_area_subnormal", "f32", SHAPES, [("scene.shapes.0.geometry.radius", 1e-20)], 2,
      "scene.shapes[0].geometry", "too small")
 case("sphere_radius_tiny_valid", "f32", SHAPES, [("scene.shapes.0.geometry.radius", 1e-10)], "valid")
+# Planar shapes far beyond unit scale: a mesh whose edges are 1e-15 (the f32 square of its
+# normal underflowed: called degenerate, and never hit) and a triangle light 1e14 across
+# (its f32 edge-function products overflowed into NaN distances). Both valid.
+case("mesh_vertices_tiny_valid", "f32", SHAPES,
+     [("scene.shapes.3.geometry.vertices", [[-3e-15, 0, 2e-15], [-2e-15, 0, 2e-15], [-2e-15, 1e-15, 2e-15], [-3e-15, 1e-15, 2e-15]])],
+     "valid")
+case("triangle_vertices_huge_valid", "f32", SHAPES,
+     [("scene.shapes.2.geometry.vertices", [[2e14, 0, 2e14], [3e14, 0, 2e14], [2e14, 1e14, 2e14]])], "valid")
 sweep("sphere_center", SHAPES, "scene.shapes.0.geometry.center", "scene.shapes[0].geometry", COORD, vec=(0, [0, 0, 3]))
 sweep("rect_edge", SHAPES, "scene.shapes.1.geometry.edge_u", "scene.shapes[1].geometry",
       {"zero": "valid", "e39": 2, "e308": 2, "str": 2}, vec=(1, [2, 0, 0]))
