@@ -688,6 +688,11 @@ mod tests {
         }
         let degenerate = [Vec3::ONE, Vec3::ONE * 2.0, Vec3::ONE * 3.0];
         assert_eq!(sliver_ratio(&degenerate), f32::INFINITY);
+        // A point, and edges in the subnormal range (no area density: never loaded).
+        assert_eq!(sliver_ratio(&[Vec3::ONE; 3]), f32::INFINITY);
+        let sub = 1e-40;
+        let tiny = [Vec3::ZERO, Vec3::new(sub, 0.0, 0.0), Vec3::new(0.0, sub, 0.0)];
+        assert_eq!(sliver_ratio(&tiny), f32::INFINITY);
     }
 
     #[test]
