@@ -691,7 +691,11 @@ mod tests {
         // A point, and edges in the subnormal range (no area density: never loaded).
         assert_eq!(sliver_ratio(&[Vec3::ONE; 3]), f32::INFINITY);
         let sub = 1e-40;
-        let tiny = [Vec3::ZERO, Vec3::new(sub, 0.0, 0.0), Vec3::new(0.0, sub, 0.0)];
+        let tiny = [
+            Vec3::ZERO,
+            Vec3::new(sub, 0.0, 0.0),
+            Vec3::new(0.0, sub, 0.0),
+        ];
         assert_eq!(sliver_ratio(&tiny), f32::INFINITY);
     }
 

@@ -730,6 +730,23 @@ mod tests {
         }
     }
 
+    /// The segment (tmin, tmax) is open at both ends: a sphere whose roots are exactly 4
+    /// and 6 is not hit within (0, 4) nor (6, ∞), and from (4, ∞) the far root is the hit.
+    #[test]
+    fn sphere_roots_at_the_segment_ends_are_excluded() {
+        let s = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 5.0),
+            radius: 1.0,
+        };
+        let t = |tmin: f32, tmax: f32| s.intersect(Vec3::ZERO, Vec3::Z, tmin, tmax).map(|h| h.t);
+        assert_eq!(t(0.0, f32::INFINITY), Some(4.0));
+        assert_eq!(t(0.0, 4.0), None);
+        assert_eq!(t(4.0, f32::INFINITY), Some(6.0));
+        assert_eq!(t(4.0, 6.0), None);
+        assert_eq!(t(6.0, f32::INFINITY), None);
+        assert_eq!(t(3.5, 4.5), Some(4.0));
+    }
+
     #[test]
     fn sphere_hits_from_outside_and_inside() {
         let s = Primitive::Sphere {
