@@ -709,9 +709,16 @@ mod tests {
                 );
                 let p = o.as_dvec3() + d.as_dvec3() * t;
                 let err = (h.p.as_dvec3() - p).abs();
+                assert!(err.cmple(h.p_error.as_dvec3()).all(), "scale {s:e}: {h:?}");
+                // …and not loose: within γ₈ of the vertices' (the corner's and edges')
+                // magnitudes, as the f32 analysis gives.
+                let tight = match prim {
+                    Primitive::Triangle { p } => gamma(8) * (p[0].abs() + p[1].abs() + p[2].abs()),
+                    _ => gamma(7) * (c.abs() + a.abs() + b.abs()),
+                };
                 assert!(
-                    err.cmple(h.p_error.as_dvec3() + 1e-5 * p.abs()).all(),
-                    "scale {s:e}: {h:?}"
+                    h.p_error.cmple(tight).all(),
+                    "scale {s:e}: {h:?} against {tight:?}"
                 );
                 assert!(
                     (h.n.as_dvec3() - n.normalize()).length() < 1e-6,
