@@ -181,10 +181,11 @@ impl Primitive {
                 let nn = n.length_squared();
                 // |n|² within 2^±100 keeps every product below finite and normal (the
                 // coordinates' numerators are ~|n|², the plane's ~|corner − o||n|).
-                if !(nn > WIDE_LO && nn < WIDE_HI && (corner - o).dot(n).is_finite()) {
+                let along = (corner - o).dot(n);
+                if !(nn > WIDE_LO && nn < WIDE_HI && along.is_finite()) {
                     return intersect_rectangle_wide(corner, u, v, o, d, tmin, tmax);
                 }
-                let (t, p) = plane_hit(corner, n, o, d, tmin, tmax)?;
+                let (t, p) = plane_hit_along(along, n, o, d, tmin, tmax)?;
                 // Coordinates in the (possibly skewed) edge basis: rel = a·u + b·v with
                 // a = (rel × v)·n / |n|², b = (u × rel)·n / |n|².
                 let rel = p - corner;
@@ -309,12 +310,27 @@ impl Primitive {
     }
 }
 
+/// Where the ray o + t d meets the plane through `origin` with normal `n` (any length),
+/// for t in (tmin, tmax): (t, point).
 fn plane_hit(origin: Vec3, n: Vec3, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(f32, Vec3)> {
+    plane_hit_along((origin - o).dot(n), n, o, d, tmin, tmax)
+}
+
+/// [`plane_hit`] with ⟨origin − o, n⟩ already formed (`along`).
+#[inline]
+fn plane_hit_along(
+    along: f32,
+    n: Vec3,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<(f32, Vec3)> {
     let denom = d.dot(n);
     if denom == 0.0 || !denom.is_finite() {
         return None;
     }
-    let t = (origin - o).dot(n) / denom;
+    let t = along / denom;
     if !(t > tmin && t < tmax) {
         return None;
     }
