@@ -770,6 +770,36 @@ mod tests {
         assert_eq!(t(3.5, 4.5), Some(4.0));
     }
 
+    /// Planes are met at t = ⟨origin − o, n⟩/⟨d, n⟩ from any ray origin, inside the open
+    /// segment: a disk and a rectangle exactly 4 ahead of an origin off the axes are hit
+    /// at t = 4, not within (0, 4) nor (4, ∞).
+    #[test]
+    fn planes_are_met_from_any_origin_inside_the_open_segment() {
+        let o = Vec3::new(1.0, 2.0, 1.0);
+        for prim in [
+            Primitive::Disk {
+                center: Vec3::new(1.0, 2.0, 5.0),
+                normal: -Vec3::Z,
+                radius: 1.0,
+            },
+            Primitive::Rectangle {
+                corner: Vec3::new(0.5, 1.5, 5.0),
+                u: Vec3::X,
+                v: Vec3::Y,
+            },
+        ] {
+            let t =
+                |tmin: f32, tmax: f32| prim.intersect(o, Vec3::Z, tmin, tmax).map(|h| (h.t, h.p));
+            assert_eq!(
+                t(0.0, f32::INFINITY),
+                Some((4.0, Vec3::new(1.0, 2.0, 5.0))),
+                "{prim:?}"
+            );
+            assert_eq!(t(0.0, 4.0), None, "{prim:?}");
+            assert_eq!(t(4.0, f32::INFINITY), None, "{prim:?}");
+        }
+    }
+
     #[test]
     fn sphere_hits_from_outside_and_inside() {
         let s = Primitive::Sphere {
