@@ -213,14 +213,24 @@ pub enum PrimSampling {
 /// than the radius plus 4× the error bound of a point on the sphere itself (a hit on it,
 /// error γ₅|p − c| + γ₁|c| per component), which may round to just outside, where the
 /// cone's near root would be the point itself. The band's test is in `f64`; a viewer
-/// well inside (|p − c|² < 0.98 r² in `f32`, a relative error of a few ulps, so truly
-/// inside) is answered without it, with the same answer. Only where r² is a normal
-/// number: a subnormal square carries an absolute error of half its step (2⁻¹⁵⁰), which
-/// the 2% margin no longer covers (r ≈ 1.2·10⁻²², |p − c| = 1.017 r reads as inside).
+/// inside or on the sphere, |p − c|² ≤ (1 + 8ε) r² in `f32` (ε = 2u = 2⁻²³), is answered
+/// without it, with the same answer: the `f32` |p − c|² is within γ₅ of the exact one
+/// (a rounding per difference, squared, and three for the squares and sums), and the
+/// threshold (1 + 16u) r² within 2u more (r² and the product rounded). The squares of
+/// |p − c|'s components may underflow, an absolute error below 3·2⁻¹⁵⁰ ≤ 3u r² in all
+/// (r² ≥ 2⁻¹²⁶). So the exact |p − c|² is below (1 + 18u)(1 + γ₅) r² + 3u r² <
+/// (1 + 27u) r² < (1 + 4γ₅)² r² ≈ (1 + 40u) r²: inside the band, which reaches at least
+/// r(1 + 4γ₅). A point found on the sphere (within γ₅|p − c| + γ₁|c| of it) mostly
+/// passes, so a light's own surface points (a furnace's, each bounce) skip the `f64`
+/// root. Only where r² is a normal number: a subnormal r² carries an absolute error of
+/// half its step (2⁻¹⁵⁰), which no relative margin covers (r ≈ 1.2·10⁻²²,
+/// |p − c| = 1.017 r reads as inside).
 #[inline]
 fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
     let r2 = radius * radius;
-    if r2 >= f32::MIN_POSITIVE && (p - center).length_squared() < 0.98 * r2 {
+    if r2 >= f32::MIN_POSITIVE
+        && (p - center).length_squared() <= (1.0 + 8.0 * f32::EPSILON) * r2
+    {
         return false;
     }
     (p.as_dvec3() - center.as_dvec3()).length()
@@ -707,10 +717,11 @@ mod tests {
         assert!((mid - 0.5).abs() < 1e-5);
     }
 
-    /// The `f32` shortcut of [`outside_sphere_band`] (a viewer well inside answers
-    /// `false` without the `f64` test) gives the `f64` test's answer: viewers on rays
-    /// through the centre at |p − c|/r from 0 to 1.5, stepped finely around the
-    /// shortcut's threshold √0.98 and around the band, for radii from 1e-20 to 1e18 and
+    /// The `f32` shortcut of [`outside_sphere_band`] (a viewer inside or on the sphere
+    /// answers `false` without the `f64` test) gives the `f64` test's answer: viewers on
+    /// rays through the centre at |p − c|/r from 0 to 1.5, stepped finely (1.7u) around
+    /// the shortcut's threshold and the band (both near 1), and around √0.98 (the former
+    /// threshold), for radii from 1e-20 to 1e18 and
     /// centres near and far from the origin (where `f32` rounding is coarse).
     #[test]
     fn sphere_band_shortcut_keeps_the_answer() {
