@@ -17,7 +17,7 @@ use crate::math::offset_ray_origin;
 use crate::sampling::distribution::Distribution1D;
 use accel::Accel;
 pub use dispersion::SpectralIor;
-use emitter::{Emitter, EmitterKind, LightSample, PrimDensity, prim_pdf, sample_prim};
+use emitter::{Emitter, EmitterKind, LightSample, prim_pdf, sample_prim};
 use glam::{Vec2, Vec3};
 use shape::{Hit, Primitive};
 use std::ops::Range;
@@ -367,14 +367,15 @@ impl Scene {
                 };
                 let prim_index = s.prims.start + local;
                 let prim = &self.prims()[prim_index];
-                let (q, mut nq, q_err, density) = sample_prim(
+                let ps = sample_prim(
                     prim,
                     p,
                     Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y),
                 )?;
+                let (q, mut nq) = (ps.p, ps.n);
                 let d = q - p;
                 let dist = d.length();
-                let pdf_w = density.solid_angle(d, dist, nq)?;
+                let pdf_w = ps.density.solid_angle(d, dist, nq)?;
                 if s.flip_normals {
                     nq = -nq;
                 }
@@ -382,15 +383,7 @@ impl Scene {
                     return None;
                 }
                 let wi = d / dist;
-                // A point the sphere's cone sampled lies on the cap the viewer sees: its
-                // outward normal faces the viewer by construction (in f64). Formed again
-                // from the f32 point, the side is lost where the sphere is smaller than
-                // the point's rounding (radius 10⁻⁸ seen from 2: every sample read as
-                // back-facing, the irradiance 0; at 10⁻⁶ the silhouette's samples, −0.1%).
-                // A plane's side is the viewer's, which the f32 point keeps.
-                let cone = matches!(density, PrimDensity::SolidAngle(_))
-                    && matches!(prim, Primitive::Sphere { .. });
-                let front = if cone {
+                let front = if ps.faces_viewer {
                     !s.flip_normals
                 } else {
                     nq.dot(-wi) > 0.0
@@ -402,7 +395,7 @@ impl Scene {
                     li,
                     pdf: pdf_w * p_choice_prim,
                     p: q,
-                    p_error: q_err,
+                    p_error: ps.p_error,
                     n: nq,
                     infinite: false,
                     delta: false,
