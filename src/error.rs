@@ -47,13 +47,40 @@ pub struct IoError {
 }
 
 impl IoError {
-    /// A failed write of `path`.
+    /// A failed write of `path`. Where a folder on the way is a file (`--out report.json`
+    /// given an existing file), the reason names it: the system's own message ("File
+    /// exists", "Not a directory") does not say which.
     pub fn write(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
         IoError {
             path: path.display().to_string(),
-            reason: format!("cannot write: {e}"),
+            reason: match not_a_folder(path) {
+                Some(a) => format!("cannot write: `{}` is a file, not a folder", a.display()),
+                None => format!("cannot write: {e}"),
+            },
         }
     }
+
+    /// An output folder `out` that cannot hold files because it, or a folder above it, is
+    /// an existing file: checked before a command's work, so that a long run does not end
+    /// in an unwritable output.
+    pub fn check_output_folder(out: &std::path::Path) -> Result<(), IoError> {
+        match out.ancestors().find(|a| is_file_not_folder(a)) {
+            Some(a) => Err(IoError {
+                path: out.display().to_string(),
+                reason: format!("cannot write: `{}` is a file, not a folder", a.display()),
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The first folder above `path` that exists as something other than a folder.
+fn not_a_folder(path: &std::path::Path) -> Option<&std::path::Path> {
+    path.ancestors().skip(1).find(|a| is_file_not_folder(a))
+}
+
+fn is_file_not_folder(a: &std::path::Path) -> bool {
+    !a.as_os_str().is_empty() && a.exists() && !a.is_dir()
 }
 
 /// Bad input or a failed output.
@@ -244,6 +271,39 @@ mod tests {
         }
         assert!(check_derived("f", "x", 1e39, "the power").is_err());
         assert!(check_derived("f", "x", 1e30, "the power").is_ok());
+    }
+
+    /// A file where a folder is needed is named, for a write below it and for an output
+    /// folder checked up front; a folder that is missing or that exists passes the check.
+    #[test]
+    fn a_file_in_the_way_of_a_folder_is_named() {
+        let dir = std::env::temp_dir().join(format!("lightproof-err-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("afile");
+        std::fs::write(&file, b"x").unwrap();
+        let want = format!("cannot write: `{}` is a file, not a folder", file.display());
+        for below in [file.join("x.json"), file.join("sub/x.json")] {
+            let e = IoError::write(&below, "File exists (os error 17)");
+            assert_eq!(
+                (e.path, e.reason),
+                (below.display().to_string(), want.clone())
+            );
+            assert_eq!(
+                IoError::check_output_folder(&below).unwrap_err().reason,
+                want
+            );
+        }
+        assert_eq!(
+            IoError::check_output_folder(&file).unwrap_err().reason,
+            want
+        );
+        // Nothing in the way: the system's reason is kept, and folders pass.
+        let e = IoError::write(&dir.join("x.json"), "Permission denied");
+        assert_eq!(e.reason, "cannot write: Permission denied");
+        assert!(IoError::check_output_folder(&dir).is_ok());
+        assert!(IoError::check_output_folder(&dir.join("new/deeper")).is_ok());
+        assert!(IoError::check_output_folder(std::path::Path::new("relative-out")).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -23,7 +23,10 @@
 //! channels, a size other than the export's (or than the first render's), more than
 //! [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels. **Non-finite pixels** (NaN, ±∞) are
 //! the renderer's answer, not a malformed file: they are counted and fail the verdict
-//! (exit 1), and the note names the file and the first such pixel.
+//! (exit 1), and the note names the file and the first such pixel. **Negative pixels**
+//! (any of R, G, B below zero: a mean of the three could hide one) are negative radiance,
+//! the renderer's error too: counted, named in the notes the same way, and the verdict
+//! fails (exit 1) whatever the statistic says.
 
 use crate::case::Case;
 use crate::error::{Error, InputError};
@@ -36,7 +39,8 @@ use std::path::{Path, PathBuf};
 /// Pixel blocks of a single render's batch means.
 pub const BLOCKS: usize = 32;
 
-/// One render: its size and per-pixel grey values (non-finite ones kept).
+/// One render: its size and per-pixel grey values (non-finite ones kept), and its pixels
+/// with a negative channel.
 pub struct Render {
     /// Width.
     pub width: usize,
@@ -44,7 +48,14 @@ pub struct Render {
     pub height: usize,
     /// Pixels, row-major, (R + G + B)/3.
     pub pixels: Vec<f64>,
+    /// The pixels with a channel below zero (their mean may not be: R = −1, G = B = 2
+    /// averages to 1).
+    pub negative: Negative,
 }
+
+/// How many pixels of a render have a negative channel, and the first in row-major
+/// order: (x, y) and its (R, G, B).
+pub type Negative = (u64, Option<((usize, usize), [f32; 3])>);
 
 /// Read an EXR render's first RGB layer (see the module notes for what is refused).
 pub fn read_render(path: &Path) -> Result<Render, InputError> {
@@ -87,22 +98,31 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
     }
     let image = read_first_rgba_layer_from_file(
         path,
-        move |res, _| -> (usize, Vec<f64>) {
+        move |res, _| -> (usize, Vec<f64>, Negative) {
             let n = res.width().saturating_mul(res.height()).min(max);
-            (res.width(), vec![0.0; n])
+            (res.width(), vec![0.0; n], (0, None))
         },
-        |(w, data), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            if let Some(v) = data.get_mut(pos.y() * *w + pos.x()) {
+        |(w, data, negative), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let i = pos.y() * *w + pos.x();
+            if let Some(v) = data.get_mut(i) {
                 *v = (r as f64 + g as f64 + b as f64) / 3.0;
+            }
+            if r < 0.0 || g < 0.0 || b < 0.0 {
+                negative.0 += 1;
+                // Blocks may arrive out of order: keep the first in row-major order.
+                if negative.1.is_none_or(|((x, y), _)| i < y * *w + x) {
+                    negative.1 = Some(((pos.x(), pos.y()), [r, g, b]));
+                }
             }
         },
     )
     .map_err(|e| bad(format!("cannot read the EXR: {e}")))?;
-    let (_, pixels) = image.layer_data.channel_data.pixels;
+    let (_, pixels, negative) = image.layer_data.channel_data.pixels;
     Ok(Render {
         width: w,
         height: h,
         pixels,
+        negative,
     })
 }
 
@@ -129,7 +149,9 @@ pub struct Sample {
     pub replicates: Vec<f64>,
     /// Non-finite pixels over all renders.
     pub non_finite: u64,
-    /// Notes (where non-finite pixels are).
+    /// Pixels with a negative channel over all renders.
+    pub negative: u64,
+    /// Notes (where non-finite and negative pixels are).
     pub notes: Vec<String>,
 }
 
@@ -155,6 +177,7 @@ pub fn sample(files: &[PathBuf], expect: Option<(usize, usize)>) -> Result<Sampl
     let mut size = expect;
     let mut replicates = Vec::new();
     let mut non_finite = 0;
+    let mut negative = 0;
     let mut notes = Vec::new();
     let mut method = Method::IndependentRenders;
     for f in files {
@@ -178,6 +201,13 @@ pub fn sample(files: &[PathBuf], expect: Option<(usize, usize)>) -> Result<Sampl
                 i % w,
                 i / w,
                 r.pixels[i]
+            ));
+        }
+        if let (count, Some(((x, y), [cr, cg, cb]))) = r.negative {
+            negative += count;
+            notes.push(format!(
+                "{}: {count} pixels with a negative channel (negative radiance), the first at ({x}, {y}) = ({cr}, {cg}, {cb})",
+                f.display()
             ));
         }
         if files.len() == 1 {
@@ -209,6 +239,7 @@ pub fn sample(files: &[PathBuf], expect: Option<(usize, usize)>) -> Result<Sampl
         method,
         replicates,
         non_finite,
+        negative,
         notes,
     })
 }
@@ -299,15 +330,34 @@ impl Judgement {
                 tests,
             );
             self.z = Some(v.z);
-            self.verdict = Some(v);
+            self.verdict = Some(self.fail_negative(v));
         }
     }
 
-    /// Passed: the verdict, or without a reference, no non-finite pixel.
+    /// A verdict failed where a pixel has a negative channel: negative radiance is the
+    /// renderer's error whatever the mean (its pixels are averaged like any other, and
+    /// the notes name the first), never masked by a passing statistic.
+    fn fail_negative(&self, mut v: Verdict) -> Verdict {
+        if self.sample.negative > 0 {
+            let why = format!(
+                "{} pixels with a negative channel (negative radiance)",
+                self.sample.negative
+            );
+            v.reason = Some(match v.reason {
+                Some(r) if !v.passed => format!("{r}; {why}"),
+                _ => why,
+            });
+            v.passed = false;
+        }
+        v
+    }
+
+    /// Passed: the verdict, or without a reference, no non-finite pixel and no pixel with
+    /// a negative channel.
     pub fn passed(&self) -> bool {
         match &self.verdict {
             Some(v) => v.passed,
-            None => self.sample.non_finite == 0,
+            None => self.sample.non_finite == 0 && self.sample.negative == 0,
         }
     }
 

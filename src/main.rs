@@ -482,6 +482,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
             };
             require_cases(&paths)?;
+            IoError::check_output_folder(&out)?;
             let opts = lightproof::report::sweep::Options {
                 paths: if paths.is_empty() {
                     vec![default_catalog()]
@@ -501,6 +502,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             report(&opts)
         }
         Command::Merge { inputs, out } => {
+            IoError::check_output_folder(&out)?;
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
             print_summary(&out, &summary);
@@ -540,6 +542,10 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             } else {
                 paths
             };
+            if all {
+                require_cases(&paths)?;
+            }
+            IoError::check_output_folder(&out)?;
             println!("{}", lightproof::export::run(&paths, all, to, &out)?);
             Ok(())
         }
@@ -741,12 +747,7 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
             "<command line>: --wo: θ must lie in [0, 180] and φ in [-360, 360] degrees, got `{wo}`"
         )));
     }
-    if out.exists() && !out.is_dir() {
-        return Err(Failure::Input(format!(
-            "<command line>: --out: `{}` is a file, not a folder: name a folder for the tables",
-            out.display()
-        )));
-    }
+    IoError::check_output_folder(out)?;
     let w = direction(parts[0].to_radians() as f32, parts[1].to_radians() as f32);
     // A failing test's dump goes under --out too, never into the build's own tree.
     let test = lightproof::stats::chi2::Chi2Test::new(

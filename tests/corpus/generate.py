@@ -304,6 +304,10 @@ case("envmap_huge_header", "crash", ENV, [("scene.emitters.0.path", "../assets/e
      "scene.emitters[0].path", "200000")
 case("envmap_negative_channel", "wrong", ENV, [("scene.emitters.0.path", "../assets/env_negative_channel.exr")], 2,
      "scene.emitters[0].path", "negative")
+case("envmap_header_only", "crash", ENV, [("scene.emitters.0.path", "../assets/render_header_only.exr")], 2,
+     "scene.emitters[0].path", "truncated")
+case("envmap_truncated", "crash", ENV, [("scene.emitters.0.path", "../assets/render_truncated.exr")], 2,
+     "scene.emitters[0].path", "cannot read EXR")
 case("envmap_dev_urandom", "hang", ENV, [("scene.emitters.0.path", "/dev/urandom")], 2, "scene.emitters[0].path")
 case("envmap_not_exr", "baseline", ENV, [("scene.emitters.0.path", "../cases/envmap_ok.json")], 2, "scene.emitters[0].path")
 case("emitter_unknown_type", "baseline", POINT, [("scene.emitters.0.type", "laser")], 2, "scene.emitters[0]")
@@ -545,6 +549,7 @@ entry("estimate_sampler_unknown", "baseline", ["estimate", V, "--sampler", "halt
 entry("estimate_valid_sobol", "baseline", ["estimate", V, "--sampler", "sobol", "--samples", "256"], "valid")
 
 # ---------------------------------------------------------------- chi2
+NOT_FOLDER = "is a file, not a folder"
 L = '{"type":"lambertian","albedo":0.5}'
 entry("chi2_samples_zero", "wrong", ["chi2", L, "--samples", "0", "--out", "{tmp}"], 2, "--samples", "40960")
 entry("chi2_samples_ten", "wrong", ["chi2", L, "--samples", "10", "--out", "{tmp}"], 2, "--samples", "40960")
@@ -552,8 +557,10 @@ entry("chi2_samples_max", "hang", ["chi2", L, "--samples", "18446744073709551615
 entry("chi2_wo_e308", "wrong", ["chi2", L, "--wo", "1e308,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo")
 entry("chi2_wo_theta_200", "wrong", ["chi2", L, "--wo", "200,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo")
 entry("chi2_wo_negative", "unclear", ["chi2", L, "--wo", "-30,0", "--samples", "40960", "--out", "{tmp}"], 2, "--wo", "[0, 180]")
+entry("chi2_wo_phi_400", "wrong", ["chi2", L, "--wo", "30,400", "--samples", "40960", "--out", "{tmp}"], 2, "--wo",
+      "[-360, 360]")
 entry("chi2_wo_text", "baseline", ["chi2", L, "--wo", "up", "--out", "{tmp}"], 2, "--wo")
-entry("chi2_out_is_file", "unclear", ["chi2", L, "--samples", "40960", "--out", "{file}"], 2, "--out", "not a folder")
+entry("chi2_out_is_file", "unclear", ["chi2", L, "--samples", "40960", "--out", "{file}"], 3, contains=NOT_FOLDER)
 entry("chi2_bsdf_bad_json", "baseline", ["chi2", "{", "--out", "{tmp}"], 2, "bsdf")
 entry("chi2_bsdf_albedo_e39", "f32", ["chi2", '{"type":"lambertian","albedo":1e39}', "--out", "{tmp}"], 2, "albedo")
 entry("chi2_bsdf_unknown", "baseline", ["chi2", '{"type":"velvet"}', "--out", "{tmp}"], 2, "bsdf")
@@ -576,6 +583,17 @@ entry("render_spp_max", "hang", ["render", "{corpus}/cases/render_valid.json", "
                                  "-o", "{tmp}/o.exr"], 2, "--spp")
 entry("render_spp_negative", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "-1", "-o", "{tmp}/o.exr"],
       2, "--spp")
+case("render_pixels_over_limit", "hang", CAMERA, [("camera.width", 8192), ("camera.height", 8193)], 2,
+     "camera.width", cmd="render")
+case("render_pixels_1m", "baseline", CAMERA, [("camera.width", 1024), ("camera.height", 1025)], "valid", cmd="render",
+     extra=["--max-depth", "0"])
+# 1024 × 1025 pixels × 2^20 spp is just over 2^40 paths.
+entry("render_samples_over_limit", "hang", ["render", "{corpus}/cases/render_pixels_1m.json", "--spp", "1048576",
+                                            "-o", "{tmp}/o.exr"], 2, "--spp", "at most 2^40")
+entry("render_exposure_65", "wrong", ["render", "{corpus}/cases/render_valid.json", "--spp", "1", "--exposure", "65",
+                                      "-o", "{tmp}/o.png"], 2, "--exposure")
+entry("render_png", "baseline", ["render", "{corpus}/cases/render_valid.json", "--spp", "1", "--exposure", "-64",
+                                 "-o", "{tmp}/o.png"], "valid", no_leftovers=True)
 entry("render_dev_zero", "hang", ["render", "/dev/zero", "-o", "{tmp}/o.exr"], 2, "regular file")
 
 # ---------------------------------------------------------------- report
@@ -614,7 +632,70 @@ merge_case("merge_seconds_e308", "hang",
 entry("merge_dev_zero", "hang", ["merge", "{corpus}/merge/devzero", "--out", "{tmp}/rep"], 2, "no shard partial")
 entry("merge_nothing", "baseline", ["merge", "{empty_dir}", "--out", "{tmp}/rep"], 2, "shard")
 
+# ---------------------------------------------------------------- judge
+# A render of verify_valid (the on-axis disk, E = pi L R^2/(R^2 + h^2) = pi/5): every
+# pixel at the reference passes exactly; a pixel whose channels average to it but hold a
+# negative one (-0.5, y, y) still fails (negative radiance is never averaged away).
+J = "{corpus}/cases/verify_valid.json"
+E_DISK = 3.141592653589793 / 5
+Y = (3 * E_DISK + 0.5) / 2
+def a(name):
+    return "{corpus}/assets/%s" % name
+entry("judge_valid", "baseline", ["judge", J, a("render_ok.exr"), a("render_ok.exr")], "valid")
+entry("judge_negative_channel", "wrong", ["judge", J, a("render_ok.exr"), a("render_negative_channel.exr")], 1,
+      contains="1 pixels with a negative channel (negative radiance), the first at (1, 1) = (-0.5, ")
+entry("judge_nan_pixel", "baseline", ["judge", J, a("render_ok.exr"), a("render_nan.exr")], 1,
+      contains="1 non-finite pixels, the first at (2, 0)")
+entry("judge_huge_header", "hang", ["judge", J, a("env_huge_header.exr")], 2, "env_huge_header.exr", "200000 × 200000")
+entry("judge_header_only", "crash", ["judge", J, a("render_header_only.exr")], 2, "render_header_only.exr", "truncated")
+entry("judge_truncated", "crash", ["judge", J, a("render_ok.exr"), a("render_truncated.exr")], 2,
+      "render_truncated.exr", "EXR")
+entry("judge_size_mismatch", "baseline", ["judge", J, a("render_ok.exr"), a("render_small.exr")], 2,
+      "render_small.exr", "expected 4 × 2")
+entry("judge_not_exr", "baseline", ["judge", J, "{corpus}/cases/valid_disk.json"], 2, "valid_disk.json", "EXR")
+entry("judge_render_folder", "baseline", ["judge", J, "{empty_dir}"], 2, "folder")
+entry("judge_render_dev_zero", "hang", ["judge", J, "/dev/zero"], 2, "regular file")
+entry("judge_case_dev_zero", "hang", ["judge", "/dev/zero", a("render_ok.exr")], 2, "regular file")
+entry("judge_case_bad", "baseline", ["judge", "{corpus}/cases/emission_radiance_m1.json", a("render_ok.exr")], 2,
+      "scene.shapes[0].emission.radiance")
+entry("judge_no_render", "baseline", ["judge", J], 2, "RENDER.exr")
+entry("judge_suite_empty", "baseline", ["judge", "--suite", "{empty_dir}"], 2, "suite.json")
+
+# ---------------------------------------------------------------- export
+entry("export_valid", "baseline", ["export", V, "--to", "mitsuba", "--out", "{tmp}/x"], "valid", no_leftovers=True)
+entry("export_inexpressible", "baseline", ["export", V, "--to", "pbrt", "--out", "{tmp}/x"], 2, "valid_disk.json",
+      "no irradiance sensor")
+entry("export_target_unknown", "baseline", ["export", V, "--to", "blender", "--out", "{tmp}/x"], 2, "--to")
+entry("export_case_bad", "baseline", ["export", "{corpus}/cases/emission_radiance_m1.json", "--to", "pbrt",
+                                      "--out", "{tmp}/x"], 2, "scene.shapes[0].emission.radiance")
+entry("export_case_dev_zero", "hang", ["export", "/dev/zero", "--to", "pbrt", "--out", "{tmp}/x"], 2, "regular file")
+entry("export_all_empty_folder", "wrong", ["export", "--all", "{empty_dir}", "--to", "pbrt", "--out", "{tmp}/x"], 2,
+      "no case files")
+entry("export_two_cases", "baseline", ["export", V, V, "--to", "pbrt", "--out", "{tmp}/x"], 2, "one case file")
+
+# ---------------------------------------------------------------- outputs in the way (exit 3)
+entry("export_out_is_file", "unclear", ["export", V, "--to", "mitsuba", "--out", "{file}"], 3, contains=NOT_FOLDER)
+entry("export_out_below_file", "unclear", ["export", V, "--to", "mitsuba", "--out", "{file}/sub"], 3,
+      contains=NOT_FOLDER)
+entry("report_out_is_file", "unclear", ["report", R, "--max-samples", "256", "--sampler", "independent",
+                                        "--out", "{file}"], 3, contains=NOT_FOLDER)
+entry("merge_out_is_file", "unclear", ["merge", "{corpus}/merge/merge_valid", "--out", "{file}"], 3,
+      contains=NOT_FOLDER)
+entry("verify_json_below_file", "unclear", ["verify", J, "--samples", "4096", "--no-chi2", "--json", "{file}/v.json"],
+      3, contains=NOT_FOLDER)
+entry("render_output_below_file", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "1",
+                                              "-o", "{file}/o.exr"], 3, contains=NOT_FOLDER)
+
 if __name__ == "__main__":
+    ok = [(E_DISK,) * 3] * 8
+    write("assets/render_ok.exr", exr(4, 2, ok))
+    write("assets/render_negative_channel.exr", exr(4, 2, ok[:5] + [(-0.5, Y, Y)] + ok[6:]))
+    write("assets/render_nan.exr", exr(4, 2, ok[:2] + [(float("nan"),) * 3] + ok[3:]))
+    write("assets/render_small.exr", exr(2, 2, ok[:4]))
+    # A header within the pixel limit (8000 × 8000 < 2^26) whose chunk table alone (8000
+    # offsets) is longer than the file.
+    write("assets/render_header_only.exr", exr(4, 2, [], claim=(8000, 8000), offsets=False))
+    write("assets/render_truncated.exr", exr(4, 2, ok)[:-20])
     write("assets/env_ok.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 8))
     write("assets/env_negative_channel.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 7 + [(-1.0, 2.0, 2.0)]))
     write("assets/env_huge_header.exr", exr(1, 1, [], claim=(200000, 200000), offsets=False))
