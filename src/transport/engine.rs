@@ -86,3 +86,40 @@ where
         seconds: t0.elapsed().as_secs_f64(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The README's rounding: a request rounds up to a multiple of the 128 batches, and
+    /// for the quasi-random samplers to 128 × a power of two (so that each batch is a
+    /// whole power-of-two block of the sequence).
+    #[test]
+    fn sample_counts_round_up_to_whole_batches() {
+        let spec = |samples, sampler| RunSpec {
+            samples,
+            sampler,
+            seed: 1,
+        };
+        for (n, independent, quasi) in [
+            (256, 256, 256),
+            (300, 384, 512),
+            (1000, 1024, 1024),
+            (1025, 1152, 2048),
+            (4096, 4096, 4096),
+            (1 << 40, 1 << 40, 1 << 40),
+            ((1 << 40) + 1, (1 << 40) + 128, 1 << 41),
+        ] {
+            assert_eq!(
+                spec(n, SamplerKind::Independent).total(),
+                independent,
+                "{n}"
+            );
+            for s in [SamplerKind::Stratified, SamplerKind::Sobol] {
+                let r = spec(n, s);
+                assert_eq!(r.total(), quasi, "{n} {s:?}");
+                assert!(r.batch_size().is_power_of_two());
+            }
+        }
+    }
+}
