@@ -375,3 +375,95 @@ fn render_takes_threads_and_max_depth() {
     );
     render("2", Some("0"), "d0.exr");
 }
+
+fn catalog_case(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("analytic/cases")
+        .join(rel)
+}
+
+fn estimate_json(case: &Path, extra: &[&str]) -> serde_json::Value {
+    let out = bin()
+        .arg("estimate")
+        .arg(case)
+        .args(["--samples", "4096"])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The README's `estimate` contract beyond the common fields: an estimate without
+/// variance (a point light's irradiance, light sampling) prints `"exact": true` and no
+/// `std_error`; a time-resolved histogram adds `bins`, one object per bin with its range;
+/// every effect decision carries its reason.
+#[test]
+fn estimate_prints_exact_verdicts_bins_and_every_reason() {
+    let v = estimate_json(&catalog_case("irradiance/point_light.json"), &[]);
+    assert_eq!(v["exact"], serde_json::Value::Bool(true), "{v}");
+    assert!(v.get("std_error").is_none(), "{v}");
+    assert_eq!(v["verdict"]["class"], "exact", "{v}");
+    let effects = v["effects"].as_object().unwrap();
+    let decisions: Vec<&String> = effects.keys().filter(|k| *k != "max_bounces").collect();
+    assert_eq!(decisions.len(), 8, "{v}");
+    for k in decisions {
+        let why = effects[k]["why"].as_str().unwrap_or_default();
+        assert!(
+            effects[k]["simulated"].is_boolean() && why.len() > 10,
+            "{k}: {v}"
+        );
+    }
+    let v = estimate_json(&catalog_case("time/pulsed_disk_transient.json"), &[]);
+    assert_eq!(v["exact"], serde_json::Value::Bool(false), "{v}");
+    assert!(v["std_error"].as_f64().is_some_and(|s| s > 0.0), "{v}");
+    let bins = v["bins"].as_array().expect("bins");
+    assert_eq!(bins.len(), 6, "{v}");
+    for b in bins {
+        let [lo, hi] = [0, 1].map(|i| b["bin"][i].as_f64().unwrap());
+        assert!(lo < hi && b["verdict"]["passed"].is_boolean(), "{b}");
+    }
+}
+
+/// `verify --json`'s family size `tests` counts the statistical verdicts only (no warp
+/// suite when case files are named): exact verdicts are judged apart.
+#[test]
+fn verify_family_counts_the_statistical_verdicts() {
+    let json =
+        std::env::temp_dir().join(format!("lightproof-cli-family-{}.json", std::process::id()));
+    let out = bin()
+        .args(["verify", "--samples", "4096", "--no-chi2", "--json"])
+        .arg(&json)
+        .arg(catalog_case("irradiance/point_light.json"))
+        .arg(catalog_case("irradiance/disk_on_axis.json"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let classes: Vec<&str> = doc["outcomes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["verdict"]["class"].as_str().unwrap())
+        .collect();
+    let statistical = classes.iter().filter(|c| **c == "statistical").count();
+    let exact = classes.iter().filter(|c| **c == "exact").count();
+    assert_eq!(statistical + exact, classes.len());
+    assert!(statistical > 0 && exact > 0, "{classes:?}");
+    assert_eq!(doc["tests"].as_u64(), Some(statistical as u64), "{doc}");
+    assert!(
+        stdout.contains(&format!(
+            "{} passed ({statistical} statistical, {exact} exact), 0 failed",
+            classes.len()
+        )),
+        "{stdout}"
+    );
+    let _ = std::fs::remove_file(json);
+}
