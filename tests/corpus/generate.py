@@ -7,8 +7,8 @@ and manifest.json listing every input with its expected outcome.
 
 Each manifest entry: name, class (crash | hang | wrong | unclear | leftover | f32 |
 baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per entry,
-{empty_dir} an empty folder, {big} a sparse file past the input size limit, {file} an
-existing regular file), and either expect 2 with `field` (and optionally `contains`), a
+{empty_dir} an empty folder, {big} a sparse file past the JSON size limit, {big_asset} a
+sparse `.exr` past the 1 GiB asset limit, {file} an existing regular file), and either expect 2 with `field` (and optionally `contains`), a
 substring the one stderr line must hold, or expect "valid" (exit 0 or 1; for estimate a
 finite `estimate` on stdout). `pre_files` are created in {tmp} first; `no_leftovers`
 asks that no `.tmp` file remain in {tmp} afterwards.
@@ -653,6 +653,7 @@ entry("judge_truncated", "crash", ["judge", J, a("render_ok.exr"), a("render_tru
 entry("judge_size_mismatch", "baseline", ["judge", J, a("render_ok.exr"), a("render_small.exr")], 2,
       "render_small.exr", "expected 4 × 2")
 entry("judge_not_exr", "baseline", ["judge", J, "{corpus}/cases/valid_disk.json"], 2, "valid_disk.json", "EXR")
+entry("judge_render_over_1gib", "hang", ["judge", J, "{big_asset}"], 2, "big.exr", "limit")
 entry("judge_render_folder", "baseline", ["judge", J, "{empty_dir}"], 2, "folder")
 entry("judge_render_dev_zero", "hang", ["judge", J, "/dev/zero"], 2, "regular file")
 entry("judge_case_dev_zero", "hang", ["judge", "/dev/zero", a("render_ok.exr")], 2, "regular file")

@@ -91,6 +91,7 @@ struct Fixture {
     root: PathBuf,
     empty_dir: PathBuf,
     big: PathBuf,
+    big_asset: PathBuf,
     file: PathBuf,
 }
 
@@ -107,12 +108,19 @@ impl Fixture {
             .unwrap()
             .set_len(lightproof::io::MAX_JSON_BYTES + 1)
             .unwrap();
+        // A sparse EXR one byte past the 1 GiB asset limit.
+        let big_asset = root.join("big.exr");
+        std::fs::File::create(&big_asset)
+            .unwrap()
+            .set_len(lightproof::io::MAX_ASSET_BYTES + 1)
+            .unwrap();
         let file = root.join("a-file");
         std::fs::write(&file, b"not a folder").unwrap();
         Fixture {
             root,
             empty_dir,
             big,
+            big_asset,
             file,
         }
     }
@@ -121,6 +129,7 @@ impl Fixture {
         arg.replace("{corpus}", &corpus().display().to_string())
             .replace("{tmp}", &tmp.display().to_string())
             .replace("{empty_dir}", &self.empty_dir.display().to_string())
+            .replace("{big_asset}", &self.big_asset.display().to_string())
             .replace("{big}", &self.big.display().to_string())
             .replace("{file}", &self.file.display().to_string())
     }
