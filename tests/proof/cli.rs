@@ -467,3 +467,37 @@ fn verify_family_counts_the_statistical_verdicts() {
     );
     let _ = std::fs::remove_file(json);
 }
+
+/// A time-resolved case exits 1 when any bin fails: the transient of the pulsed disk
+/// judged against a reference radiance 5% too high fails every bin (each detects a
+/// few-% bias at 4096 samples), and against its own reference passes.
+#[test]
+fn a_failing_time_bin_fails_the_estimate() {
+    let good = catalog_case("time/pulsed_disk_transient.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&good).unwrap()).unwrap();
+    doc["reference"]["radiance"] = serde_json::json!(1.05);
+    let bad = tmp("transient_wrong.json", &doc.to_string());
+    for (case, code) in [(good, 0), (bad, 1)] {
+        let out = bin()
+            .arg("estimate")
+            .arg(&case)
+            .args(["--samples", "16384"])
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(code),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let failed = v["bins"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|b| b["verdict"]["passed"] == false)
+            .count();
+        assert_eq!(failed > 0, code == 1, "{v}");
+    }
+}

@@ -662,3 +662,80 @@ fn mitsuba_flux_cases_pass() {
     let _ = std::fs::remove_dir_all(cases);
     let _ = std::fs::remove_dir_all(out_dir);
 }
+
+/// Student's t with R − 1 degrees of freedom for R independent renders, and B − 1 = 31
+/// for the pixel blocks of one render, at the single test's α = 1e-4 (one case: no Šidák
+/// correction): the critical value is the t quantile itself (statrs here, independently
+/// of the judge's own formula), 28.0 for 3 dof, where a z test would use 3.89. `--json`
+/// carries the counts of non-finite and negative pixels.
+#[test]
+fn judge_uses_student_t_with_the_replicates_degrees_of_freedom() {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    let d = scratch("student");
+    let case = catalog("furnace/closed_sphere_0_5.json");
+    // Renders about the reference 2 with spread 0.01 (a pass whatever the test).
+    let render = |name: &str, v: f32| {
+        let p = d.join(name);
+        let px: Vec<[f32; 3]> = (0..64)
+            .map(|i| [v + 0.01 * ((i * 37 % 64) as f32 / 64.0 - 0.5); 3])
+            .collect();
+        lightproof::render::write_exr(&p, 8, 8, &px).unwrap();
+        p
+    };
+    let four = [1.99, 2.005, 1.998, 2.007].map(|v| render(&format!("r{v}.exr"), v));
+    let judge_json = |renders: &[&PathBuf]| {
+        let o = bin()
+            .arg("judge")
+            .arg(&case)
+            .args(renders)
+            .arg("--json")
+            .output()
+            .unwrap();
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap_or(Value::Null);
+        (o, v)
+    };
+    let t_crit = |dof: f64| {
+        StudentsT::new(0.0, 1.0, dof)
+            .unwrap()
+            .inverse_cdf(1.0 - 0.5e-4)
+    };
+    let (o, v) = judge_json(&four.iter().collect::<Vec<_>>());
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(
+        (v["dof"].as_u64(), v["verdict"]["dof"].as_u64()),
+        (Some(3), Some(3)),
+        "{v}"
+    );
+    let crit = v["verdict"]["critical"].as_f64().unwrap();
+    assert!(
+        (crit - t_crit(3.0)).abs() < 1e-6 * crit && crit > 27.9,
+        "{crit}"
+    );
+    assert_eq!(
+        (v["non_finite"].as_u64(), v["negative"].as_u64()),
+        (Some(0), Some(0)),
+        "{v}"
+    );
+    // One render (centred on the reference): 32 blocks, 31 dof.
+    let centred = render("r2.exr", 2.0);
+    let (o, v) = judge_json(&[&centred]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(v["verdict"]["dof"].as_u64(), Some(31), "{v}");
+    let crit = v["verdict"]["critical"].as_f64().unwrap();
+    assert!((crit - t_crit(31.0)).abs() < 1e-6 * crit, "{crit}");
+    // A negative channel and a NaN pixel are counted in the JSON and fail.
+    let bad = d.join("bad.exr");
+    let mut px = vec![[2.0f32; 3]; 64];
+    px[3] = [-0.5, 3.25, 3.25];
+    px[9] = [f32::NAN; 3];
+    lightproof::render::write_exr(&bad, 8, 8, &px).unwrap();
+    let (o, v) = judge_json(&[&centred, &bad]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(
+        (v["non_finite"].as_u64(), v["negative"].as_u64()),
+        (Some(1), Some(1)),
+        "{v}"
+    );
+    assert_eq!(v["verdict"]["passed"], Value::Bool(false), "{v}");
+    let _ = std::fs::remove_dir_all(d);
+}

@@ -174,14 +174,29 @@ fn pruned_wavelength_and_time_agree_with_sampled() {
         full.seconds / pruned.seconds.max(1e-9)
     );
     assert!(z.abs() <= crit(), "pruned vs sampled: z = {z}");
-    // ∫ȳ over 360–830 nm is 106.857 nm for the CIE 1931 tables; the analytic fit of the
-    // response is within 1 % of it, so the grey estimate scales by about that.
-    let e_grey = grey
-        .estimate(Estimator::Mis, &spec(1 << 12, 42))
-        .batches
-        .total
-        .mean;
-    assert!(e_grey > 0.0);
+    // Pruned, the photopic measurement is the grey estimate times ∫ȳ: on the same random
+    // numbers, the same scene without the spectral and time blocks gives exactly the grey
+    // part, so the ratio is the engine's ∫ȳ over 360–830 nm, which must be the CIE 1931
+    // tables' 106.857 nm within 1% (the analytic fit of ȳ it integrates).
+    let plain = case(
+        r#"{ "name": "grey disk", "teaches": "pruning",
+        "scene": { "materials": { "w": { "type": "lambertian", "albedo": 0.6 } },
+          "shapes": [ { "geometry": { "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 }, "emission": { "radiance": 2 } },
+                      { "geometry": { "type": "rectangle", "corner": [-2,-2,0], "edge_u": [4,0,0], "edge_v": [0,4,0] }, "material": "w" } ] },
+        "measure": { "irradiance": { "at": [0.3,0,0.5], "normal": [0,0,1] } },
+        "estimators": ["mis"] }"#,
+    );
+    let [e_grey, e_plain] = [&grey, &plain].map(|c| {
+        c.estimate(Estimator::Mis, &spec(1 << 12, 42))
+            .batches
+            .total
+            .mean
+    });
+    let ratio = e_grey / e_plain;
+    assert!(
+        (ratio / 106.857 - 1.0).abs() < 0.01,
+        "photopic / grey = {ratio} ({e_grey} / {e_plain}), ∫ȳ = 106.857 nm"
+    );
 }
 
 /// Every effects report names the dimensions it samples and why.
