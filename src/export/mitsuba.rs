@@ -426,3 +426,270 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
         },
     })
 }
+
+#[cfg(test)]
+mod tests {
+    //! The mapping table above, row by row: each case is exported and the scene's XML
+    //! checked for the element the row names (or the refusal's reason).
+    use super::*;
+
+    /// A radiance case along the ray (0, 0, 0) → +z with `shapes`, `emitters`,
+    /// `materials` and an optional `max_depth`, exported: the scene XML or the refusal.
+    fn export(
+        materials: &str,
+        shapes: &str,
+        emitters: &str,
+        extra: &str,
+    ) -> Result<String, String> {
+        let json = format!(
+            r#"{{"name":"n","teaches":"t",
+              "scene":{{"materials":{{{materials}}},"shapes":[{shapes}],"emitters":[{emitters}]}},
+              "measure":{{"radiance":{{"at":[0,0,0],"direction":[0,0,1]}}}},
+              "estimators":["mis"]{extra}}}"#
+        );
+        measured(&json)
+    }
+
+    fn measured(json: &str) -> Result<String, String> {
+        let desc: CaseDesc = serde_json::from_str(json).map_err(|e| e.to_string())?;
+        let probe = super::super::probe(&desc).map_err(|r| r.0)?;
+        let w = write(&desc, &probe).map_err(|r| r.0)?;
+        let (_, xml) = w.files.iter().find(|(n, _)| n == "scene.xml").unwrap();
+        Ok(String::from_utf8(xml.clone()).unwrap())
+    }
+
+    const DISK_LIGHT: &str = r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2}}"#;
+
+    fn with_material(bsdf: &str) -> Result<String, String> {
+        export(
+            &format!(r#""m":{bsdf}"#),
+            &format!(
+                r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}},"material":"m"}}"#
+            ),
+            "",
+            "",
+        )
+    }
+
+    #[track_caller]
+    fn has(xml: &Result<String, String>, parts: &[&str]) {
+        let xml = xml.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
+        for p in parts {
+            assert!(xml.contains(p), "`{p}` missing from\n{xml}");
+        }
+    }
+
+    #[track_caller]
+    fn refused(r: &Result<String, String>, why: &str) {
+        match r {
+            Ok(xml) => panic!("exported, expected a refusal ({why}):\n{xml}"),
+            Err(e) => assert!(e.contains(why), "{e}"),
+        }
+    }
+
+    #[test]
+    fn max_depth_counts_the_emitter_seen_directly_for_radiance_only() {
+        let radiance = |extra: &str| export("", DISK_LIGHT, "", extra);
+        has(
+            &radiance(r#","max_depth":4"#),
+            &[r#"<integer name="max_depth" value="5"/>"#],
+        );
+        has(
+            &radiance(r#","max_depth":0"#),
+            &[r#"<integer name="max_depth" value="1"/>"#],
+        );
+        has(
+            &radiance(""),
+            &[r#"<integer name="max_depth" value="-1"/>"#],
+        );
+        let irradiance = |extra: &str| {
+            measured(&format!(
+                r#"{{"name":"n","teaches":"t","scene":{{"shapes":[{DISK_LIGHT}]}},
+                  "measure":{{"irradiance":{{"at":[0,0,0],"normal":[0,0,1]}}}},
+                  "estimators":["mis"]{extra}}}"#
+            ))
+        };
+        has(
+            &irradiance(r#","max_depth":2"#),
+            &[
+                r#"<integer name="max_depth" value="2"/>"#,
+                r#"<sensor type="irradiancemeter">"#,
+                r#"<bsdf type="null"/>"#,
+            ],
+        );
+        has(
+            &irradiance(""),
+            &[r#"<integer name="max_depth" value="-1"/>"#],
+        );
+    }
+
+    #[test]
+    fn bsdfs_map_to_their_mitsuba_plugins() {
+        has(
+            &with_material(r#"{"type":"lambertian","albedo":0.5}"#),
+            &[
+                r#"<bsdf type="twosided" id="mat0"><bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.5, 0.5"/></bsdf></bsdf>"#,
+                r#"<ref id="mat0"/>"#,
+            ],
+        );
+        has(
+            &with_material(r#"{"type":"conductor","eta":0.25,"k":3.5}"#),
+            &[
+                r#"<bsdf type="twosided" id="mat0"><bsdf type="conductor"><rgb name="eta" value="0.25, 0.25, 0.25"/><rgb name="k" value="3.5, 3.5, 3.5"/>"#,
+            ],
+        );
+        has(
+            &with_material(r#"{"type":"dielectric","eta":1.5}"#),
+            &[
+                r#"<bsdf type="dielectric" id="mat0"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>"#,
+            ],
+        );
+        // α itself (no roughness remapping); F ≡ 1 as `material none`.
+        has(
+            &with_material(
+                r#"{"type":"rough_conductor","alpha":0.375,"fresnel":"none","distribution":"beckmann","masking":"uncorrelated"}"#,
+            ),
+            &[
+                r#"<bsdf type="twosided" id="mat0"><bsdf type="roughconductor"><string name="distribution" value="beckmann"/><float name="alpha" value="0.375"/><string name="material" value="none"/>"#,
+            ],
+        );
+        has(
+            &with_material(
+                r#"{"type":"rough_dielectric","alpha":0.5,"eta":1.25,"masking":"uncorrelated"}"#,
+            ),
+            &[
+                r#"<bsdf type="roughdielectric" id="mat0"><string name="distribution" value="ggx"/><float name="alpha" value="0.5"/><float name="int_ior" value="1.25"/><float name="ext_ior" value="1"/>"#,
+            ],
+        );
+        has(
+            &with_material(r#"{"type":"plastic","albedo":0.25,"eta":1.5}"#),
+            &[
+                r#"<bsdf type="twosided" id="mat0"><bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.25, 0.25, 0.25"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/><boolean name="nonlinear" value="false"/>"#,
+            ],
+        );
+        refused(
+            &with_material(r#"{"type":"oren_nayar","albedo":0.5,"sigma":20}"#),
+            "no Oren–Nayar",
+        );
+        refused(
+            &with_material(
+                r#"{"type":"rough_conductor","alpha":0.3,"fresnel":"none","masking":"height_correlated"}"#,
+            ),
+            "height-correlated masking",
+        );
+        // No material: a black diffuse absorber.
+        has(
+            &export(
+                "",
+                &format!(
+                    r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}}}}"#
+                ),
+                "",
+                "",
+            ),
+            &[r#"<bsdf type="diffuse"><rgb name="reflectance" value="0, 0, 0"/></bsdf>"#],
+        );
+    }
+
+    #[test]
+    fn shapes_and_emission_map_or_are_refused() {
+        let shape = |geometry: &str, rest: &str| {
+            export(
+                "",
+                &format!(r#"{DISK_LIGHT},{{"geometry":{geometry}{rest}}}"#),
+                "",
+                "",
+            )
+        };
+        has(
+            &shape(
+                r#"{"type":"sphere","center":[0,5,0],"radius":2}"#,
+                r#","flip_normals":true"#,
+            ),
+            &[
+                r#"<shape type="sphere"><point name="center" x="0" y="5" z="0"/><float name="radius" value="2"/><boolean name="flip_normals" value="true"/>"#,
+            ],
+        );
+        refused(
+            &shape(
+                r#"{"type":"sphere","center":[0,5,0],"radius":2,"theta_max":90}"#,
+                "",
+            ),
+            "spherical cap",
+        );
+        refused(
+            &shape(
+                r#"{"type":"disk","center":[0,5,0],"normal":[0,0,1],"radius":2,"inner_radius":1}"#,
+                "",
+            ),
+            "annulus",
+        );
+        has(
+            &shape(
+                r#"{"type":"rectangle","corner":[0,5,0],"edge_u":[1,0,0],"edge_v":[0,1,0]}"#,
+                "",
+            ),
+            &[
+                r#"<shape type="ply"><string name="filename" value="#,
+                r#"<boolean name="face_normals" value="true"/><boolean name="flip_normals" value="false"/>"#,
+            ],
+        );
+        // The disk light itself: a one-sided area emitter.
+        has(
+            &shape(r#"{"type":"sphere","center":[0,5,0],"radius":2}"#, ""),
+            &[
+                r#"<shape type="disk">"#,
+                r#"<emitter type="area"><rgb name="radiance" value="2, 2, 2"/></emitter>"#,
+            ],
+        );
+        refused(
+            &export(
+                "",
+                r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2,"two_sided":true}}"#,
+                "",
+                "",
+            ),
+            "two-sided emission",
+        );
+    }
+
+    #[test]
+    fn lights_map_or_are_refused() {
+        let light = |e: &str| export("", "", e, "");
+        has(
+            &light(r#"{"type":"point","position":[0,0,2],"intensity":3}"#),
+            &[
+                r#"<emitter type="point"><point name="position" x="0" y="0" z="2"/><rgb name="intensity" value="3, 3, 3"/></emitter>"#,
+            ],
+        );
+        has(
+            &light(
+                r#"{"type":"spot","position":[0,0,2],"direction":[0,0,-1],"intensity":5,"cone_angle":30,"falloff_start":20}"#,
+            ),
+            &[
+                r#"<emitter type="spot">"#,
+                r#"<float name="cutoff_angle" value="30"/><float name="beam_width" value="20"/>"#,
+            ],
+        );
+        has(
+            &light(r#"{"type":"directional","direction":[0,0,-2],"irradiance":4}"#),
+            &[
+                r#"<emitter type="directional"><vector name="direction" x="0" y="0" z="-1"/><rgb name="irradiance" value="4, 4, 4"/></emitter>"#,
+            ],
+        );
+        has(
+            &light(r#"{"type":"constant","radiance":1.25}"#),
+            &[
+                r#"<emitter type="constant"><rgb name="radiance" value="1.25, 1.25, 1.25"/></emitter>"#,
+            ],
+        );
+        // An irradiance meter cannot see a delta light.
+        refused(
+            &measured(
+                r#"{"name":"n","teaches":"t","scene":{"emitters":[{"type":"point","position":[0,0,2],"intensity":3}]},
+                  "measure":{"irradiance":{"at":[0,0,0],"normal":[0,0,1]}},"estimators":["light"]}"#,
+            ),
+            "a delta light",
+        );
+    }
+}

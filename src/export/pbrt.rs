@@ -361,4 +361,189 @@ mod tests {
             "{m}"
         );
     }
+
+    /// A radiance case along (0, 0, 0) → +z, exported: the scene or the refusal.
+    fn export(
+        materials: &str,
+        shapes: &str,
+        emitters: &str,
+        extra: &str,
+    ) -> Result<String, String> {
+        let json = format!(
+            r#"{{"name":"n","teaches":"t",
+              "scene":{{"materials":{{{materials}}},"shapes":[{shapes}],"emitters":[{emitters}]}},
+              "measure":{{"radiance":{{"at":[0,0,0],"direction":[0,0,1]}}}},
+              "estimators":["mis"]{extra}}}"#
+        );
+        let desc: CaseDesc = serde_json::from_str(&json).map_err(|e| e.to_string())?;
+        let probe = super::super::probe(&desc).map_err(|r| r.0)?;
+        let w = write(&desc, &probe).map_err(|r| r.0)?;
+        let (_, bytes) = w.files.iter().find(|(n, _)| n == "scene.pbrt").unwrap();
+        Ok(String::from_utf8(bytes.clone()).unwrap())
+    }
+
+    const DISK_LIGHT: &str = r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2}}"#;
+
+    #[track_caller]
+    fn has(r: &Result<String, String>, parts: &[&str]) {
+        let x = r.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
+        for p in parts {
+            assert!(x.contains(p), "`{p}` missing from\n{x}");
+        }
+    }
+
+    #[track_caller]
+    fn refused(r: &Result<String, String>, why: &str) {
+        match r {
+            Ok(x) => panic!("exported, expected a refusal ({why}):\n{x}"),
+            Err(e) => assert!(e.contains(why), "{e}"),
+        }
+    }
+
+    /// The README's pbrt column, row by row.
+    #[test]
+    fn the_mapping_table_holds_for_pbrt() {
+        let m = |bsdf: &str| {
+            export(
+                &format!(r#""m":{bsdf}"#),
+                &format!(
+                    r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}},"material":"m"}}"#
+                ),
+                "",
+                "",
+            )
+        };
+        // max_depth k is pbrt's maxdepth k; unbounded is 65536.
+        has(
+            &export("", DISK_LIGHT, "", r#","max_depth":4"#),
+            &[r#""integer maxdepth" [ 4 ]"#],
+        );
+        has(
+            &export("", DISK_LIGHT, "", ""),
+            &[r#""integer maxdepth" [ 65536 ]"#],
+        );
+        has(
+            &m(r#"{"type":"lambertian","albedo":0.5}"#),
+            &[r#"Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]"#],
+        );
+        has(
+            &m(r#"{"type":"conductor","eta":0.25,"k":3.5}"#),
+            &[
+                r#"Material "conductor" "spectrum eta" [ 300 0.25 900 0.25 ] "spectrum k" [ 300 3.5 900 3.5 ] "float roughness" [ 0 ]"#,
+            ],
+        );
+        has(
+            &m(r#"{"type":"dielectric","eta":1.5}"#),
+            &[r#"Material "dielectric" "float eta" [ 1.5 ] "float roughness" [ 0 ]"#],
+        );
+        has(
+            &m(r#"{"type":"rough_conductor","alpha":0.375,"eta":0.25,"k":3.5}"#),
+            &[r#""float roughness" [ 0.375 ] "bool remaproughness" false"#],
+        );
+        has(
+            &m(r#"{"type":"rough_dielectric","alpha":0.5,"eta":1.25}"#),
+            &[
+                r#"Material "dielectric" "float eta" [ 1.25 ] "float roughness" [ 0.5 ] "bool remaproughness" false"#,
+            ],
+        );
+        refused(
+            &m(r#"{"type":"plastic","albedo":0.25,"eta":1.5}"#),
+            "coateddiffuse",
+        );
+        refused(
+            &m(r#"{"type":"oren_nayar","albedo":0.5,"sigma":20}"#),
+            "no Oren–Nayar",
+        );
+        refused(
+            &m(
+                r#"{"type":"rough_conductor","alpha":0.3,"eta":0.25,"k":3.5,"distribution":"beckmann"}"#,
+            ),
+            "Beckmann",
+        );
+        refused(
+            &m(r#"{"type":"rough_dielectric","alpha":0.3,"eta":1.5,"masking":"uncorrelated"}"#),
+            "uncorrelated masking",
+        );
+        // No material: black diffuse. Emission one- and two-sided.
+        has(
+            &export(
+                "",
+                &format!(
+                    r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}}}}"#
+                ),
+                "",
+                "",
+            ),
+            &[
+                r#"Material "diffuse" "rgb reflectance" [ 0 0 0 ]"#,
+                r#"AreaLightSource "diffuse" "rgb L" [ 2 2 2 ] "bool twosided" false"#,
+            ],
+        );
+        has(
+            &export(
+                "",
+                r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2,"two_sided":true}}"#,
+                "",
+                "",
+            ),
+            &[r#""bool twosided" true"#],
+        );
+        // Shapes: a cap by zmin = r cos θmax, an annulus by innerradius, meshes as PLY,
+        // flipped normals as ReverseOrientation.
+        let shape = |g: &str, rest: &str| {
+            export(
+                "",
+                &format!(r#"{DISK_LIGHT},{{"geometry":{g}{rest}}}"#),
+                "",
+                "",
+            )
+        };
+        has(
+            &shape(
+                r#"{"type":"sphere","center":[0,5,0],"radius":2,"theta_max":60}"#,
+                "",
+            ),
+            &[r#"Shape "sphere" "float radius" [ 2 ] "float zmin" [ 1.0000000000000002 ]"#],
+        );
+        has(
+            &shape(
+                r#"{"type":"disk","center":[0,5,0],"normal":[0,0,1],"radius":2,"inner_radius":1}"#,
+                r#","flip_normals":true"#,
+            ),
+            &[
+                "ReverseOrientation\n  Shape \"disk\" \"float radius\" [ 2 ] \"float innerradius\" [ 1 ]",
+            ],
+        );
+        has(
+            &shape(
+                r#"{"type":"rectangle","corner":[0,5,0],"edge_u":[1,0,0],"edge_v":[0,1,0]}"#,
+                "",
+            ),
+            &[r#"Shape "plymesh" "string filename" [ "#],
+        );
+        // Lights.
+        let light = |e: &str| export("", "", e, "");
+        has(
+            &light(r#"{"type":"point","position":[0,0,2],"intensity":3}"#),
+            &[r#"LightSource "point" "point3 from" [ 0 0 2 ] "rgb I" [ 3 3 3 ]"#],
+        );
+        has(
+            &light(
+                r#"{"type":"spot","position":[0,0,2],"direction":[0,0,-1],"intensity":5,"cone_angle":30,"falloff_start":20}"#,
+            ),
+            &[
+                r#"LightSource "spot" "point3 from" [ 0 0 2 ] "point3 to" [ 0 0 1 ] "float coneangle" [ 30 ] "float conedelta" [ 10 ] "rgb I" [ 5 5 5 ]"#,
+            ],
+        );
+        has(
+            &light(r#"{"type":"directional","direction":[0,0,-1],"irradiance":4}"#),
+            &[
+                r#"LightSource "distant" "point3 from" [ 0 0 0 ] "point3 to" [ 0 0 -1 ] "rgb L" [ 4 4 4 ]"#,
+            ],
+        );
+        has(
+            &light(r#"{"type":"constant","radiance":1.25}"#),
+            &[r#"LightSource "infinite" "rgb L" [ 1.25 1.25 1.25 ]"#],
+        );
+    }
 }
