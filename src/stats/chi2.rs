@@ -1065,6 +1065,97 @@ mod tests {
         let _ = std::fs::remove_dir_all(&t.dump_dir);
     }
 
+    /// The statistic, its degrees of freedom and p value, and the normalisation's z,
+    /// each against its formula evaluated here: counts 1000 ± 30 in alternate cells
+    /// (Σ (O − E)²/E = 32 · 0.9 = 28.8 on 31 dof, p = 0.58: a pass), then the same counts
+    /// at a 31 000 × 1/1000 larger deviation (a fail), then draws of which only 31 of 32
+    /// succeeded while the pdf integrates to 1 (z = (1 − f)/√(f(1 − f)/N + δ²)).
+    #[test]
+    fn statistic_and_normalisation_follow_their_formulas() {
+        let (t, mut tables) = perfect_tables();
+        tables.observed = (0..32)
+            .map(|i| if i % 2 == 0 { 1030 } else { 970 })
+            .collect();
+        tables.quadrature_error = vec![1e-7; 32];
+        let o = t.judge("±30", &tables);
+        assert!((o.statistic - 28.8).abs() < 1e-9, "{o:?}");
+        assert_eq!(o.dof, 31);
+        let p = ChiSquared::new(31.0).unwrap().sf(28.8);
+        assert!((o.p_value - p).abs() < 1e-12 && o.p_value > 0.5, "{o:?}");
+        assert!(o.passed, "{o:?}");
+        // ±100 in every cell: Σ = 32 · 10 = 320, p ≈ 1e-49 < α.
+        tables.observed = (0..32)
+            .map(|i| if i % 2 == 0 { 1100 } else { 900 })
+            .collect();
+        let o = t.judge("±100", &tables);
+        assert!((o.statistic - 320.0).abs() < 1e-9 && !o.passed, "{o:?}");
+        assert!(
+            o.reason
+                .as_deref()
+                .unwrap_or_default()
+                .contains("chi-square statistic 320.0 with 31 dof"),
+            "{o:?}"
+        );
+        // 1000 of the 32 000 draws failed, yet the pdf integrates to 1.
+        tables.observed = vec![1000; 32];
+        tables.observed[0] = 0;
+        tables.expected[0] = 0.0;
+        tables.expected[1] = 2000.0;
+        tables.observed[1] = 1000;
+        tables.successes = 31_000;
+        let o = t.judge("lost draws", &tables);
+        let (n, f) = (32_000.0f64, 31_000.0 / 32_000.0);
+        let pdf_integral = 1.0;
+        let delta = 32.0 * 1e-7;
+        let z = (pdf_integral - f) / (f * (1.0 - f) / n + delta * delta).sqrt();
+        assert!(
+            (o.normalisation_z - z).abs() < 1e-9 * z && z > 30.0,
+            "{o:?}"
+        );
+        assert!((o.pdf_integral - 1.0).abs() < 1e-12 && (o.success_fraction - f).abs() < 1e-15);
+        assert!(
+            o.reason
+                .as_deref()
+                .unwrap_or_default()
+                .contains("pdf integrates to 1.000000 but 0.968750 of draws succeeded"),
+            "{o:?}"
+        );
+        // A sample outside the domain fails whatever else holds.
+        let (t, mut tables) = perfect_tables();
+        tables.outside = 1;
+        let o = t.judge("outside", &tables);
+        assert!(!o.passed && o.reason.unwrap().contains("1 samples fell outside"));
+        let _ = std::fs::remove_dir_all(&t.dump_dir);
+    }
+
+    /// Two cells of expected count ≥ 5 are enough to judge (one degree of freedom);
+    /// one is not.
+    #[test]
+    fn two_full_cells_are_judged_and_one_is_not() {
+        let dir = std::env::temp_dir().join(format!("lightproof-chi2-two-{}", std::process::id()));
+        let t = Chi2Test::new(Domain::Square, 20, 1, 0.01)
+            .with_resolution(1, 2)
+            .with_dump_dir(&dir);
+        let tables = |expected: Vec<f64>, observed: Vec<u64>| Chi2Tables {
+            rows: 1,
+            cols: 2,
+            samples: 20,
+            observed,
+            expected,
+            quadrature_error: vec![0.0; 2],
+            successes: 20,
+            outside: 0,
+        };
+        let o = t.judge("two", &tables(vec![10.0, 10.0], vec![10, 10]));
+        assert!(o.passed && o.dof == 1, "{o:?}");
+        let o = t.judge("one", &tables(vec![16.0, 4.0], vec![16, 4]));
+        assert!(
+            !o.passed && o.reason.as_deref().unwrap_or_default().contains("too few samples"),
+            "{o:?}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
     /// Cells of expected count below 5 are pooled, smallest first, into cells of at least
     /// 5; a remainder below 5 joins the smallest pooled cell; cells of 5 or more stand
     /// alone. Observed counts and quadrature errors go with their cells.
