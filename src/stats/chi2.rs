@@ -1150,7 +1150,11 @@ mod tests {
         assert!(o.passed && o.dof == 1, "{o:?}");
         let o = t.judge("one", &tables(vec![16.0, 4.0], vec![16, 4]));
         assert!(
-            !o.passed && o.reason.as_deref().unwrap_or_default().contains("too few samples"),
+            !o.passed
+                && o.reason
+                    .as_deref()
+                    .unwrap_or_default()
+                    .contains("too few samples"),
             "{o:?}"
         );
         let _ = std::fs::remove_dir_all(dir);

@@ -437,6 +437,10 @@ case("deep_nesting", "baseline", DISK, [], 2, "deep_nesting.json", raw="[" * 100
 case("valid_disk", "baseline", DISK, [], "valid")
 case("valid_spectral", "baseline", SPECTRAL, [], "valid")
 case("valid_pulse", "baseline", PULSE, [], "valid")
+# A histogram of at most 1024 bins (1025 edges): 1024 runs, 1025 is refused.
+EDGES = lambda n: [i * 1e-10 for i in range(n + 1)]
+case("bins_1024", "baseline", PULSE, [("time.bin", DELETE), ("time.bins", EDGES(1024))], "valid")
+case("bins_1025", "hang", PULSE, [("time.bin", DELETE), ("time.bins", EDGES(1025))], 2, "time.bins", "1024")
 case("valid_moving", "baseline", MOVING, [], "valid")
 case("valid_bk7", "baseline", BK7, [], "valid")
 case("valid_albedo", "baseline", ALBEDO, [], "valid")
@@ -506,6 +510,9 @@ case("flux_view_factor_two_emitters", "wrong", FLUX, [("scene.shapes.1.emission"
      "measure.flux.view_factor")
 case("flux_view_factor_point_light", "wrong", FLUX, [("scene.shapes.0.emission", DELETE),
      ("scene.emitters", [{"type": "point", "position": [0, 0, 2], "intensity": 1}])], 2, "measure.flux.view_factor")
+case("flux_view_factor_blackbody", "wrong", FLUX,
+     [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 5000}}),
+      ("spectral", {"band": [400, 700]})], 2, "measure.flux.view_factor")
 case("flux_view_factor_str", "baseline", FLUX, [("measure.flux.view_factor", "yes")], 2, "measure")
 case("flux_estimator_area", "baseline", FLUX, [("estimators", ["area"])], 2, "estimators[0]")
 case("flux_valid", "baseline", FLUX, [], "valid")

@@ -739,3 +739,36 @@ fn judge_uses_student_t_with_the_replicates_degrees_of_freedom() {
     assert_eq!(v["verdict"]["passed"], Value::Bool(false), "{v}");
     let _ = std::fs::remove_dir_all(d);
 }
+
+/// A render judged against an exported case must have the export's size (the manifest
+/// beside `case.json`), not merely the first render's: a 4 × 2 render of a 16 × 16
+/// furnace export exits 2 naming both sizes.
+#[test]
+fn renders_must_have_the_exported_size() {
+    let d = scratch("size");
+    let o = bin()
+        .arg("export")
+        .arg(catalog("furnace/closed_sphere_0_5.json"))
+        .args(["--to", "mitsuba", "--out"])
+        .arg(&d)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let small = d.join("small.exr");
+    lightproof::render::write_exr(&small, 4, 2, &[[2.0f32; 3]; 8]).unwrap();
+    let o = bin()
+        .arg("judge")
+        .arg(d.join("case.json"))
+        .arg(&small)
+        .arg(&small)
+        .output()
+        .unwrap();
+    let err = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&small.display().to_string())
+            && err.contains("the render is 4 × 2 pixels, expected 16 × 16"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(d);
+}

@@ -266,17 +266,18 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
     let out = tmp("killed");
     let reports = out.join("reports");
     let case = disk_case();
-    let args = |max: u64, dir: &Path| {
+    let args_seeded = |max: u64, dir: &Path, seed: u64| {
         let mut c = Command::new(env!("CARGO_BIN_EXE_lightproof"));
         c.arg("report")
             .arg(&case)
             .args(["--sampler", "independent", "--sampler", "sobol"])
             .args(["--max-samples", &max.to_string()])
-            .args(["--seed", &common::seed().to_string()])
+            .args(["--seed", &seed.to_string()])
             .arg("--out")
             .arg(dir);
         c
     };
+    let args = |max: u64, dir: &Path| args_seeded(max, dir, common::seed());
     // A sweep to 2^30 samples cannot finish; kill it once it has written a report.
     let mut child = args(1 << 30, &reports)
         .stdout(Stdio::null())
@@ -312,12 +313,15 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
     let o = args(1 << 14, &reports).output().unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{stdout}");
-    let resumed: u64 = stdout
-        .split(" resumed")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no resume count in: {stdout}"));
+    let resumed_of = |stdout: &str| -> u64 {
+        stdout
+            .split(" resumed")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no resume count in: {stdout}"))
+    };
+    let resumed = resumed_of(&stdout);
     assert!(resumed >= 1, "{stdout}");
     // The same reports as a fresh run.
     let fresh = out.join("fresh");
@@ -327,6 +331,26 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
         untimed(read(&fresh.join("disk_on_axis.json")))
     );
     assert!(validate_dir(&reports) >= 2);
+    // Resuming keeps points only of the same case and seed, and `--fresh` none: the
+    // same run again resumes every point it holds; another seed or `--fresh`, none.
+    let run = |c: &mut Command| {
+        let o = c.output().unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(o.status.success(), "{stdout}");
+        resumed_of(&stdout)
+    };
+    let all: u64 = read(&file)["series"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["points"].as_array().unwrap().len() as u64)
+        .sum();
+    assert_eq!(run(&mut args(1 << 14, &reports)), all);
+    assert_eq!(run(args(1 << 14, &reports).arg("--fresh")), 0);
+    assert_eq!(
+        run(&mut args_seeded(1 << 14, &reports, common::seed() ^ 0x5eed)),
+        0
+    );
     let _ = std::fs::remove_dir_all(out);
 }
 
