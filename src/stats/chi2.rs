@@ -1194,6 +1194,17 @@ mod tests {
         );
         // Only small cells: one pool, judged as it is.
         assert_eq!(pooled(&[1.0, 2.0]), vec![(21.0, 3.0, 3.0)]);
+        // A remainder counts when it expects something or holds something: expected 3
+        // with nothing observed, and observed 2 where nothing is expected (the pdf's
+        // zero cells, which the judge also fails on their own), each join the 8.
+        let raw = |o: &[u64], e: &[f64]| {
+            pool(o, e, &vec![0.0; e.len()])
+                .iter()
+                .map(|c| (c.observed, c.expected))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(raw(&[5, 0, 0], &[8.0, 1.0, 2.0]), vec![(5.0, 11.0)]);
+        assert_eq!(raw(&[5, 2, 0], &[8.0, 0.0, 0.0]), vec![(7.0, 8.0)]);
     }
 
     #[test]
