@@ -587,3 +587,81 @@ pub fn run(
     };
     Ok((text, passed))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Renders of the closed furnace (ρ = 0.5: L = 2) in a scratch folder, 8 × 8 pixels
+    /// each, `edit` changing pixels after they are set to 2 ± 0.005.
+    fn render(dir: &Path, name: &str, edit: impl Fn(&mut [[f32; 3]])) -> PathBuf {
+        // A render's own offset (from its name) keeps renders apart: the replicates vary.
+        let shift = 0.002 * (name.len() % 3) as f32 - 0.002;
+        let mut px: Vec<[f32; 3]> = (0..64)
+            .map(|i| [2.0 + shift + 0.01 * (((i * 37 % 64) as f32 + 0.5) / 64.0 - 0.5); 3])
+            .collect();
+        edit(&mut px);
+        let p = dir.join(name);
+        crate::render::write_exr(&p, 8, 8, &px).unwrap();
+        p
+    }
+
+    fn furnace() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/furnace/closed_sphere_0_5.json")
+    }
+
+    /// A channel below zero is counted per pixel (in row-major order the first is named)
+    /// even where the pixel's mean is the reference, and fails a verdict that passes
+    /// without it; non-finite pixels are counted apart.
+    #[test]
+    fn negative_channels_are_counted_and_fail_the_verdict() {
+        let dir = std::env::temp_dir().join(format!("lightproof-judge-neg-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let clean = [render(&dir, "a.exr", |_| {}), render(&dir, "bb.exr", |_| {})];
+        let j = judge_case(&furnace(), &clean, "r", 1e-4).unwrap();
+        assert!(j.passed() && j.sample.negative == 0, "{j:?}");
+        // Two pixels whose R is negative, their means kept at 2: (−0.5 + 3.25 + 3.25)/3.
+        let neg = render(&dir, "neg.exr", |px| {
+            px[42] = [-0.5, 3.25, 3.25];
+            px[13] = [3.25, -0.5, 3.25];
+            px[20] = [f32::NAN; 3];
+        });
+        let r = read_render(&neg).unwrap();
+        assert_eq!(r.negative, (2, Some(((5, 1), [3.25, -0.5, 3.25]))));
+        let j = judge_case(&furnace(), &[clean[0].clone(), neg.clone()], "r", 1e-4).unwrap();
+        assert_eq!((j.sample.negative, j.sample.non_finite), (2, 1), "{j:?}");
+        assert!(!j.passed(), "{j:?}");
+        let v = j.verdict.as_ref().unwrap();
+        let why = v.reason.as_deref().unwrap_or_default();
+        assert!(why.contains("2 pixels with a negative channel"), "{why}");
+        assert!(
+            j.sample.notes.iter().any(|n| n.ends_with(
+                "2 pixels with a negative channel (negative radiance), the first at (5, 1) = (3.25, -0.5, 3.25)"
+            )),
+            "{:?}",
+            j.sample.notes
+        );
+        // The negative pixels alone (no NaN): the statistic passes, the verdict does not.
+        let only_neg = render(&dir, "only.exr", |px| px[42] = [-0.5, 3.25, 3.25]);
+        let j = judge_case(
+            &furnace(),
+            &[clean[0].clone(), clean[1].clone(), only_neg],
+            "r",
+            1e-4,
+        )
+        .unwrap();
+        let v = j.verdict.as_ref().unwrap();
+        assert!(v.z.abs() < 3.0 && !v.passed && !j.passed(), "{j:?}");
+        assert_eq!(
+            v.reason.as_deref(),
+            Some("1 pixels with a negative channel (negative radiance)")
+        );
+        // Without a reference, the counts alone decide.
+        let mut j = j;
+        j.verdict = None;
+        assert!(!j.passed());
+        j.sample.negative = 0;
+        assert!(j.passed());
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
