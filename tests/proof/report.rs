@@ -204,7 +204,11 @@ fn independent_rate_is_minus_half_and_sobol_is_steeper() {
         assert!(!x.time_to[0].extrapolated && x.time_to[0].samples.is_some());
     }
     assert_eq!(validate_dir(&out), 2); // the report and index.json
-    assert!(out.join("disk_on_axis.svg").exists());
+    // The plot this sweep wrote has its three panels (not only the committed example).
+    let svg = std::fs::read_to_string(out.join("disk_on_axis.svg")).unwrap();
+    for panel in ["core-seconds (fitted", "samples N", "core-seconds to 0.1%"] {
+        assert!(svg.contains(panel), "the plot lacks the panel `{panel}`");
+    }
     assert!(
         std::fs::read_to_string(out.join("index.md"))
             .unwrap()
