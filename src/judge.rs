@@ -617,7 +617,10 @@ mod tests {
     fn negative_channels_are_counted_and_fail_the_verdict() {
         let dir = std::env::temp_dir().join(format!("lightproof-judge-neg-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let clean = [render(&dir, "a.exr", |_| {}), render(&dir, "bb.exr", |_| {})];
+        let clean = [
+            render(&dir, "a.exr", |_| {}),
+            render(&dir, "bb.exr", |_| {}),
+        ];
         let j = judge_case(&furnace(), &clean, "r", 1e-4).unwrap();
         assert!(j.passed() && j.sample.negative == 0, "{j:?}");
         // Two pixels whose R is negative, their means kept at 2: (−0.5 + 3.25 + 3.25)/3.

@@ -189,6 +189,39 @@ mod tests {
         assert!((plain.x - plain.z).abs() > 0.05, "{plain}");
     }
 
+    /// The README's two colour facts: a spectral green (a narrow band at 520 nm, outside
+    /// the sRGB gamut) has negative red and blue in linear sRGB, which are clipped to 0,
+    /// green kept; a 6500 K blackbody, against the equal-energy white, renders slightly
+    /// blue (B > G > R; B/R = 1.34).
+    #[test]
+    fn out_of_gamut_clips_and_6500_k_is_slightly_blue() {
+        let o = Observer::over(360.0, 830.0);
+        let m = xyz_e_to_linear_srgb();
+        let tristimulus = |spectrum: &dyn Fn(f64) -> f64| {
+            let n = 4700;
+            let h = 470.0 / n as f64;
+            let mut s = [0.0f64; 3];
+            for i in 0..n {
+                let l = 360.0 + (i as f64 + 0.5) * h;
+                let w = o.weights(l as f32);
+                for c in 0..3 {
+                    s[c] += w[c] as f64 * spectrum(l) * h;
+                }
+            }
+            s
+        };
+        let green = tristimulus(&|l| if (l - 520.0).abs() < 1.0 { 1.0 } else { 0.0 });
+        let raw = m * DVec3::from_array(green);
+        assert!(raw.x < 0.0 && raw.z < 0.0 && raw.y > 0.0, "{raw}");
+        assert_eq!(to_linear_srgb(&m, green), [0.0, raw.y as f32, 0.0]);
+        let bb = tristimulus(&|l| crate::spectrum::blackbody::planck_radiance(l, 6500.0));
+        let [r, g, b] = to_linear_srgb(&m, bb);
+        assert!(
+            b > g && g > r && (1.3..1.4).contains(&(b / r)),
+            "6500 K: {r} {g} {b}"
+        );
+    }
+
     #[test]
     fn the_srgb_matrix_matches_the_standard() {
         // IEC 61966-2-1's published XYZ → linear sRGB matrix (4 decimals, from a white
