@@ -1120,6 +1120,17 @@ mod tests {
                 .contains("pdf integrates to 1.000000 but 0.968750 of draws succeeded"),
             "{o:?}"
         );
+        // Six lost draws: z = 2.45, inside the two-sided critical value 2.576 of α = 0.01
+        // (a one-sided or doubled α, 2.33 or 2.05, would fail it).
+        let (t, mut tables) = perfect_tables();
+        tables.quadrature_error = vec![1e-7; 32];
+        tables.observed[0] = 994;
+        tables.successes = 31_994;
+        let o = t.judge("six lost", &tables);
+        assert!(
+            (2.44..2.46).contains(&o.normalisation_z) && o.passed,
+            "{o:?}"
+        );
         // A sample outside the domain fails whatever else holds.
         let (t, mut tables) = perfect_tables();
         tables.outside = 1;
