@@ -659,6 +659,47 @@ mod tests {
             v.reason.as_deref(),
             Some("1 pixels with a negative channel (negative radiance)")
         );
+        // A pixel's value is the mean of its three channels; a channel of 0 is not
+        // negative, and a negative blue counts as much as a red.
+        let mixed = render(&dir, "mixed.exr", |px| {
+            px[0] = [1.0, 2.0, 3.0];
+            px[1] = [0.0, 3.0, 3.0];
+            px[2] = [3.0, 0.0, 3.0];
+            px[3] = [3.0, 3.0, 0.0];
+            px[4] = [3.25, 3.25, -0.5];
+        });
+        let r = read_render(&mixed).unwrap();
+        assert_eq!(r.pixels[0], 2.0);
+        assert_eq!(r.pixels[1], 2.0);
+        assert_eq!(r.negative, (1, Some(((4, 0), [3.25, 3.25, -0.5]))));
+        // Blocks stored bottom row first (decreasing line order): the first negative
+        // pixel in row-major order is still the one named, whatever order rows arrive in.
+        let decreasing = dir.join("decreasing.exr");
+        {
+            use exr::prelude::*;
+            let neg = |x: usize, y: usize| (x, y) == (6, 2) || (x, y) == (1, 7);
+            let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+                if neg(p.x(), p.y()) {
+                    (-1.0f32, 2.0f32, 2.0f32)
+                } else {
+                    (2.0f32, 2.0f32, 2.0f32)
+                }
+            });
+            let encoding = Encoding {
+                line_order: LineOrder::Decreasing,
+                ..Encoding::UNCOMPRESSED
+            };
+            Image::from_encoded_channels((8, 8), encoding, channels)
+                .write()
+                .to_file(&decreasing)
+                .unwrap();
+        }
+        let r = read_render(&decreasing).unwrap();
+        assert_eq!(r.negative, (2, Some(((6, 2), [-1.0, 2.0, 2.0]))));
+        // One render: batch means over 32 blocks of pixels.
+        let one = judge_case(&furnace(), &[mixed], "r", 1e-4).unwrap();
+        assert_eq!(one.sample.method, Method::PixelBlocks);
+        assert_eq!((one.sample.replicates.len(), one.dof), (32, Some(31)));
         // Without a reference, the counts alone decide.
         let mut j = j;
         j.verdict = None;
