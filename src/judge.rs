@@ -343,9 +343,10 @@ impl Judgement {
                 "{} pixels with a negative channel (negative radiance)",
                 self.sample.negative
             );
+            // A verdict carries a reason only when it failed: keep it, add this one.
             v.reason = Some(match v.reason {
-                Some(r) if !v.passed => format!("{r}; {why}"),
-                _ => why,
+                Some(r) => format!("{r}; {why}"),
+                None => why,
             });
             v.passed = false;
         }
@@ -636,7 +637,11 @@ mod tests {
         assert!(!j.passed(), "{j:?}");
         let v = j.verdict.as_ref().unwrap();
         let why = v.reason.as_deref().unwrap_or_default();
-        assert!(why.contains("2 pixels with a negative channel"), "{why}");
+        assert!(
+            why.starts_with("1 non-finite samples")
+                && why.ends_with("; 2 pixels with a negative channel (negative radiance)"),
+            "{why}"
+        );
         assert!(
             j.sample.notes.iter().any(|n| n.ends_with(
                 "2 pixels with a negative channel (negative radiance), the first at (5, 1) = (3.25, -0.5, 3.25)"
