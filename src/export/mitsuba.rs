@@ -431,60 +431,24 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
 mod tests {
     //! The mapping table above, row by row: each case is exported and the scene's XML
     //! checked for the element the row names (or the refusal's reason).
-    use super::*;
+    use crate::export::Target;
+    use crate::export::mapping::{DISK_LIGHT, has, refused};
 
-    /// A radiance case along the ray (0, 0, 0) → +z with `shapes`, `emitters`,
-    /// `materials` and an optional `max_depth`, exported: the scene XML or the refusal.
     fn export(
         materials: &str,
         shapes: &str,
         emitters: &str,
         extra: &str,
     ) -> Result<String, String> {
-        let json = format!(
-            r#"{{"name":"n","teaches":"t",
-              "scene":{{"materials":{{{materials}}},"shapes":[{shapes}],"emitters":[{emitters}]}},
-              "measure":{{"radiance":{{"at":[0,0,0],"direction":[0,0,1]}}}},
-              "estimators":["mis"]{extra}}}"#
-        );
-        measured(&json)
+        crate::export::mapping::export(Target::Mitsuba, materials, shapes, emitters, extra)
     }
 
     fn measured(json: &str) -> Result<String, String> {
-        let desc: CaseDesc = serde_json::from_str(json).map_err(|e| e.to_string())?;
-        let probe = super::super::probe(&desc).map_err(|r| r.0)?;
-        let w = write(&desc, &probe).map_err(|r| r.0)?;
-        let (_, xml) = w.files.iter().find(|(n, _)| n == "scene.xml").unwrap();
-        Ok(String::from_utf8(xml.clone()).unwrap())
+        crate::export::mapping::measured(Target::Mitsuba, json)
     }
-
-    const DISK_LIGHT: &str = r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2}}"#;
 
     fn with_material(bsdf: &str) -> Result<String, String> {
-        export(
-            &format!(r#""m":{bsdf}"#),
-            &format!(
-                r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}},"material":"m"}}"#
-            ),
-            "",
-            "",
-        )
-    }
-
-    #[track_caller]
-    fn has(xml: &Result<String, String>, parts: &[&str]) {
-        let xml = xml.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
-        for p in parts {
-            assert!(xml.contains(p), "`{p}` missing from\n{xml}");
-        }
-    }
-
-    #[track_caller]
-    fn refused(r: &Result<String, String>, why: &str) {
-        match r {
-            Ok(xml) => panic!("exported, expected a refusal ({why}):\n{xml}"),
-            Err(e) => assert!(e.contains(why), "{e}"),
-        }
+        crate::export::mapping::with_material(Target::Mitsuba, bsdf)
     }
 
     #[test]

@@ -807,6 +807,83 @@ pub fn num(x: f64) -> String {
     if x == 0.0 { "0".into() } else { format!("{x}") }
 }
 
+/// What the exporters' mapping tests share: a small case exported for one renderer, and
+/// checks on the scene file it writes or on the refusal.
+#[cfg(test)]
+pub(crate) mod mapping {
+    use super::*;
+
+    /// A disk light of radiance 2 at height 3 facing down.
+    pub const DISK_LIGHT: &str = r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2}}"#;
+
+    /// A radiance case along the ray (0, 0, 0) → +z with these `materials`, `shapes`,
+    /// `emitters` (JSON fragments) and `extra` top-level fields, exported for `target`:
+    /// its scene file, or the refusal.
+    pub fn export(
+        target: Target,
+        materials: &str,
+        shapes: &str,
+        emitters: &str,
+        extra: &str,
+    ) -> Result<String, String> {
+        measured(
+            target,
+            &format!(
+                r#"{{"name":"n","teaches":"t",
+                  "scene":{{"materials":{{{materials}}},"shapes":[{shapes}],"emitters":[{emitters}]}},
+                  "measure":{{"radiance":{{"at":[0,0,0],"direction":[0,0,1]}}}},
+                  "estimators":["mis"]{extra}}}"#
+            ),
+        )
+    }
+
+    /// A whole case (JSON) exported for `target`: its scene file, or the refusal.
+    pub fn measured(target: Target, json: &str) -> Result<String, String> {
+        let desc: CaseDesc = serde_json::from_str(json).map_err(|e| e.to_string())?;
+        let probe = probe(&desc).map_err(|r| r.0)?;
+        let w = match target {
+            Target::Mitsuba => mitsuba::write(&desc, &probe),
+            Target::Pbrt => pbrt::write(&desc, &probe),
+            Target::Lightproof => lightproof::write(&desc, &probe),
+        }
+        .map_err(|r| r.0)?;
+        let scene = &w.manifest.scene;
+        let (_, bytes) = w.files.iter().find(|(n, _)| n == scene).unwrap();
+        Ok(String::from_utf8(bytes.clone()).unwrap())
+    }
+
+    /// `material` (a BSDF's JSON) on a sphere beside the disk light, exported.
+    pub fn with_material(target: Target, bsdf: &str) -> Result<String, String> {
+        export(
+            target,
+            &format!(r#""m":{bsdf}"#),
+            &format!(
+                r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}},"material":"m"}}"#
+            ),
+            "",
+            "",
+        )
+    }
+
+    /// The scene file holds every one of `parts`.
+    #[track_caller]
+    pub fn has(r: &Result<String, String>, parts: &[&str]) {
+        let x = r.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
+        for p in parts {
+            assert!(x.contains(p), "`{p}` missing from\n{x}");
+        }
+    }
+
+    /// The export was refused for a reason containing `why`.
+    #[track_caller]
+    pub fn refused(r: &Result<String, String>, why: &str) {
+        match r {
+            Ok(x) => panic!("exported, expected a refusal ({why}):\n{x}"),
+            Err(e) => assert!(e.contains(why), "{e}"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

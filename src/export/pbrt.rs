@@ -327,11 +327,7 @@ mod tests {
     use super::*;
 
     fn scene_of(json: &str) -> String {
-        let desc: CaseDesc = serde_json::from_str(json).unwrap();
-        let probe = super::super::probe(&desc).unwrap();
-        let w = write(&desc, &probe).unwrap();
-        let (_, bytes) = w.files.iter().find(|(n, _)| n == "scene.pbrt").unwrap();
-        String::from_utf8(bytes.clone()).unwrap()
+        crate::export::mapping::measured(Target::Pbrt, json).unwrap()
     }
 
     /// pbrt-v4's `rgb` film writes half floats unless told otherwise: a render of an
@@ -362,57 +358,20 @@ mod tests {
         );
     }
 
-    /// A radiance case along (0, 0, 0) → +z, exported: the scene or the refusal.
     fn export(
         materials: &str,
         shapes: &str,
         emitters: &str,
         extra: &str,
     ) -> Result<String, String> {
-        let json = format!(
-            r#"{{"name":"n","teaches":"t",
-              "scene":{{"materials":{{{materials}}},"shapes":[{shapes}],"emitters":[{emitters}]}},
-              "measure":{{"radiance":{{"at":[0,0,0],"direction":[0,0,1]}}}},
-              "estimators":["mis"]{extra}}}"#
-        );
-        let desc: CaseDesc = serde_json::from_str(&json).map_err(|e| e.to_string())?;
-        let probe = super::super::probe(&desc).map_err(|r| r.0)?;
-        let w = write(&desc, &probe).map_err(|r| r.0)?;
-        let (_, bytes) = w.files.iter().find(|(n, _)| n == "scene.pbrt").unwrap();
-        Ok(String::from_utf8(bytes.clone()).unwrap())
-    }
-
-    const DISK_LIGHT: &str = r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1},"emission":{"radiance":2}}"#;
-
-    #[track_caller]
-    fn has(r: &Result<String, String>, parts: &[&str]) {
-        let x = r.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
-        for p in parts {
-            assert!(x.contains(p), "`{p}` missing from\n{x}");
-        }
-    }
-
-    #[track_caller]
-    fn refused(r: &Result<String, String>, why: &str) {
-        match r {
-            Ok(x) => panic!("exported, expected a refusal ({why}):\n{x}"),
-            Err(e) => assert!(e.contains(why), "{e}"),
-        }
+        crate::export::mapping::export(Target::Pbrt, materials, shapes, emitters, extra)
     }
 
     /// The README's pbrt column, row by row.
     #[test]
     fn the_mapping_table_holds_for_pbrt() {
-        let m = |bsdf: &str| {
-            export(
-                &format!(r#""m":{bsdf}"#),
-                &format!(
-                    r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":1}},"material":"m"}}"#
-                ),
-                "",
-                "",
-            )
-        };
+        use crate::export::mapping::{DISK_LIGHT, has, refused, with_material};
+        let m = |bsdf: &str| with_material(Target::Pbrt, bsdf);
         // max_depth k is pbrt's maxdepth k; unbounded is 65536.
         has(
             &export("", DISK_LIGHT, "", r#","max_depth":4"#),

@@ -9,6 +9,19 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lightproof"))
 }
 
+/// Run `c`, which must exit 0 (else the test fails with its stderr).
+#[track_caller]
+fn succeeds(c: &mut Command) -> std::process::Output {
+    let out = c.output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn tmp(name: &str, text: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lightproof-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -134,18 +147,7 @@ fn a_passing_case_exits_0_and_prints_the_table() {
 #[test]
 fn estimate_prints_the_contract() {
     let p = tmp("est.json", GOOD);
-    let out = bin()
-        .args(["estimate", "--samples", "20000"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = estimate_json(&p, &["--samples", "20000"]);
     for key in [
         "case",
         "estimate",
@@ -161,44 +163,25 @@ fn estimate_prints_the_contract() {
     }
     assert!(v["effects"]["occlusion"]["why"].is_string());
     // Same seed, different thread counts: identical estimates.
-    let a = bin()
-        .args(["estimate", "--samples", "20000", "--threads", "1"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    let b = bin()
-        .args(["estimate", "--samples", "20000", "--threads", "2"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    let (a, b): (serde_json::Value, serde_json::Value) = (
-        serde_json::from_slice(&a.stdout).unwrap(),
-        serde_json::from_slice(&b.stdout).unwrap(),
-    );
+    let [a, b] = ["1", "2"].map(|t| estimate_json(&p, &["--samples", "20000", "--threads", t]));
     assert_eq!(a["estimate"], b["estimate"]);
 }
 
 #[test]
 fn chi2_command_writes_images() {
     let dir = std::env::temp_dir().join(format!("lightproof-chi2-{}", std::process::id()));
-    let out = bin()
-        .args([
-            "chi2",
-            r#"{"type":"lambertian","albedo":0.5}"#,
-            "--wo",
-            "40,10",
-            "--samples",
-            "100000",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeeds(
+        bin()
+            .args([
+                "chi2",
+                r#"{"type":"lambertian","albedo":0.5}"#,
+                "--wo",
+                "40,10",
+                "--samples",
+                "100000",
+                "--out",
+            ])
+            .arg(&dir),
     );
     assert!(Path::new(&dir).read_dir().unwrap().count() >= 3);
     let bad = bin()
@@ -382,20 +365,15 @@ fn catalog_case(rel: &str) -> PathBuf {
         .join(rel)
 }
 
-fn estimate_json(case: &Path, extra: &[&str]) -> serde_json::Value {
-    let out = bin()
-        .arg("estimate")
-        .arg(case)
-        .args(["--samples", "4096"])
-        .args(extra)
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+/// `estimate CASE ARGS` (4096 samples unless ARGS give `--samples`), which must exit 0:
+/// its JSON.
+fn estimate_json(case: &Path, args: &[&str]) -> serde_json::Value {
+    let samples: &[&str] = if args.contains(&"--samples") {
+        &[]
+    } else {
+        &["--samples", "4096"]
+    };
+    let out = succeeds(bin().arg("estimate").arg(case).args(samples).args(args));
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
