@@ -170,7 +170,7 @@ fn estimate_prints_the_contract() {
 #[test]
 fn chi2_command_writes_images() {
     let dir = std::env::temp_dir().join(format!("lightproof-chi2-{}", std::process::id()));
-    let out = succeeds(
+    succeeds(
         bin()
             .args([
                 "chi2",
