@@ -8,7 +8,8 @@ and manifest.json listing every input with its expected outcome.
 Each manifest entry: name, class (crash | hang | wrong | unclear | leftover | f32 |
 baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per entry,
 {empty_dir} an empty folder, {big} a sparse file past the JSON size limit, {big_asset} a
-sparse `.exr` past the 1 GiB asset limit, {file} an existing regular file), and either expect 2 with `field` (and optionally `contains`), a
+sparse `.exr` past the 1 GiB asset limit, {fifo} a named pipe with no writer, {file} an
+existing regular file), and either expect 2 with `field` (and optionally `contains`), a
 substring the one stderr line must hold, or expect "valid" (exit 0 or 1; for estimate a
 finite `estimate` on stdout). `pre_files` are created in {tmp} first; `no_leftovers`
 asks that no `.tmp` file remain in {tmp} afterwards.
@@ -550,6 +551,8 @@ entry("estimate_dev_zero", "hang", ["estimate", "/dev/zero"], 2, "regular file")
 entry("estimate_dev_urandom", "hang", ["estimate", "/dev/urandom"], 2, "regular file")
 entry("estimate_big_file", "hang", ["estimate", "{big}"], 2, "limit")
 entry("estimate_folder", "baseline", ["estimate", "{empty_dir}"], 2, "folder")
+entry("estimate_fifo", "hang", ["estimate", "{fifo}"], 2, "regular file")
+entry("judge_render_fifo", "hang", ["judge", "{corpus}/cases/verify_valid.json", "{fifo}"], 2, "regular file")
 entry("estimate_estimator_unknown", "baseline", ["estimate", V, "--estimator", "magic"], 2, "--estimator")
 entry("estimate_estimator_wrong", "baseline", ["estimate", V, "--estimator", "area", "--samples", "4096"], 2, "--estimator")
 entry("estimate_sampler_unknown", "baseline", ["estimate", V, "--sampler", "halton"], 2, "--sampler")

@@ -92,6 +92,7 @@ struct Fixture {
     empty_dir: PathBuf,
     big: PathBuf,
     big_asset: PathBuf,
+    fifo: PathBuf,
     file: PathBuf,
 }
 
@@ -114,6 +115,10 @@ impl Fixture {
             .unwrap()
             .set_len(lightproof::io::MAX_ASSET_BYTES + 1)
             .unwrap();
+        // A named pipe with no writer: opening it to read would block forever.
+        let fifo = root.join("pipe.json");
+        let made = Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", fifo.display());
         let file = root.join("a-file");
         std::fs::write(&file, b"not a folder").unwrap();
         Fixture {
@@ -121,6 +126,7 @@ impl Fixture {
             empty_dir,
             big,
             big_asset,
+            fifo,
             file,
         }
     }
@@ -130,6 +136,7 @@ impl Fixture {
             .replace("{tmp}", &tmp.display().to_string())
             .replace("{empty_dir}", &self.empty_dir.display().to_string())
             .replace("{big_asset}", &self.big_asset.display().to_string())
+            .replace("{fifo}", &self.fifo.display().to_string())
             .replace("{big}", &self.big.display().to_string())
             .replace("{file}", &self.file.display().to_string())
     }
