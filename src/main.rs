@@ -529,7 +529,18 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 paths / seconds.max(f64::MIN_POSITIVE),
                 rayon::current_num_threads()
             );
-            Ok(())
+            // Never masked: a pixel that is not finite is a bug, kept in the image (black
+            // in a PNG) and reported, and the command fails.
+            match lightproof::render::non_finite_pixels(w, &data) {
+                (0, _) => Ok(()),
+                (n, first) => {
+                    let (x, y) = first.unwrap_or_default();
+                    eprintln!(
+                        "{n} pixels are not finite (NaN or ±∞), the first at ({x}, {y}): a bug of the engine"
+                    );
+                    Err(Failure::Verdict)
+                }
+            }
         }
         Command::Export {
             paths,

@@ -186,6 +186,15 @@ pub fn render_file(
     Ok((w, h, pixels))
 }
 
+/// The pixels of an image with a component that is not finite (NaN or ±∞: a bug of the
+/// engine, which `render` reports and exits 1 on, the image written as it is), and the
+/// first of them, (x, y) for an image `w` pixels wide.
+pub fn non_finite_pixels(w: usize, data: &[[f32; 3]]) -> (usize, Option<(usize, usize)>) {
+    let bad = |p: &&[f32; 3]| p.iter().any(|c| !c.is_finite());
+    let first = data.iter().position(|p| bad(&p)).map(|i| (i % w, i / w));
+    (data.iter().filter(bad).count(), first)
+}
+
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value clipped to [0, 1], as
 /// an 8-bit code.
 fn srgb_byte(v: f32) -> u8 {
@@ -243,6 +252,18 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[[f32; 3]]) -> std::io:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every component is looked at: a NaN in blue or an infinity in green counts, the
+    /// first is named in row-major order, and finite pixels (however large) do not count.
+    #[test]
+    fn non_finite_pixels_are_counted_in_every_channel() {
+        let mut data = vec![[1.0f32, f32::MAX, 0.0]; 12];
+        assert_eq!(non_finite_pixels(4, &data), (0, None));
+        data[9] = [1.0, f32::INFINITY, 1.0];
+        data[6] = [1.0, 1.0, f32::NAN];
+        data[11] = [f32::NEG_INFINITY, 1.0, 1.0];
+        assert_eq!(non_finite_pixels(4, &data), (3, Some((2, 1))));
+    }
 
     #[test]
     fn the_srgb_curve_meets_its_standard_points() {

@@ -144,12 +144,21 @@ impl Observer {
 }
 
 /// E-normalised tristimulus values to linear sRGB, clipped to ≥ 0 (outside the gamut)
-/// and to the largest finite f32.
+/// and finite values to the largest finite f32; NaN and +∞ are kept (a bug upstream,
+/// which the image must show, not hide).
 pub fn to_linear_srgb(m: &DMat3, xyz: [f64; 3]) -> [f32; 3] {
     let rgb = *m * DVec3::from_array(xyz);
     rgb.to_array().map(|v| {
-        if v > 0.0 {
-            v.min(f32::MAX as f64) as f32
+        if v.is_nan() {
+            // A NaN radiance is a bug upstream: kept, never painted black.
+            f32::NAN
+        } else if v > 0.0 {
+            // +∞ stays +∞; a finite value beyond f32's range is clamped to f32::MAX.
+            if v.is_finite() {
+                v.min(f32::MAX as f64) as f32
+            } else {
+                f32::INFINITY
+            }
         } else {
             0.0
         }
@@ -214,6 +223,15 @@ mod tests {
         let raw = m * DVec3::from_array(green);
         assert!(raw.x < 0.0 && raw.z < 0.0 && raw.y > 0.0, "{raw}");
         assert_eq!(to_linear_srgb(&m, green), [0.0, raw.y as f32, 0.0]);
+        // Not finite stays not finite (a NaN is a bug to be seen, not a black pixel);
+        // finite beyond f32 is clamped to its largest value.
+        let ones = DMat3::from_cols_array(&[1.0; 9]);
+        let out = |x: f64| to_linear_srgb(&ones, [x, 0.0, 0.0]);
+        assert!(out(f64::NAN).iter().all(|c| c.is_nan()));
+        assert_eq!(out(f64::INFINITY), [f32::INFINITY; 3]);
+        assert_eq!(out(1e300), [f32::MAX; 3]);
+        assert_eq!(out(-1.0), [0.0; 3]);
+        assert_eq!(out(f64::NEG_INFINITY), [0.0; 3]);
         let bb = tristimulus(&|l| crate::spectrum::blackbody::planck_radiance(l, 6500.0));
         let [r, g, b] = to_linear_srgb(&m, bb);
         assert!(
