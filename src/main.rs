@@ -529,8 +529,8 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 paths / seconds.max(f64::MIN_POSITIVE),
                 rayon::current_num_threads()
             );
-            // Never masked: a pixel that is not finite is a bug, kept in the image (black
-            // in a PNG) and reported, and the command fails.
+            // Never masked: a pixel that is not finite is a bug, kept in the image (in a
+            // PNG, NaN black and +∞ white) and reported, and the command fails.
             match lightproof::render::non_finite_pixels(w, &data) {
                 (0, _) => Ok(()),
                 (n, first) => {

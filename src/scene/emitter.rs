@@ -228,7 +228,13 @@ pub enum PrimSampling {
 #[inline]
 fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
     let r2 = radius * radius;
-    if r2 >= f32::MIN_POSITIVE && (p - center).length_squared() <= (1.0 + 8.0 * f32::EPSILON) * r2 {
+    let threshold = (1.0 + 8.0 * f32::EPSILON) * r2;
+    // Finite: where r² or the threshold overflows, an overflowed |p − c|² would compare
+    // ∞ ≤ ∞ (a radius of 10²⁰ seen from twice that read as inside).
+    if r2 >= f32::MIN_POSITIVE
+        && threshold.is_finite()
+        && (p - center).length_squared() <= threshold
+    {
         return false;
     }
     (p.as_dvec3() - center.as_dvec3()).length()
@@ -796,6 +802,13 @@ mod tests {
             }
         }
         assert!(checked > 50_000);
+        // Squares beyond f32: r² overflows at 1e20 (and the threshold just below
+        // 1.85e19), where an overflowed |p − c|² must not compare ∞ ≤ ∞ (found in review).
+        for (radius, p) in [(1e20f32, 2e20f32), (1.844_674_3e19, 1e30)] {
+            let p = Vec3::new(p, 0.0, 0.0);
+            assert!(outside_sphere_band(p, Vec3::ZERO, radius), "r = {radius}");
+            assert!(band_f64(p, Vec3::ZERO, radius));
+        }
         // The mirror image of the centre, far outside: a shortcut that added the centre
         // instead of subtracting it would call it inside.
         for radius in [1e-3f32, 1.0, 1e6] {
