@@ -80,7 +80,10 @@ pub struct Hit {
     pub t: f32,
     /// The hit point.
     pub p: Vec3,
-    /// Conservative absolute error bound of `p`, per axis.
+    /// Conservative absolute error bound of `p`, per axis, as a distance from the surface
+    /// (what ray offsetting projects on the normal, pbrt-v4 §6.8). A point re-projected
+    /// onto the surface (spheres, rectangles, disks) also carries, along the surface, the
+    /// ray's own rounding (~u(|o| + t)), which this does not bound.
     pub p_error: Vec3,
     /// Geometric normal (outward for spheres; before any flip).
     pub n: Vec3,
@@ -696,11 +699,18 @@ mod tests {
     /// overflowed (t NaN, n = 0), below 10⁻¹⁰ the normal's square underflowed (never hit).
     #[test]
     fn planar_hits_hold_at_every_scale() {
-        for k in -18..=18 {
+        // Corner off the origin, and at it with the hit far along the first edge (where
+        // the point's magnitude comes from a·u alone, so no other term of the bound covers it).
+        for (k, (corner, ua, vb)) in (-18..=18).flat_map(|k| {
+            [
+                (k, (Vec3::new(0.5, -0.3, 0.2), 0.3, 0.4)),
+                (k, (Vec3::ZERO, 0.8, 0.1)),
+            ]
+        }) {
             let s = 10f32.powi(k);
             let (a, b) = (Vec3::new(s, 0.0, 0.0), Vec3::new(0.2 * s, s, 0.1 * s));
-            let c = Vec3::new(0.5 * s, -0.3 * s, 0.2 * s);
-            let target = c + a * 0.3 + b * 0.4;
+            let c = corner * s;
+            let target = c + a * ua + b * vb;
             let d = Vec3::new(0.3, -0.2, 1.0).normalize();
             let o = target - d * (3.0 * s);
             for prim in [
@@ -725,7 +735,25 @@ mod tests {
                 );
                 let p = o.as_dvec3() + d.as_dvec3() * t;
                 let err = (h.p.as_dvec3() - p).abs();
-                assert!(err.cmple(h.p_error.as_dvec3()).all(), "scale {s:e}: {h:?}");
+                // The bound holds off the surface (what ray offsetting projects on the
+                // normal) in every configuration…
+                let m = n.normalize();
+                let off = (h.p.as_dvec3() - p).dot(m).abs();
+                assert!(
+                    off <= m.abs().dot(h.p_error.as_dvec3()),
+                    "scale {s:e}: {prim:?} {h:?} is {off:e} off the plane"
+                );
+                // …and per axis where the point's magnitude is the surface's: with the
+                // corner at the origin and the viewer farther out than the point, the
+                // re-projected point's place along the surface also carries the ray's own
+                // rounding, u(|o| + t), which `p_error` (a distance from the surface) does
+                // not claim to bound.
+                if corner != Vec3::ZERO {
+                    assert!(
+                        err.cmple(h.p_error.as_dvec3()).all(),
+                        "scale {s:e}: {prim:?} {h:?} err {err:?}"
+                    );
+                }
                 // …and not loose: within γ₈ of the vertices' (the corner's and edges')
                 // magnitudes, as the f32 analysis gives.
                 let tight = match prim {
