@@ -482,7 +482,6 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
             };
             require_cases(&paths)?;
-            IoError::check_output_folder(&out)?;
             let opts = lightproof::report::sweep::Options {
                 paths: if paths.is_empty() {
                     vec![default_catalog()]
@@ -502,7 +501,6 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             report(&opts)
         }
         Command::Merge { inputs, out } => {
-            IoError::check_output_folder(&out)?;
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
             print_summary(&out, &summary);
@@ -556,7 +554,6 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             if all {
                 require_cases(&paths)?;
             }
-            IoError::check_output_folder(&out)?;
             println!("{}", lightproof::export::run(&paths, all, to, &out)?);
             Ok(())
         }

@@ -690,6 +690,11 @@ entry("export_out_below_file", "unclear", ["export", V, "--to", "mitsuba", "--ou
       contains=NOT_FOLDER)
 entry("report_out_is_file", "unclear", ["report", R, "--max-samples", "256", "--sampler", "independent",
                                         "--out", "{file}"], 3, contains=NOT_FOLDER)
+# Bad input is told before an output in the way (exit 2, not 3).
+entry("report_bad_case_out_is_file", "unclear", ["report", "{corpus}/cases/emission_radiance_m1.json", "--out", "{file}"],
+      2, "scene.shapes[0].emission.radiance")
+entry("export_bad_case_out_is_file", "unclear", ["export", "{corpus}/cases/emission_radiance_m1.json", "--to", "mitsuba",
+                                                 "--out", "{file}"], 2, "scene.shapes[0].emission.radiance")
 entry("merge_out_is_file", "unclear", ["merge", "{corpus}/merge/merge_valid", "--out", "{file}"], 3,
       contains=NOT_FOLDER)
 entry("verify_json_below_file", "unclear", ["verify", J, "--samples", "4096", "--no-chi2", "--json", "{file}/v.json"],
