@@ -739,6 +739,12 @@ mod tests {
                 // normal) in every configuration…
                 let m = n.normalize();
                 let off = (h.p.as_dvec3() - p).dot(m).abs();
+                // A bound is never negative in any component (ray offsetting sums them
+                // along |n|, so one negative term would shrink the others' cover).
+                assert!(
+                    h.p_error.cmpge(Vec3::ZERO).all(),
+                    "scale {s:e}: {prim:?} {h:?} has a negative error bound"
+                );
                 assert!(
                     off <= m.abs().dot(h.p_error.as_dvec3()),
                     "scale {s:e}: {prim:?} {h:?} is {off:e} off the plane"
