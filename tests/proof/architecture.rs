@@ -1,0 +1,275 @@
+//! ARCHITECTURE.md's module layers, kept: every top-level module of `src/` sits in one
+//! layer of its table, non-test code names only modules of its own layer or below, and
+//! the modules' graph has no cycle. The layers are read from ARCHITECTURE.md itself, so
+//! the page and the code cannot drift apart silently.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Top-level modules of `src/` (a file `x.rs` or a folder `x/`), without the crate roots.
+fn top_modules() -> BTreeSet<String> {
+    std::fs::read_dir(root().join("src"))
+        .expect("src/ is readable")
+        .flatten()
+        .filter_map(|e| {
+            let p = e.path();
+            let name = p.file_stem()?.to_str()?.to_string();
+            (p.is_dir() || p.extension().is_some_and(|x| x == "rs")).then_some(name)
+        })
+        .filter(|n| n != "lib" && n != "main")
+        .collect()
+}
+
+/// ARCHITECTURE.md's table "Modules (dependencies point down; no cycles)": module →
+/// layer index, 0 at the top. A module named in several rows (e.g. `spectrum` in the
+/// harness row's "colour through `spectrum::cie`") belongs to the lowest of them, the row
+/// where it is listed rather than mentioned.
+fn layers(page: &str, modules: &BTreeSet<String>) -> BTreeMap<String, usize> {
+    let section = page
+        .split("## Modules (dependencies point down; no cycles)")
+        .nth(1)
+        .expect("ARCHITECTURE.md has the modules table");
+    let rows = section
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .skip(2);
+    let mut out = BTreeMap::new();
+    for (i, row) in rows.enumerate() {
+        let cells: Vec<&str> = row.split('|').collect();
+        assert!(cells.len() >= 3, "malformed row {row:?}");
+        for name in cells[2].split('`').skip(1).step_by(2) {
+            let top = name.split("::").next().unwrap().trim_end_matches(".rs");
+            if modules.contains(top) {
+                out.insert(top.to_string(), i);
+            }
+        }
+    }
+    out
+}
+
+/// The source without comments and without `#[cfg(test)]` items (the tests of a module
+/// may use any layer: they are not part of the library's graph).
+fn code_of(text: &str) -> String {
+    let mut s = String::with_capacity(text.len());
+    let mut rest = text;
+    while !rest.is_empty() {
+        if let Some(r) = rest.strip_prefix("//") {
+            rest = r.find('\n').map_or("", |k| &r[k..]);
+        } else if let Some(r) = rest.strip_prefix("/*") {
+            rest = r.find("*/").map_or("", |k| &r[k + 2..]);
+        } else if let Some(r) = rest.strip_prefix("#[cfg(test)]") {
+            // Skip the next item: to its matching brace, or to its `;` if none comes first.
+            let open = r.find('{');
+            let semi = r.find(';');
+            rest = match (open, semi) {
+                (Some(o), semi) if semi.is_none_or(|s| o < s) => {
+                    let mut depth = 0usize;
+                    let mut end = r.len();
+                    for (k, c) in r[o..].char_indices() {
+                        match c {
+                            '{' => depth += 1,
+                            '}' => {
+                                depth -= 1;
+                                if depth == 0 {
+                                    end = o + k + 1;
+                                    break;
+                                }
+                            }
+                            _ => {}
+                        }
+                    }
+                    &r[end..]
+                }
+                (_, Some(s)) => &r[s + 1..],
+                _ => "",
+            };
+        } else {
+            let c = rest.chars().next().unwrap();
+            s.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    s
+}
+
+/// The top-level modules a piece of code names through `crate::`: `crate::a::…`, and
+/// each first segment of a `crate::{a::…, b, c::{…}}` group.
+fn crate_refs(code: &str) -> BTreeSet<String> {
+    let ident = |s: &str| -> String {
+        s.trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect()
+    };
+    let mut out = BTreeSet::new();
+    for (k, _) in code.match_indices("crate::") {
+        if k > 0 && {
+            let b = code.as_bytes()[k - 1];
+            b.is_ascii_alphanumeric() || b == b'_'
+        } {
+            continue; // e.g. `lightproof_crate::`
+        }
+        let after = code[k + "crate::".len()..].trim_start();
+        if let Some(group) = after.strip_prefix('{') {
+            let mut depth = 1usize;
+            let mut start = true;
+            for (i, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' => {
+                        depth -= 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    ',' if depth == 1 => start = true,
+                    c if start && !c.is_whitespace() => {
+                        start = false;
+                        let name = ident(&group[i..]);
+                        if !name.is_empty() {
+                            out.insert(name);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        } else {
+            let name = ident(after);
+            if !name.is_empty() {
+                out.insert(name);
+            }
+        }
+    }
+    out
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).expect("readable folder").flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// Module → the other top-level modules its non-test code names, with one file each.
+fn graph(modules: &BTreeSet<String>) -> BTreeMap<String, BTreeMap<String, String>> {
+    let mut files = Vec::new();
+    rust_files(&root().join("src"), &mut files);
+    let mut g: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
+    for f in files {
+        let rel = f.strip_prefix(root()).unwrap().display().to_string();
+        let top = rel
+            .trim_start_matches("src/")
+            .split('/')
+            .next()
+            .unwrap()
+            .trim_end_matches(".rs")
+            .to_string();
+        if !modules.contains(&top) {
+            continue; // lib.rs (the map) and main.rs (the CLI, above every layer)
+        }
+        let code = code_of(&std::fs::read_to_string(&f).unwrap());
+        for m in crate_refs(&code) {
+            if m != top && modules.contains(&m) {
+                g.entry(top.clone())
+                    .or_default()
+                    .entry(m)
+                    .or_insert(rel.clone());
+            }
+        }
+    }
+    g
+}
+
+#[test]
+fn the_reference_finder_reads_paths_and_groups() {
+    let code = code_of(
+        "use crate::scene::Scene;\nuse crate::{case::Case, io::{read, write}, math};\n\
+         // use crate::report;\n/// [`crate::judge`]\nfn f() { crate::stats::mean(); }\n\
+         #[cfg(test)]\nmod tests { use crate::render; }\n#[cfg(test)]\nuse crate::table;\n\
+         /* crate::suites */ let s = \"x\";",
+    );
+    let refs: Vec<String> = crate_refs(&code).into_iter().collect();
+    assert_eq!(refs, ["case", "io", "math", "scene", "stats"]);
+}
+
+#[test]
+fn modules_sit_in_the_layers_architecture_md_gives() {
+    let page = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let modules = top_modules();
+    assert!(modules.len() > 15, "{modules:?}");
+    let layer = layers(&page, &modules);
+    let unplaced: Vec<_> = modules.iter().filter(|m| !layer.contains_key(*m)).collect();
+    assert!(
+        unplaced.is_empty(),
+        "modules missing from ARCHITECTURE.md's layer table: {unplaced:?}"
+    );
+    let g = graph(&modules);
+    let mut upward = Vec::new();
+    for (from, tos) in &g {
+        for (to, file) in tos {
+            if layer[to] < layer[from] {
+                upward.push(format!(
+                    "{file}: `{from}` (layer {}) names `{to}` (layer {})",
+                    layer[from], layer[to]
+                ));
+            }
+        }
+    }
+    assert!(
+        upward.is_empty(),
+        "dependencies pointing up:\n{}",
+        upward.join("\n")
+    );
+    // No cycle, within a layer or across: depth-first search for a back edge.
+    fn visit<'a>(
+        m: &'a str,
+        g: &'a BTreeMap<String, BTreeMap<String, String>>,
+        state: &mut BTreeMap<&'a str, bool>,
+        path: &mut Vec<&'a str>,
+    ) -> Option<Vec<String>> {
+        match state.get(m) {
+            Some(true) => return None,
+            Some(false) => {
+                let at = path.iter().position(|p| *p == m).unwrap();
+                return Some(
+                    path[at..]
+                        .iter()
+                        .map(|s| s.to_string())
+                        .chain([m.to_string()])
+                        .collect(),
+                );
+            }
+            None => {}
+        }
+        state.insert(m, false);
+        path.push(m);
+        for to in g.get(m).into_iter().flat_map(|t| t.keys()) {
+            if let Some(cycle) = visit(to, g, state, path) {
+                return Some(cycle);
+            }
+        }
+        path.pop();
+        state.insert(m, true);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for m in &modules {
+        if let Some(cycle) = visit(m, &g, &mut state, &mut Vec::new()) {
+            panic!("an import cycle: {}", cycle.join(" → "));
+        }
+    }
+    // The graph is not empty: the reference finder sees the engine's real imports.
+    assert!(
+        g.get("transport").is_some_and(|t| t.contains_key("scene")),
+        "{g:?}"
+    );
+}
