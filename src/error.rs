@@ -54,7 +54,7 @@ impl IoError {
         IoError {
             path: path.display().to_string(),
             reason: match not_a_folder(path) {
-                Some(a) => format!("cannot write: `{}` is a file, not a folder", a.display()),
+                Some(why) => format!("cannot write: {why}"),
                 None => format!("cannot write: {e}"),
             },
         }
@@ -64,23 +64,37 @@ impl IoError {
     /// an existing file: checked before a command's work, so that a long run does not end
     /// in an unwritable output.
     pub fn check_output_folder(out: &std::path::Path) -> Result<(), IoError> {
-        match out.ancestors().find(|a| is_file_not_folder(a)) {
-            Some(a) => Err(IoError {
+        match out.ancestors().find_map(cannot_be_a_folder) {
+            Some(why) => Err(IoError {
                 path: out.display().to_string(),
-                reason: format!("cannot write: `{}` is a file, not a folder", a.display()),
+                reason: format!("cannot write: {why}"),
             }),
             None => Ok(()),
         }
     }
 }
 
-/// The first folder above `path` that exists as something other than a folder.
-fn not_a_folder(path: &std::path::Path) -> Option<&std::path::Path> {
-    path.ancestors().skip(1).find(|a| is_file_not_folder(a))
+/// Why the first folder above `path` that cannot be one cannot (see [`cannot_be_a_folder`]).
+fn not_a_folder(path: &std::path::Path) -> Option<String> {
+    path.ancestors().skip(1).find_map(cannot_be_a_folder)
 }
 
-fn is_file_not_folder(a: &std::path::Path) -> bool {
-    !a.as_os_str().is_empty() && a.exists() && !a.is_dir()
+/// Why `a` cannot be (or become) a folder: it exists as a file (or a device, a FIFO), or
+/// it is a symbolic link whose target does not exist (the system says "File exists" for
+/// both, naming neither).
+fn cannot_be_a_folder(a: &std::path::Path) -> Option<String> {
+    if a.as_os_str().is_empty() {
+        return None;
+    }
+    if a.exists() {
+        return (!a.is_dir()).then(|| format!("`{}` is a file, not a folder", a.display()));
+    }
+    let link = std::fs::read_link(a).ok()?;
+    Some(format!(
+        "`{}` is a symbolic link to `{}`, which does not exist",
+        a.display(),
+        link.display()
+    ))
 }
 
 /// Bad input or a failed output.
@@ -303,6 +317,53 @@ mod tests {
         assert!(IoError::check_output_folder(&dir).is_ok());
         assert!(IoError::check_output_folder(&dir.join("new/deeper")).is_ok());
         assert!(IoError::check_output_folder(std::path::Path::new("relative-out")).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A symbolic link whose target is missing, given as the output folder or met on the
+    /// way to a file, is named with its target (the system says "File exists"); a link to
+    /// a folder passes, and a link to a file is a file in the way.
+    #[cfg(unix)]
+    #[test]
+    fn a_dangling_link_in_the_way_of_a_folder_is_named() {
+        let dir = std::env::temp_dir().join(format!("lightproof-link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (dangling, to_dir, to_file) =
+            (dir.join("out"), dir.join("to-dir"), dir.join("to-file"));
+        let missing = dir.join("missing/target");
+        std::os::unix::fs::symlink(&missing, &dangling).unwrap();
+        std::os::unix::fs::symlink(&dir, &to_dir).unwrap();
+        std::fs::write(dir.join("afile"), b"x").unwrap();
+        std::os::unix::fs::symlink(dir.join("afile"), &to_file).unwrap();
+        let want = format!(
+            "cannot write: `{}` is a symbolic link to `{}`, which does not exist",
+            dangling.display(),
+            missing.display()
+        );
+        assert_eq!(
+            IoError::check_output_folder(&dangling).unwrap_err().reason,
+            want
+        );
+        assert_eq!(
+            IoError::check_output_folder(&dangling.join("deeper"))
+                .unwrap_err()
+                .reason,
+            want
+        );
+        let e = IoError::write(&dangling.join("x.json"), "File exists (os error 17)");
+        assert_eq!(e.reason, want);
+        assert!(IoError::check_output_folder(&to_dir).is_ok());
+        assert!(IoError::check_output_folder(&to_dir.join("new")).is_ok());
+        assert_eq!(
+            IoError::check_output_folder(&to_file).unwrap_err().reason,
+            format!(
+                "cannot write: `{}` is a file, not a folder",
+                to_file.display()
+            )
+        );
+        // The file itself a dangling link: nothing above it is in the way.
+        let e = IoError::write(&dangling, "No such file or directory");
+        assert_eq!(e.reason, "cannot write: No such file or directory");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

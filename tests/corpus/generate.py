@@ -9,7 +9,7 @@ Each manifest entry: name, class (crash | hang | wrong | unclear | leftover | f3
 baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per entry,
 {empty_dir} an empty folder, {big} a sparse file past the JSON size limit, {big_asset} a
 sparse `.exr` past the 1 GiB asset limit, {fifo} a named pipe with no writer, {file} an
-existing regular file), and either expect 2 with `field` (and optionally `contains`), a
+existing regular file, {dangling} a symbolic link to a missing target), and either expect 2 with `field` (and optionally `contains`), a
 substring the one stderr line must hold, or expect "valid" (exit 0 or 1; for estimate a
 finite `estimate` on stdout). `pre_files` are created in {tmp} first; `no_leftovers`
 asks that no `.tmp` file remain in {tmp} afterwards.
@@ -701,6 +701,21 @@ entry("verify_json_below_file", "unclear", ["verify", J, "--samples", "4096", "-
       3, contains=NOT_FOLDER)
 entry("render_output_below_file", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "1",
                                               "-o", "{file}/o.exr"], 3, contains=NOT_FOLDER)
+# A symbolic link whose target does not exist, as the output folder or on the way to a
+# file: the system says "File exists"; the message names the link and its target.
+DANGLING = "is a symbolic link to"
+entry("report_out_dangling_link", "unclear", ["report", R, "--max-samples", "256", "--sampler", "independent",
+                                              "--out", "{dangling}"], 3, contains=DANGLING)
+entry("chi2_out_dangling_link", "unclear", ["chi2", L, "--samples", "40960", "--out", "{dangling}"], 3,
+      contains=DANGLING)
+entry("export_out_below_dangling_link", "unclear", ["export", V, "--to", "mitsuba", "--out", "{dangling}/sub"], 3,
+      contains=DANGLING)
+entry("merge_out_dangling_link", "unclear", ["merge", "{corpus}/merge/merge_valid", "--out", "{dangling}"], 3,
+      contains=DANGLING)
+entry("verify_json_below_dangling_link", "unclear", ["verify", J, "--samples", "4096", "--no-chi2", "--json",
+                                                     "{dangling}/v.json"], 3, contains=DANGLING)
+entry("render_output_below_dangling_link", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "1",
+                                                       "-o", "{dangling}/o.exr"], 3, contains=DANGLING)
 
 if __name__ == "__main__":
     ok = [(E_DISK,) * 3] * 8

@@ -94,6 +94,7 @@ struct Fixture {
     big_asset: PathBuf,
     fifo: PathBuf,
     file: PathBuf,
+    dangling: PathBuf,
 }
 
 impl Fixture {
@@ -121,6 +122,10 @@ impl Fixture {
         assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", fifo.display());
         let file = root.join("a-file");
         std::fs::write(&file, b"not a folder").unwrap();
+        // A symbolic link whose target does not exist.
+        let dangling = root.join("dangling");
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(root.join("missing/target"), &dangling).unwrap();
         Fixture {
             root,
             empty_dir,
@@ -128,6 +133,7 @@ impl Fixture {
             big_asset,
             fifo,
             file,
+            dangling,
         }
     }
 
@@ -139,6 +145,7 @@ impl Fixture {
             .replace("{fifo}", &self.fifo.display().to_string())
             .replace("{big}", &self.big.display().to_string())
             .replace("{file}", &self.file.display().to_string())
+            .replace("{dangling}", &self.dangling.display().to_string())
     }
 }
 
