@@ -804,6 +804,39 @@ mod tests {
         assert_eq!(t(3.5, 4.5), Some(4.0));
     }
 
+    /// The open segment holds at every scale for triangles and rectangles, through the
+    /// `f32` tests (side 2) and the `f64` ones for extreme coordinates (side 2⁶⁷, where
+    /// `intersect_triangle_wide` and `intersect_rectangle_wide` take over): a plane exactly
+    /// s ahead is hit at t = s, not within (0, s) nor (s, ∞).
+    #[test]
+    fn planar_hits_at_the_segment_ends_are_excluded() {
+        for s in [1.0f32, 2f32.powi(66)] {
+            let z = Vec3::new(0.0, 0.0, s);
+            for prim in [
+                Primitive::Triangle {
+                    p: [
+                        Vec3::new(-s, -s, s),
+                        Vec3::new(s, -s, s),
+                        Vec3::new(0.0, s, s),
+                    ],
+                },
+                Primitive::Rectangle {
+                    corner: Vec3::new(-s, -s, s),
+                    u: Vec3::new(2.0 * s, 0.0, 0.0),
+                    v: Vec3::new(0.0, 2.0 * s, 0.0),
+                },
+            ] {
+                let t = |tmin: f32, tmax: f32| {
+                    prim.intersect(Vec3::ZERO, Vec3::Z, tmin, tmax).map(|h| h.t)
+                };
+                assert_eq!(t(0.0, f32::INFINITY), Some(z.z), "{prim:?}");
+                assert_eq!(t(0.0, s), None, "{prim:?}");
+                assert_eq!(t(s, f32::INFINITY), None, "{prim:?}");
+                assert_eq!(t(s.next_down(), s.next_up()), Some(s), "{prim:?}");
+            }
+        }
+    }
+
     /// Planes are met at t = ⟨origin − o, n⟩/⟨d, n⟩ from any ray origin, inside the open
     /// segment: a disk and a rectangle exactly 4 ahead of an origin off the axes are hit
     /// at t = 4, not within (0, 4) nor (4, ∞).
