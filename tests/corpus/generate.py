@@ -701,6 +701,13 @@ entry("verify_json_below_file", "unclear", ["verify", J, "--samples", "4096", "-
       3, contains=NOT_FOLDER)
 entry("render_output_below_file", "unclear", ["render", "{corpus}/cases/render_valid.json", "--spp", "1",
                                               "-o", "{file}/o.exr"], 3, contains=NOT_FOLDER)
+# The output is checked before any sampling: with 2^40 samples (report) or 2^32 (chi2) a
+# check made after the work would run past the harness's timeout.
+entry("report_out_is_file_before_sampling", "hang", ["report", R, "--min-samples", "1099511627776",
+                                                     "--max-samples", "1099511627776", "--out", "{file}"], 3,
+      contains=NOT_FOLDER)
+entry("chi2_out_is_file_before_sampling", "hang", ["chi2", L, "--samples", "4294967296", "--out", "{file}"], 3,
+      contains=NOT_FOLDER)
 # A symbolic link whose target does not exist, as the output folder or on the way to a
 # file: the system says "File exists"; the message names the link and its target.
 DANGLING = "is a symbolic link to"
