@@ -50,6 +50,17 @@ pub const F32_UNIT_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
 /// through (a sample's evaluation: ray set-up, intersection, BSDF, weights).
 pub const EXACT_OPERATIONS: f64 = 128.0;
 
+/// The probability q of a region that `count` independent samples all miss with
+/// probability 1/20, (1 − q)^count = 0.05: the "rule of three", q ≈ 3/count. Samples that
+/// agree tell nothing about an integrand on a region of about this size, so an estimate
+/// without variance that misses its reference may be an unlucky draw rather than a bias.
+pub fn unseen_mass(count: u64) -> f64 {
+    if count == 0 {
+        return 1.0;
+    }
+    -(0.05f64.ln() / count as f64).exp_m1()
+}
+
 /// γₙ = n·u/(1 − n·u) for n = [`EXACT_OPERATIONS`]: the relative tolerance of an exact
 /// verdict (≈ 7.63e-6).
 pub fn exact_relative_tolerance() -> f64 {
@@ -340,8 +351,11 @@ impl MeanTest {
             Some("reference is not finite".into())
         } else if !estimate.is_finite() || !(z.abs() <= 1.0) {
             Some(format!(
-                "exact estimate off by {excess:.3e}, beyond the f32 error bound {tolerance:.3e} (γ{} · |μ|)",
-                EXACT_OPERATIONS
+                "no variance in {count} samples, yet off by {excess:.3e}, beyond the f32 error bound {tolerance:.3e} (γ{} · |μ|): \
+                 the estimator is biased, or its integrand varies only where none of the samples fell \
+                 (a region of probability {:.1e} is missed by all of them once in 20 runs): run more samples to tell",
+                EXACT_OPERATIONS,
+                unseen_mass(count)
             ))
         } else {
             None
@@ -634,6 +648,20 @@ mod tests {
         assert!(!t.judge_at_most(&acc, f64::NAN).passed);
     }
 
+    /// The rule of three: (1 − q)^n = 1/20, q ≈ 3/n for large n.
+    #[test]
+    fn unseen_mass_is_missed_by_all_samples_once_in_twenty() {
+        for n in [1u64, 2, 64, 4096, 1 << 20, 1 << 40] {
+            let q = unseen_mass(n);
+            assert!(q > 0.0 && q < 1.0, "{n}: {q}");
+            let p_all_miss = (n as f64 * (-q).ln_1p()).exp();
+            assert!((p_all_miss - 0.05).abs() < 1e-9, "{n}: {p_all_miss}");
+        }
+        assert!((unseen_mass(1) - 0.95).abs() < 1e-15);
+        assert!((unseen_mass(4096) * 4096.0 / 0.05f64.ln().abs() - 1.0).abs() < 1e-3);
+        assert_eq!(unseen_mass(0), 1.0);
+    }
+
     #[test]
     fn exact_class_has_a_stated_f32_tolerance() {
         let g = exact_relative_tolerance();
@@ -653,7 +681,17 @@ mod tests {
         assert!((ok.detectable_bias - g * 2.0 * (1.0 + 0.9 * g)).abs() < 1e-15);
         assert!((ok.detectable_relative_bias - g).abs() < 1e-20);
         let miss = t.judge(&flat, 2.0 * (1.0 + 1.1 * g));
-        assert!(!miss.passed && miss.p_value == 0.0 && miss.reason.unwrap().contains("f32"));
+        let why = miss.reason.clone().unwrap();
+        assert!(
+            !miss.passed && miss.p_value == 0.0 && why.contains("f32"),
+            "{why}"
+        );
+        // The failure says what an estimate without variance cannot tell apart: a bias, or
+        // an integrand varying only where the 64 samples did not fall (q = 1 − 0.05^(1/64)).
+        assert!(
+            why.contains("no variance in 64 samples") && why.contains("4.6e-2"),
+            "{why}"
+        );
         assert!(!t.judge(&flat, 2.0 * (1.0 - 1.1 * g)).passed);
         assert!(t.judge(&flat, 2.0 * (1.0 - 0.9 * g)).passed);
         // A zero reference needs an exact zero.

@@ -446,6 +446,33 @@ fn verify_family_counts_the_statistical_verdicts() {
     let _ = std::fs::remove_file(json);
 }
 
+/// An estimate without variance that misses its reference fails, saying what it cannot
+/// tell apart: the BSDF estimator of the sphere light 1e-4 radii away hits the sphere with
+/// every one of 4096 Sobol samples (it misses only a ring of probability ~2e-4 at grazing
+/// angles), so its samples agree and the estimate is π, not the reference's 3.140965. The
+/// message names the sample count, the unseen mass (7.3e-4) and the remedy; at the case's
+/// own sample count the ring is reached and the verdict is statistical (the catalog).
+#[test]
+fn an_estimate_without_variance_that_misses_says_why() {
+    let out = bin()
+        .arg("verify")
+        .arg(catalog_case("irradiance/sphere_near_surface_on_axis_gap_1e-4.json"))
+        .args(["--samples", "4096"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    for want in [
+        "bsdf/sobol",
+        "(exact)",
+        "no variance in 4096 samples, yet off by 6.277e-4",
+        "a region of probability 7.3e-4 is missed by all of them once in 20 runs",
+        "run more samples to tell",
+    ] {
+        assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
+    }
+}
+
 /// A time-resolved case exits 1 when any bin fails: the transient of the pulsed disk
 /// judged against a reference radiance 5% too high fails every bin (each detects a
 /// few-% bias at 4096 samples), and against its own reference passes.
