@@ -62,9 +62,19 @@ pub fn assemble_case_report(
     }
 }
 
+/// |d|/σ̂ beyond which a point's distance d = x̄ − ref to the reference counts as a bias
+/// in its RMS error: the two-sided normal quantile at α = 10⁻⁴, the catalog's family
+/// level (here per point, uncorrected).
+pub const BIAS_Z: f64 = 3.890_591_886_413_094;
+
 /// The statistics of one point from its per-batch accumulators, in batch order.
 ///
-/// `rms_error = √(Σ_b (m_b − ref)²/B)/√B` over the B batches that hold a finite sample.
+/// `rms_error² = Σ_b (m_b − ref)²/B²` over the B batches that hold a finite sample: the
+/// squared standard error of the mean taken about the reference, plus d²/B for the
+/// distance d = x̄ − ref. That form holds only 1/B of a bias β (the mean's squared error
+/// is β² + σ²/N), so where d is significant, |d| > [`BIAS_Z`]·σ̂ with σ̂ the batch-means
+/// standard error (always, when the batches agree exactly and d ≠ 0), the rest of d²,
+/// (1 − 1/B)·d², is added: a biased estimate's error is never shown √B times smaller.
 pub fn point_from_batches(
     samples: u64,
     seed: u64,
@@ -90,7 +100,13 @@ pub fn point_from_batches(
             } else {
                 let b = means.len() as f64;
                 let ms = means.iter().map(|m| (m - r) * (m - r)).sum::<f64>() / b;
-                finite((ms / b).sqrt())
+                let d = estimate - r;
+                let bias = if d.abs() <= BIAS_Z * bm.std_error() {
+                    0.0
+                } else {
+                    d * d * (1.0 - 1.0 / b)
+                };
+                finite((ms / b + bias).sqrt())
             };
             (finite(abs), finite(abs / r.abs()), rms)
         }
@@ -187,14 +203,17 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
         return none;
     };
     let largest = series.points.last().map_or(0.0, |p| p.samples as f64);
+    let smallest = series.points.first().map_or(0.0, |p| p.samples as f64);
     match (
         series.fit_samples,
         series.fit_cost,
         series.seconds_per_sample,
     ) {
-        (Some(f), cost, Some(sps)) if f.slope < 0.0 => {
+        (Some(f), cost, Some(sps)) if decreasing(&f) => {
             let n = ((eps * scale).ln() - f.intercept) / f.slope;
-            let n = finite(n.exp());
+            // Not before the sweep's first point: a fit says nothing about fewer samples
+            // than were measured.
+            let n = finite(n.exp()).map(|n| n.max(smallest));
             let t = |n: f64| cost.map_or(n * sps, |c| c.seconds(n));
             TimeTo {
                 samples: n,
@@ -220,6 +239,14 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
             None => none,
         },
     }
+}
+
+/// Whether an error fit may be extrapolated: its slope is negative by more than twice its
+/// standard error (a fit of two points, without one, by its sign alone). An error that
+/// does not fall (a bias's floor, or a zero-variance estimator) predicts nothing: a slope
+/// of −2·10⁻⁶ ± 0.4 put 0.1% at 0 samples and 0.01% at none.
+fn decreasing(f: &Fit) -> bool {
+    f.slope < 0.0 && f.slope_std_error.is_none_or(|se| f.slope + 2.0 * se < 0.0)
 }
 
 /// Index of [`HEADLINE`] in [`TARGETS`].
@@ -388,6 +415,58 @@ mod tests {
         );
     }
 
+    /// An error that does not fall is not extrapolated: a bias floor of 2·10⁻⁴ (relative)
+    /// with noise reaches 1% and 0.1% at the first point measured and 0.01% never (the
+    /// fit's slope, within twice its error of 0, once put 0.1% at 0 samples); a falling
+    /// error whose fit reaches a target before the first point is given that point.
+    #[test]
+    fn flat_errors_are_not_extrapolated_and_nothing_precedes_the_sweep() {
+        let floor: Vec<(u64, f64, f64)> = [1.0, 0.999_999, 1.000_001, 0.999_998, 1.000_002]
+            .iter()
+            .enumerate()
+            .map(|(k, &w)| (256u64 << k, 2e-4 * w, 1e-6 * (256u64 << k) as f64))
+            .collect();
+        let mut s = series(&floor);
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        let f = s.fit_samples.unwrap();
+        assert!(f.slope.abs() < 1e-5 && !decreasing(&f), "{f:?}");
+        assert_eq!(s.time_to[0].samples, Some(256.0));
+        assert_eq!(s.time_to[1].samples, Some(256.0));
+        assert_eq!(s.time_to[2].samples, None);
+        // e = 10⁻³ N^-½ from N = 256: 1% "at" N = 0.01 by the fit, given as 256.
+        let fast: Vec<(u64, f64, f64)> = (8..=12)
+            .map(|k| {
+                let n = 1u64 << k;
+                (n, 1e-3 * (n as f64).powf(-0.5), 1e-6 * n as f64)
+            })
+            .collect();
+        let mut s = series(&fast);
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        assert!(decreasing(&s.fit_samples.unwrap()));
+        assert_eq!(s.time_to[0].samples, Some(256.0));
+        assert!(!s.time_to[0].extrapolated);
+        // 0.01% at N = 100 by the fit: 256 as well; the fit's own answers stand beyond.
+        assert_eq!(s.time_to[2].samples, Some(256.0));
+        // Without a standard error (two points) the sign decides.
+        let two = Fit {
+            slope: -0.5,
+            slope_std_error: None,
+            intercept: 0.0,
+            points: 2,
+        };
+        assert!(decreasing(&two) && !decreasing(&Fit { slope: 0.0, ..two }));
+        assert!(!decreasing(&Fit {
+            slope: -0.5,
+            slope_std_error: Some(0.3),
+            ..two
+        }));
+        assert!(decreasing(&Fit {
+            slope: -0.5,
+            slope_std_error: Some(0.2),
+            ..two
+        }));
+    }
+
     #[test]
     fn rms_error_of_batches() {
         let mk = |v: f64| {
@@ -401,5 +480,53 @@ mod tests {
         assert!((p.rms_error.unwrap() - 0.5f64.sqrt()).abs() < 1e-15);
         assert_eq!(p.abs_error, Some(0.0));
         assert_eq!(p.estimate, 2.0);
+    }
+
+    /// A bias is shown whole once it is significant: batches that agree exactly (no
+    /// variance) off the reference by d give rms_error = |d|, not |d|/√B; batches whose
+    /// spread covers d keep the batch form; the threshold is the normal quantile at 10⁻⁴.
+    #[test]
+    fn a_significant_bias_counts_in_full_in_the_rms_error() {
+        use statrs::distribution::{ContinuousCDF, Normal};
+        let z = Normal::standard().inverse_cdf(1.0 - 0.5e-4);
+        assert!((BIAS_Z - z).abs() < 1e-12, "{z}");
+        let batch = |v: f64| {
+            let mut a = Accumulator::new();
+            a.push(v);
+            a.push(v);
+            a
+        };
+        // 128 identical batches at π against 3.140965.
+        let flat: Vec<Accumulator> = (0..128).map(|_| batch(std::f64::consts::PI)).collect();
+        let p = point_from_batches(256, 0, &flat, 1.0, None, Some(3.140965));
+        let d = std::f64::consts::PI - 3.140965;
+        assert!(
+            (p.rms_error.unwrap() / d - 1.0).abs() < 1e-12,
+            "{:?}",
+            p.rms_error
+        );
+        // Batch means ±1 about 0.01 (σ̂ = 1/√128 ≈ 0.088): d = 0.01 is not significant,
+        // the batch form stays, √(1 + 10⁻⁴)/√128.
+        let spread: Vec<Accumulator> = (0..128)
+            .map(|i| batch(0.01 + if i % 2 == 0 { 1.0 } else { -1.0 }))
+            .collect();
+        let p = point_from_batches(256, 0, &spread, 1.0, None, Some(0.0));
+        let want = ((1.0 + 1e-4) / 128.0f64).sqrt();
+        assert!(
+            (p.rms_error.unwrap() / want - 1.0).abs() < 1e-12,
+            "{:?}",
+            p.rms_error
+        );
+        // The same spread 0.5 off (z ≈ 5.7): the whole d² counts, √((1 + d²)/128 + d²(1 − 1/128)).
+        let off: Vec<Accumulator> = (0..128)
+            .map(|i| batch(0.5 + if i % 2 == 0 { 1.0 } else { -1.0 }))
+            .collect();
+        let p = point_from_batches(256, 0, &off, 1.0, None, Some(0.0));
+        let want = ((1.0f64 + 0.25) / 128.0 + 0.25 * (1.0 - 1.0 / 128.0)).sqrt();
+        assert!(
+            (p.rms_error.unwrap() / want - 1.0).abs() < 1e-12,
+            "{:?}",
+            p.rms_error
+        );
     }
 }

@@ -456,7 +456,9 @@ fn verify_family_counts_the_statistical_verdicts() {
 fn an_estimate_without_variance_that_misses_says_why() {
     let out = bin()
         .arg("verify")
-        .arg(catalog_case("irradiance/sphere_near_surface_on_axis_gap_1e-4.json"))
+        .arg(catalog_case(
+            "irradiance/sphere_near_surface_on_axis_gap_1e-4.json",
+        ))
         .args(["--samples", "4096"])
         .output()
         .unwrap();
