@@ -198,6 +198,29 @@ impl Outcome {
         }
     }
 
+    /// A failed verdict of an estimate run with `ran` samples, fewer than its case's own
+    /// `own`, says so in its reason: the false-alarm rate α is established at each case's
+    /// own count and above (the proof runs there, across seeds), and with fewer samples an
+    /// integrand whose variance sits in rare events (a near-delta lobe at grazing
+    /// incidence, a thin strip of a view factor) can hide it from the standard error, so
+    /// a failure there may be a false alarm (`verify --samples 256` fails 4–7 of 267
+    /// verdicts of a correct engine across 8 seeds). Passed verdicts are left as they are.
+    pub fn note_fewer_samples(&mut self, ran: u64, own: u64) {
+        if ran >= own {
+            return;
+        }
+        if let Some(v) = self.verdict.as_mut().filter(|v| !v.passed) {
+            let why = format!(
+                "ran {ran} samples, fewer than the case's own {own}, where its false-alarm rate is not established \
+                 (rare events may go unseen, and the standard error with them): rerun at the case's own count to tell"
+            );
+            v.reason = Some(match v.reason.take() {
+                Some(r) => format!("{r}; {why}"),
+                None => why,
+            });
+        }
+    }
+
     /// Whether the outcome will be a member of the statistical (Šidák) family.
     pub fn is_statistical(&self) -> bool {
         self.reference.is_some() && !self.exact
@@ -269,6 +292,39 @@ mod tests {
         let mut a = Accumulator::new();
         xs.iter().for_each(|&x| a.push(x));
         a
+    }
+
+    /// A failure below the case's own sample count says so; a pass, a run at or above the
+    /// count and an unjudged outcome are left as they are.
+    #[test]
+    fn failures_below_the_case_count_are_named() {
+        let failed = || {
+            let mut o = outcome(1.6, Some(0.1), Some(1.0), 256, 0);
+            o.judge(1e-4, 1);
+            assert!(!o.passed());
+            o
+        };
+        let mut o = failed();
+        let before = o.verdict.as_ref().unwrap().reason.clone().unwrap();
+        o.note_fewer_samples(256, 65536);
+        let after = o.verdict.as_ref().unwrap().reason.clone().unwrap();
+        assert!(
+            after.starts_with(&before)
+                && after.contains("ran 256 samples, fewer than the case's own 65536"),
+            "{after}"
+        );
+        for (ran, own) in [(65536, 65536), (1 << 20, 65536)] {
+            let mut o = failed();
+            o.note_fewer_samples(ran, own);
+            assert_eq!(o.verdict.unwrap().reason.unwrap(), before);
+        }
+        let mut ok = outcome(1.0, Some(0.1), Some(1.0), 256, 0);
+        ok.judge(1e-4, 1);
+        ok.note_fewer_samples(256, 65536);
+        assert!(ok.passed() && ok.verdict.unwrap().reason.is_none());
+        let mut unjudged = outcome(1.0, Some(0.1), None, 256, 0);
+        unjudged.note_fewer_samples(256, 65536);
+        assert!(unjudged.verdict.is_none());
     }
 
     #[test]
