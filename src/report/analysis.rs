@@ -467,6 +467,41 @@ mod tests {
         }));
     }
 
+    /// Relative targets scale by |reference|: e = 4 N^-½ against a reference of 4 (or −4)
+    /// reaches 1% at N = 10⁴; a flat error of 0.02 against 4 (0.5%) reaches 1% at the first
+    /// point, at that point's fitted time, and 0.1% never; without a cost line the time is
+    /// N times the seconds per sample.
+    #[test]
+    fn time_to_scales_by_the_reference_and_reads_costs() {
+        let pts: Vec<(u64, f64, f64)> = (8..=14)
+            .map(|k| {
+                let n = 1u64 << k;
+                (n, 4.0 * (n as f64).powf(-0.5), 1e-6 * n as f64)
+            })
+            .collect();
+        for r in [4.0, -4.0] {
+            let mut s = series(&pts);
+            summarize(&mut s, ErrorMeasure::RmsError, Some(r));
+            assert!(
+                (s.time_to[0].samples.unwrap() / 1e4 - 1.0).abs() < 1e-9,
+                "{:?}",
+                s.time_to
+            );
+            assert!(!s.time_to[0].extrapolated && s.time_to[1].extrapolated);
+            // Without a cost line: t = N · seconds per sample.
+            s.fit_cost = None;
+            s.seconds_per_sample = Some(2e-6);
+            let t = time_to(&s, ErrorMeasure::RmsError, Some(4.0), 0.01);
+            assert!((t.seconds.unwrap() / 2e-2 - 1.0).abs() < 1e-9, "{t:?}");
+        }
+        let mut flat = series(&[(256, 0.02, 1e-4), (512, 0.02, 2e-4), (1024, 0.02, 4e-4)]);
+        summarize(&mut flat, ErrorMeasure::RmsError, Some(4.0));
+        assert_eq!(flat.time_to[0].samples, Some(256.0));
+        let t = flat.time_to[0].seconds.unwrap();
+        assert!((t / 1e-4 - 1.0).abs() < 1e-6, "{t}");
+        assert_eq!(flat.time_to[1].samples, None);
+    }
+
     #[test]
     fn rms_error_of_batches() {
         let mk = |v: f64| {
@@ -475,9 +510,19 @@ mod tests {
             a.push(v);
             a
         };
-        // Batch means 1 and 3 against 2: √((1 + 1)/2)/√2 = 1/√2.
+        // Batch means 1 and 3 against 2: √((1 + 1)/2)/√2 = 1/√2; an empty batch (no
+        // finite sample) is not a batch mean.
         let p = point_from_batches(4, 0, &[mk(1.0), mk(3.0)], 1.0, None, Some(2.0));
         assert!((p.rms_error.unwrap() - 0.5f64.sqrt()).abs() < 1e-15);
+        let e = point_from_batches(
+            4,
+            0,
+            &[mk(1.0), Accumulator::new(), mk(3.0)],
+            1.0,
+            None,
+            Some(2.0),
+        );
+        assert_eq!(e.rms_error, p.rms_error);
         assert_eq!(p.abs_error, Some(0.0));
         assert_eq!(p.estimate, 2.0);
     }
@@ -505,6 +550,10 @@ mod tests {
             "{:?}",
             p.rms_error
         );
+        assert!((p.rel_error.unwrap() / (d / 3.140965) - 1.0).abs() < 1e-12);
+        let neg = point_from_batches(256, 0, &flat, 1.0, None, Some(-3.140965));
+        let want = (std::f64::consts::PI + 3.140965) / 3.140965;
+        assert!((neg.rel_error.unwrap() / want - 1.0).abs() < 1e-12);
         // Batch means ±1 about 0.01 (σ̂ = 1/√128 ≈ 0.088): d = 0.01 is not significant,
         // the batch form stays, √(1 + 10⁻⁴)/√128.
         let spread: Vec<Accumulator> = (0..128)
