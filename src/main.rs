@@ -45,7 +45,8 @@ enum Command {
         #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
         threads: Option<usize>,
         /// Samples per estimate, 256 to 2^40, rounded up to a multiple of the 128 batches
-        /// (to 128 × a power of two for stratified and sobol) (default: each case's own).
+        /// (to 128 × a power of two for stratified and sobol) (default: each case's own;
+        /// below it a verdict's false-alarm rate is not established, and a failure says so).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_samples)]
         samples: Option<u64>,
         /// Write every outcome as JSON to this file.
@@ -66,7 +67,8 @@ enum Command {
         /// The case file.
         case: PathBuf,
         /// Samples, 256 to 2^40, rounded up to a multiple of the 128 batches (to 128 × a
-        /// power of two for stratified and sobol) (default: the case's own, else 2^18).
+        /// power of two for stratified and sobol) (default: the case's own, else 2^18;
+        /// below it the verdict's false-alarm rate is not established, and a failure says so).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_samples)]
         samples: Option<u64>,
         /// Seed.
