@@ -446,6 +446,56 @@ fn verify_family_counts_the_statistical_verdicts() {
     let _ = std::fs::remove_file(json);
 }
 
+/// `verify` over the whole catalog (what a bare `lightproof` runs) adds the warp suites'
+/// chi-square tests to the family: k = the statistical verdicts + the warps, each warp
+/// judged at the Šidák level for that k, as the summary line says. At 256 samples (to
+/// keep it short) a few rare-event cases may fail; the family's size does not depend on it.
+#[test]
+fn the_whole_catalog_family_counts_the_warp_suites() {
+    let json =
+        std::env::temp_dir().join(format!("lightproof-cli-whole-{}.json", std::process::id()));
+    let out = bin()
+        .args(["verify", "--samples", "256", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{stdout}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let statistical = doc["outcomes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["verdict"]["class"] == "statistical")
+        .count();
+    let warps = doc["chi2"].as_array().unwrap();
+    assert_eq!(warps.len(), lightproof::suites::warps().len());
+    assert!(
+        warps.len() >= 8 && statistical > 200,
+        "{} {statistical}",
+        warps.len()
+    );
+    let k = statistical + warps.len();
+    assert_eq!(doc["tests"].as_u64(), Some(k as u64));
+    let alpha1 = 1.0 - (1.0 - 1e-4f64).powf(1.0 / k as f64);
+    for w in warps {
+        let a = w["alpha"].as_f64().unwrap();
+        assert!(
+            (a / alpha1 - 1.0).abs() < 1e-9,
+            "{}: α = {a}, want {alpha1}",
+            w["name"]
+        );
+    }
+    assert!(
+        stdout.contains(&format!(
+            "Šidák-corrected over k = {k} at family α = 0.0001"
+        )),
+        "{stdout}"
+    );
+    let _ = std::fs::remove_file(json);
+}
+
 /// An estimate without variance that misses its reference fails, saying what it cannot
 /// tell apart: the BSDF estimator of the sphere light 1e-4 radii away hits the sphere with
 /// every one of 4096 Sobol samples (it misses only a ring of probability ~2e-4 at grazing
