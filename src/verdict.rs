@@ -198,27 +198,43 @@ impl Outcome {
         }
     }
 
-    /// A failed verdict of an estimate run with `ran` samples, fewer than its case's own
-    /// `own`, says so in its reason: the false-alarm rate α is established at each case's
-    /// own count and above (the proof runs there, across seeds), and with fewer samples an
-    /// integrand whose variance sits in rare events (a near-delta lobe at grazing
-    /// incidence, a thin strip of a view factor) can hide it from the standard error, so
-    /// a failure there may be a false alarm (`verify --samples 256` fails 4–7 of 267
-    /// verdicts of a correct engine across 8 seeds). Passed verdicts are left as they are.
-    pub fn note_fewer_samples(&mut self, ran: u64, own: u64) {
+    /// A failed verdict of an estimate asked for `ran` samples where its case's own count
+    /// is `own` says so in its reason when it drew fewer samples than the case's own count
+    /// would have (both as the engine rounds them for this outcome's sampler): the
+    /// false-alarm rate α is established at each case's own count and above (the proof
+    /// runs there, across seeds), and with fewer samples an integrand whose variance sits
+    /// in rare events (a near-delta lobe at grazing incidence, a thin strip of a view
+    /// factor) can hide it from the standard error, so a failure there may be a false alarm
+    /// (`verify --samples 256` fails 4–7 of 267 verdicts of a correct engine across 8
+    /// seeds). Passed verdicts, and failures that are never chance (non-finite samples or
+    /// reference), are left as they are.
+    /// Returns whether it added the note.
+    pub fn note_fewer_samples(&mut self, ran: u64, own: u64) -> bool {
+        let drawn = |n: u64| {
+            crate::transport::engine::RunSpec {
+                samples: n,
+                sampler: self.sampler,
+                seed: 0,
+            }
+            .total()
+        };
+        let (ran, own) = (drawn(ran), drawn(own));
         if ran >= own {
-            return;
+            return false;
         }
-        if let Some(v) = self.verdict.as_mut().filter(|v| !v.passed) {
+        let chance = |v: &Verdict| !v.passed && v.non_finite == 0 && v.reference.is_finite();
+        if let Some(v) = self.verdict.as_mut().filter(|v| chance(v)) {
             let why = format!(
-                "ran {ran} samples, fewer than the case's own {own}, where its false-alarm rate is not established \
+                "drew {ran} samples, fewer than the case's own {own}, where its false-alarm rate is not established \
                  (rare events may go unseen, and the standard error with them): rerun at the case's own count to tell"
             );
             v.reason = Some(match v.reason.take() {
                 Some(r) => format!("{r}; {why}"),
                 None => why,
             });
+            return true;
         }
+        false
     }
 
     /// Whether the outcome will be a member of the statistical (Šidák) family.
@@ -310,10 +326,11 @@ mod tests {
         let after = o.verdict.as_ref().unwrap().reason.clone().unwrap();
         assert!(
             after.starts_with(&before)
-                && after.contains("ran 256 samples, fewer than the case's own 65536"),
+                && after.contains("drew 256 samples, fewer than the case's own 65536"),
             "{after}"
         );
-        for (ran, own) in [(65536, 65536), (1 << 20, 65536)] {
+        // Counts compare as drawn: 65 500 and 65 536 both draw 128 × 512 = 65 536.
+        for (ran, own) in [(65536, 65536), (1 << 20, 65536), (65_500, 65536)] {
             let mut o = failed();
             o.note_fewer_samples(ran, own);
             assert_eq!(o.verdict.unwrap().reason.unwrap(), before);
@@ -325,6 +342,12 @@ mod tests {
         let mut unjudged = outcome(1.0, Some(0.1), None, 256, 0);
         unjudged.note_fewer_samples(256, 65536);
         assert!(unjudged.verdict.is_none());
+        // A non-finite sample fails at any count: no note.
+        let mut nf = outcome(1.0, Some(0.1), Some(1.0), 256, 1);
+        nf.judge(1e-4, 1);
+        let why = nf.verdict.as_ref().unwrap().reason.clone();
+        nf.note_fewer_samples(256, 65536);
+        assert!(!nf.passed() && nf.verdict.unwrap().reason == why);
     }
 
     #[test]

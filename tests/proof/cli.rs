@@ -521,8 +521,8 @@ fn an_estimate_without_variance_that_misses_says_why() {
         "a region of probability 7.3e-4 is missed by all of them once in 20 runs",
         "run more samples to tell",
         // --samples below the case's own count (2^18) is named as such.
-        "ran 4096 samples, fewer than the case's own 262144",
-        "1 of the 1 failures ran fewer samples than their case's own count",
+        "drew 4096 samples, fewer than the case's own 262144",
+        "1 of the 1 failures drew fewer samples than their case's own count",
     ] {
         assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
     }
