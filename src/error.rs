@@ -80,21 +80,28 @@ fn not_a_folder(path: &std::path::Path) -> Option<String> {
 }
 
 /// Why `a` cannot be (or become) a folder: it exists as a file (or a device, a FIFO), or
-/// it is a symbolic link whose target does not exist (the system says "File exists" for
-/// both, naming neither).
+/// it is a symbolic link that leads to nothing (its target, or a link further on, is
+/// missing) or cannot be followed (a loop); the system says "File exists" for these,
+/// naming none of them.
 fn cannot_be_a_folder(a: &std::path::Path) -> Option<String> {
     if a.as_os_str().is_empty() {
         return None;
     }
-    if a.exists() {
-        return (!a.is_dir()).then(|| format!("`{}` is a file, not a folder", a.display()));
+    match std::fs::metadata(a) {
+        Ok(m) => (!m.is_dir()).then(|| format!("`{}` is a file, not a folder", a.display())),
+        Err(e) => {
+            let link = std::fs::read_link(a).ok()?;
+            let why = match e.kind() {
+                std::io::ErrorKind::NotFound => "which leads to nothing".to_string(),
+                _ => format!("which cannot be followed ({e})"),
+            };
+            Some(format!(
+                "`{}` is a symbolic link to `{}`, {why}",
+                a.display(),
+                link.display()
+            ))
+        }
     }
-    let link = std::fs::read_link(a).ok()?;
-    Some(format!(
-        "`{}` is a symbolic link to `{}`, which does not exist",
-        a.display(),
-        link.display()
-    ))
 }
 
 /// Bad input or a failed output.
@@ -336,7 +343,7 @@ mod tests {
         std::fs::write(dir.join("afile"), b"x").unwrap();
         std::os::unix::fs::symlink(dir.join("afile"), &to_file).unwrap();
         let want = format!(
-            "cannot write: `{}` is a symbolic link to `{}`, which does not exist",
+            "cannot write: `{}` is a symbolic link to `{}`, which leads to nothing",
             dangling.display(),
             missing.display()
         );
@@ -360,6 +367,31 @@ mod tests {
                 "cannot write: `{}` is a file, not a folder",
                 to_file.display()
             )
+        );
+        // A link to a dangling link leads to nothing too; two links to each other cannot
+        // be followed, and the system's reason says why.
+        let chain = dir.join("chain");
+        std::os::unix::fs::symlink(&dangling, &chain).unwrap();
+        assert!(
+            IoError::check_output_folder(&chain)
+                .unwrap_err()
+                .reason
+                .ends_with(&format!(
+                    "to `{}`, which leads to nothing",
+                    dangling.display()
+                ))
+        );
+        let (a, b) = (dir.join("loop-a"), dir.join("loop-b"));
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let e = IoError::write(&a.join("x.json"), "File exists (os error 17)").reason;
+        assert!(
+            e.starts_with(&format!(
+                "cannot write: `{}` is a symbolic link to `{}`, which cannot be followed (",
+                a.display(),
+                b.display()
+            )),
+            "{e}"
         );
         // The file itself a dangling link: nothing above it is in the way.
         let e = IoError::write(&dangling, "No such file or directory");
