@@ -64,7 +64,8 @@ pub fn assemble_case_report(
 
 /// |d|/σ̂ beyond which a point's distance d = x̄ − ref to the reference counts as a bias
 /// in its RMS error: the two-sided normal quantile at α = 10⁻⁴, the catalog's family
-/// level (here per point, uncorrected).
+/// level (per point, uncorrected; with σ̂ from 128 batch means, an unbiased point crosses
+/// it about 1.6 times in 10⁴, by Student's t with 127 degrees of freedom).
 pub const BIAS_Z: f64 = 3.890_591_886_413_094;
 
 /// The statistics of one point from its per-batch accumulators, in batch order.
@@ -72,9 +73,11 @@ pub const BIAS_Z: f64 = 3.890_591_886_413_094;
 /// `rms_error² = Σ_b (m_b − ref)²/B²` over the B batches that hold a finite sample: the
 /// squared standard error of the mean taken about the reference, plus d²/B for the
 /// distance d = x̄ − ref. That form holds only 1/B of a bias β (the mean's squared error
-/// is β² + σ²/N), so where d is significant, |d| > [`BIAS_Z`]·σ̂ with σ̂ the batch-means
-/// standard error (always, when the batches agree exactly and d ≠ 0), the rest of d²,
-/// (1 − 1/B)·d², is added: a biased estimate's error is never shown √B times smaller.
+/// is β² + σ²/N), so the part of |d| beyond what chance explains, e = max(0, |d| −
+/// [`BIAS_Z`]·σ̂) with σ̂ the batch-means standard error, is added as (1 − 1/B)·e²: a bias
+/// many standard errors wide (always, when the batches agree exactly and d ≠ 0) shows
+/// nearly whole, never √B times smaller, and the error is continuous in d (a point of an
+/// unbiased series just past the threshold by chance adds next to nothing).
 pub fn point_from_batches(
     samples: u64,
     seed: u64,
@@ -100,13 +103,8 @@ pub fn point_from_batches(
             } else {
                 let b = means.len() as f64;
                 let ms = means.iter().map(|m| (m - r) * (m - r)).sum::<f64>() / b;
-                let d = estimate - r;
-                let bias = if d.abs() <= BIAS_Z * bm.std_error() {
-                    0.0
-                } else {
-                    d * d * (1.0 - 1.0 / b)
-                };
-                finite((ms / b + bias).sqrt())
+                let beyond = ((estimate - r).abs() - BIAS_Z * bm.std_error()).max(0.0);
+                finite((ms / b + beyond * beyond * (1.0 - 1.0 / b)).sqrt())
             };
             (finite(abs), finite(abs / r.abs()), rms)
         }
@@ -527,9 +525,10 @@ mod tests {
         assert_eq!(p.estimate, 2.0);
     }
 
-    /// A bias is shown whole once it is significant: batches that agree exactly (no
+    /// A bias counts beyond what chance explains: batches that agree exactly (no
     /// variance) off the reference by d give rms_error = |d|, not |d|/√B; batches whose
-    /// spread covers d keep the batch form; the threshold is the normal quantile at 10⁻⁴.
+    /// spread covers d keep the batch form; between, the excess |d| − z σ̂ is added, so the
+    /// error is continuous in d; the threshold z is the normal quantile at 10⁻⁴.
     #[test]
     fn a_significant_bias_counts_in_full_in_the_rms_error() {
         use statrs::distribution::{ContinuousCDF, Normal};
@@ -566,16 +565,30 @@ mod tests {
             "{:?}",
             p.rms_error
         );
-        // The same spread 0.5 off (z ≈ 5.7): the whole d² counts, √((1 + d²)/128 + d²(1 − 1/128)).
+        // The same spread 0.5 off (σ̂ = 1/√127, the batch means' sample deviation over
+        // √128; d/σ̂ ≈ 5.6): the excess e = d − z σ̂ counts, √((1 + d²)/128 + e²(1 − 1/128)).
         let off: Vec<Accumulator> = (0..128)
             .map(|i| batch(0.5 + if i % 2 == 0 { 1.0 } else { -1.0 }))
             .collect();
         let p = point_from_batches(256, 0, &off, 1.0, None, Some(0.0));
-        let want = ((1.0f64 + 0.25) / 128.0 + 0.25 * (1.0 - 1.0 / 128.0)).sqrt();
+        let e = 0.5 - BIAS_Z / 127f64.sqrt();
+        let want = ((1.0f64 + 0.25) / 128.0 + e * e * (1.0 - 1.0 / 128.0)).sqrt();
         assert!(
             (p.rms_error.unwrap() / want - 1.0).abs() < 1e-12,
             "{:?}",
             p.rms_error
         );
+        // Continuous at the threshold: just below and just above it differ by next to
+        // nothing (they jumped from ≈1.05 σ̂ to ≈4 σ̂ with the whole d² added at once).
+        let at = |k: f64| {
+            let d = k * BIAS_Z / 127f64.sqrt();
+            let b: Vec<Accumulator> = (0..128)
+                .map(|i| batch(d + if i % 2 == 0 { 1.0 } else { -1.0 }))
+                .collect();
+            point_from_batches(256, 0, &b, 1.0, None, Some(0.0))
+                .rms_error
+                .unwrap()
+        };
+        assert!((at(1.000_001) / at(0.999_999) - 1.0).abs() < 1e-5);
     }
 }
