@@ -214,7 +214,10 @@ fn oracle_and_engine_share_no_code() {
 /// What the engine's scene holds of the numbers of a reference block: points (`center`,
 /// `corner`, `light`, `point`, `vertices`) as `o + f32(p − o)` about the case's origin `o`
 /// (the loader rebases the scene there, see `case::build::origin`), every other number
-/// with a fractional part as its nearest `f32`; integers (counts) as they are.
+/// with a fractional part as its nearest `f32`; integers (counts) as they are. A model of
+/// the loader, not the loader: a length between two points is rounded as a number, and
+/// quantities the engine keeps in `f64` (wavelengths, bin edges) are rounded too, which
+/// only makes the check stricter.
 fn as_engine_sees(v: &mut serde_json::Value, key: &str, o: [f64; 3]) {
     let point = matches!(key, "center" | "corner" | "light" | "point" | "vertices");
     match v {
