@@ -737,8 +737,29 @@ fn estimate(
     let mut all = vec![case.run(est, sampler, n, run_seed)];
     all.extend(case.run_bins(est, sampler, n, seed));
     judge_family(&mut all, 0, ALPHA);
+    let listed: Vec<&str> = case.desc.estimators.iter().map(|e| e.name()).collect();
+    let samplers: Vec<&str> = case.samplers().iter().map(|s| s.name()).collect();
     for o in &mut all {
         o.note_fewer_samples(n, case.samples(None, 1));
+        if !case.desc.estimators.contains(&est) {
+            o.note_outside_the_proof(
+                &format!(
+                    "`{}` is not among the case's estimators ({})",
+                    est.name(),
+                    listed.join(", ")
+                ),
+                "run the case's own estimators to tell",
+            );
+        } else if !case.samplers().contains(&sampler) {
+            o.note_outside_the_proof(
+                &format!(
+                    "`{}` is not among the case's samplers ({})",
+                    sampler.name(),
+                    samplers.join(", ")
+                ),
+                "run the case's own samplers to tell",
+            );
+        }
     }
     let outcome = &all[0];
     let mut obj = serde_json::to_value(outcome).map_err(|e| Failure::Input(e.to_string()))?;

@@ -222,19 +222,33 @@ impl Outcome {
         if ran >= own {
             return false;
         }
+        self.note_outside_the_proof(
+            &format!("drew {ran} samples, fewer than the case's own {own}"),
+            "rerun at the case's own count to tell",
+        )
+    }
+
+    /// A failed verdict of a run the catalog's proof does not cover (`what`: fewer samples
+    /// than the case's own, an estimator or sampler the case does not list) says so in its
+    /// reason, with the `remedy`: the false-alarm rate α is established for each case's own
+    /// estimators × samplers at its own count, and elsewhere an integrand whose variance
+    /// sits in rare events (a tiny or huge light sampled by the wrong strategy, a delta or
+    /// near-delta lobe sampled uniformly) can hide it from the standard error. Passed
+    /// verdicts and failures that are never chance (non-finite samples or reference) are
+    /// left as they are. Returns whether it added the note.
+    pub fn note_outside_the_proof(&mut self, what: &str, remedy: &str) -> bool {
         let chance = |v: &Verdict| !v.passed && v.non_finite == 0 && v.reference.is_finite();
-        if let Some(v) = self.verdict.as_mut().filter(|v| chance(v)) {
-            let why = format!(
-                "drew {ran} samples, fewer than the case's own {own}, where its false-alarm rate is not established \
-                 (rare events may go unseen, and the standard error with them): rerun at the case's own count to tell"
-            );
-            v.reason = Some(match v.reason.take() {
-                Some(r) => format!("{r}; {why}"),
-                None => why,
-            });
-            return true;
-        }
-        false
+        let Some(v) = self.verdict.as_mut().filter(|v| chance(v)) else {
+            return false;
+        };
+        let why = format!(
+            "{what}, where its false-alarm rate is not established (rare events may go unseen, and the standard error with them): {remedy}"
+        );
+        v.reason = Some(match v.reason.take() {
+            Some(r) => format!("{r}; {why}"),
+            None => why,
+        });
+        true
     }
 
     /// Whether the outcome will be a member of the statistical (Šidák) family.

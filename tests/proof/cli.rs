@@ -496,6 +496,29 @@ fn the_whole_catalog_family_counts_the_warp_suites() {
     let _ = std::fs::remove_file(json);
 }
 
+/// An estimator the case does not list is outside the proof, and its failure says so:
+/// light sampling of the 10⁶-radius blackbody disk 1 above the receiver draws points by
+/// area, almost all far away, so the estimate is off by eight orders with a small standard
+/// error; the case's own estimators (BSDF sampling and MIS) are the proof.
+#[test]
+fn an_estimator_the_case_does_not_list_is_named_in_its_failure() {
+    let out = bin()
+        .arg("estimate")
+        .arg(catalog_case(
+            "spectral/blackbody_irradiance_band_6500K.json",
+        ))
+        .args(["--estimator", "light"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("`light` is not among the case's estimators (bsdf, mis), where its false-alarm rate is not established")
+            && stdout.contains("run the case's own estimators to tell"),
+        "{stdout}"
+    );
+}
+
 /// An estimate without variance that misses its reference fails, saying what it cannot
 /// tell apart: the BSDF estimator of the sphere light 1e-4 radii away hits the sphere with
 /// every one of 4096 Sobol samples (it misses only a ring of probability ~2e-4 at grazing
