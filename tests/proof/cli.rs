@@ -9,6 +9,21 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lightproof"))
 }
 
+/// `lightproof COMMAND CASE ARGS…` on a catalog case, which must fail its verdict (exit
+/// 1): its stdout.
+#[track_caller]
+fn fails_on_catalog_case(command: &str, case: &str, args: &[&str]) -> String {
+    let out = bin()
+        .arg(command)
+        .arg(catalog_case(case))
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    stdout
+}
+
 /// Run `c`, which must exit 0 (else the test fails with its stderr).
 #[track_caller]
 fn succeeds(c: &mut Command) -> std::process::Output {
@@ -502,16 +517,11 @@ fn the_whole_catalog_family_counts_the_warp_suites() {
 /// error; the case's own estimators (BSDF sampling and MIS) are the proof.
 #[test]
 fn an_estimator_the_case_does_not_list_is_named_in_its_failure() {
-    let out = bin()
-        .arg("estimate")
-        .arg(catalog_case(
-            "spectral/blackbody_irradiance_band_6500K.json",
-        ))
-        .args(["--estimator", "light"])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let stdout = fails_on_catalog_case(
+        "estimate",
+        "spectral/blackbody_irradiance_band_6500K.json",
+        &["--estimator", "light"],
+    );
     assert!(
         stdout.contains("`light` is not among the case's estimators (bsdf, mis), where its false-alarm rate is not established")
             && stdout.contains("run the case's own estimators to tell"),
@@ -527,16 +537,11 @@ fn an_estimator_the_case_does_not_list_is_named_in_its_failure() {
 /// own sample count the ring is reached and the verdict is statistical (the catalog).
 #[test]
 fn an_estimate_without_variance_that_misses_says_why() {
-    let out = bin()
-        .arg("verify")
-        .arg(catalog_case(
-            "irradiance/sphere_near_surface_on_axis_gap_1e-4.json",
-        ))
-        .args(["--samples", "4096"])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let stdout = fails_on_catalog_case(
+        "verify",
+        "irradiance/sphere_near_surface_on_axis_gap_1e-4.json",
+        &["--samples", "4096"],
+    );
     for want in [
         "bsdf/sobol",
         "(exact)",
