@@ -4,7 +4,7 @@
 //! | check | function | what it catches |
 //! |---|---|---|
 //! | sampling distribution | [`chi2_bsdf`], [`chi2_bsdf_cap`] (near-delta lobes) | `sample` not drawing from `pdf` (shape and normalisation) |
-//! | consistency | [`check_consistency`] | a weight ≠ eval·\|cos\|/pdf, a returned pdf ≠ `pdf(wo, wi)`, wrong lobe flags: a wrong `eval` with a right `pdf`, which chi-square cannot see |
+//! | consistency | [`check_consistency`] | a weight ≠ eval·\|cos\|/pdf, a returned pdf ≠ `pdf(wo, wi)`, wrong lobe flags: a wrong `eval` with a right `pdf`, which chi-square cannot see; a delta lobe off its mirror or Snell direction; a delta-only model with a density |
 //! | reciprocity | [`check_reciprocity`] | f(ωi→ωo)/η_o² ≠ f(ωo→ωi)/η_i² |
 //! | energy | [`albedo`] + [`judge_at_most`] / [`judge_equal`] (or, for weights in a promised range, [`judge_at_most_within`] / [`judge_equal_within`]) | albedo > 1, or ≠ the reflectance a model promises |
 //! | microfacet identities | [`microfacet_integrals`], [`chi2_microfacet`] | D not normalised, G1 inconsistent with D, visible-normal sampler wrong |
@@ -258,7 +258,8 @@ fn sensitivity(w: Vec3, ulps: f32, f: impl Fn(Vec3) -> f64) -> f64 {
 /// Check `samples` draws of `model.sample(wo, ·)`:
 ///
 /// - every returned value is finite, pdf > 0, weight ≥ 0, wi is a unit vector
-///   (to 1e-3), and the lobe flags say REFLECTION exactly when wi is on ωo's side;
+///   (to 1e-3), the lobe flags say REFLECTION exactly when wi is on ωo's side, and
+///   the sample's lobe is among `model.flags()`;
 /// - for non-delta samples, `pdf(wo, wi)` > 0, the returned pdf equals it and the
 ///   weight equals eval(wo, wi)·|cos θi|/pdf(wo, wi), each to a relative tolerance of
 ///   [`REL_TOL`] + the conditioning of the quantity at wi, the larger of 2 × its
@@ -268,7 +269,9 @@ fn sensitivity(w: Vec3, ulps: f32, f: impl Fn(Vec3) -> f64) -> f64 {
 ///   itself); for a smooth, well-conditioned lobe this adds nothing; a zero `pdf(wo, wi)` is tolerated only where the pdf is
 ///   unresolved (it changes by ≥ 50% within 4 ulps of wi), for at most
 ///   [`MAX_UNRESOLVED`] of the samples;
-/// - for delta samples, pdf ≤ 1 (a discrete lobe probability).
+/// - for delta samples, pdf ≤ 1 (a discrete lobe probability), the direction is the
+///   mirror image or Snell's refraction of ωo ([`delta_direction_error`]), and a model
+///   whose flags have no DIFFUSE or GLOSSY lobe gives eval = pdf = 0 along it.
 pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> CheckReport {
     let sampler = Sampler::independent(seed);
     const BLOCK: u64 = 4096;
@@ -288,6 +291,45 @@ pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u6
         .reduce(CheckReport::default, CheckReport::merge)
         .finish()
 }
+
+/// Where a delta sample's direction breaks the law of its lobe, the violation: a delta
+/// reflection is the mirror image of ω̂o = ωo/|ωo| about the normal, (−ω̂o.x, −ω̂o.y, ω̂o.z);
+/// a delta transmission obeys Snell's law with the sample's own η′ = η_i/η_o: its
+/// tangential part is −ω̂o,xy/η′ (pbrt-v4 §9.3, `Refract`) and it leaves on the other
+/// side. Tolerance: [`DELTA_ULPS`] units of `f32` rounding per component (the direction
+/// is a unit vector; the models form it in a handful of roundings).
+fn delta_direction_error(wo: Vec3, s: &BsdfSample) -> Option<String> {
+    let o = wo.as_dvec3().normalize();
+    let wi = s.wi.as_dvec3();
+    let tol = DELTA_ULPS * f64::from(f32::EPSILON);
+    let (expected, what) = if s.lobe.contains(super::LobeFlags::REFLECTION) {
+        (glam::DVec3::new(-o.x, -o.y, o.z), "the mirror direction")
+    } else {
+        let eta = f64::from(s.eta);
+        let t = glam::DVec2::new(-o.x / eta, -o.y / eta);
+        let z = (1.0 - t.length_squared()).max(0.0).sqrt();
+        (t.extend(-z.copysign(o.z)), "Snell's refraction")
+    };
+    // The normal component of a refraction near grazing is ill-conditioned (√(1 − s²));
+    // its sign and the unit length are checked, its value follows from them.
+    let dz = if s.lobe.contains(super::LobeFlags::REFLECTION) {
+        (wi.z - expected.z).abs()
+    } else if wi.z * expected.z > 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    };
+    let err = (wi.x - expected.x).abs().max((wi.y - expected.y).abs()).max(dz);
+    (err > tol).then(|| {
+        format!(
+            "delta sample wi = {} is not {what} {expected} (off by {err:.2e} > {tol:.2e}) for wo = {wo}, η′ = {}",
+            s.wi, s.eta
+        )
+    })
+}
+
+/// The tolerance of [`delta_direction_error`], in units of `f32::EPSILON`.
+pub const DELTA_ULPS: f64 = 16.0;
 
 fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &mut CheckReport) {
     let wi = s.wi;
@@ -312,10 +354,33 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
             )
         });
     }
+    if !model.flags().contains(s.lobe) {
+        return r.fail(|| {
+            format!(
+                "sample lobe {:?} is not among the model's flags {:?} (wo = {wo})",
+                s.lobe,
+                model.flags()
+            )
+        });
+    }
     if s.lobe.is_delta() {
         r.delta += 1;
         if s.pdf > 1.0 + 1e-6 {
             r.fail(|| format!("delta lobe probability {} > 1 for wo = {wo}", s.pdf));
+        } else if let Some(e) = delta_direction_error(wo, s) {
+            r.fail(|| e);
+        } else if !model.flags().intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY)
+            && (model.eval(wo, wi) != 0.0 || model.pdf(wo, wi) != 0.0)
+        {
+            // A model of delta lobes only has no density anywhere: f and pdf are 0 even
+            // along the delta direction itself (the lobe is weighed by `sample` alone).
+            r.fail(|| {
+                format!(
+                    "a model of delta lobes only gives eval = {}, pdf = {} at its sampled wi = {wi} (wo = {wo})",
+                    model.eval(wo, wi),
+                    model.pdf(wo, wi)
+                )
+            });
         }
         return;
     }

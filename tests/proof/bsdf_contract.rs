@@ -727,6 +727,81 @@ fn energy_conservation_and_promised_albedo() {
     );
 }
 
+/// The facts a model states about itself ([`ModelFacts`], read by planning and by the
+/// reciprocity rule) agree with what it samples: a model without a transmission lobe has
+/// η_inside = 1; a transmitted sample crosses η′ = η_inside from above and 1/η_inside from
+/// below, a reflected one η′ = 1; a model is black exactly when none of its samples
+/// carries weight; and a conductor's stated reflectance is the Fresnel factor of the
+/// oracle (complex arithmetic in `f64`) to `f32` rounding.
+#[test]
+fn model_facts_agree_with_samples() {
+    let n = 1_000;
+    let mut models: Vec<(Bsdf, Vec<Vec3>)> = grid();
+    models.push((Bsdf::Lambertian(Lambertian::new(0.0)), angles_both()));
+    models.push((Bsdf::OrenNayar(OrenNayar::new(0.0, 0.5)), angles_both()));
+    models.push((
+        Bsdf::OrenNayarClassic(OrenNayarClassic::new(0.0, 0.5)),
+        angles_both(),
+    ));
+    let mut failures = Vec::new();
+    for (k, (b, angles)) in models.iter().enumerate() {
+        let eta = b.eta_inside();
+        if !b.flags().contains(LobeFlags::TRANSMISSION) && eta != 1.0 {
+            failures.push(format!("{}: η_inside = {eta} without transmission", json(b)));
+        }
+        let sampler = lightproof::sampling::Sampler::independent(seed(7000 + k as u64));
+        let mut carries = false;
+        for wo in angles {
+            for i in 0..n {
+                let mut st = sampler.stream(i);
+                let u = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d());
+                let Some(s) = b.sample(*wo, u) else { continue };
+                carries |= s.weight > 0.0;
+                let expected = if s.lobe.contains(LobeFlags::REFLECTION) {
+                    1.0
+                } else if wo.z > 0.0 {
+                    eta
+                } else {
+                    1.0 / eta
+                };
+                if s.eta != expected {
+                    failures.push(format!(
+                        "{} at wo = {wo}: η′ = {} for a {:?} sample, η_inside = {eta}",
+                        json(b),
+                        s.eta,
+                        s.lobe
+                    ));
+                    break;
+                }
+            }
+        }
+        if carries == b.is_black() {
+            failures.push(format!(
+                "{}: is_black = {} but a sample carried weight: {carries}",
+                json(b),
+                b.is_black()
+            ));
+        }
+        if let Bsdf::Conductor(m) = b {
+            for c in [1.0f32, 0.7, 0.3, 0.05, 1e-3] {
+                let r = f64::from(m.reflectance(c));
+                let oracle = fresnel_oracle(f64::from(c), f64::from(m.eta), f64::from(m.k));
+                // The f32 formula's rounding: a few dozen operations, each within ε of
+                // terms up to 1/cos θ times F's scale (index-matched, η = 1 and k = 0,
+                // the oracle's F = 0 comes out as ~0.1ε/cos θ).
+                let tol = 64.0 * f64::from(f32::EPSILON) * (oracle + 1.0 / f64::from(c));
+                if (r - oracle).abs() > tol {
+                    failures.push(format!(
+                        "{}: reflectance({c}) = {r}, the oracle's F = {oracle}",
+                        json(b)
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 // ---------------------------------------------------------------------------------
 // 5. Microfacet identities
 // ---------------------------------------------------------------------------------
@@ -782,6 +857,14 @@ enum Defect {
     NotReciprocal,
     /// Weights 2% high (an energy-creating surface).
     EnergyGain,
+    /// A delta reflection mirrored about the xz plane only: (ωo.x, −ωo.y, ωo.z).
+    MirrorTwisted,
+    /// A delta refraction 1% off Snell's law (its tangential part 1% long).
+    SnellOff,
+    /// A delta-only model whose `eval` is 1 everywhere.
+    DeltaWithDensity,
+    /// `flags` names reflection alone while `sample` also transmits.
+    FlagsMissTransmission,
 }
 
 impl BsdfModel for Broken {
@@ -789,6 +872,7 @@ impl BsdfModel for Broken {
         let f = self.inner.eval(wo, wi);
         match self.defect {
             Defect::EvalHigh => 1.03 * f,
+            Defect::DeltaWithDensity => 1.0,
             Defect::NotReciprocal => f * (1.0 + 0.2 * (wo.z.abs() - wi.z.abs())),
             _ => f,
         }
@@ -818,6 +902,21 @@ impl BsdfModel for Broken {
                 s.weight *= 1.02;
                 Some(s)
             }
+            Defect::MirrorTwisted => {
+                let mut s = self.inner.sample(wo, u)?;
+                if s.lobe.contains(LobeFlags::REFLECTION) {
+                    s.wi.x = -s.wi.x;
+                }
+                Some(s)
+            }
+            Defect::SnellOff => {
+                let mut s = self.inner.sample(wo, u)?;
+                if s.lobe.contains(LobeFlags::TRANSMISSION) {
+                    let t = 1.01 * s.wi.truncate();
+                    s.wi = t.extend(s.wi.z.signum() * (1.0 - t.length_squared()).max(0.0).sqrt());
+                }
+                Some(s)
+            }
             _ => self.inner.sample(wo, u),
         }
     }
@@ -830,8 +929,49 @@ impl BsdfModel for Broken {
         }
     }
     fn flags(&self) -> LobeFlags {
-        self.inner.flags()
+        match self.defect {
+            Defect::FlagsMissTransmission => self.inner.flags() - LobeFlags::TRANSMISSION,
+            _ => self.inner.flags(),
+        }
     }
+}
+
+#[test]
+fn broken_delta_lobes_are_rejected() {
+    // Each defect against a sound model: the consistency check passes the sound one and
+    // names the defect in the broken one.
+    let wo = direction(deg(50.0), 0.3);
+    let s = common::seed();
+    let mirror = Bsdf::Conductor(Conductor::new(0.2, 3.9));
+    let glass = Bsdf::Dielectric(Dielectric::new(1.5));
+    for (inner, defect, says) in [
+        (&mirror, Defect::MirrorTwisted, "is not the mirror direction"),
+        (&glass, Defect::MirrorTwisted, "is not the mirror direction"),
+        (&glass, Defect::SnellOff, "is not Snell's refraction"),
+        (&mirror, Defect::DeltaWithDensity, "a model of delta lobes only"),
+        (&glass, Defect::FlagsMissTransmission, "is not among the model's flags"),
+    ] {
+        assert!(contract::check_consistency(inner, wo, 2_000, s).passed);
+        let b = Broken {
+            inner: inner.clone(),
+            defect,
+        };
+        let r = contract::check_consistency(&b, wo, 2_000, s);
+        let first = r.first_failure.clone().unwrap_or_default();
+        assert!(
+            !r.passed && first.contains(says),
+            "{defect:?} of {}: {r:?}",
+            json(inner)
+        );
+    }
+    // From inside the glass (η′ = 1/1.5), outside the critical angle.
+    let below = direction(deg(180.0 - 30.0), 0.3);
+    let b = Broken {
+        inner: glass.clone(),
+        defect: Defect::SnellOff,
+    };
+    assert!(contract::check_consistency(&glass, below, 2_000, s).passed);
+    assert!(!contract::check_consistency(&b, below, 2_000, s).passed);
 }
 
 #[test]
