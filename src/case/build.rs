@@ -125,12 +125,13 @@ fn flux(f: &str, scene: &Scene, shape: usize, view_factor: bool) -> Result<Measu
         use crate::scene::emitter::EmitterKind;
         let vf = "measure.flux.view_factor";
         let [e] = scene.emitters.as_slice() else {
+            let shapes = scene.shapes.iter().filter(|s| s.emitter.is_some()).count();
             return Err(InputError::new(
                 f,
                 vf,
                 format!(
-                    "a view factor needs exactly one emitter (a shape with `emission`), the scene has {}",
-                    scene.emitters.len()
+                    "a view factor needs exactly one emitter, a shape with `emission`, and no other light; the scene has shapes with `emission`: {shapes}, other lights: {}",
+                    scene.emitters.len().saturating_sub(shapes)
                 ),
             ));
         };

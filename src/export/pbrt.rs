@@ -3,7 +3,7 @@
 //!
 //! | lightproof | pbrt-v4 |
 //! |---|---|
-//! | radiance along a ray | `perspective` camera at the point, fov 10⁻³°, 1×1 film, `box` filter (rays within 9·10⁻⁶ rad of the ray) |
+//! | radiance along a ray | `perspective` camera at the point, fov 10⁻³°, 1×1 film, `box` filter (rays within 1.2·10⁻⁵ rad of the ray: √2·tan 5·10⁻⁴°, the pixel's corners) |
 //! | radiance in a closed furnace | `perspective` camera inside, 16×16, fov 60° |
 //! | irradiance | refused: pbrt-v4 has no irradiance sensor |
 //! | albedo of a BSDF | the BSDF on a plane, `infinite` light L = 1, a camera from ωo |

@@ -355,8 +355,21 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
             let mut reports = written.reports;
             let summary = publish(&opts.out, &mut reports)?;
             let cases = load_cases(&opts.paths)?;
-            for p in super::transient::write_all(&cases, &opts.out, opts.max_samples, opts.seed)? {
+            let mut skipped = vec![];
+            let plan = |id: &str, bins: usize| {
+                let n = transient_samples(&reports, id, bins, opts, t0.elapsed().as_secs_f64());
+                if n.is_none() {
+                    skipped.push(id.to_string());
+                }
+                n
+            };
+            for p in super::transient::write_all(&cases, &opts.out, plan, opts.seed)? {
                 notes.push(format!("wrote the transient response {}", p.display()));
+            }
+            for id in skipped {
+                notes.push(format!(
+                    "no transient response for {id}: its bins would run past the budget"
+                ));
             }
             summary
         }
@@ -453,6 +466,52 @@ impl Queue {
             .map(|Reverse((ns, _, ci, si))| (ns as f64 * 1e-9, ci, si))
     }
 }
+
+/// The sample count of a case's transient plot (each of its `bins` run once): the
+/// largest N its first series reached (at most `--max-samples`), halved while the bins'
+/// predicted wall time, at that point's seconds per sample, would end past the budget
+/// (`elapsed` seconds spent so far); `None` when not even 256 samples fit, or when the
+/// case has no computed point.
+fn transient_samples(
+    reports: &[CaseReport],
+    id: &str,
+    bins: usize,
+    opts: &Options,
+    elapsed: f64,
+) -> Option<u64> {
+    let point = reports
+        .iter()
+        .find(|r| r.id == id)?
+        .series
+        .first()?
+        .points
+        .iter()
+        .max_by_key(|p| p.samples)?;
+    let per_sample = point.wall_seconds.unwrap_or(point.seconds) / point.samples as f64;
+    fit_to_budget(
+        point.samples.min(opts.max_samples),
+        bins as f64 * per_sample,
+        elapsed,
+        opts.budget,
+    )
+}
+
+/// The largest of n, n/2, n/4, … (down to [`MIN_TRANSIENT_SAMPLES`]) whose cost, at
+/// `per_sample` seconds, ends within the budget after `elapsed` seconds; n itself
+/// without a budget, `None` when none fits.
+fn fit_to_budget(mut n: u64, per_sample: f64, elapsed: f64, budget: Option<f64>) -> Option<u64> {
+    let Some(budget) = budget else {
+        return Some(n);
+    };
+    let ends_in_budget = |n: u64| elapsed + n as f64 * per_sample <= budget;
+    while n > MIN_TRANSIENT_SAMPLES && !ends_in_budget(n) {
+        n /= 2;
+    }
+    ends_in_budget(n).then_some(n)
+}
+
+/// The fewest samples a transient plot's bins run with.
+const MIN_TRANSIENT_SAMPLES: u64 = 256;
 
 /// Mark every series with points left as cut by the budget.
 fn cut_pending(cases: &mut [CaseState]) {
@@ -703,4 +762,29 @@ fn resume_partial(
         }
     }
     Ok(kept)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transient_plots_fit_the_budget_left() {
+        // 6 bins at 1 ms per sample each: 6 ms per sample of the plot.
+        let per = 6e-3;
+        // No budget: the sweep's own largest N.
+        assert_eq!(fit_to_budget(1 << 20, per, 100.0, None), Some(1 << 20));
+        // 10 s left: the largest power-of-two fraction costing ≤ 10 s, 1024 (6.1 s);
+        // 2048 would cost 12.3 s.
+        assert_eq!(fit_to_budget(1 << 20, per, 0.0, Some(10.0)), Some(1024));
+        assert_eq!(fit_to_budget(1 << 20, per, 3.0, Some(10.0)), Some(1024));
+        assert_eq!(fit_to_budget(1 << 20, per, 4.0, Some(10.0)), Some(512));
+        // Ending exactly at the budget fits; with one second left not even 256 samples
+        // (1.5 s) fit.
+        assert_eq!(fit_to_budget(1024, per, 10.0 - 1024.0 * per, Some(10.0)), Some(1024));
+        assert_eq!(fit_to_budget(1 << 20, per, 9.0, Some(10.0)), None);
+        // A sweep that stopped below the floor keeps its own count when it fits.
+        assert_eq!(fit_to_budget(128, per, 0.0, Some(10.0)), Some(128));
+        assert_eq!(fit_to_budget(128, per, 9.5, Some(10.0)), None);
+    }
 }

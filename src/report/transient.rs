@@ -110,22 +110,26 @@ pub fn svg(title: &str, bins: &[Outcome]) -> Result<String, String> {
 }
 
 /// For every case with time bins among `cases` (id, case): run each bin once with the
-/// case's first estimator and sampler at `samples`, judge the bins as one family and
-/// write `OUT/ID.transient.svg` atomically; returns the files written.
+/// case's first estimator and sampler at the count `samples(id, bins)` chooses (`None`:
+/// no plot for that case, e.g. when it would run past a budget), judge the bins as one
+/// family and write `OUT/ID.transient.svg` atomically; returns the files written.
 pub fn write_all(
     cases: &[(String, Case)],
     out: &Path,
-    samples: u64,
+    mut samples: impl FnMut(&str, usize) -> Option<u64>,
     seed: u64,
 ) -> Result<Vec<PathBuf>, crate::error::IoError> {
     let mut written = vec![];
     for (id, c) in cases.iter().filter(|(_, c)| !c.bins.is_empty()) {
+        let Some(n) = samples(id, c.bins.len()) else {
+            continue;
+        };
         let sampler = c
             .samplers()
             .first()
             .copied()
             .unwrap_or(SamplerKind::Independent);
-        let mut bins = c.run_bins(c.desc.estimators[0], sampler, samples, seed);
+        let mut bins = c.run_bins(c.desc.estimators[0], sampler, n, seed);
         judge_family(&mut bins, 0, ALPHA);
         let Ok(text) = svg(&c.desc.name, &bins) else {
             continue;
@@ -148,7 +152,7 @@ mod tests {
             .join("analytic/cases/time/pulsed_disk_transient.json");
         let c = Case::load(&path).unwrap();
         let dir = std::env::temp_dir().join(format!("lightproof-transient-{}", std::process::id()));
-        let files = write_all(&[("t".into(), c)], &dir, 1 << 12, 5).unwrap();
+        let files = write_all(&[("t".into(), c)], &dir, |_, _| Some(1 << 12), 5).unwrap();
         assert_eq!(files, vec![dir.join("t.transient.svg")]);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         assert!(

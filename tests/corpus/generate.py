@@ -509,6 +509,8 @@ case("flux_view_factor_two_sided", "wrong", FLUX, [("scene.shapes.0.emission.two
      "measure.flux.view_factor")
 case("flux_view_factor_two_emitters", "wrong", FLUX, [("scene.shapes.1.emission", {"radiance": 1})], 2,
      "measure.flux.view_factor")
+case("flux_view_factor_shape_and_sky", "wrong", FLUX, [("scene.emitters", [{"type": "constant", "radiance": 1}])], 2,
+     "measure.flux.view_factor", contains="shapes with `emission`: 1, other lights: 1")
 case("flux_view_factor_point_light", "wrong", FLUX, [("scene.shapes.0.emission", DELETE),
      ("scene.emitters", [{"type": "point", "position": [0, 0, 2], "intensity": 1}])], 2, "measure.flux.view_factor")
 case("flux_view_factor_blackbody", "wrong", FLUX,
