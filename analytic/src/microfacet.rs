@@ -140,8 +140,14 @@ pub fn projected_area(dist: Distribution, alpha: f64, cos_theta: f64) -> f64 {
 /// (sin θm cos φ, sin θm sin φ, cos θm).
 fn normal(alpha: f64, s2: f64, phi: f64) -> [f64; 3] {
     let t = alpha * s2.sqrt();
-    let c = 1.0 / (1.0 + t * t).sqrt();
-    let s = t * c;
+    // sin θ = t/√(1 + t²), cos θ = 1/√(1 + t²), with no overflow of t² and the horizon
+    // itself at t = ∞ (the slope CDF's end x = 1, where the quadrature may evaluate).
+    let (s, c) = if t.is_finite() {
+        let r = t.hypot(1.0);
+        (t / r, 1.0 / r)
+    } else {
+        (1.0, 0.0)
+    };
     [s * phi.cos(), s * phi.sin(), c]
 }
 
@@ -366,6 +372,45 @@ mod tests {
             |_| PI,
             1e-8,
         )
+    }
+
+    #[test]
+    fn white_albedo_holds_at_the_corners_of_its_domain() {
+        // α down to 1e-4 and θo to 89.99°: the quadrature reaches the slope CDF's end
+        // x = 1 (the horizon, t = ∞), where `normal` once formed ∞·0 = NaN.
+        for dist in [Distribution::Ggx, Distribution::Beckmann] {
+            for m in [Masking::HeightCorrelated, Masking::Uncorrelated] {
+                for alpha in [1e-4, 3e-4, 1e-3] {
+                    for deg in [89.9f64, 89.99] {
+                        let v = white_albedo(dist, m, alpha, deg.to_radians().cos());
+                        // ≤ 1 to the quadrature's relative accuracy of 1e-8.
+                        assert!(v > 0.0 && v <= 1.0 + 1e-8, "{dist:?} {m:?} α = {alpha} θ = {deg}: {v}");
+                    }
+                }
+            }
+        }
+        // An independent quadrature (mpmath at 25 digits over the half-vector's polar
+        // angle and azimuth, session 32's audit): 0.998194511105 for GGX, height-correlated,
+        // α = 1e-4, θo = 89.9°.
+        let v = white_albedo(
+            Distribution::Ggx,
+            Masking::HeightCorrelated,
+            1e-4,
+            89.9f64.to_radians().cos(),
+        );
+        assert!((v - 0.998194511).abs() < 1e-8, "{v}");
+        // … and 0.889836337214 for GGX, uncorrelated, α = 3e-4, θo = 89.99°.
+        let v = white_albedo(
+            Distribution::Ggx,
+            Masking::Uncorrelated,
+            3e-4,
+            89.99f64.to_radians().cos(),
+        );
+        assert!((v - 0.889836337214).abs() < 1e-8, "{v}");
+        // The horizon itself is the unit vector along φ.
+        assert_eq!(normal(0.5, f64::INFINITY, 0.0), [1.0, 0.0, 0.0]);
+        let [x, _, z] = normal(1.0, 1e300, 0.0);
+        assert!((x - 1.0).abs() < 1e-15 && z > 0.0 && z < 1e-149);
     }
 
     #[test]
