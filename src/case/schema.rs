@@ -60,11 +60,13 @@ pub enum MeasureDesc {
     Microfacet {
         /// `ggx` or `beckmann`.
         distribution: Distribution,
-        /// Roughness α ∈ [1e-4, 1].
+        /// Roughness α ∈ [0.01, 1] (normals drawn without knowledge of D resolve no
+        /// narrower lobe).
         alpha: f64,
-        /// Polar angle of ωo in degrees, [0, 90] (below 90 for `visible`; default 0).
+        /// Polar angle of ωo in degrees, [0, 90] (below 90 for `visible`): required by
+        /// the integrals that depend on ωo, refused by `normalisation`, which does not.
         #[serde(default)]
-        theta_degrees: f64,
+        theta_degrees: Option<f64>,
         /// Which integral.
         integral: MicrofacetIntegral,
     },

@@ -45,6 +45,14 @@ impl MicrofacetIntegral {
         }
     }
 
+    /// Whether the integral depends on ωo at all (the normalisation does not).
+    pub fn depends_on_wo(&self) -> bool {
+        match self {
+            MicrofacetIntegral::Normalisation => false,
+            MicrofacetIntegral::ProjectedArea | MicrofacetIntegral::Visible => true,
+        }
+    }
+
     /// Whether the integral needs cos θo > 0 (the visible normals divide by it).
     pub fn needs_wo_above(&self) -> bool {
         match self {

@@ -399,6 +399,17 @@ sweep("microfacet_alpha", MF, "measure.microfacet.alpha", "measure.microfacet.al
 case("microfacet_alpha_two", "baseline", MF, [("measure.microfacet.alpha", 2)], 2, "measure.microfacet.alpha")
 sweep("microfacet_theta", MF, "measure.microfacet.theta_degrees", "measure.microfacet.theta_degrees",
       {"m1": 2, "zero": "valid", "sub": 2, "e39": 2, "e308": 2, "str": 2})
+case("microfacet_theta_missing", "wrong", MF, [("measure.microfacet.theta_degrees", DELETE)], 2,
+     "measure.microfacet.theta_degrees", "missing")
+case("microfacet_normalisation_theta", "wrong", MF, [("measure.microfacet.integral", "normalisation"),
+     ("reference", {"closed_form": "microfacet_normalisation", "distribution": "ggx", "alpha": 0.3})], 2,
+     "measure.microfacet.theta_degrees", "does not depend on")
+case("microfacet_normalisation_valid", "baseline", MF, [("measure.microfacet.integral", "normalisation"),
+     ("measure.microfacet.theta_degrees", DELETE),
+     ("reference", {"closed_form": "microfacet_normalisation", "distribution": "ggx", "alpha": 0.3})], "valid")
+case("microfacet_alpha_1e-3", "wrong", MF, [("measure.microfacet.alpha", 1e-3), ("reference.alpha", 1e-3)], 2,
+     "measure.microfacet.alpha", "[0.01, 1]")
+case("microfacet_alpha_0_01_valid", "baseline", MF, [("measure.microfacet.alpha", 0.01), ("reference.alpha", 0.01)], "valid")
 case("microfacet_theta_91", "baseline", MF, [("measure.microfacet.theta_degrees", 91)], 2, "measure.microfacet.theta_degrees")
 case("microfacet_visible_90", "unclear", MF, [("measure.microfacet.integral", "visible"), ("measure.microfacet.theta_degrees", 90),
      ("reference", DELETE)], 2, "measure.microfacet.theta_degrees", "cos")
