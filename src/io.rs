@@ -225,6 +225,33 @@ mod tests {
     }
 
     #[test]
+    fn the_target_is_never_half_written() {
+        // While the bytes are written the target still holds the old file, the bytes go
+        // to a temporary beside it (same folder: the rename is atomic), and a write that
+        // fails half-way leaves the old file as it was.
+        let dir = std::env::temp_dir().join(format!("lightproof-io-half-{}", std::process::id()));
+        let p = dir.join("r.json");
+        write_atomic(&p, b"old").unwrap();
+        write_via_temporary(&p, "r.json", "", |tmp| {
+            assert_ne!(tmp, p.as_path());
+            assert_eq!(tmp.parent(), p.parent());
+            assert_eq!(std::fs::read(&p)?, b"old");
+            std::fs::write(tmp, b"new")?;
+            assert_eq!(std::fs::read(&p)?, b"old");
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"new");
+        let failed = write_via_temporary(&p, "r.json", "", |tmp| {
+            std::fs::write(tmp, b"ha")?;
+            Err(std::io::Error::other("disk full"))
+        });
+        assert!(failed.is_err());
+        assert_eq!(std::fs::read(&p).unwrap(), b"new");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
     fn failures_leave_no_temporary() {
         let dir = std::env::temp_dir().join(format!("lightproof-io-fail-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("target_is_a_folder")).unwrap();

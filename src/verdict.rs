@@ -393,6 +393,29 @@ mod tests {
     }
 
     #[test]
+    fn independent_samples_switch_to_batch_means_above_one_and_a_half() {
+        // 16 batches of four pairs [m − 1, m + 1] with m = ±a alternating: the batch
+        // means spread with a, the plain error less (ratio ≈ a√8/√(a² + 1)). Just below and just above the README's
+        // "more than half" again, 1.5× the plain error.
+        let lumpy = |a: f64| {
+            estimate(
+                (0..16)
+                    .map(|i| {
+                        let m = if i % 2 == 0 { a } else { -a };
+                        batch(&[m - 1.0, m + 1.0].repeat(4))
+                    })
+                    .collect(),
+            )
+        };
+        let ratio = |e: &Estimate| e.batches.std_error() / e.batches.total.std_error();
+        let (below, above) = (lumpy(0.6), lumpy(0.65));
+        assert!((1.4..1.5).contains(&ratio(&below)), "{}", ratio(&below));
+        assert!((1.5..1.6).contains(&ratio(&above)), "{}", ratio(&above));
+        assert_eq!(ErrorBar::of(&below, SamplerKind::Independent).dof, None);
+        assert_eq!(ErrorBar::of(&above, SamplerKind::Independent).dof, Some(15));
+    }
+
+    #[test]
     fn a_statistical_verdict_uses_the_family_size() {
         let xs: Vec<_> = (0..64)
             .map(|i| batch(&[(i % 7) as f64, (i % 3) as f64]))

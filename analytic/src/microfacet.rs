@@ -384,7 +384,10 @@ mod tests {
                     for deg in [89.9f64, 89.99] {
                         let v = white_albedo(dist, m, alpha, deg.to_radians().cos());
                         // ≤ 1 to the quadrature's relative accuracy of 1e-8.
-                        assert!(v > 0.0 && v <= 1.0 + 1e-8, "{dist:?} {m:?} α = {alpha} θ = {deg}: {v}");
+                        assert!(
+                            v > 0.0 && v <= 1.0 + 1e-8,
+                            "{dist:?} {m:?} α = {alpha} θ = {deg}: {v}"
+                        );
                     }
                 }
             }

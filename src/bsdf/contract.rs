@@ -319,7 +319,10 @@ fn delta_direction_error(wo: Vec3, s: &BsdfSample) -> Option<String> {
     } else {
         f64::INFINITY
     };
-    let err = (wi.x - expected.x).abs().max((wi.y - expected.y).abs()).max(dz);
+    let err = (wi.x - expected.x)
+        .abs()
+        .max((wi.y - expected.y).abs())
+        .max(dz);
     (err > tol).then(|| {
         format!(
             "delta sample wi = {} is not {what} {expected} (off by {err:.2e} > {tol:.2e}) for wo = {wo}, η′ = {}",
@@ -369,7 +372,9 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
             r.fail(|| format!("delta lobe probability {} > 1 for wo = {wo}", s.pdf));
         } else if let Some(e) = delta_direction_error(wo, s) {
             r.fail(|| e);
-        } else if !model.flags().intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY)
+        } else if !model
+            .flags()
+            .intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY)
             && (model.eval(wo, wi) != 0.0 || model.pdf(wo, wi) != 0.0)
         {
             // A model of delta lobes only has no density anywhere: f and pdf are 0 even

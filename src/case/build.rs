@@ -586,7 +586,13 @@ mod tests {
     #[test]
     fn microfacet_ranges_are_inclusive_except_the_visible_horizon() {
         use MicrofacetIntegral::{Normalisation, ProjectedArea, Visible};
-        for (alpha, ok) in [(0.01, true), (1.0, true), (0.0099, false), (1e-4, false), (1.01, false)] {
+        for (alpha, ok) in [
+            (0.01, true),
+            (1.0, true),
+            (0.0099, false),
+            (1e-4, false),
+            (1.01, false),
+        ] {
             let r = mf(alpha, 30.0, Normalisation);
             assert_eq!(r.is_ok(), ok, "α {alpha}");
             if let Err(e) = r {
@@ -616,7 +622,9 @@ mod tests {
             assert_eq!(e.field, "measure.microfacet.theta_degrees");
             assert!(e.reason.contains("missing"), "{}", e.reason);
         }
-        let e = theta_of(Some(0.0), Normalisation).err().expect("θo refused");
+        let e = theta_of(Some(0.0), Normalisation)
+            .err()
+            .expect("θo refused");
         assert_eq!(e.field, "measure.microfacet.theta_degrees");
         assert!(e.reason.contains("does not depend on ωo"), "{}", e.reason);
         assert!(theta_of(None, Normalisation).is_ok());

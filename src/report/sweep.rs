@@ -781,7 +781,10 @@ mod tests {
         assert_eq!(fit_to_budget(1 << 20, per, 4.0, Some(10.0)), Some(512));
         // Ending exactly at the budget fits; with one second left not even 256 samples
         // (1.5 s) fit.
-        assert_eq!(fit_to_budget(1024, per, 10.0 - 1024.0 * per, Some(10.0)), Some(1024));
+        assert_eq!(
+            fit_to_budget(1024, per, 10.0 - 1024.0 * per, Some(10.0)),
+            Some(1024)
+        );
         assert_eq!(fit_to_budget(1 << 20, per, 9.0, Some(10.0)), None);
         // A sweep that stopped below the floor keeps its own count when it fits.
         assert_eq!(fit_to_budget(128, per, 0.0, Some(10.0)), Some(128));

@@ -310,3 +310,56 @@ fn modules_sit_in_the_layers_architecture_md_gives() {
         "{g:?}"
     );
 }
+
+/// The calls that create or overwrite a file in place; outside `src/io.rs` the non-test
+/// code must write through `io::write_atomic` / `write_exr_atomic` instead (temporary
+/// file, then rename), so that no report, image or verdict file is ever left
+/// half-written.
+const IN_PLACE_WRITERS: [&str; 6] = [
+    "fs::write(",
+    "File::create(",
+    "OpenOptions",
+    "SVGBackend::new(",
+    "BitMapBackend::new(",
+    "write_rgb_file(",
+];
+
+/// Which in-place writers the non-test code of one file calls.
+fn in_place_writers(text: &str) -> Vec<&'static str> {
+    let code = code_of(text);
+    IN_PLACE_WRITERS
+        .into_iter()
+        .filter(|w| code.contains(w))
+        .collect()
+}
+
+#[test]
+fn every_output_is_written_through_a_temporary() {
+    // The finder sees a writer in code and not in comments or test modules.
+    assert_eq!(
+        in_place_writers("fn f() { std::fs::write(p, b)?; }"),
+        ["fs::write("]
+    );
+    assert!(
+        in_place_writers("// fs::write(p)\n#[cfg(test)]\nmod t { fn g() { File::create(p); } }")
+            .is_empty()
+    );
+    let mut files = vec![];
+    rust_files(&root().join("src"), &mut files);
+    let io = root().join("src/io.rs");
+    let offenders: Vec<String> = files
+        .iter()
+        .filter(|f| **f != io)
+        .filter_map(|f| {
+            let w = in_place_writers(&std::fs::read_to_string(f).unwrap());
+            (!w.is_empty()).then(|| format!("{}: {w:?}", f.display()))
+        })
+        .collect();
+    assert!(
+        offenders.is_empty(),
+        "write through lightproof::io::write_atomic instead:\n{}",
+        offenders.join("\n")
+    );
+    // io.rs holds the writers the rest must use: the finder sees them there.
+    assert!(!in_place_writers(&std::fs::read_to_string(&io).unwrap()).is_empty());
+}

@@ -747,7 +747,10 @@ fn model_facts_agree_with_samples() {
     for (k, (b, angles)) in models.iter().enumerate() {
         let eta = b.eta_inside();
         if !b.flags().contains(LobeFlags::TRANSMISSION) && eta != 1.0 {
-            failures.push(format!("{}: η_inside = {eta} without transmission", json(b)));
+            failures.push(format!(
+                "{}: η_inside = {eta} without transmission",
+                json(b)
+            ));
         }
         let sampler = lightproof::sampling::Sampler::independent(seed(7000 + k as u64));
         let mut carries = false;
@@ -945,11 +948,23 @@ fn broken_delta_lobes_are_rejected() {
     let mirror = Bsdf::Conductor(Conductor::new(0.2, 3.9));
     let glass = Bsdf::Dielectric(Dielectric::new(1.5));
     for (inner, defect, says) in [
-        (&mirror, Defect::MirrorTwisted, "is not the mirror direction"),
+        (
+            &mirror,
+            Defect::MirrorTwisted,
+            "is not the mirror direction",
+        ),
         (&glass, Defect::MirrorTwisted, "is not the mirror direction"),
         (&glass, Defect::SnellOff, "is not Snell's refraction"),
-        (&mirror, Defect::DeltaWithDensity, "a model of delta lobes only"),
-        (&glass, Defect::FlagsMissTransmission, "is not among the model's flags"),
+        (
+            &mirror,
+            Defect::DeltaWithDensity,
+            "a model of delta lobes only",
+        ),
+        (
+            &glass,
+            Defect::FlagsMissTransmission,
+            "is not among the model's flags",
+        ),
     ] {
         assert!(contract::check_consistency(inner, wo, 2_000, s).passed);
         let b = Broken {
