@@ -355,6 +355,32 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
         run(&mut args_seeded(1 << 14, &reports, common::seed() ^ 0x5eed)),
         0
     );
+    // A changed case (same file name and id, another description) resumes nothing
+    // either: its points were drawn for another integral.
+    let changed = out.join("changed");
+    std::fs::create_dir_all(&changed).unwrap();
+    let copy = changed.join("disk_on_axis.json");
+    let text = std::fs::read_to_string(&case).unwrap();
+    std::fs::write(&copy, &text).unwrap();
+    let in_changed = |c: &Path| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_lightproof"));
+        cmd.arg("report")
+            .arg(c)
+            .args(["--max-samples", "4096", "--seed", "7", "--out"])
+            .arg(changed.join("reports"));
+        cmd
+    };
+    run(&mut in_changed(&copy));
+    assert!(run(&mut in_changed(&copy)) > 0, "the same case resumes");
+    // The emitter and its reference twice as bright.
+    let brighter = text.replace("\"radiance\": 1 }", "\"radiance\": 2 }");
+    assert_eq!(brighter.matches("\"radiance\": 2 }").count(), 2);
+    std::fs::write(&copy, brighter).unwrap();
+    assert_eq!(
+        run(&mut in_changed(&copy)),
+        0,
+        "a changed case resumes nothing"
+    );
     let _ = std::fs::remove_dir_all(out);
 }
 
