@@ -1,7 +1,7 @@
 //! The teaching examples (`examples/01_*.rs` … `examples/08_*.rs`) must keep running and
 //! passing: each is run through `cargo run --example NAME -- 20000` (a small sample count;
 //! `cargo test` has already built them in the same profile) and must exit 0 and print
-//! its verdict. The examples run one after another: cargo holds a lock on the build
+//! its verdict, and write the files README.md's table of examples names. The examples run one after another: cargo holds a lock on the build
 //! directory, and each example already uses every core. Under `cargo test` they are
 //! already built (cargo builds examples with the tests), so this takes a few seconds;
 //! under `cargo test --test examples` they are first built in one parallel step.
@@ -32,7 +32,31 @@ fn cargo(command: &str) -> Command {
     c
 }
 
+/// The files an example writes under `target/examples/`, as README.md's table of
+/// examples lists them (its third column).
+fn writes_of(name: &str) -> Vec<String> {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let row = readme
+        .lines()
+        .find(|l| l.starts_with(&format!("| `{name}` |")))
+        .unwrap_or_else(|| panic!("README.md's table has no row for {name}"));
+    let column = row.trim_end_matches('|').rsplit('|').next().unwrap();
+    column
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
+}
+
 fn run_example(name: &str) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    let writes = writes_of(name);
+    assert!(!writes.is_empty(), "README.md lists no file for {name}");
+    for w in &writes {
+        let _ = std::fs::remove_file(dir.join(w));
+    }
     let out = cargo("run")
         .args(["--example", name, "--", "20000"])
         .output()
@@ -52,6 +76,13 @@ fn run_example(name: &str) {
         !stdout.contains("verdict FAIL"),
         "example {name} printed a failing check:\n{stdout}"
     );
+    for w in &writes {
+        let len = std::fs::metadata(dir.join(w)).map(|m| m.len()).unwrap_or(0);
+        assert!(
+            len > 0,
+            "example {name} did not write target/examples/{w}, as README.md says"
+        );
+    }
 }
 
 #[test]
