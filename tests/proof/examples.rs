@@ -1,8 +1,9 @@
 //! The teaching examples (`examples/01_*.rs` … `examples/08_*.rs`) must keep running and
 //! passing: each is run through `cargo run --example NAME -- 20000` (a small sample count;
 //! `cargo test` has already built them in the same profile) and must exit 0 and print
-//! its verdict, and write the files README.md's table of examples names. The examples run one after another: cargo holds a lock on the build
-//! directory, and each example already uses every core. Under `cargo test` they are
+//! its verdict, and write the files README.md's table of examples names. The examples
+//! run one after another: cargo holds a lock on the build directory, and each example
+//! already uses every core. Under `cargo test` they are
 //! already built (cargo builds examples with the tests), so this takes a few seconds;
 //! under `cargo test --test examples` they are first built in one parallel step.
 
