@@ -618,13 +618,11 @@ mod tests {
             microfacet_measure("c.json", Distribution::Ggx, 0.5, theta, integral)
         };
         for integral in [ProjectedArea, Visible] {
-            let e = theta_of(None, integral).err().expect("θo missing");
+            let e = theta_of(None, integral).expect_err("θo missing");
             assert_eq!(e.field, "measure.microfacet.theta_degrees");
             assert!(e.reason.contains("missing"), "{}", e.reason);
         }
-        let e = theta_of(Some(0.0), Normalisation)
-            .err()
-            .expect("θo refused");
+        let e = theta_of(Some(0.0), Normalisation).expect_err("θo refused");
         assert_eq!(e.field, "measure.microfacet.theta_degrees");
         assert!(e.reason.contains("does not depend on ωo"), "{}", e.reason);
         assert!(theta_of(None, Normalisation).is_ok());
