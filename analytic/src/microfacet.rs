@@ -393,23 +393,17 @@ mod tests {
             }
         }
         // An independent quadrature (mpmath at 25 digits over the half-vector's polar
-        // angle and azimuth, session 32's audit): 0.998194511105 for GGX, height-correlated,
-        // α = 1e-4, θo = 89.9°.
-        let v = white_albedo(
-            Distribution::Ggx,
-            Masking::HeightCorrelated,
-            1e-4,
-            89.9f64.to_radians().cos(),
-        );
-        assert!((v - 0.998194511).abs() < 1e-8, "{v}");
-        // … and 0.889836337214 for GGX, uncorrelated, α = 3e-4, θo = 89.99°.
-        let v = white_albedo(
-            Distribution::Ggx,
-            Masking::Uncorrelated,
-            3e-4,
-            89.99f64.to_radians().cos(),
-        );
-        assert!((v - 0.889836337214).abs() < 1e-8, "{v}");
+        // angle and azimuth, session 32's audit), GGX at two corners of the domain.
+        for (masking, alpha, deg, mpmath) in [
+            (Masking::HeightCorrelated, 1e-4, 89.9f64, 0.998194511105),
+            (Masking::Uncorrelated, 3e-4, 89.99, 0.889836337214),
+        ] {
+            let v = white_albedo(Distribution::Ggx, masking, alpha, deg.to_radians().cos());
+            assert!(
+                (v - mpmath).abs() < 1e-8,
+                "{masking:?} α = {alpha} θ = {deg}: {v}"
+            );
+        }
         // The horizon itself is the unit vector along φ.
         assert_eq!(normal(0.5, f64::INFINITY, 0.0), [1.0, 0.0, 0.0]);
         let [x, _, z] = normal(1.0, 1e300, 0.0);
