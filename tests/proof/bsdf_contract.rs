@@ -785,6 +785,31 @@ fn model_facts_agree_with_samples() {
                 b.is_black()
             ));
         }
+        if let Bsdf::Plastic(m) = b {
+            // F_dr,int is the oracle's internal hemispherical Fresnel average: the
+            // engine's f64 quadrature (absolute tolerance 1e-12) rounded to f32 once. The
+            // promised albedo A(θo) = F + (1 − F) a is the oracle's to the f32 rounding
+            // of a few operations.
+            let fdr = lightproof_analytic::fresnel::dielectric_average_inside(f64::from(m.eta));
+            let stated = f64::from(m.internal_diffuse_reflectance());
+            if (stated - fdr).abs() > (2.0 * f64::from(f32::EPSILON) * fdr).max(1e-12) {
+                failures.push(format!(
+                    "{}: F_dr,int = {stated}, the oracle's {fdr}",
+                    json(b)
+                ));
+            }
+            for wo in angles {
+                let p = promised(b, *wo).expect("a plastic promises its albedo");
+                let a = f64::from(m.albedo_at(wo.z));
+                if (a - p).abs() > 64.0 * f64::from(f32::EPSILON) {
+                    failures.push(format!(
+                        "{}: albedo_at({}) = {a}, the oracle's {p}",
+                        json(b),
+                        wo.z
+                    ));
+                }
+            }
+        }
         if let Bsdf::Conductor(m) = b {
             for c in [1.0f32, 0.7, 0.3, 0.05, 1e-3] {
                 let r = f64::from(m.reflectance(c));
