@@ -296,8 +296,10 @@ pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u6
 /// reflection is the mirror image of ω̂o = ωo/|ωo| about the normal, (−ω̂o.x, −ω̂o.y, ω̂o.z);
 /// a delta transmission obeys Snell's law with the sample's own η′ = η_i/η_o: its
 /// tangential part is −ω̂o,xy/η′ (pbrt-v4 §9.3, `Refract`) and it leaves on the other
-/// side. Tolerance: [`DELTA_ULPS`] units of `f32` rounding per component (the direction
-/// is a unit vector; the models form it in a handful of roundings).
+/// side. Tolerance: [`DELTA_ULPS`]·ε absolute on each component the law fixes (the
+/// direction is a unit vector, formed in a handful of roundings); of a refraction's
+/// normal component only the sign (its value follows from the unit length, checked
+/// elsewhere).
 fn delta_direction_error(wo: Vec3, s: &BsdfSample) -> Option<String> {
     let o = wo.as_dvec3().normalize();
     let wi = s.wi.as_dvec3();
