@@ -510,8 +510,8 @@ fn fit_to_budget(mut n: u64, per_sample: f64, elapsed: f64, budget: Option<f64>)
     ends_in_budget(n).then_some(n)
 }
 
-/// The fewest samples a transient plot's bins run with.
-const MIN_TRANSIENT_SAMPLES: u64 = 256;
+/// The fewest samples a transient plot's bins run with: the fewest any run takes.
+const MIN_TRANSIENT_SAMPLES: u64 = crate::case::MIN_SAMPLES;
 
 /// Mark every series with points left as cut by the budget.
 fn cut_pending(cases: &mut [CaseState]) {
