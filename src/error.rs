@@ -8,6 +8,9 @@
 //!
 //! [`Error`] is either of the first two, for functions that read input and write output.
 
+use serde_json::Value;
+use serde_path_to_error::Segment;
+
 /// Bad input, located.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{file}: {field}: {reason}")]
@@ -126,17 +129,121 @@ impl Error {
 }
 
 /// Parse JSON into `T`, naming the path of the first field serde rejects.
+///
+/// serde reads an internally tagged object (`{"type": "disk", "radius": "NaN"}`: a
+/// geometry, an emitter, a BSDF) into a buffer before it knows the variant, so the path it
+/// tracks ends at the object; [`field_in_tagged`] then finds the field at fault inside it.
 pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, InputError> {
     let de = &mut serde_json::Deserializer::from_str(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
+        let mut path = e.path().to_string();
+        let segments: Vec<Segment> = e.path().iter().cloned().collect();
         let inner = e.into_inner();
+        if let Ok(doc) = serde_json::from_str::<serde_json::Value>(text) {
+            for key in field_in_tagged::<T>(&doc, &segments, &path.clone()) {
+                path = if path.is_empty() || path == "." {
+                    key
+                } else {
+                    format!("{path}.{key}")
+                };
+            }
+        }
         let field = if path.is_empty() || path == "." {
             "-".to_string()
         } else {
             path
         };
         InputError::new(file, field, inner.to_string())
+    })
+}
+
+/// The value a path of segments leads to in `doc` (`None` where it does not lead).
+fn value_at<'a>(doc: &'a Value, path: &[Segment]) -> Option<&'a Value> {
+    path.iter().try_fold(doc, |v, seg| match seg {
+        Segment::Seq { index } => v.get(index),
+        Segment::Map { key } => v.get(key),
+        // An externally tagged variant: `{"variant": …}`, or a bare string (a unit one).
+        Segment::Enum { variant } => v.get(variant).or(v.is_string().then_some(v)),
+        Segment::Unknown => None,
+    })
+}
+
+/// The error `T` gives for `doc`: its path and message (`None` if `doc` parses).
+fn error_of<T: serde::de::DeserializeOwned>(doc: &Value) -> Option<(String, String)> {
+    serde_path_to_error::deserialize::<_, T>(doc)
+        .err()
+        .map(|e| (e.path().to_string(), e.inner().to_string()))
+}
+
+/// The keys, outermost first, of the field at fault inside an internally tagged object
+/// (one with a `"type"` key) at `path` (shown as `shown`), where serde's own path stops
+/// at the object.
+///
+/// Delta debugging (Zeller & Hildebrandt, IEEE TSE 28(2), 2002) with the parser as the
+/// oracle: serde reports the first field whose value it rejects while it walks the
+/// object's fields, so removing any other field leaves that error as it was, and removing
+/// the field at fault changes it (to a missing field, a later error, or none). The one key
+/// whose removal changes the error is the field; the search then descends into that
+/// field's value if it is an object. The tag itself is named only when no other key
+/// changes the error (an unknown variant). A missing field is named by serde's own message
+/// at the object, and anything ambiguous (two keys that each change the error, or a
+/// document whose parse from the tree differs from the text's) keeps serde's path: this
+/// only ever adds keys that are certain.
+fn field_in_tagged<T: serde::de::DeserializeOwned>(
+    doc: &Value,
+    path: &[Segment],
+    shown: &str,
+) -> Vec<String> {
+    let mut found = Vec::new();
+    let Some((base_path, base_message)) = error_of::<T>(doc) else {
+        return found;
+    };
+    let is_tagged = |v: Option<&Value>| v.and_then(|v| v.get("type")).is_some();
+    if base_path != shown
+        || base_message.starts_with("missing field")
+        || !is_tagged(value_at(doc, path))
+    {
+        return found;
+    }
+    let base = (base_path, base_message);
+    let mut at: Vec<Segment> = path.to_vec();
+    // Each round names one key deeper; a document is finite, so the walk ends.
+    while let Some(Value::Object(object)) = value_at(doc, &at) {
+        let changes = |key: &str| {
+            let mut d = doc.clone();
+            if let Some(Value::Object(o)) = value_at_mut(&mut d, &at) {
+                o.remove(key);
+            }
+            error_of::<T>(&d).as_ref() != Some(&base)
+        };
+        let keys: Vec<&String> = object.keys().filter(|k| *k != "type").collect();
+        let culprits: Vec<&String> = keys.into_iter().filter(|k| changes(k)).collect();
+        let key = match culprits.as_slice() {
+            [one] => (*one).clone(),
+            [] if object.contains_key("type") && found.is_empty() && changes("type") => {
+                "type".to_string()
+            }
+            _ => break,
+        };
+        at.push(Segment::Map { key: key.clone() });
+        found.push(key);
+    }
+    found
+}
+
+/// [`value_at`], mutable.
+fn value_at_mut<'a>(doc: &'a mut Value, path: &[Segment]) -> Option<&'a mut Value> {
+    path.iter().try_fold(doc, |v, seg| match seg {
+        Segment::Seq { index } => v.get_mut(index),
+        Segment::Map { key } => v.get_mut(key),
+        Segment::Enum { variant } => {
+            if v.get(variant).is_some() {
+                v.get_mut(variant)
+            } else {
+                v.is_string().then_some(v)
+            }
+        }
+        Segment::Unknown => None,
     })
 }
 
@@ -277,6 +384,80 @@ pub fn check_direction(file: &str, field: &str, a: [f64; 3]) -> Result<glam::DVe
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A document with internally tagged objects, nested, as a case's geometry and
+    /// emission are.
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Doc {
+        #[allow(dead_code)]
+        shapes: Vec<Shape>,
+    }
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Shape {
+        #[allow(dead_code)]
+        geometry: Geometry,
+    }
+    #[allow(dead_code)]
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+    enum Geometry {
+        Disk { center: [f64; 3], radius: f64 },
+        Lamp { radius: f64, glow: Glow },
+    }
+    #[allow(dead_code)]
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+    enum Glow {
+        Flat { value: f64 },
+    }
+
+    /// The field serde's path stops short of, inside a tagged object: found by removing
+    /// one key at a time (a wrong type, an unknown field, an unknown variant, one level
+    /// deeper), while a missing field stays at the object and a plain struct's path is
+    /// serde's own.
+    #[test]
+    fn errors_inside_tagged_objects_name_the_field() {
+        let field = |text: &str| parse_json::<Doc>("f.json", text).unwrap_err().field;
+        let disk =
+            |body: &str| format!(r#"{{"shapes": [{{"geometry": {{"type": "disk", {body}}}}}]}}"#);
+        assert_eq!(
+            field(&disk(r#""center": [0, 0, 0], "radius": "NaN""#)),
+            "shapes[0].geometry.radius"
+        );
+        assert_eq!(
+            field(&disk(r#""center": [0, "x", 0], "radius": 1"#)),
+            "shapes[0].geometry.center"
+        );
+        assert_eq!(
+            field(&disk(r#""center": [0, 0, 0], "radius": 1, "radiuss": 1"#)),
+            "shapes[0].geometry.radiuss"
+        );
+        assert_eq!(
+            field(r#"{"shapes": [{"geometry": {"type": "cube", "radius": 1}}]}"#),
+            "shapes[0].geometry.type"
+        );
+        let missing = parse_json::<Doc>("f.json", &disk(r#""center": [0, 0, 0]"#)).unwrap_err();
+        assert_eq!(missing.field, "shapes[0].geometry");
+        assert!(
+            missing.reason.contains("missing field `radius`"),
+            "{missing}"
+        );
+        assert_eq!(
+            field(
+                r#"{"shapes": [{"geometry": {"type": "lamp", "radius": 1,
+                   "glow": {"type": "flat", "value": true}}}]}"#
+            ),
+            "shapes[0].geometry.glow.value"
+        );
+        assert_eq!(
+            field(r#"{"shapes": [{"geometry": 1}]}"#),
+            "shapes[0].geometry"
+        );
+        assert_eq!(field(r#"{"shapes": [{"geo": 1}]}"#), "shapes[0].geo");
+        assert_eq!(field("not json"), "-");
+    }
 
     #[test]
     fn numbers_must_fit_f32() {

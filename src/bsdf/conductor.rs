@@ -9,7 +9,7 @@
 //! Fresnel in `tests/proof/bsdf_contract.rs`).
 
 use super::fresnel::fr_conductor;
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -27,7 +27,7 @@ pub struct Conductor {
 }
 
 /// Check a complex index of refraction (shared by the conductor models).
-pub(crate) fn validate_complex_ior(eta: f32, k: f32) -> Result<(), String> {
+pub(crate) fn validate_complex_ior(eta: f32, k: f32) -> Result<(), ParamError> {
     check_range("eta", eta, 1e-3, 100.0)?;
     check_range("k", k, 0.0, 100.0)
 }
@@ -39,7 +39,7 @@ impl Conductor {
     }
 
     /// Parameter check: η ∈ [1e-3, 100], k ∈ [0, 100].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         validate_complex_ior(self.eta, self.k)
     }
 

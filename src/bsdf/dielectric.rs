@@ -20,7 +20,7 @@
 //! independent `f64` Fresnel.
 
 use super::fresnel::{fr_dielectric, refract};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -36,13 +36,17 @@ pub struct Dielectric {
 }
 
 /// Check a dielectric relative index (shared by the dielectric models).
-pub(crate) fn validate_eta(eta: f32) -> Result<(), String> {
+pub(crate) fn validate_eta(eta: f32) -> Result<(), ParamError> {
     if !eta.is_finite() {
-        return Err(format!("`eta` must be a finite number, got {eta}"));
+        return Err(ParamError::new(
+            "eta",
+            format!("must be a finite number, got {eta}"),
+        ));
     }
     if eta <= 0.0 {
-        return Err(format!(
-            "`eta` must be positive (η_inside/η_outside), got {eta}"
+        return Err(ParamError::new(
+            "eta",
+            format!("must be positive (η_inside/η_outside), got {eta}"),
         ));
     }
     check_range("eta", eta, 0.01, 100.0)
@@ -55,7 +59,7 @@ impl Dielectric {
     }
 
     /// Parameter check: η ∈ [0.01, 100].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         validate_eta(self.eta)
     }
 }

@@ -2,7 +2,7 @@
 //! sampled by the cosine-weighted hemisphere so the weight is exactly ρ
 //! (Lambert 1760; pbrt-v4 §9.2). Directional albedo ∫ f cos θi dωi = ρ for every wo.
 
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range, same_hemisphere};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range, same_hemisphere};
 use super::{Index, ModelFacts};
 use crate::math::INV_PI;
 use crate::sampling::hemisphere::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -24,7 +24,7 @@ impl Lambertian {
     }
 
     /// Parameter check.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("albedo", self.albedo, 0.0, 1.0)
     }
 }

@@ -243,7 +243,7 @@ macro_rules! dispatch {
 
 impl Bsdf {
     /// Check parameters: a message naming the field and the reason.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         dispatch!(self, b => b.validate())
     }
 
@@ -303,13 +303,41 @@ impl BsdfModel for Bsdf {
     }
 }
 
+/// A model parameter rejected by `validate`: the field (as the JSON names it) and why.
+/// Shown as `` `field` reason ``; a case file's error names the field in its path
+/// (`scene.materials.glass.eta`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{field}` {reason}")]
+pub struct ParamError {
+    /// The JSON field at fault.
+    pub field: &'static str,
+    /// Why it is rejected (`must lie in [0, 1], got -1`).
+    pub reason: String,
+}
+
+impl ParamError {
+    /// Field `field` rejected for `reason`.
+    pub fn new(field: &'static str, reason: impl Into<String>) -> Self {
+        ParamError {
+            field,
+            reason: reason.into(),
+        }
+    }
+}
+
 /// Check that a parameter is finite and within `[lo, hi]`.
-pub fn check_range(field: &str, value: f32, lo: f32, hi: f32) -> Result<(), String> {
+pub fn check_range(field: &'static str, value: f32, lo: f32, hi: f32) -> Result<(), ParamError> {
     if !value.is_finite() {
-        return Err(format!("`{field}` must be a finite number, got {value}"));
+        return Err(ParamError::new(
+            field,
+            format!("must be a finite number, got {value}"),
+        ));
     }
     if value < lo || value > hi {
-        return Err(format!("`{field}` must lie in [{lo}, {hi}], got {value}"));
+        return Err(ParamError::new(
+            field,
+            format!("must lie in [{lo}, {hi}], got {value}"),
+        ));
     }
     Ok(())
 }

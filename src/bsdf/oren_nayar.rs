@@ -18,7 +18,7 @@
 //! Sampled by the cosine-weighted hemisphere: weight = π f. Two-sided like
 //! [`super::Lambertian`].
 
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use super::{flip_z, to_upper};
 use crate::math::INV_PI;
@@ -46,7 +46,7 @@ impl OrenNayar {
     }
 
     /// Parameter check.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("albedo", self.albedo, 0.0, 1.0)?;
         check_range("sigma", self.sigma, 0.0, 1.0)
     }

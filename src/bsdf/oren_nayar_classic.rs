@@ -17,7 +17,7 @@
 //! like [`super::Lambertian`].
 
 use super::oren_nayar::{shaped_eval, shaped_pdf, shaped_sample};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -43,7 +43,7 @@ impl OrenNayarClassic {
     }
 
     /// Parameter check: ρ ∈ [0, 1], σ ∈ [0, π/2].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("albedo", self.albedo, 0.0, 1.0)?;
         check_range("sigma", self.sigma, 0.0, FRAC_PI_2)
     }
@@ -128,13 +128,15 @@ mod tests {
             OrenNayarClassic::new(0.5, 1.6)
                 .validate()
                 .unwrap_err()
-                .contains("`sigma`")
+                .field
+                == "sigma"
         );
         assert!(
             OrenNayarClassic::new(1.1, 0.1)
                 .validate()
                 .unwrap_err()
-                .contains("`albedo`")
+                .field
+                == "albedo"
         );
     }
 }

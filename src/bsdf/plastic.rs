@@ -22,7 +22,7 @@
 //! the air above it has no meaning here).
 
 use super::fresnel::{fr_dielectric, fresnel_diffuse_reflectance};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use super::{flip_z, to_upper};
 use crate::math::{INV_PI, PI};
@@ -85,7 +85,7 @@ impl Plastic {
     }
 
     /// Parameter check: ρ ∈ [0, 1], η ∈ [1, 10].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("albedo", self.albedo, 0.0, 1.0)?;
         check_range("eta", self.eta, 1.0, 10.0)
     }

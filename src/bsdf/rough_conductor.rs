@@ -19,7 +19,7 @@
 use super::conductor::validate_complex_ior;
 use super::fresnel::{fr_conductor, reflect};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range, flip_z, to_upper};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range, flip_z, to_upper};
 use super::{Index, ModelFacts};
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -103,23 +103,27 @@ impl RoughConductor {
 
     /// Parameter check: α ∈ [1e-4, 1]; with the conductor Fresnel η ∈ [1e-3, 100] and
     /// k ∈ [0, 100] both given; with `fresnel: none` neither.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("alpha", self.alpha, MIN_ALPHA, MAX_ALPHA)?;
         match (self.fresnel, self.eta, self.k) {
             (FresnelMode::Conductor, Some(eta), Some(k)) => validate_complex_ior(eta, k),
-            (FresnelMode::Conductor, None, _) => {
-                Err("`eta` is required (or `\"fresnel\": \"none\"` for F ≡ 1)".into())
-            }
-            (FresnelMode::Conductor, Some(_), None) => {
-                Err("`k` is required (or `\"fresnel\": \"none\"` for F ≡ 1)".into())
-            }
+            (FresnelMode::Conductor, None, _) => Err(ParamError::new(
+                "eta",
+                "is required (or `\"fresnel\": \"none\"` for F ≡ 1)",
+            )),
+            (FresnelMode::Conductor, Some(_), None) => Err(ParamError::new(
+                "k",
+                "is required (or `\"fresnel\": \"none\"` for F ≡ 1)",
+            )),
             (FresnelMode::None, None, None) => Ok(()),
-            (FresnelMode::None, Some(_), _) => {
-                Err("`eta` must be absent with `\"fresnel\": \"none\"` (F ≡ 1)".into())
-            }
-            (FresnelMode::None, None, Some(_)) => {
-                Err("`k` must be absent with `\"fresnel\": \"none\"` (F ≡ 1)".into())
-            }
+            (FresnelMode::None, Some(_), _) => Err(ParamError::new(
+                "eta",
+                "must be absent with `\"fresnel\": \"none\"` (F ≡ 1)",
+            )),
+            (FresnelMode::None, None, Some(_)) => Err(ParamError::new(
+                "k",
+                "must be absent with `\"fresnel\": \"none\"` (F ≡ 1)",
+            )),
         }
     }
 
@@ -248,13 +252,13 @@ mod tests {
         };
         assert_eq!(json(r#"{"alpha": 0.3, "fresnel": "none"}"#), Ok(()));
         for (text, field) in [
-            (r#"{"alpha": 0.3, "eta": 1.5, "fresnel": "none"}"#, "`eta`"),
-            (r#"{"alpha": 0.3, "k": 1, "fresnel": "none"}"#, "`k`"),
-            (r#"{"alpha": 0.3, "k": 1}"#, "`eta`"),
-            (r#"{"alpha": 0.3, "eta": 1}"#, "`k`"),
+            (r#"{"alpha": 0.3, "eta": 1.5, "fresnel": "none"}"#, "eta"),
+            (r#"{"alpha": 0.3, "k": 1, "fresnel": "none"}"#, "k"),
+            (r#"{"alpha": 0.3, "k": 1}"#, "eta"),
+            (r#"{"alpha": 0.3, "eta": 1}"#, "k"),
         ] {
             let e = json(text).unwrap_err();
-            assert!(e.contains(field), "{text}: {e}");
+            assert_eq!(e.field, field, "{text}: {e}");
         }
         let e = serde_json::from_str::<RoughConductor>(r#"{"alpha": 0.3, "fresnel": "off"}"#);
         assert!(e.unwrap_err().to_string().contains("`fresnel`"));

@@ -33,7 +33,7 @@ use super::dielectric::validate_eta;
 use super::flip_z;
 use super::fresnel::{fr_dielectric, reflect, refract, tr_dielectric};
 use super::microfacet::{Distribution, MAX_ALPHA, MIN_ALPHA, Masking, Microfacet};
-use super::{BsdfModel, BsdfSample, LobeFlags, check_range};
+use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use glam::{DVec3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -138,7 +138,7 @@ impl RoughDielectric {
     }
 
     /// Parameter check: α ∈ [1e-4, 1], η ∈ [0.01, 100].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check_range("alpha", self.alpha, MIN_ALPHA, MAX_ALPHA)?;
         validate_eta(self.eta)
     }

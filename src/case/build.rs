@@ -217,8 +217,9 @@ pub fn measure(
             theta_degrees,
             phi_degrees,
         } => {
-            bsdf.validate()
-                .map_err(|r| InputError::new(f, "measure.albedo.bsdf", r))?;
+            bsdf.validate().map_err(|r| {
+                InputError::new(f, format!("measure.albedo.bsdf.{}", r.field), r.reason)
+            })?;
             check_number(
                 f,
                 "measure.albedo.theta_degrees",

@@ -375,8 +375,13 @@ impl SceneDesc {
         let mut materials: Vec<Material> = Vec::new();
         let mut material_index = BTreeMap::new();
         for (name, m) in &self.materials {
-            m.validate()
-                .map_err(|r| InputError::new(file, format!("{field}.materials.{name}"), r))?;
+            m.validate().map_err(|r| {
+                InputError::new(
+                    file,
+                    format!("{field}.materials.{name}.{}", r.field),
+                    r.reason,
+                )
+            })?;
             material_index.insert(name.clone(), materials.len());
             materials.push(Material::grey(m.clone()));
         }
