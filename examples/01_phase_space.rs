@@ -38,7 +38,6 @@ use lightproof_analytic::radiometry::{SPEED_OF_LIGHT, lambertian_power, photon_e
 use lightproof_analytic::view_factor::disk_to_coaxial_disk;
 use plotters::prelude::*;
 use std::f64::consts::PI;
-use std::path::Path;
 
 /// A photon: a point of phase space (position, direction, wavelength) at a time.
 #[derive(Clone, Copy, Debug)]
@@ -292,56 +291,53 @@ fn plot(
     phi_f: f64,
     t_max: f64,
 ) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("01_photon_flux.svg");
-    let root = SVGBackend::new(&path, (800, 480)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let y_max = leaving
-        .iter()
-        .chain(arriving)
-        .map(|p| p.1)
-        .fold(phi, f64::max)
-        * 1.15;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Photon counting: power leaving the source and reaching the detector",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
-    chart
-        .configure_mesh()
-        .x_desc("time after switching on (ns)")
-        .y_desc("power (nW) = photons per second × e")
-        .draw()?;
-    chart
-        .draw_series(LineSeries::new(leaving.iter().copied(), &BLUE))?
-        .label("leaving the source (photon count)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
-    chart
-        .draw_series(LineSeries::new(arriving.iter().copied(), &RED))?
-        .label("arriving at the detector")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED));
-    for (v, c, l) in [
-        (phi, BLACK, "Φ = π L A"),
-        (phi_f, RGBColor(120, 120, 120), "Φ F (view factor)"),
-    ] {
+    common::save_svg("01_photon_flux.svg", (800, 480), |root| {
+        root.fill(&WHITE)?;
+        let y_max = leaving
+            .iter()
+            .chain(arriving)
+            .map(|p| p.1)
+            .fold(phi, f64::max)
+            * 1.15;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Photon counting: power leaving the source and reaching the detector",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
         chart
-            .draw_series(LineSeries::new([(0.0, v), (t_max, v)], c.stroke_width(1)))?
-            .label(l)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::LowerRight)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/01_photon_flux.svg".into())
+            .configure_mesh()
+            .x_desc("time after switching on (ns)")
+            .y_desc("power (nW) = photons per second × e")
+            .draw()?;
+        chart
+            .draw_series(LineSeries::new(leaving.iter().copied(), &BLUE))?
+            .label("leaving the source (photon count)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+        chart
+            .draw_series(LineSeries::new(arriving.iter().copied(), &RED))?
+            .label("arriving at the detector")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED));
+        for (v, c, l) in [
+            (phi, BLACK, "Φ = π L A"),
+            (phi_f, RGBColor(120, 120, 120), "Φ F (view factor)"),
+        ] {
+            chart
+                .draw_series(LineSeries::new([(0.0, v), (t_max, v)], c.stroke_width(1)))?
+                .label(l)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::MiddleRight)
+            .draw()?;
+        Ok(())
+    })
 }
 
 mod common;

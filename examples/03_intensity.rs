@@ -24,7 +24,6 @@ use lightproof::transport::Estimator;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
-use std::path::Path;
 
 /// A case file: the intensity of a Lambertian disk 60° off its normal.
 const DISK_CASE: &str = r#"{
@@ -152,52 +151,47 @@ fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
 }
 
 fn plot(points: &[(f64, f64, f64)], i0: f64) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("03_intensity.svg");
-    let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Lambert's cosine law: intensity of a Lambertian disk",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..90.0, 0.0..i0 * 1.1)?;
-    chart
-        .configure_mesh()
-        .x_desc("angle from the normal θ (degrees)")
-        .y_desc("intensity I (W/sr)")
-        .draw()?;
-    chart
-        .draw_series(LineSeries::new(
-            (0..=90).map(|d| (d as f64, i0 * (d as f64).to_radians().cos())),
-            &BLACK,
-        ))?
-        .label("L A cos θ (closed form)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-    chart
-        .draw_series(
-            points
-                .iter()
-                .map(|&(d, i, _)| Circle::new((d, i), 4, RED.filled())),
-        )?
-        .label("Monte Carlo (area sampling)")
-        .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-    chart.draw_series(
-        points
-            .iter()
-            .map(|&(d, i, se)| PathElement::new(vec![(d, i - 3.0 * se), (d, i + 3.0 * se)], RED)),
-    )?;
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/03_intensity.svg".into())
+    common::save_svg("03_intensity.svg", (720, 460), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Lambert's cosine law: intensity of a Lambertian disk",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..90.0, 0.0..i0 * 1.1)?;
+        chart
+            .configure_mesh()
+            .x_desc("angle from the normal θ (degrees)")
+            .y_desc("intensity I (W/sr)")
+            .draw()?;
+        chart
+            .draw_series(LineSeries::new(
+                (0..=90).map(|d| (d as f64, i0 * (d as f64).to_radians().cos())),
+                &BLACK,
+            ))?
+            .label("L A cos θ (closed form)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        chart
+            .draw_series(
+                points
+                    .iter()
+                    .map(|&(d, i, _)| Circle::new((d, i), 4, RED.filled())),
+            )?
+            .label("Monte Carlo (area sampling)")
+            .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
+        chart.draw_series(points.iter().map(|&(d, i, se)| {
+            PathElement::new(vec![(d, i - 3.0 * se), (d, i + 3.0 * se)], RED)
+        }))?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    })
 }
 
 mod common;

@@ -28,7 +28,6 @@ use lightproof::transport::Estimator;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
-use std::path::Path;
 
 /// A case file: irradiance under a uniform disk light, on its axis.
 const DISK_CASE: &str = r#"{
@@ -159,53 +158,50 @@ fn check_all(label: &str, case: &Case, n: u64) -> bool {
 }
 
 fn plot(points: &[(f64, f64)]) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("04_inverse_square.svg");
-    let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Irradiance on the axis of a disk light (R = 1, L = 1)",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d((0.2f64..20.0).log_scale(), (0.005f64..60.0).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("height h (m)")
-        .y_desc("irradiance E (W/m²)")
-        .draw()?;
-    let hs: Vec<f64> = (0..=100)
-        .map(|i| 0.2 * 100f64.powf(i as f64 / 100.0))
-        .collect();
-    chart
-        .draw_series(LineSeries::new(
-            hs.iter().map(|&h| (h, PI / (1.0 + h * h))),
-            &BLACK,
-        ))?
-        .label("π L R²/(R² + h²) (disk)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-    chart
-        .draw_series(LineSeries::new(
-            hs.iter().map(|&h| (h, PI / (h * h))),
-            &BLUE,
-        ))?
-        .label("I / h², I = L π R² (point light)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
-    chart
-        .draw_series(points.iter().map(|&p| Circle::new(p, 4, RED.filled())))?
-        .label("Monte Carlo (MIS)")
-        .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/04_inverse_square.svg".into())
+    common::save_svg("04_inverse_square.svg", (720, 480), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Irradiance on the axis of a disk light (R = 1, L = 1)",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d((0.2f64..20.0).log_scale(), (0.005f64..60.0).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("height h (m)")
+            .y_desc("irradiance E (W/m²)")
+            .draw()?;
+        let hs: Vec<f64> = (0..=100)
+            .map(|i| 0.2 * 100f64.powf(i as f64 / 100.0))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(
+                hs.iter().map(|&h| (h, PI / (1.0 + h * h))),
+                &BLACK,
+            ))?
+            .label("π L R²/(R² + h²) (disk)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        chart
+            .draw_series(LineSeries::new(
+                hs.iter().map(|&h| (h, PI / (h * h))),
+                &BLUE,
+            ))?
+            .label("I / h², I = L π R² (point light)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+        chart
+            .draw_series(points.iter().map(|&p| Circle::new(p, 4, RED.filled())))?
+            .label("Monte Carlo (MIS)")
+            .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    })
 }
 
 mod common;

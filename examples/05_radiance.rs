@@ -30,7 +30,6 @@ use lightproof::transport::phase::Grey;
 use lightproof_analytic::geom::Vec3 as V;
 use lightproof_analytic::irradiance::sphere as sphere_irradiance;
 use serde_json::json;
-use std::path::Path;
 
 /// A case file: a grey sphere under a uniform sky, seen from 30 m.
 const SKY_CASE: &str = r#"{
@@ -187,9 +186,7 @@ fn render(
         }
         *px = (sum / spp as f64) as f32;
     }
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    exr::prelude::write_rgb_file(dir.join(name), w, h, |x, y| {
+    lightproof::io::write_exr_atomic(&common::out_dir()?.join(name), w, h, |x, y| {
         let v = pixels[y * w + x];
         (v, v, v)
     })?;

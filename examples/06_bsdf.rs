@@ -38,7 +38,6 @@ use lightproof_analytic::irradiance::disk_on_axis;
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
-use std::path::Path;
 
 const LAMBERTIAN: &str = r#"{ "type": "lambertian", "albedo": 0.6 }"#;
 const ROUGH_CONDUCTOR: &str =
@@ -230,55 +229,52 @@ fn albedo_curve(name: &str, json: &str, n: u64) -> Vec<(f64, f64, f64)> {
 }
 
 fn plot(curves: &[Curve]) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("06_albedo.svg");
-    let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Directional albedo a(θo) = ∫ f cos θi dωi ≤ 1",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0f64..90.0, 0f64..1.1)?;
-    chart
-        .configure_mesh()
-        .x_desc("outgoing angle θo (degrees)")
-        .y_desc("albedo a(θo)")
-        .draw()?;
-    chart
-        .draw_series(LineSeries::new(
-            [(0.0, 1.0), (90.0, 1.0)],
-            BLACK.stroke_width(1),
-        ))?
-        .label("a = 1: energy conservation")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-    for (i, (name, pts)) in curves.iter().enumerate() {
-        let colour = Palette99::pick(i).to_rgba();
+    common::save_svg("06_albedo.svg", (720, 480), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Directional albedo a(θo) = ∫ f cos θi dωi ≤ 1",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0f64..90.0, 0f64..1.1)?;
+        chart
+            .configure_mesh()
+            .x_desc("outgoing angle θo (degrees)")
+            .y_desc("albedo a(θo)")
+            .draw()?;
         chart
             .draw_series(LineSeries::new(
-                pts.iter().map(|p| (p.0, p.1)),
-                colour.stroke_width(2),
+                [(0.0, 1.0), (90.0, 1.0)],
+                BLACK.stroke_width(1),
             ))?
-            .label(*name)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-        chart.draw_series(pts.iter().map(|&(t, a, se)| {
-            PathElement::new(vec![(t, a - 2.0 * se), (t, a + 2.0 * se)], colour)
-        }))?;
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/06_albedo.svg".into())
+            .label("a = 1: energy conservation")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        for (i, (name, pts)) in curves.iter().enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            chart
+                .draw_series(LineSeries::new(
+                    pts.iter().map(|p| (p.0, p.1)),
+                    colour.stroke_width(2),
+                ))?
+                .label(*name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            chart.draw_series(pts.iter().map(|&(t, a, se)| {
+                PathElement::new(vec![(t, a - 2.0 * se), (t, a + 2.0 * se)], colour)
+            }))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    })
 }
 
 /// Run one estimator of a case and judge it against `exact`.

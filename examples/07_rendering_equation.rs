@@ -26,7 +26,6 @@ use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
 use lightproof::verdict::judge;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// A case file: the radiance inside a closed emitting diffuse sphere.
 const FURNACE_CASE: &str = r#"{
@@ -108,62 +107,59 @@ fn plot(
     rho: f64,
     unbounded: f64,
 ) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("07_furnace_bounces.svg");
-    let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let k_max = points.len() as f64 - 1.0;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "White furnace (ρ = 0.8): radiance after k bounces",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(-0.5..k_max + 0.5, 0.0..limit * 1.1)?;
-    chart
-        .configure_mesh()
-        .x_desc("maximum number of bounces k")
-        .y_desc("radiance L (W/(m²·sr))")
-        .draw()?;
-    chart
-        .draw_series(LineSeries::new(
-            (0..=points.len() - 1)
-                .map(|k| (k as f64, le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho))),
-            &BLACK,
-        ))?
-        .label("Le (1 − ρ^(k+1)) / (1 − ρ)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-    chart
-        .draw_series(LineSeries::new([(-0.5, limit), (k_max + 0.5, limit)], BLUE))?
-        .label("Le / (1 − ρ)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
-    chart
-        .draw_series(
-            points
-                .iter()
-                .map(|&(k, l, _)| Circle::new((k, l), 4, RED.filled())),
-        )?
-        .label("path tracer capped at k bounces")
-        .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
-    chart
-        .draw_series(std::iter::once(Cross::new(
-            (k_max, unbounded),
-            6,
-            GREEN.stroke_width(2),
-        )))?
-        .label("unbounded, Russian roulette")
-        .legend(|(x, y)| Cross::new((x + 10, y), 5, GREEN.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::LowerRight)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/07_furnace_bounces.svg".into())
+    common::save_svg("07_furnace_bounces.svg", (720, 460), |root| {
+        root.fill(&WHITE)?;
+        let k_max = points.len() as f64 - 1.0;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "White furnace (ρ = 0.8): radiance after k bounces",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(-0.5..k_max + 0.5, 0.0..limit * 1.1)?;
+        chart
+            .configure_mesh()
+            .x_desc("maximum number of bounces k")
+            .y_desc("radiance L (W/(m²·sr))")
+            .draw()?;
+        chart
+            .draw_series(LineSeries::new(
+                (0..=points.len() - 1)
+                    .map(|k| (k as f64, le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho))),
+                &BLACK,
+            ))?
+            .label("Le (1 − ρ^(k+1)) / (1 − ρ)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        chart
+            .draw_series(LineSeries::new([(-0.5, limit), (k_max + 0.5, limit)], BLUE))?
+            .label("Le / (1 − ρ)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+        chart
+            .draw_series(
+                points
+                    .iter()
+                    .map(|&(k, l, _)| Circle::new((k, l), 4, RED.filled())),
+            )?
+            .label("path tracer capped at k bounces")
+            .legend(|(x, y)| Circle::new((x + 10, y), 4, RED.filled()));
+        chart
+            .draw_series(std::iter::once(Cross::new(
+                (k_max, unbounded),
+                6,
+                GREEN.stroke_width(2),
+            )))?
+            .label("unbounded, Russian roulette")
+            .legend(|(x, y)| Cross::new((x + 10, y), 5, GREEN.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()?;
+        Ok(())
+    })
 }
 
 mod common;

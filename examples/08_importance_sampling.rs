@@ -28,7 +28,6 @@ use lightproof::transport::engine::RunSpec;
 use lightproof::verdict::judge;
 use plotters::prelude::*;
 use serde_json::json;
-use std::path::Path;
 
 const ESTIMATORS: [Estimator; 5] = [
     Estimator::Uniform,
@@ -147,57 +146,54 @@ fn est_label(e: Estimator) -> &'static str {
 }
 
 fn plot(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    std::fs::create_dir_all(&dir)?;
-    let path = dir.join("08_efficiency.svg");
-    let root = SVGBackend::new(&path, (760, 500)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let finite = || {
-        rows.iter()
-            .map(|r| r.efficiency)
-            .filter(|e| e.is_finite() && *e > 0.0)
-    };
-    let lo = finite().fold(f64::INFINITY, f64::min) / 3.0;
-    let hi = finite().fold(0.0, f64::max) * 3.0;
-    let (lo, hi) = if lo < hi { (lo, hi) } else { (1.0, 10.0) };
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Irradiance under a disk light: efficiency of each estimator",
-            ("sans-serif", 18),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d((0.07f64..14.0).log_scale(), (lo..hi).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("disk radius R (height 1)")
-        .y_desc("efficiency 1/(V/E² · t) (1/s)")
-        .y_label_formatter(&|y| format!("{y:.0e}"))
-        .draw()?;
-    let colours = [RGBColor(150, 150, 150), BLUE, RED, GREEN, MAGENTA];
-    for (est, colour) in ESTIMATORS.iter().zip(colours) {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.est == *est && r.efficiency.is_finite())
-            .map(|r| (r.radius, r.efficiency))
-            .collect();
+    common::save_svg("08_efficiency.svg", (760, 500), |root| {
+        root.fill(&WHITE)?;
+        let finite = || {
+            rows.iter()
+                .map(|r| r.efficiency)
+                .filter(|e| e.is_finite() && *e > 0.0)
+        };
+        let lo = finite().fold(f64::INFINITY, f64::min) / 3.0;
+        let hi = finite().fold(0.0, f64::max) * 3.0;
+        let (lo, hi) = if lo < hi { (lo, hi) } else { (1.0, 10.0) };
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Irradiance under a disk light: efficiency of each estimator",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d((0.07f64..14.0).log_scale(), (lo..hi).log_scale())?;
         chart
-            .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))?
-            .label(est_label(*est))
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    root.present()?;
-    Ok("target/examples/08_efficiency.svg".into())
+            .configure_mesh()
+            .x_desc("disk radius R (height 1)")
+            .y_desc("efficiency 1/(V/E² · t) (1/s)")
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .draw()?;
+        let colours = [RGBColor(150, 150, 150), BLUE, RED, GREEN, MAGENTA];
+        for (est, colour) in ESTIMATORS.iter().zip(colours) {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.est == *est && r.efficiency.is_finite())
+                .map(|r| (r.radius, r.efficiency))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))?
+                .label(est_label(*est))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        Ok(())
+    })
 }
 
 mod common;

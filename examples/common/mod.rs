@@ -6,7 +6,10 @@ use lightproof::case::{Case, CaseDesc, seed_for};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::{Verdict, VerdictClass};
 use lightproof::transport::Estimator;
-use std::path::Path;
+use plotters::coord::Shift;
+use plotters::prelude::{DrawingArea, IntoDrawingArea, SVGBackend};
+use std::error::Error;
+use std::path::{Path, PathBuf};
 
 /// The sample count: the first command-line argument, or `default`.
 pub fn samples(default: u64) -> u64 {
@@ -31,11 +34,38 @@ pub fn load(desc: serde_json::Value) -> Case {
     Case::from_desc(desc, Path::new("<example>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The folder the examples write to, `target/examples`, created if missing.
+pub fn out_dir() -> std::io::Result<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
+    std::fs::create_dir_all(&dir)?;
+    Ok(dir)
+}
+
+/// Write `bytes` to target/examples/`name` as the `lightproof` binary writes its outputs
+/// (a temporary beside it, then a rename: never half-written); returns the path to show.
+pub fn save(name: &str, bytes: &[u8]) -> std::io::Result<String> {
+    lightproof::io::write_atomic(&out_dir()?.join(name), bytes)?;
+    Ok(format!("target/examples/{name}"))
+}
+
+/// Draw an SVG picture of `size` pixels with `draw` and [`save`] it as `name`.
+pub fn save_svg(
+    name: &str,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), Box<dyn Error>>,
+) -> Result<String, Box<dyn Error>> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        draw(&root)?;
+        root.present()?;
+    }
+    Ok(save(name, svg.as_bytes())?)
+}
+
 /// Print a case file and save it under target/examples/ for `lightproof verify`.
 pub fn show_case_file(name: &str, text: &str) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
-    let path = dir.join(name);
-    let saved = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, text));
+    let saved = save(name, text.as_bytes());
     println!(
         "A case file (JSON) describes scene, measurement, closed form and estimators:\n{text}"
     );

@@ -346,6 +346,9 @@ fn every_output_is_written_through_a_temporary() {
     );
     let mut files = vec![];
     rust_files(&root().join("src"), &mut files);
+    // The examples too: what they write (pictures, case files) goes through the same
+    // writers (`examples/common`'s `save` and `save_svg`).
+    rust_files(&root().join("examples"), &mut files);
     let io = root().join("src/io.rs");
     let offenders: Vec<String> = files
         .iter()
