@@ -1,13 +1,21 @@
 //! What a report records about the run that made it, so results can be compared across
 //! runs: the lightproof version, the git revision of the build (`build.rs` asks git at
-//! build time and falls back to `unknown`), the thread count, the machine (CPU model from
+//! build time: `SHA`, `SHA-dirty-DIGEST` where the sources differ from the commit,
+//! `unknown-DIGEST` without git), the thread count, the machine (CPU model from
 //! `/proc/cpuinfo` where there is one, logical cores) and the start time (UTC).
 
 use super::{Machine, RunInfo};
 use std::time::{SystemTime, UNIX_EPOCH};
 
-/// Git revision of this build (`unknown` outside a checkout or without git).
+/// Git revision of this build: the commit, `COMMIT-dirty-DIGEST` when [`SOURCES`] differ
+/// from it (DIGEST hashes the sources as built), `unknown-DIGEST` outside a checkout or
+/// without git.
 pub const GIT_REVISION: &str = env!("LIGHTPROOF_GIT_REVISION");
+
+/// The files and folders (space-separated, relative to the package) whose state the
+/// revision stands for: a change to any other file (a test, the README) is not a
+/// different build.
+pub const SOURCES: &str = env!("LIGHTPROOF_SOURCES");
 
 /// `CARGO_PKG_VERSION`.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -523,3 +523,47 @@ fn bad_input_exits_2_with_one_line() {
     bad(&["report", c, "--out", o], "not a lightproof report file");
     let _ = std::fs::remove_dir_all(out);
 }
+
+/// The revision a report records (and `report` resumes by) marks a build from sources
+/// that differ from the commit: `SHA` exactly when the sources it stands for are as
+/// committed, `SHA-dirty-DIGEST` otherwise, `unknown-DIGEST` without git; so a resumed
+/// sweep never takes points from an uncommitted build for this one's.
+#[test]
+fn the_revision_marks_an_uncommitted_build() {
+    use lightproof::report::machine::{GIT_REVISION, SOURCES};
+    // Set by hand at build time (a source archive's container), it is taken as given.
+    if let Some(given) = std::env::var("LIGHTPROOF_GIT_REVISION")
+        .ok()
+        .filter(|s| !s.is_empty())
+    {
+        assert_eq!(GIT_REVISION, given);
+        return;
+    }
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .current_dir(root())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let digest = |s: &str| s.len() == 16 && s.bytes().all(|b| b.is_ascii_hexdigit());
+    let Some(head) = git(&["rev-parse", "HEAD"]) else {
+        let d = GIT_REVISION.strip_prefix("unknown-");
+        assert!(d.is_some_and(digest), "{GIT_REVISION}");
+        return;
+    };
+    let mut status = vec!["status", "--porcelain", "--"];
+    status.extend(SOURCES.split(' '));
+    let changed = git(&status).expect("git status");
+    if changed.is_empty() {
+        assert_eq!(GIT_REVISION, head);
+    } else {
+        let d = GIT_REVISION.strip_prefix(&format!("{head}-dirty-"));
+        assert!(
+            d.is_some_and(digest),
+            "{GIT_REVISION} for a tree with\n{changed}"
+        );
+    }
+}
