@@ -360,22 +360,26 @@ fn parse_cli() -> Result<Cli, ExitCode> {
     }
 }
 
+/// The command given, or with none (a bare `lightproof`) `verify` with every default of
+/// its own arguments, parsed as `lightproof verify` so the defaults live in one place.
+fn command_or_verify(cli: Cli) -> Option<Command> {
+    cli.command.or_else(|| {
+        Cli::try_parse_from(["lightproof", "verify"])
+            .ok()
+            .and_then(|c| c.command)
+    })
+}
+
 fn main() -> ExitCode {
     quiet_on_broken_pipe();
     let cli = match parse_cli() {
         Ok(cli) => cli,
         Err(code) => return code,
     };
-    let command = cli.command.unwrap_or(Command::Verify {
-        paths: vec![],
-        seed: DEFAULT_SEED,
-        threads: None,
-        samples: None,
-        json: None,
-        html: None,
-        no_chi2: false,
-        verbose: false,
-    });
+    let Some(command) = command_or_verify(cli) else {
+        eprintln!("error: lightproof: cannot form the default `verify` command");
+        return ExitCode::from(3);
+    };
     let threads = match &command {
         Command::Verify { threads, .. }
         | Command::Estimate { threads, .. }
@@ -882,4 +886,42 @@ fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) {
             ""
         }
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bare `lightproof` is `lightproof verify`: the whole catalog at the default seed,
+    /// every core, each case's own sample count, the chi-square suites on, no files.
+    #[test]
+    fn bare_lightproof_is_verify_with_its_defaults() {
+        let bare = Cli::try_parse_from(["lightproof"]).unwrap();
+        assert!(bare.command.is_none());
+        match command_or_verify(bare) {
+            Some(Command::Verify {
+                paths,
+                seed,
+                threads,
+                samples,
+                json,
+                html,
+                no_chi2,
+                verbose,
+            }) => {
+                assert!(paths.is_empty());
+                assert_eq!(seed, DEFAULT_SEED);
+                assert_eq!((threads, samples), (None, None));
+                assert_eq!((json, html), (None, None));
+                assert!(!no_chi2 && !verbose);
+            }
+            _ => panic!("a bare `lightproof` must run `verify`"),
+        }
+        // A command given is kept.
+        let given = Cli::try_parse_from(["lightproof", "verify", "--seed", "7"]).unwrap();
+        assert!(matches!(
+            command_or_verify(given),
+            Some(Command::Verify { seed: 7, .. })
+        ));
+    }
 }
