@@ -136,24 +136,23 @@ impl Error {
 pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, InputError> {
     let de = &mut serde_json::Deserializer::from_str(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
-        let mut path = e.path().to_string();
+        // serde_path_to_error shows the document itself as `.`.
+        let shown = e.path().to_string();
+        let mut keys: Vec<String> = match &shown {
+            p if p == "." => vec![],
+            p => vec![p.clone()],
+        };
         let segments: Vec<Segment> = e.path().iter().cloned().collect();
-        let inner = e.into_inner();
+        let reason = e.into_inner().to_string();
         if let Ok(doc) = serde_json::from_str::<serde_json::Value>(text) {
-            for key in field_in_tagged::<T>(&doc, &segments, &path.clone()) {
-                path = if path.is_empty() || path == "." {
-                    key
-                } else {
-                    format!("{path}.{key}")
-                };
-            }
+            keys.extend(field_in_tagged::<T>(&doc, &segments, &shown, &reason));
         }
-        let field = if path.is_empty() || path == "." {
+        let field = if keys.is_empty() {
             "-".to_string()
         } else {
-            path
+            keys.join(".")
         };
-        InputError::new(file, field, inner.to_string())
+        InputError::new(file, field, reason)
     })
 }
 
@@ -177,35 +176,35 @@ fn error_of<T: serde::de::DeserializeOwned>(doc: &Value) -> Option<(String, Stri
 
 /// The keys, outermost first, of the field at fault inside an internally tagged object
 /// (one with a `"type"` key) at `path` (shown as `shown`), where serde's own path stops
-/// at the object.
+/// at the object; `reason` is the error the text gave there.
 ///
 /// Delta debugging (Zeller & Hildebrandt, IEEE TSE 28(2), 2002) with the parser as the
 /// oracle: serde reports the first field whose value it rejects while it walks the
 /// object's fields, so removing any other field leaves that error as it was, and removing
 /// the field at fault changes it (to a missing field, a later error, or none). The one key
 /// whose removal changes the error is the field; the search then descends into that
-/// field's value if it is an object. The tag itself is named only when no other key
-/// changes the error (an unknown variant). A missing field is named by serde's own message
-/// at the object, and anything ambiguous (two keys that each change the error, or a
-/// document whose parse from the tree differs from the text's) keeps serde's path: this
-/// only ever adds keys that are certain.
+/// field's value if it is an object. The tag is never a candidate (serde's path already
+/// names an unknown variant's `type`), a missing field is named by serde's own message at
+/// the object, and anything ambiguous keeps serde's path: two keys that each change the
+/// error, or a tree whose error is not the text's (its objects list keys in sorted order,
+/// so with two bad fields it may stop at the other one). Only certain keys are added.
 fn field_in_tagged<T: serde::de::DeserializeOwned>(
     doc: &Value,
     path: &[Segment],
     shown: &str,
+    reason: &str,
 ) -> Vec<String> {
     let mut found = Vec::new();
-    let Some((base_path, base_message)) = error_of::<T>(doc) else {
+    let Some(base) = error_of::<T>(doc) else {
         return found;
     };
-    let is_tagged = |v: Option<&Value>| v.and_then(|v| v.get("type")).is_some();
-    if base_path != shown
-        || base_message.starts_with("missing field")
-        || !is_tagged(value_at(doc, path))
-    {
+    // The text's error is the tree's, with the text's position after it.
+    let same = base.0 == shown
+        && (reason == base.1 || reason.starts_with(&format!("{} at line ", base.1)));
+    let tagged = value_at(doc, path).and_then(|v| v.get("type")).is_some();
+    if !same || base.1.starts_with("missing field") || !tagged {
         return found;
     }
-    let base = (base_path, base_message);
     let mut at: Vec<Segment> = path.to_vec();
     // Each round names one key deeper; a document is finite, so the walk ends.
     while let Some(Value::Object(object)) = value_at(doc, &at) {
@@ -216,15 +215,14 @@ fn field_in_tagged<T: serde::de::DeserializeOwned>(
             }
             error_of::<T>(&d).as_ref() != Some(&base)
         };
-        let keys: Vec<&String> = object.keys().filter(|k| *k != "type").collect();
-        let culprits: Vec<&String> = keys.into_iter().filter(|k| changes(k)).collect();
-        let key = match culprits.as_slice() {
-            [one] => (*one).clone(),
-            [] if object.contains_key("type") && found.is_empty() && changes("type") => {
-                "type".to_string()
-            }
-            _ => break,
+        let culprits: Vec<&String> = object
+            .keys()
+            .filter(|k| *k != "type" && changes(k))
+            .collect();
+        let [key] = culprits.as_slice() else {
+            break;
         };
+        let key = (*key).clone();
         at.push(Segment::Map { key: key.clone() });
         found.push(key);
     }
@@ -451,6 +449,22 @@ mod tests {
             ),
             "shapes[0].geometry.glow.value"
         );
+        // Two bad fields: the tree lists keys sorted, so it stops at `center` where the
+        // text stopped at `radius`; the search then keeps serde's path.
+        assert_eq!(
+            field(&disk(r#""radius": "x", "center": "y""#)),
+            "shapes[0].geometry"
+        );
+        assert_eq!(
+            field(&disk(r#""center": "y", "radius": "x""#)),
+            "shapes[0].geometry.center"
+        );
+        // A tagged object at the top of the document.
+        let top = parse_json::<Geometry>(
+            "f.json",
+            r#"{"type": "disk", "center": [0, 0, 0], "radius": []}"#,
+        );
+        assert_eq!(top.unwrap_err().field, "radius");
         assert_eq!(
             field(r#"{"shapes": [{"geometry": 1}]}"#),
             "shapes[0].geometry"
