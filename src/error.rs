@@ -195,14 +195,17 @@ fn field_in_tagged<T: serde::de::DeserializeOwned>(
     reason: &str,
 ) -> Vec<String> {
     let mut found = Vec::new();
+    let tagged = value_at(doc, path).and_then(|v| v.get("type")).is_some();
+    if !tagged || reason.starts_with("missing field") {
+        return found;
+    }
     let Some(base) = error_of::<T>(doc) else {
         return found;
     };
     // The text's error is the tree's, with the text's position after it.
     let same = base.0 == shown
         && (reason == base.1 || reason.starts_with(&format!("{} at line ", base.1)));
-    let tagged = value_at(doc, path).and_then(|v| v.get("type")).is_some();
-    if !same || base.1.starts_with("missing field") || !tagged {
+    if !same {
         return found;
     }
     let mut at: Vec<Segment> = path.to_vec();
