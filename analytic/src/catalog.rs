@@ -307,6 +307,21 @@ fn integrating_sphere_cap(p: &Params<'_>) -> Result<(f64, f64, f64)> {
     Ok((le, rho, partial_shapes::port_fraction_of_cap(t)))
 }
 
+/// The distribution, masking, α and cos θo ∈ (0, 1] of a rough mirror's albedo.
+fn rough_mirror(p: &Params<'_>) -> Result<(Distribution, Masking, f64, f64)> {
+    let (d, a) = (p.distribution()?, p.alpha()?);
+    const M: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
+    let m = M[p.choice("masking", &["height_correlated", "uncorrelated"])?];
+    let c = p.range("cos_theta", 0.0, 1.0, false)?;
+    if c == 0.0 {
+        return Err(p.invalid(
+            "cos_theta",
+            "must be > 0 (the albedo at exactly grazing is a limit)",
+        ));
+    }
+    Ok((d, m, a, c))
+}
+
 /// Inner and outer radii of an annulus: 0 ≤ r < R.
 fn annulus_radii(p: &Params<'_>) -> Result<(f64, f64)> {
     let (r, big_r) = (p.non_negative("inner_radius")?, p.positive("outer_radius")?);
@@ -805,21 +820,29 @@ static ENTRIES: &[Entry] = &[
         ["distribution", "masking", "alpha", "cos_theta"],
         "directional albedo (1) of a rough mirror with F ≡ 1 (weak white furnace: the single-scattering masking–shadowing loss), masking \"height_correlated\" | \"uncorrelated\"; 1 − ln 2 for GGX at alpha = 1, cos_theta = 1, quadrature elsewhere; cos_theta in (0, 1]",
         |p| {
-            let (d, a) = (p.distribution()?, p.alpha()?);
-            const M: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
-            let m = M[p.choice("masking", &["height_correlated", "uncorrelated"])?];
-            let c = p.range("cos_theta", 0.0, 1.0, false)?;
-            if c == 0.0 {
-                return Err(p.invalid(
-                    "cos_theta",
-                    "must be > 0 (the albedo at exactly grazing is a limit)",
-                ));
-            }
+            let (d, m, a, c) = rough_mirror(p)?;
             Ok(if d == Distribution::Ggx && a == 1.0 && c == 1.0 {
                 microfacet::ggx_white_albedo_normal_alpha1()
             } else {
                 microfacet::white_albedo(d, m, a, c)
             })
+        }
+    ),
+    entry!(
+        "microfacet_conductor_albedo",
+        ["distribution", "masking", "alpha", "cos_theta", "eta", "k"],
+        "directional albedo (1) of a rough conductor: the Cook–Torrance BRDF F(⟨ωo, h⟩) D G2/(4 cos θo cos θi) (Walter et al. 2007, eq. 20) with the conductor Fresnel of complex index eta + i·k, by quadrature over half vectors; distribution and masking as microfacet_white_albedo, cos_theta in (0, 1]",
+        |p| {
+            let (d, m, a, c) = rough_mirror(p)?;
+            let (eta, k) = (p.positive("eta")?, p.non_negative("k")?);
+            if eta == 1.0 && k == 0.0 {
+                // A matched index reflects nothing: F ≡ 0 exactly, where the quadrature
+                // would chase the rounding noise of F to its evaluation cap.
+                return Ok(0.0);
+            }
+            Ok(microfacet::albedo_with_fresnel(d, m, a, c, |x| {
+                fresnel::conductor(x, eta, k)
+            }))
         }
     ),
     // ---- Oren–Nayar ----
@@ -1310,6 +1333,50 @@ mod tests {
         };
         assert_eq!(at(1.0), 1.0 - std::f64::consts::LN_2);
         assert!((at(1.0 - 1e-12) - at(1.0)).abs() < 1e-8);
+
+        // The rough conductor: its index is validated as `fresnel_conductor`'s, its mirror
+        // parameters as `microfacet_white_albedo`'s.
+        let rough = |eta: f64, k: f64, c: f64| {
+            evaluate(
+                "microfacet_conductor_albedo",
+                &obj(
+                    json!({"distribution": "ggx", "masking": "height_correlated", "alpha": 0.5, "cos_theta": c, "eta": eta, "k": k}),
+                ),
+            )
+        };
+        let e = rough(-0.2, 3.9, 0.5).unwrap_err();
+        assert!(
+            e.to_string().contains("`eta`") && e.to_string().contains("must be > 0"),
+            "{e}"
+        );
+        let e = rough(0.2, -1.0, 0.5).unwrap_err();
+        assert!(
+            e.to_string().contains("`k`") && e.to_string().contains("must be ≥ 0"),
+            "{e}"
+        );
+        let e = rough(0.2, 3.9, 0.0).unwrap_err();
+        assert!(e.to_string().contains("`cos_theta`"), "{e}");
+        let e = evaluate(
+            "microfacet_conductor_albedo",
+            &obj(json!({"distribution": "ggx", "masking": "correlated", "alpha": 0.5, "cos_theta": 0.5, "eta": 0.2, "k": 3.9})),
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("`masking`")
+                && e.to_string().contains("height_correlated, uncorrelated"),
+            "{e}"
+        );
+        // A matched index (η = 1, k = 0) reflects nothing; a conductor less than F ≡ 1.
+        assert_eq!(rough(1.0, 0.0, 0.5).unwrap(), 0.0);
+        let near = rough(1.01, 0.0, 0.5).unwrap();
+        assert!(near > 0.0 && near < 1e-3, "{near}");
+        let gold = rough(0.2, 3.9, 0.5).unwrap();
+        let white = evaluate(
+            "microfacet_white_albedo",
+            &obj(json!({"distribution": "ggx", "masking": "height_correlated", "alpha": 0.5, "cos_theta": 0.5})),
+        )
+        .unwrap();
+        assert!(gold > 0.8 * white && gold < white, "{gold} vs {white}");
     }
 
     #[test]
@@ -1384,6 +1451,7 @@ mod tests {
             "microfacet_projected_area": {"distribution": "beckmann", "alpha": 0.3, "cos_theta": 0.5},
             "microfacet_visible_normalisation": {"distribution": "ggx", "alpha": 0.3, "cos_theta": 0.5},
             "microfacet_white_albedo": {"distribution": "ggx", "masking": "uncorrelated", "alpha": 0.5, "cos_theta": 0.5},
+            "microfacet_conductor_albedo": {"distribution": "beckmann", "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5, "eta": 0.2, "k": 3.9},
             "oren_nayar_classic_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5},
             "oren_nayar_fujii_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5}
         }"#,

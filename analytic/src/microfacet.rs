@@ -1,5 +1,6 @@
-//! Microfacet theory in `f64`: the distributions' integrals and the white-furnace albedo
-//! of a rough mirror with F ≡ 1 (the single-scattering masking–shadowing loss).
+//! Microfacet theory in `f64`: the distributions' integrals, the white-furnace albedo
+//! of a rough mirror with F ≡ 1 (the single-scattering masking–shadowing loss), and the
+//! albedo of a rough mirror with a Fresnel factor (a rough conductor).
 //!
 //! Written from the papers, sharing nothing with the engine:
 //!
@@ -27,6 +28,10 @@
 //!   height-correlated 1/(1 + Λ(ωo) + Λ(ωi)) or uncorrelated G1(ωo) G1(ωi) (Heitz 2014,
 //!   eqs. 99 and 98). 1 − ρ is the energy lost by single scattering (the "weak white
 //!   furnace" fails only through G2 < G1).
+//! - **With Fresnel.** The full Cook–Torrance BRDF f = F(⟨ωo, h⟩) D(h) G2/(4 cos θo cos θi)
+//!   (Walter et al. 2007, eq. 20) multiplies the same half-vector integrand by
+//!   F(⟨ωo, h⟩), which depends on h alone: [`albedo_with_fresnel`], of which
+//!   [`white_albedo`] is the F ≡ 1 call (one integrand for both).
 //!
 //! **Closed form.** At normal incidence Λ(ωo) = 0, so both maskings agree, and for GGX
 //! with t = tan²θh (θi = 2θh) G1(ωi) = 2(1 − t)/((1 − t) + √((1 − t)² + 4α²t)), hence
@@ -182,10 +187,37 @@ fn g2(dist: Distribution, masking: Masking, alpha: f64, co: f64, ci: f64) -> f64
 }
 
 /// Directional albedo ρ(θo) of the F ≡ 1 microfacet mirror (module doc), cos θo ∈ (0, 1],
-/// to a relative accuracy of about 1e-8. GGX at α = 1 and normal incidence is
-/// [`ggx_white_albedo_normal_alpha1`] (the tests check this function against it).
-/// Costs a few milliseconds (tens at α ≤ 1e-3).
+/// to a relative accuracy of about 1e-8: [`albedo_with_fresnel`] with F ≡ 1. GGX at
+/// α = 1 and normal incidence is [`ggx_white_albedo_normal_alpha1`] (the tests check
+/// this function against it). Costs a few milliseconds (tens at α ≤ 1e-3).
 pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta: f64) -> f64 {
+    albedo_with_fresnel(dist, masking, alpha, cos_theta, |_| 1.0)
+}
+
+/// Directional albedo ρ(θo) of the Cook–Torrance microfacet BRDF with the Fresnel factor
+/// `fresnel`, a function of ⟨ωo, h⟩ ∈ (0, 1], cos θo ∈ (0, 1], to a relative accuracy of
+/// about 1e-8.
+///
+/// **Formula.** f(ωo, ωi) = F(⟨ωo, h⟩) D(h) G2(ωo, ωi)/(4 cos θo cos θi) with
+/// h = (ωo + ωi)/‖ωo + ωi‖ (Walter et al. 2007, eq. 20), and
+/// ρ(ωo) = ∫ f cos θi dωi = ∫ F(⟨ωo, h⟩) D(h) cos θh · ⟨ωo, h⟩ G2(ωo, ωi(h))/(cos θo cos θh) dh
+/// over the h whose mirror direction ωi = 2⟨ωo, h⟩h − ωo lies above the surface.
+///
+/// **Derivation.** The white-furnace integral of the module doc (reflection Jacobian
+/// dωi = 4 ⟨ωo, h⟩ dh, Walter et al. 2007, eq. 14) with its integrand multiplied by
+/// F(⟨ωo, h⟩): F depends on h alone, so the same slope variable, azimuth cut and
+/// adaptive rule apply unchanged. F ≡ 1 is [`white_albedo`]; a conductor passes
+/// `|c| fresnel::conductor(c, η, k)` (the catalog's `microfacet_conductor_albedo`).
+///
+/// **Source.** Walter, Marschner, Li & Torrance 2007, "Microfacet Models for Refraction
+/// through Rough Surfaces", EGSR, eqs. 14 and 20; Heitz 2014 for Λ and G2 (module doc).
+pub fn albedo_with_fresnel(
+    dist: Distribution,
+    masking: Masking,
+    alpha: f64,
+    cos_theta: f64,
+    fresnel: impl Fn(f64) -> f64,
+) -> f64 {
     let co = cos_theta.clamp(1e-300, 1.0);
     let so = (1.0 - co * co).sqrt();
     // φ range (from ωo's azimuth) where ωi = 2⟨ωo, h⟩h − ωo is above the surface:
@@ -206,7 +238,7 @@ pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta:
         if oh <= 0.0 || ci <= 0.0 {
             return 0.0;
         }
-        oh * g2(dist, masking, alpha, co, ci) / (co * h[2])
+        fresnel(oh.min(1.0)) * oh * g2(dist, masking, alpha, co, ci) / (co * h[2])
     };
     // p(s) ds dφ/(2π) = dx dφ/(2π); symmetric in φ, so twice the half range over 2π.
     adaptive_2d(g, 0.0, 1.0, |_| 0.0, phi_max, 1e-9) / PI
@@ -273,6 +305,7 @@ pub fn projected_area_by_quadrature(dist: Distribution, alpha: f64, cos_theta: f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fresnel;
 
     const DISTS: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
     const MASKS: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
@@ -353,8 +386,15 @@ mod tests {
         }
     }
 
-    /// Brute force: ∫ f cos θi dωi over (θi, φi) with f from D and G2 directly.
-    fn albedo_brute(dist: Distribution, masking: Masking, alpha: f64, co: f64) -> f64 {
+    /// Brute force: ∫ f cos θi dωi over (θi, φi) with f = F(⟨ωo, h⟩) D(h) G2/(4 cos θo cos θi)
+    /// from D, G2 and `fresnel` directly (no half-vector change of variables).
+    fn albedo_brute(
+        dist: Distribution,
+        masking: Masking,
+        alpha: f64,
+        co: f64,
+        fresnel: impl Fn(f64) -> f64,
+    ) -> f64 {
         let so = (1.0 - co * co).sqrt();
         2.0 * adaptive_2d(
             |ti, phi| {
@@ -362,8 +402,9 @@ mod tests {
                 let h = [wi[0] + so, wi[1], wi[2] + co];
                 let n = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
                 let h = [h[0] / n, h[1] / n, h[2] / n];
-                let f =
-                    d(dist, alpha, h) * g2(dist, masking, alpha, co, wi[2]) / (4.0 * co * wi[2]);
+                let oh = so * h[0] + co * h[2];
+                let f = fresnel(oh) * d(dist, alpha, h) * g2(dist, masking, alpha, co, wi[2])
+                    / (4.0 * co * wi[2]);
                 f * wi[2] * ti.sin()
             },
             0.0,
@@ -421,7 +462,7 @@ mod tests {
                     {
                         let c = theta.to_radians().cos();
                         let v = white_albedo(dist, m, alpha, c);
-                        let b = albedo_brute(dist, m, alpha, c);
+                        let b = albedo_brute(dist, m, alpha, c, |_| 1.0);
                         assert!(
                             (v - b).abs() < 1e-6,
                             "{dist:?} {m:?} α = {alpha} θ = {theta}: {v} vs {b}"
@@ -445,6 +486,93 @@ mod tests {
                 let hc = white_albedo(dist, Masking::HeightCorrelated, 0.5, c);
                 let un = white_albedo(dist, Masking::Uncorrelated, 0.5, c);
                 assert!(hc > un, "{dist:?} θ = {theta}: {hc} ≤ {un}");
+            }
+        }
+    }
+
+    /// The two conductors of the tests and the catalog: gold-like η + ik = 0.2 + 3.9i
+    /// and a weakly absorbing 1.5 + 0.5i (F₀ ≈ 0.08).
+    const METALS: [(f64, f64); 2] = [(0.2, 3.9), (1.5, 0.5)];
+
+    #[test]
+    fn albedo_with_constant_fresnel_scales_the_white_albedo() {
+        // F = c scales the integrand, and the relative tolerance scales with it.
+        for dist in DISTS {
+            for (alpha, theta) in [(0.3, 60.0f64), (0.7, 0.0), (0.5, 85.0)] {
+                let co = theta.to_radians().cos();
+                let m = Masking::HeightCorrelated;
+                let w = white_albedo(dist, m, alpha, co);
+                for c in [0.37, 0.9] {
+                    let f = albedo_with_fresnel(dist, m, alpha, co, |_| c);
+                    assert!(
+                        (f - c * w).abs() <= 1e-12 * c * w,
+                        "{dist:?} α = {alpha} θ = {theta} c = {c}: {f} vs {}",
+                        c * w
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn conductor_albedo_matches_brute_force() {
+        // The half-vector quadrature against ∫ f cos θi dωi over ωi, with the conductor
+        // Fresnel at ⟨ωo, h⟩ computed by each from its own h.
+        let mut worst: f64 = 0.0;
+        for (l, dist) in DISTS.into_iter().enumerate() {
+            for (i, alpha) in [0.3, 0.7].into_iter().enumerate() {
+                for (j, theta) in [0.0f64, 60.0, 85.0].into_iter().enumerate() {
+                    // Both maskings and both metals, alternating over the grid.
+                    let m = MASKS[(i + j) % 2];
+                    let c = theta.to_radians().cos();
+                    {
+                        let (eta, k) = METALS[(i + j + l) % 2];
+                        let fr = |x: f64| fresnel::conductor(x, eta, k);
+                        let v = albedo_with_fresnel(dist, m, alpha, c, fr);
+                        let b = albedo_brute(dist, m, alpha, c, fr);
+                        let rel = (v - b).abs() / b;
+                        worst = worst.max(rel);
+                        assert!(
+                            rel < 1e-6,
+                            "{dist:?} {m:?} α = {alpha} θ = {theta} η = {eta} k = {k}: {v} vs {b}"
+                        );
+                        assert!(v > 0.0 && v < 1.0);
+                    }
+                }
+            }
+        }
+        eprintln!("conductor albedo vs brute force: worst relative difference {worst:.2e}");
+    }
+
+    #[test]
+    fn conductor_albedo_sanity() {
+        for (eta, k) in METALS {
+            // The oracle's F at normal incidence is ((η − 1)² + k²)/((η + 1)² + k²).
+            let f0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+            let f1 = fresnel::conductor(1.0, eta, k);
+            assert!(
+                (f1 - f0).abs() <= 1e-14 * f0,
+                "η = {eta} k = {k}: {f1} vs {f0}"
+            );
+            let fr = |x: f64| fresnel::conductor(x, eta, k);
+            for dist in DISTS {
+                for m in MASKS {
+                    for (alpha, theta) in [(0.3, 60.0f64), (0.7, 0.0), (0.5, 85.0)] {
+                        let c = theta.to_radians().cos();
+                        let w = white_albedo(dist, m, alpha, c);
+                        let v = albedo_with_fresnel(dist, m, alpha, c, fr);
+                        // F < 1 everywhere, so a conductor reflects less than the white mirror.
+                        assert!(v < w, "{dist:?} {m:?} α = {alpha} θ = {theta}: {v} ≥ {w}");
+                    }
+                }
+                // α → 0: the smooth conductor, ρ → F(cos θo).
+                let c = 0.5;
+                let v = albedo_with_fresnel(dist, Masking::HeightCorrelated, 1e-3, c, fr);
+                let smooth = fresnel::conductor(c, eta, k);
+                assert!(
+                    (v - smooth).abs() < 1e-4,
+                    "{dist:?} η = {eta} k = {k}: {v} vs smooth {smooth}"
+                );
             }
         }
     }
