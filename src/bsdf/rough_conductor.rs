@@ -164,11 +164,12 @@ impl BsdfModel for RoughConductor {
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
-        // Unit length, so that the mirrored or refracted direction is unit too.
+        // Unit length, so that the mirrored or refracted direction is unit too (and finite:
+        // a non-finite or zero ωo becomes 0, which the side test below rejects).
         let wo = wo.normalize_or_zero();
         let flip = wo.z < 0.0;
         let wo = if flip { flip_z(wo) } else { wo };
-        if !(wo.z > 0.0) || !wo.is_finite() {
+        if !(wo.z > 0.0) {
             return None;
         }
         let mf = self.microfacet();
