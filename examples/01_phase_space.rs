@@ -292,22 +292,17 @@ fn plot(
     t_max: f64,
 ) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("01_photon_flux.svg", (800, 480), |root| {
-        root.fill(&WHITE)?;
         let y_max = leaving
             .iter()
             .chain(arriving)
             .map(|p| p.1)
             .fold(phi, f64::max)
             * 1.15;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Photon counting: power leaving the source and reaching the detector",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
+        let mut chart = common::chart(
+            root,
+            "Photon counting: power leaving the source and reaching the detector",
+        )
+        .build_cartesian_2d(0.0..t_max, 0.0..y_max)?;
         chart
             .configure_mesh()
             .x_desc("time after switching on (ns)")

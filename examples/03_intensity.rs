@@ -152,15 +152,7 @@ fn check(what: &str, case: &Case, est: Estimator, n: u64, exact: f64) -> bool {
 
 fn plot(points: &[(f64, f64, f64)], i0: f64) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("03_intensity.svg", (720, 460), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Lambert's cosine law: intensity of a Lambertian disk",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
+        let mut chart = common::chart(root, "Lambert's cosine law: intensity of a Lambertian disk")
             .build_cartesian_2d(0.0..90.0, 0.0..i0 * 1.1)?;
         chart
             .configure_mesh()

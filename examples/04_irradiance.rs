@@ -159,16 +159,11 @@ fn check_all(label: &str, case: &Case, n: u64) -> bool {
 
 fn plot(points: &[(f64, f64)]) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("04_inverse_square.svg", (720, 480), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Irradiance on the axis of a disk light (R = 1, L = 1)",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d((0.2f64..20.0).log_scale(), (0.005f64..60.0).log_scale())?;
+        let mut chart = common::chart(
+            root,
+            "Irradiance on the axis of a disk light (R = 1, L = 1)",
+        )
+        .build_cartesian_2d((0.2f64..20.0).log_scale(), (0.005f64..60.0).log_scale())?;
         chart
             .configure_mesh()
             .x_desc("height h (m)")

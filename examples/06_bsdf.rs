@@ -230,15 +230,7 @@ fn albedo_curve(name: &str, json: &str, n: u64) -> Vec<(f64, f64, f64)> {
 
 fn plot(curves: &[Curve]) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("06_albedo.svg", (720, 480), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Directional albedo a(θo) = ∫ f cos θi dωi ≤ 1",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
+        let mut chart = common::chart(root, "Directional albedo a(θo) = ∫ f cos θi dωi ≤ 1")
             .build_cartesian_2d(0f64..90.0, 0f64..1.1)?;
         chart
             .configure_mesh()

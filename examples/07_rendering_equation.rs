@@ -108,16 +108,8 @@ fn plot(
     unbounded: f64,
 ) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("07_furnace_bounces.svg", (720, 460), |root| {
-        root.fill(&WHITE)?;
         let k_max = points.len() as f64 - 1.0;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "White furnace (ρ = 0.8): radiance after k bounces",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
+        let mut chart = common::chart(root, "White furnace (ρ = 0.8): radiance after k bounces")
             .build_cartesian_2d(-0.5..k_max + 0.5, 0.0..limit * 1.1)?;
         chart
             .configure_mesh()

@@ -147,7 +147,6 @@ fn est_label(e: Estimator) -> &'static str {
 
 fn plot(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
     common::save_svg("08_efficiency.svg", (760, 500), |root| {
-        root.fill(&WHITE)?;
         let finite = || {
             rows.iter()
                 .map(|r| r.efficiency)
@@ -156,15 +155,12 @@ fn plot(rows: &[Row]) -> Result<String, Box<dyn std::error::Error>> {
         let lo = finite().fold(f64::INFINITY, f64::min) / 3.0;
         let hi = finite().fold(0.0, f64::max) * 3.0;
         let (lo, hi) = if lo < hi { (lo, hi) } else { (1.0, 10.0) };
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Irradiance under a disk light: efficiency of each estimator",
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d((0.07f64..14.0).log_scale(), (lo..hi).log_scale())?;
+        let mut chart = common::chart(
+            root,
+            "Irradiance under a disk light: efficiency of each estimator",
+        )
+        .y_label_area_size(70)
+        .build_cartesian_2d((0.07f64..14.0).log_scale(), (lo..hi).log_scale())?;
         chart
             .configure_mesh()
             .x_desc("disk radius R (height 1)")

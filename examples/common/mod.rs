@@ -7,7 +7,7 @@ use lightproof::sampling::SamplerKind;
 use lightproof::stats::{Verdict, VerdictClass};
 use lightproof::transport::Estimator;
 use plotters::coord::Shift;
-use plotters::prelude::{DrawingArea, IntoDrawingArea, SVGBackend};
+use plotters::prelude::{ChartBuilder, DrawingArea, IntoDrawingArea, SVGBackend, WHITE};
 use std::error::Error;
 use std::path::{Path, PathBuf};
 
@@ -48,7 +48,7 @@ pub fn save(name: &str, bytes: &[u8]) -> std::io::Result<String> {
     Ok(format!("target/examples/{name}"))
 }
 
-/// Draw an SVG picture of `size` pixels with `draw` and [`save`] it as `name`.
+/// Draw an SVG picture of `size` pixels on white with `draw` and [`save`] it as `name`.
 pub fn save_svg(
     name: &str,
     size: (u32, u32),
@@ -57,10 +57,24 @@ pub fn save_svg(
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE)?;
         draw(&root)?;
         root.present()?;
     }
     Ok(save(name, svg.as_bytes())?)
+}
+
+/// The examples' chart on `root`: the title, 12 px margins, room for the axis labels.
+pub fn chart<'a, 'b, 's>(
+    root: &'a DrawingArea<SVGBackend<'s>, Shift>,
+    title: &str,
+) -> ChartBuilder<'a, 'b, SVGBackend<'s>> {
+    let mut c = ChartBuilder::on(root);
+    c.caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60);
+    c
 }
 
 /// Print a case file and save it under target/examples/ for `lightproof verify`.
