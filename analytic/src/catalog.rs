@@ -224,6 +224,12 @@ impl Params<'_> {
         Ok(D[self.choice("distribution", &["ggx", "beckmann"])?])
     }
 
+    /// A masking–shadowing form: `"height_correlated"` or `"uncorrelated"`.
+    fn masking(&self) -> Result<Masking> {
+        const M: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
+        Ok(M[self.choice("masking", &["height_correlated", "uncorrelated"])?])
+    }
+
     /// A microfacet roughness α ∈ [1e-4, 1] (the engine's range).
     fn alpha(&self) -> Result<f64> {
         self.range("alpha", 1e-4, 1.0, false)
@@ -310,8 +316,7 @@ fn integrating_sphere_cap(p: &Params<'_>) -> Result<(f64, f64, f64)> {
 /// The distribution, masking, α and cos θo ∈ (0, 1] of a rough mirror's albedo.
 fn rough_mirror(p: &Params<'_>) -> Result<(Distribution, Masking, f64, f64)> {
     let (d, a) = (p.distribution()?, p.alpha()?);
-    const M: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
-    let m = M[p.choice("masking", &["height_correlated", "uncorrelated"])?];
+    let m = p.masking()?;
     let c = p.range("cos_theta", 0.0, 1.0, false)?;
     if c == 0.0 {
         return Err(p.invalid(
@@ -843,6 +848,28 @@ static ENTRIES: &[Entry] = &[
             Ok(microfacet::albedo_with_fresnel(d, m, a, c, |x| {
                 fresnel::conductor(x, eta, k)
             }))
+        }
+    ),
+    entry!(
+        "microfacet_dielectric_albedo",
+        ["distribution", "masking", "alpha", "cos_theta", "eta"],
+        "directional albedo ∫ f |cos θi| dωi (1) over both hemispheres of a rough dielectric (Walter et al. 2007, eqs. 20–21: reflection F D G2/(4|cos θo cos θi|) plus transmission with the refraction Jacobian, radiance convention: transmitted radiance scaled by 1/η′²), eta = η_inside/η_outside with the inside below; cos_theta in [−1, 1], ≠ 0, negative from inside (η′ = 1/eta, total internal reflection included); distribution and masking as microfacet_white_albedo, height_correlated meaning 1/(1 + Λo + Λi) for transmission too (pbrt-v4); quadrature over half vectors; the smooth limit is R + (1 − R)/η′²",
+        |p| {
+            let (d, m, a) = (p.distribution()?, p.masking()?, p.alpha()?);
+            let c = p.range("cos_theta", -1.0, 1.0, false)?;
+            if c == 0.0 {
+                return Err(p.invalid(
+                    "cos_theta",
+                    "must be ≠ 0 (the albedo at exactly grazing is a limit; the sign says the side)",
+                ));
+            }
+            Ok(microfacet::dielectric_albedo(
+                d,
+                m,
+                a,
+                c,
+                p.positive("eta")?,
+            ))
         }
     ),
     // ---- Oren–Nayar ----
@@ -1377,6 +1404,60 @@ mod tests {
         )
         .unwrap();
         assert!(gold > 0.8 * white && gold < white, "{gold} vs {white}");
+
+        // The rough dielectric: cos θo signed (negative from inside, never 0), eta > 0,
+        // mirror parameters as `microfacet_white_albedo`'s.
+        let glass = |c: Value, eta: Value| {
+            evaluate(
+                "microfacet_dielectric_albedo",
+                &obj(
+                    json!({"distribution": "ggx", "masking": "height_correlated", "alpha": 0.5, "cos_theta": c, "eta": eta}),
+                ),
+            )
+        };
+        let e = glass(json!(0), json!(1.5)).unwrap_err();
+        assert!(
+            e.to_string().contains("`cos_theta`") && e.to_string().contains("≠ 0"),
+            "{e}"
+        );
+        let e = glass(json!(-1.5), json!(1.5)).unwrap_err();
+        assert!(
+            e.to_string().contains("`cos_theta`") && e.to_string().contains("[-1, 1]"),
+            "{e}"
+        );
+        let e = glass(json!(0.5), json!(0)).unwrap_err();
+        assert!(
+            e.to_string().contains("`eta`") && e.to_string().contains("must be > 0"),
+            "{e}"
+        );
+        let e = glass(json!(0.5), json!("glass")).unwrap_err();
+        assert!(e.to_string().contains("`eta`"), "{e}");
+        let e = evaluate(
+            "microfacet_dielectric_albedo",
+            &obj(json!({"distribution": "ggx", "masking": "smith", "alpha": 0.5, "cos_theta": 0.5, "eta": 1.5})),
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("`masking`")
+                && e.to_string().contains("height_correlated, uncorrelated"),
+            "{e}"
+        );
+        let e = evaluate(
+            "microfacet_dielectric_albedo",
+            &obj(json!({"distribution": "ggx", "masking": "uncorrelated", "alpha": 0, "cos_theta": 0.5, "eta": 1.5})),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("`alpha`"), "{e}");
+        // Inside is below: from inside the relative index is 1/eta, the same albedo as
+        // from outside a boundary of index 1/eta.
+        let inside = glass(json!(-0.5), json!(1.5)).unwrap();
+        assert_eq!(inside, glass(json!(0.5), json!(1.0 / 1.5)).unwrap());
+        // From outside it carries less than 1 (1/η² on the transmitted radiance), from
+        // inside at normal incidence more (η² on it).
+        let outside = glass(json!(0.5), json!(1.5)).unwrap();
+        assert!(outside > 0.3 && outside < 0.6, "{outside}");
+        let up = glass(json!(-1), json!(1.5)).unwrap();
+        assert!(up > 1.5 && up < 2.25, "{up}");
     }
 
     #[test]
@@ -1452,6 +1533,7 @@ mod tests {
             "microfacet_visible_normalisation": {"distribution": "ggx", "alpha": 0.3, "cos_theta": 0.5},
             "microfacet_white_albedo": {"distribution": "ggx", "masking": "uncorrelated", "alpha": 0.5, "cos_theta": 0.5},
             "microfacet_conductor_albedo": {"distribution": "beckmann", "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5, "eta": 0.2, "k": 3.9},
+            "microfacet_dielectric_albedo": {"distribution": "ggx", "masking": "uncorrelated", "alpha": 0.3, "cos_theta": -0.5, "eta": 1.5},
             "oren_nayar_classic_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5},
             "oren_nayar_fujii_albedo": {"albedo": 0.8, "sigma": 0.3, "cos_theta": 0.5}
         }"#,
