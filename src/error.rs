@@ -156,15 +156,23 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
     })
 }
 
-/// The value a path of segments leads to in `doc` (`None` where it does not lead).
-fn value_at<'a>(doc: &'a Value, path: &[Segment]) -> Option<&'a Value> {
-    path.iter().try_fold(doc, |v, seg| match seg {
-        Segment::Seq { index } => v.get(index),
-        Segment::Map { key } => v.get(key),
-        // An externally tagged variant: `{"variant": …}`, or a bare string (a unit one).
-        Segment::Enum { variant } => v.get(variant).or(v.is_string().then_some(v)),
-        Segment::Unknown => None,
-    })
+/// The JSON Pointer (RFC 6901) of a path of segments, for `Value::pointer`: an
+/// externally tagged variant is the key it stands under; `None` for a segment serde could
+/// not name.
+fn pointer(path: &[Segment]) -> Option<String> {
+    path.iter()
+        .map(|seg| match seg {
+            Segment::Seq { index } => Some(index.to_string()),
+            Segment::Map { key } | Segment::Enum { variant: key } => Some(escape(key)),
+            Segment::Unknown => None,
+        })
+        .map(|token| token.map(|t| format!("/{t}")))
+        .collect()
+}
+
+/// A key as a JSON Pointer reference token: `~` as `~0`, `/` as `~1` (RFC 6901, §3).
+fn escape(key: &str) -> String {
+    key.replace('~', "~0").replace('/', "~1")
 }
 
 /// The error `T` gives for `doc`: its path and message (`None` if `doc` parses).
@@ -195,7 +203,10 @@ fn field_in_tagged<T: serde::de::DeserializeOwned>(
     reason: &str,
 ) -> Vec<String> {
     let mut found = Vec::new();
-    let tagged = value_at(doc, path).and_then(|v| v.get("type")).is_some();
+    let Some(mut at) = pointer(path) else {
+        return found;
+    };
+    let tagged = doc.pointer(&at).and_then(|v| v.get("type")).is_some();
     if !tagged || reason.starts_with("missing field") {
         return found;
     }
@@ -208,12 +219,11 @@ fn field_in_tagged<T: serde::de::DeserializeOwned>(
     if !same {
         return found;
     }
-    let mut at: Vec<Segment> = path.to_vec();
     // Each round names one key deeper; a document is finite, so the walk ends.
-    while let Some(Value::Object(object)) = value_at(doc, &at) {
+    while let Some(Value::Object(object)) = doc.pointer(&at) {
         let changes = |key: &str| {
             let mut d = doc.clone();
-            if let Some(Value::Object(o)) = value_at_mut(&mut d, &at) {
+            if let Some(Value::Object(o)) = d.pointer_mut(&at) {
                 o.remove(key);
             }
             error_of::<T>(&d).as_ref() != Some(&base)
@@ -226,26 +236,11 @@ fn field_in_tagged<T: serde::de::DeserializeOwned>(
             break;
         };
         let key = (*key).clone();
-        at.push(Segment::Map { key: key.clone() });
+        at.push('/');
+        at.push_str(&escape(&key));
         found.push(key);
     }
     found
-}
-
-/// [`value_at`], mutable.
-fn value_at_mut<'a>(doc: &'a mut Value, path: &[Segment]) -> Option<&'a mut Value> {
-    path.iter().try_fold(doc, |v, seg| match seg {
-        Segment::Seq { index } => v.get_mut(index),
-        Segment::Map { key } => v.get_mut(key),
-        Segment::Enum { variant } => {
-            if v.get(variant).is_some() {
-                v.get_mut(variant)
-            } else {
-                v.is_string().then_some(v)
-            }
-        }
-        Segment::Unknown => None,
-    })
 }
 
 /// Largest magnitude of a coordinate or length (in scene units): squared distances
@@ -393,6 +388,9 @@ mod tests {
     struct Doc {
         #[allow(dead_code)]
         shapes: Vec<Shape>,
+        #[allow(dead_code)]
+        #[serde(default)]
+        named: std::collections::BTreeMap<String, Geometry>,
     }
     #[derive(Debug, serde::Deserialize)]
     #[serde(deny_unknown_fields)]
@@ -461,6 +459,14 @@ mod tests {
         assert_eq!(
             field(&disk(r#""center": "y", "radius": "x""#)),
             "shapes[0].geometry.center"
+        );
+        // Keys with `/` and `~`, which a JSON Pointer escapes.
+        assert_eq!(
+            field(
+                r#"{"shapes": [], "named": {"a/b~c": {"type": "disk", "center": [0, 0, 0],
+                   "radius": "x"}}}"#
+            ),
+            "named.a/b~c.radius"
         );
         // A tagged object at the top of the document.
         let top = parse_json::<Geometry>(
