@@ -637,6 +637,7 @@ fn verify(
     let k = judge_family(&mut outcomes, warp_suite.len(), ALPHA);
     let mut below = 0;
     for (o, &(ran, own)) in outcomes.iter_mut().zip(&counts) {
+        o.require_power(!o.drew_fewer(ran, own));
         below += usize::from(o.note_fewer_samples(ran, own));
     }
     let mut chi2_rows = Vec::new();
@@ -687,6 +688,16 @@ fn verify(
         lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
     );
+    let weak = outcomes
+        .iter()
+        .filter(|o| o.verdict.as_ref().is_some_and(|v| v.weak))
+        .count();
+    if weak > 0 {
+        println!(
+            "{weak} of the {statistical} statistical passes are weak: drawn with fewer samples than their case's own count (--samples), they cannot see a {}% bias, so they show agreement, not a proof: rerun at the case's own count",
+            100.0 * lightproof::verdict::DETECTABLE_BOUND
+        );
+    }
     if below > 0 {
         println!(
             "{below} of the {failed} failures drew fewer samples than their case's own count (--samples), where a false alarm is possible: see their reasons"
@@ -743,8 +754,11 @@ fn estimate(
     judge_family(&mut all, 0, ALPHA);
     let listed: Vec<&str> = case.desc.estimators.iter().map(|e| e.name()).collect();
     let samplers: Vec<&str> = case.samplers().iter().map(|s| s.name()).collect();
+    let own = case.samples(None, 1);
+    let listed_pair = case.desc.estimators.contains(&est) && case.samplers().contains(&sampler);
     for o in &mut all {
-        o.note_fewer_samples(n, case.samples(None, 1));
+        o.require_power(listed_pair && !o.drew_fewer(n, own));
+        o.note_fewer_samples(n, own);
         if !case.desc.estimators.contains(&est) {
             o.note_outside_the_proof(
                 &format!(

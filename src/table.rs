@@ -48,7 +48,7 @@ pub fn verdict_cells(v: Option<&Verdict>, passed: bool) -> [String; 4] {
             format!("{:.6}", v.reference),
             format!("{:+.2}", v.z),
             format!("{:.3}%", 100.0 * v.detectable_relative_bias),
-            if v.passed { "pass" } else { "FAIL" }.into(),
+            v.label().into(),
         ],
         None => [
             "-".into(),

@@ -24,6 +24,12 @@ use crate::transport::plan::Plan;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// The smallest relative bias every statistical verdict of the proof must be able to
+/// see at 99% power, at its case's own sample count (the catalog's proof holds every
+/// case to it, across seeds): a verdict that cannot see it fails there
+/// ([`Outcome::require_power`]).
+pub const DETECTABLE_BOUND: f64 = 0.005;
+
 /// The standard error a verdict on an estimate uses.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ErrorBar {
@@ -100,6 +106,51 @@ pub fn judge(
         alpha,
         tests,
     )
+}
+
+impl Verdict {
+    /// A passed statistical verdict must be able to see a relative bias of
+    /// [`DETECTABLE_BOUND`] (its `detectable_relative_bias`, at 99% power), or the pass
+    /// proves nothing: an engine whose variance blew up (a dropped Jacobian that leaves
+    /// rare huge samples) passes any z test. `inside` says whether the run met the
+    /// proof's conditions (the case's own estimators and samplers at its own sample
+    /// count or more, where the catalog's proof shows every verdict of a correct engine
+    /// sees 0.5 %): there such a verdict fails; outside them it stays a pass marked
+    /// [`Verdict::weak`]. Exact verdicts (their tolerance is the f32 bound) and failures
+    /// are left as they are.
+    pub fn require_power(&mut self, inside: bool) {
+        let sees = self.detectable_relative_bias <= DETECTABLE_BOUND;
+        if self.class != crate::stats::VerdictClass::Statistical || !self.passed || sees {
+            return;
+        }
+        if inside {
+            self.passed = false;
+            // The detectable bias falls as 1/√N: the samples that would reach the bound.
+            let rel = self.detectable_relative_bias;
+            let (sees, more) = if rel.is_finite() {
+                let more = (rel / DETECTABLE_BOUND).powi(2).ceil();
+                (
+                    format!(
+                        "cannot see a relative bias below {:.3}% (99% power)",
+                        100.0 * rel
+                    ),
+                    if more.is_finite() {
+                        format!(" about {more}×")
+                    } else {
+                        String::new()
+                    },
+                )
+            } else {
+                ("has no finite detectable bias".to_string(), String::new())
+            };
+            self.reason = Some(format!(
+                "{sees}, where a verdict at its case's own sample count must see {}%, or its pass proves nothing: raise the case's `samples`{more} or find why the estimator's variance is this high",
+                100.0 * DETECTABLE_BOUND
+            ));
+        } else {
+            self.weak = true;
+        }
+    }
 }
 
 /// The outcome of one estimator × sampler of a case.
@@ -198,9 +249,25 @@ impl Outcome {
         }
     }
 
+    /// The samples a run asked for `n` draws with this outcome's sampler.
+    fn drawn(&self, n: u64) -> u64 {
+        crate::transport::engine::RunSpec {
+            samples: n,
+            sampler: self.sampler,
+            seed: 0,
+        }
+        .total()
+    }
+
+    /// Whether a run asked for `ran` samples drew fewer than its case's own count `own`
+    /// would have (both as the engine rounds them for this outcome's sampler).
+    pub fn drew_fewer(&self, ran: u64, own: u64) -> bool {
+        self.drawn(ran) < self.drawn(own)
+    }
+
     /// A failed verdict of an estimate asked for `ran` samples where its case's own count
     /// is `own` says so in its reason when it drew fewer samples than the case's own count
-    /// would have (both as the engine rounds them for this outcome's sampler): the
+    /// would have ([`Outcome::drew_fewer`]): the
     /// false-alarm rate α is established at each case's own count and above (the proof
     /// runs there, across seeds), and with fewer samples an integrand whose variance sits
     /// in rare events (a near-delta lobe at grazing incidence, a thin strip of a view
@@ -210,22 +277,23 @@ impl Outcome {
     /// reference), are left as they are.
     /// Returns whether it added the note.
     pub fn note_fewer_samples(&mut self, ran: u64, own: u64) -> bool {
-        let drawn = |n: u64| {
-            crate::transport::engine::RunSpec {
-                samples: n,
-                sampler: self.sampler,
-                seed: 0,
-            }
-            .total()
-        };
-        let (ran, own) = (drawn(ran), drawn(own));
-        if ran >= own {
+        if !self.drew_fewer(ran, own) {
             return false;
         }
+        let (ran, own) = (self.drawn(ran), self.drawn(own));
         self.note_outside_the_proof(
             &format!("drew {ran} samples, fewer than the case's own {own}"),
             "rerun at the case's own count to tell",
         )
+    }
+
+    /// This outcome's verdict, if any, held to the proof's power
+    /// ([`Verdict::require_power`]); `inside`: whether the run met the proof's conditions
+    /// (its case's own estimators and samplers at its own sample count or more).
+    pub fn require_power(&mut self, inside: bool) {
+        if let Some(v) = self.verdict.as_mut() {
+            v.require_power(inside);
+        }
     }
 
     /// A failed verdict of a run the catalog's proof does not cover (`what`: fewer samples
@@ -456,6 +524,86 @@ mod tests {
             verdict: None,
             bin: None,
         }
+    }
+
+    /// A pass that cannot see a 0.5 % bias fails inside the proof's conditions and is
+    /// marked weak outside them; a pass that can, an exact verdict, a failure and an
+    /// unjudged outcome are left as they are.
+    #[test]
+    fn a_pass_without_power_fails_inside_the_proof_and_is_weak_outside() {
+        let judged = |se: f64| {
+            let mut o = outcome(1.0, Some(se), Some(1.0), 1 << 16, 0);
+            o.judge(1e-4, 1);
+            assert!(o.passed());
+            o
+        };
+        // se 1e-4: detects ~5e-4 relative; se 0.1: ~0.5, a hundred times the bound.
+        for inside in [true, false] {
+            let mut strong = judged(1e-4);
+            let before = strong.verdict.clone();
+            strong.require_power(inside);
+            assert_eq!(strong.verdict, before);
+            assert_eq!(strong.verdict.as_ref().unwrap().label(), "pass");
+        }
+        let mut blind = judged(0.1);
+        assert!(
+            blind.verdict.as_ref().unwrap().detectable_relative_bias > 100.0 * DETECTABLE_BOUND
+        );
+        blind.require_power(true);
+        let v = blind.verdict.as_ref().unwrap();
+        assert!(!blind.passed() && !v.weak && v.label() == "FAIL");
+        let why = v.reason.as_deref().unwrap();
+        assert!(
+            why.contains("cannot see a relative bias below") && why.contains("0.5%"),
+            "{why}"
+        );
+        let mut outside = judged(0.1);
+        outside.require_power(false);
+        let v = outside.verdict.as_ref().unwrap();
+        assert!(outside.passed() && v.weak && v.reason.is_none() && v.label() == "weak");
+        // At the bound exactly it sees the bias; NaN (a zero reference) sees nothing.
+        for (det, passes) in [(DETECTABLE_BOUND, true), (f64::NAN, false)] {
+            let mut o = judged(1e-4);
+            o.verdict.as_mut().unwrap().detectable_relative_bias = det;
+            o.require_power(true);
+            assert_eq!(o.passed(), passes, "{det}");
+            let why = o.verdict.unwrap().reason.unwrap_or_default();
+            assert!(!why.contains("NaN"), "{why}");
+        }
+        // The samples that would reach the bound: (2.5 % / 0.5 %)² = 25×.
+        let mut o = judged(1e-4);
+        o.verdict.as_mut().unwrap().detectable_relative_bias = 5.0 * DETECTABLE_BOUND;
+        o.require_power(true);
+        let why = o.verdict.unwrap().reason.unwrap();
+        assert!(
+            why.contains("below 2.500%") && why.contains("about 25×"),
+            "{why}"
+        );
+        // An exact verdict's tolerance is the f32 bound, whatever it is: never judged here.
+        let mut exact = outcome(1.0, None, Some(1.0), 64, 0);
+        exact.judge(1e-4, 1);
+        exact.verdict.as_mut().unwrap().detectable_relative_bias = 1.0;
+        exact.require_power(true);
+        assert!(exact.passed() && !exact.verdict.unwrap().weak);
+        // A failure keeps its own reason; an unjudged outcome stays unjudged.
+        let mut failed = outcome(2.0, Some(0.1), Some(1.0), 1 << 16, 0);
+        failed.judge(1e-4, 1);
+        let before = failed.verdict.clone();
+        failed.require_power(true);
+        assert!(!failed.passed() && failed.verdict == before);
+        let mut unjudged = outcome(1.0, Some(0.1), None, 64, 0);
+        unjudged.require_power(true);
+        assert!(unjudged.verdict.is_none());
+    }
+
+    /// Counts compare as the sampler draws them.
+    #[test]
+    fn fewer_samples_compare_as_drawn() {
+        let o = outcome(1.0, Some(0.1), Some(1.0), 256, 0);
+        assert!(o.drew_fewer(256, 65536));
+        assert!(!o.drew_fewer(65536, 65536));
+        assert!(!o.drew_fewer(1 << 20, 65536));
+        assert!(!o.drew_fewer(65_500, 65536));
     }
 
     #[test]

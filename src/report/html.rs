@@ -602,7 +602,7 @@ fn verdict_table(s: &mut String, page: &Page) {
         let v = o.verdict.as_ref();
         let (verdict, rank) = match (v, o.passed()) {
             (_, false) => ("FAIL", 0),
-            (Some(_), true) => ("pass", 1),
+            (Some(v), true) => (v.label(), 1),
             (None, true) => ("no reference", 2),
         };
         let cell = |x: Option<f64>, f: &dyn Fn(f64) -> String| match x {

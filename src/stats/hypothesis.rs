@@ -154,6 +154,25 @@ pub struct Verdict {
     pub passed: bool,
     /// Why it failed, if it did.
     pub reason: Option<String>,
+    /// A pass that cannot see the relative bias every verdict of the proof must see
+    /// (`lightproof::verdict::DETECTABLE_BOUND`, 0.5 %), in a run outside the proof's
+    /// conditions (fewer samples than its case's own count, an estimator or sampler the
+    /// case does not list): the estimate agrees with the reference within an error bar
+    /// too wide to prove it right. Inside the conditions such a verdict fails instead.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub weak: bool,
+}
+
+impl Verdict {
+    /// The verdict in one word: `pass`, `weak` (a pass that cannot see the proof's
+    /// bias, [`Verdict::weak`]) or `FAIL`.
+    pub fn label(&self) -> &'static str {
+        match (self.passed, self.weak) {
+            (true, false) => "pass",
+            (true, true) => "weak",
+            (false, _) => "FAIL",
+        }
+    }
 }
 
 fn quantile(p: f64, dof: Option<u64>) -> f64 {
@@ -303,6 +322,7 @@ impl MeanTest {
             non_finite,
             passed: reason.is_none(),
             reason,
+            weak: false,
         }
     }
 
@@ -379,6 +399,7 @@ impl MeanTest {
             non_finite,
             passed: reason.is_none(),
             reason,
+            weak: false,
         }
     }
 
@@ -449,6 +470,7 @@ impl MeanTest {
             non_finite: acc.non_finite,
             passed: reason.is_none(),
             reason,
+            weak: false,
         }
     }
 }

@@ -529,6 +529,43 @@ fn an_estimator_the_case_does_not_list_is_named_in_its_failure() {
     );
 }
 
+/// A pass must be able to see a 0.5 % bias: a case whose own sample count is too small
+/// for its estimators' variance (the disk light at 1024 samples sees only ~2.5 %) fails
+/// saying so and how many more samples it needs; below the case's own count
+/// (`--samples`) the same verdicts are weak passes, named in the table and the summary.
+#[test]
+fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
+    let few = tmp("few.json", &GOOD.replace("65536", "1024"));
+    let out = bin().arg("verify").arg(&few).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    for want in [
+        "cannot see a relative bias below",
+        "must see 0.5%, or its pass proves nothing: raise the case's `samples` about",
+        "0 passed (0 statistical, 0 exact), 2 failed",
+    ] {
+        assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
+    }
+    let out = succeeds(bin().arg("verify").arg(&few).args(["--samples", "256"]));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for want in [
+        "weak\n",
+        "2 passed (2 statistical, 0 exact), 0 failed",
+        "2 of the 2 statistical passes are weak",
+    ] {
+        assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
+    }
+    // At its own count of 65536 the same case sees 0.5 %: plain passes.
+    let good = tmp("good.json", GOOD);
+    let out = succeeds(bin().arg("verify").arg(&good));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("2 passed (2 statistical, 0 exact), 0 failed"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("weak"), "{stdout}");
+}
+
 /// An estimate without variance that misses its reference fails, saying what it cannot
 /// tell apart: the BSDF estimator of the sphere light 1e-4 radii away hits the sphere with
 /// every one of 4096 Sobol samples (it misses only a ring of probability ~2e-4 at grazing

@@ -15,11 +15,11 @@ use crate::common;
 use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::stats::VerdictClass;
 use lightproof::transport::engine::{RunSpec, run};
+// The largest detectable difference, relative to the pruned estimate: the catalog's.
+use lightproof::verdict::DETECTABLE_BOUND as MAX_DETECTABLE;
 use lightproof::verdict::judge;
 use std::path::PathBuf;
 
-/// The largest detectable difference, relative to the pruned estimate.
-const MAX_DETECTABLE: f64 = 0.005;
 const ALPHA: f64 = 1e-4;
 
 #[test]
