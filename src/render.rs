@@ -207,9 +207,21 @@ fn srgb_byte(v: f32) -> u8 {
     (e * 255.0).round() as u8
 }
 
+/// `v` times the exposure factor `k`: a finite value stays finite (clamped to ±`f32::MAX`
+/// rather than overflowing to ±∞, which would read as an engine bug), and a value that is
+/// not finite is kept as it is, never masked (`f32::min` would turn NaN into `f32::MAX`).
+fn expose(v: f32, k: f32) -> f32 {
+    if v.is_finite() {
+        (v * k).clamp(-f32::MAX, f32::MAX)
+    } else {
+        v
+    }
+}
+
 /// Write the image times 2^`exposure` atomically: an 8-bit sRGB PNG (linear values
-/// clipped at 1, then the sRGB transfer curve) when `path` ends in `.png`, else a linear
-/// RGB EXR ([`write_exr`]).
+/// clipped at 1, then the sRGB transfer curve; NaN black, +∞ white) when `path` ends in
+/// `.png`, else a linear RGB EXR ([`write_exr`]) where a pixel that is not finite keeps
+/// its NaN or ±∞.
 pub fn write_image(
     path: &Path,
     w: usize,
@@ -218,10 +230,7 @@ pub fn write_image(
     exposure: f32,
 ) -> std::io::Result<()> {
     let k = exposure.exp2();
-    let scaled: Vec<[f32; 3]> = data
-        .iter()
-        .map(|p| p.map(|v| (v * k).min(f32::MAX)))
-        .collect();
+    let scaled: Vec<[f32; 3]> = data.iter().map(|p| p.map(|v| expose(v, k))).collect();
     let data = &scaled[..];
     if !path
         .extension()
@@ -252,6 +261,47 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[[f32; 3]]) -> std::io:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pixel that is not finite is kept as it is (never masked): NaN and ±∞ stay in the
+    /// EXR, a PNG shows NaN black and +∞ white; a finite pixel that the exposure would
+    /// overflow stays finite (±`f32::MAX`), and the exposure scales by 2^stops.
+    #[test]
+    fn non_finite_pixels_are_kept_in_the_written_image() {
+        let dir =
+            std::env::temp_dir().join(format!("lightproof-render-nan-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let data = [
+            [f32::NAN, f32::INFINITY, f32::NEG_INFINITY],
+            [3e38, -3e38, 0.25],
+        ];
+        let exr = dir.join("img.exr");
+        write_image(&exr, 2, 1, &data, 1.0).unwrap();
+        let img = exr::prelude::read_first_rgba_layer_from_file(
+            &exr,
+            |r, _| vec![[0.0f32; 3]; r.width() * r.height()],
+            |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _): (f32, f32, f32, f32)| {
+                px[pos.y() * 2 + pos.x()] = [r, g, b]
+            },
+        )
+        .unwrap();
+        let px = &img.layer_data.channel_data.pixels;
+        assert!(px[0][0].is_nan(), "{px:?}");
+        assert_eq!(px[0][1..], [f32::INFINITY, f32::NEG_INFINITY], "{px:?}");
+        assert_eq!(px[1], [f32::MAX, -f32::MAX, 0.5], "{px:?}");
+        assert_eq!(non_finite_pixels(2, px).0, 1);
+        let png = dir.join("img.png");
+        write_image(&png, 2, 1, &data, 0.0).unwrap();
+        let mut reader =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()))
+                .read_info()
+                .unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (2, 1));
+        // NaN black, +∞ white, −∞ black; 3e38 white, −3e38 black, 0.25 → sRGB 137.
+        assert_eq!(&buf[..6], &[0, 255, 0, 255, 0, 137]);
+        let _ = std::fs::remove_dir_all(dir);
+    }
 
     /// Every component is looked at: a NaN in blue or an infinity in green counts, the
     /// first is named in row-major order, and finite pixels (however large) do not count.
