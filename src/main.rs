@@ -80,9 +80,9 @@ enum Command {
         /// Estimator (default: the case's first).
         #[arg(long, value_parser = parse_estimator)]
         estimator: Option<Estimator>,
-        /// Sampler: independent, stratified or sobol.
-        #[arg(long, value_parser = parse_sampler, default_value = "independent")]
-        sampler: SamplerKind,
+        /// Sampler: independent, stratified or sobol (default: the case's first).
+        #[arg(long, value_parser = parse_sampler)]
+        sampler: Option<SamplerKind>,
     },
     /// Chi-square test of one BSDF configuration; writes observed/expected/residual EXRs.
     Chi2 {
@@ -734,10 +734,11 @@ fn estimate(
     samples: Option<u64>,
     seed: u64,
     estimator: Option<Estimator>,
-    sampler: SamplerKind,
+    sampler: Option<SamplerKind>,
 ) -> Result<(), Failure> {
     let case = Case::load(path)?;
     let est = estimator.unwrap_or(case.desc.estimators[0]);
+    let sampler = sampler.unwrap_or(case.samplers()[0]);
     if !case.measure.estimators().contains(&est) {
         return Err(Failure::Input(format!(
             "{}: --estimator: `{}` cannot estimate {}",

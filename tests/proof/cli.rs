@@ -546,7 +546,19 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     ] {
         assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
     }
-    let out = succeeds(bin().arg("verify").arg(&few).args(["--samples", "256"]));
+    let (json, html) = (
+        few.with_extension("weak.json"),
+        few.with_extension("weak.html"),
+    );
+    let out = succeeds(
+        bin()
+            .arg("verify")
+            .arg(&few)
+            .args(["--samples", "256", "--json"])
+            .arg(&json)
+            .arg("--html")
+            .arg(&html),
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     for want in [
         "weak\n",
@@ -555,6 +567,19 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     ] {
         assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
     }
+    // The JSON says `"weak": true` on each verdict, the page labels them.
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let outcomes = doc["outcomes"].as_array().unwrap();
+    assert!(
+        outcomes.len() == 2
+            && outcomes
+                .iter()
+                .all(|o| o["verdict"]["weak"] == true && o["verdict"]["passed"] == true),
+        "{doc}"
+    );
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert_eq!(page.matches(">weak</td>").count(), 2, "{page}");
     // At its own count of 65536 the same case sees 0.5 %: plain passes.
     let good = tmp("good.json", GOOD);
     let out = succeeds(bin().arg("verify").arg(&good));
@@ -564,6 +589,85 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
         "{stdout}"
     );
     assert!(!stdout.contains("weak"), "{stdout}");
+}
+
+/// `estimate` runs the case's first sampler unless told (a Sobol-only case runs Sobol:
+/// inside the proof), and a sampler the case does not list is outside it: the sphere
+/// light below the horizon by independent sampling sees only ~2.4 % at the case's own
+/// count, a weak pass (exit 0, `"weak": true`), where the case's own Sobol run is a plain
+/// pass at the same count.
+#[test]
+fn estimate_runs_the_cases_sampler_and_an_unlisted_one_is_weak() {
+    let case = catalog_case("irradiance/sphere_near_surface_centre_below_horizon_gap_1e-3.json");
+    let own = estimate_json(&case, &["--samples", "262144"]);
+    assert_eq!(own["sampler"], "sobol", "{own}");
+    assert!(
+        own["verdict"]["passed"] == true && own["verdict"].get("weak").is_none(),
+        "{own}"
+    );
+    let other = estimate_json(&case, &["--samples", "262144", "--sampler", "independent"]);
+    assert_eq!(other["sampler"], "independent", "{other}");
+    let v = &other["verdict"];
+    assert!(
+        v["passed"] == true
+            && v["weak"] == true
+            && v["detectable_relative_bias"].as_f64().unwrap() > 0.005,
+        "{other}"
+    );
+}
+
+/// `verify` gives the same verdicts whatever `--threads` is (only the wall seconds
+/// differ), time bins included: each bin of a time-resolved case is its own row
+/// (`ID t∈[t₁, t₂] ns`) and a member of the family.
+#[test]
+fn verify_is_the_same_whatever_the_threads_and_judges_every_bin() {
+    let run = |threads: &str| {
+        let json = std::env::temp_dir().join(format!(
+            "lightproof-cli-threads-{threads}-{}.json",
+            std::process::id()
+        ));
+        let out = bin()
+            .args([
+                "verify",
+                "--samples",
+                "16384",
+                "--threads",
+                threads,
+                "--json",
+            ])
+            .arg(&json)
+            .arg(catalog_case("time/pulsed_disk_transient.json"))
+            .arg(catalog_case("irradiance/disk_on_axis.json"))
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{stdout}");
+        let mut doc: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let _ = std::fs::remove_file(json);
+        for o in doc["outcomes"].as_array_mut().unwrap() {
+            o.as_object_mut().unwrap().remove("seconds");
+        }
+        (stdout, doc)
+    };
+    let (one, doc1) = run("1");
+    let (_, doc2) = run("2");
+    assert_eq!(doc1, doc2);
+    let outcomes = doc1["outcomes"].as_array().unwrap();
+    // Two estimators (light, MIS) × 6 bins.
+    let bins = outcomes.iter().filter(|o| o.get("bin").is_some()).count();
+    assert_eq!(bins, 12);
+    let statistical = outcomes
+        .iter()
+        .filter(|o| o["verdict"]["class"] == "statistical")
+        .count();
+    assert!(statistical > bins / 2, "{statistical}");
+    assert_eq!(doc1["tests"].as_u64(), Some(statistical as u64));
+    let rows = one
+        .lines()
+        .filter(|l| l.starts_with("pulsed_disk_transient t∈["))
+        .count();
+    assert_eq!(rows, 12, "{one}");
 }
 
 /// An estimate without variance that misses its reference fails, saying what it cannot
