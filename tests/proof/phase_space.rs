@@ -463,3 +463,113 @@ fn moving_sphere_light_matches_time_quadrature() {
         assert!(v.passed, "{}: {v:?}", est.name());
     }
 }
+
+/// Steady emitters in a time bin: a steady (not pulsed) emitter delivers its rate over
+/// the whole bin, so a time-resolved irradiance over [t₁, t₂] from a steady disk (radius
+/// R = 1, height h = 1, radiance L = 1, receiver on axis facing it) is the radiant
+/// exposure E·(t₂ − t₁), E = π L R²/(R² + h²) (the oracle's `disk_on_axis`), whatever
+/// the arrival times. Checked with one bin near t = 0 (light, BSDF and MIS sampling),
+/// one bin 4 ns wide at t = 1 s (the bin's width kept in f64), and a `bins` histogram of
+/// unequal widths run bin by bin; each estimate is judged against E·(t₂ − t₁) at the
+/// file's Šidák level. Dropping the factor (t₂ − t₁) gives E, 10⁸ times too large.
+#[test]
+fn steady_emitter_counts_its_rate_over_the_bin() {
+    let exact = lightproof_analytic::irradiance::disk_on_axis(1.0, 1.0, 1.0);
+    let disk = |time: &str| {
+        case(&format!(
+            r#"{{ "name": "steady disk", "teaches": "a steady emitter in a time bin",
+            "scene": {{ "shapes": [ {{ "geometry": {{ "type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": 1 }},
+                                     "emission": {{ "radiance": 1 }} }} ] }},
+            "measure": {{ "irradiance": {{ "at": [0,0,0], "normal": [0,0,1] }} }},
+            "time": {time}, "estimators": ["light", "bsdf", "mis"] }}"#
+        ))
+    };
+    let check = |e: &Estimate, est: Estimator, (t1, t2): (f64, f64)| {
+        let reference = exact * (t2 - t1);
+        let v = judge(e, SamplerKind::Independent, reference, ALPHA, FAMILY);
+        println!(
+            "steady disk, {} in [{t1:e}, {t2:e}] s: {:?}",
+            est.name(),
+            (v.estimate, v.std_error, reference)
+        );
+        assert!(v.passed, "{} in [{t1:e}, {t2:e}] s: {v:?}", est.name());
+    };
+    let near = (2e-9, 7e-9);
+    let c = disk(&format!(r#"{{ "bin": [{:e}, {:e}] }}"#, near.0, near.1));
+    assert!(c.plan.effects.time.simulated, "{:?}", c.plan.effects.time);
+    for (k, est) in [Estimator::Light, Estimator::Bsdf, Estimator::Mis]
+        .into_iter()
+        .enumerate()
+    {
+        check(&c.estimate(est, &spec(1 << 14, 90 + k as u64)), est, near);
+    }
+    let far = (1.0, 1.0 + 4e-9);
+    let c = disk(&format!(r#"{{ "bin": [{:e}, {:e}] }}"#, far.0, far.1));
+    check(
+        &c.estimate(Estimator::Mis, &spec(1 << 14, 93)),
+        Estimator::Mis,
+        far,
+    );
+    // A histogram: every bin is its own case, each counting E × its own width.
+    let edges = [0.0, 1e-9, 4e-9, 1.2e-8];
+    let c = disk(&format!(r#"{{ "bins": {edges:?} }}"#));
+    let outcomes = c.run_bins(
+        Estimator::Mis,
+        SamplerKind::Independent,
+        (1 << 14) * common::scale(),
+        common::seed() ^ 94,
+    );
+    assert_eq!(outcomes.len(), edges.len() - 1);
+    for (o, w) in outcomes.iter().zip(edges.windows(2)) {
+        assert_eq!(o.bin, Some([w[0], w[1]]));
+        let reference = exact * (w[1] - w[0]);
+        let v = o.verdict_against(reference, ALPHA, FAMILY);
+        println!(
+            "steady disk histogram, bin [{:e}, {:e}] s: {:?}",
+            w[0],
+            w[1],
+            (v.estimate, v.std_error, reference)
+        );
+        assert!(v.passed, "bin [{:e}, {:e}] s: {v:?}", w[0], w[1]);
+    }
+}
+
+/// `render` samples wavelength over the whole visible range 360–830 nm whatever the
+/// case's own `spectral` section measures: a disk filling the view with a flat tabulated
+/// spectrum of 2, in a case that measures only [500, 600] nm with a photopic response,
+/// still renders white, R = G = B = 2 (an equal-energy spectrum is the white of
+/// illuminant E, X̂ = Ŷ = Ẑ = L₀), each channel's pixel mean within 4.5 standard errors
+/// of 2 with the standard error under 0.2 % (as `render::tests::a_flat_spectrum_renders_white`).
+/// Rendered over the case's band instead, each channel would keep only the part of its
+/// colour-matching function inside [500, 600] nm: far from white and from 2.
+#[test]
+fn render_samples_the_visible_range_whatever_the_case_band() {
+    let json = r#"{"name": "flat, narrow band", "teaches": "render ignores the case's band",
+      "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 10},
+        "emission": {"radiance": 2, "spectrum": {"sampled": {"wavelengths": [300, 900], "values": [1, 1]}}}}]},
+      "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 16, "height": 16},
+      "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+      "spectral": {"band": [500, 600], "response": "photopic"}, "estimators": ["mis"]}"#;
+    let dir = std::env::temp_dir().join(format!(
+        "lightproof-phase-narrow-band-{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("flat_narrow.json");
+    std::fs::write(&path, json).unwrap();
+    let rendered = lightproof::render::render_file(&path, 1024, common::seed() ^ 100, None);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let (w, h, px) = rendered.unwrap_or_else(|e| panic!("{e}"));
+    let n = (w * h) as f64;
+    for c in 0..3 {
+        let mean = px.iter().map(|p| p[c] as f64).sum::<f64>() / n;
+        let var = px.iter().map(|p| (p[c] as f64 - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let se = (var / n).sqrt();
+        println!("narrow-band case rendered, channel {c}: {mean:.5} ± {se:.5}");
+        assert!(se > 0.0 && se < 0.002 * 2.0, "channel {c}: se {se}");
+        assert!(
+            (mean - 2.0).abs() < 4.5 * se,
+            "channel {c}: {mean} ± {se}, white is 2"
+        );
+    }
+}

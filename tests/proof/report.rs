@@ -5,7 +5,9 @@
 //! - the shards of a sweep merge into exactly the single run's reports (and the thread
 //!   count changes nothing): only timing fields may differ;
 //! - a killed run leaves only whole, valid JSON, and a re-run resumes from it into the
-//!   same reports as a fresh run;
+//!   same reports as a fresh run; points another build made are never resumed;
+//! - `--estimator` sweeps only the series of the estimators asked for, and exits 2 when no
+//!   case names any of them;
 //! - `reports/schema.json` validates every file a run writes and the committed examples;
 //! - the shard comes from Slurm or Kubernetes variables as documented; bad input exits 2.
 //!
@@ -148,6 +150,16 @@ fn case_reports(dir: &Path) -> BTreeMap<String, Value> {
         .filter(|(_, v)| v["kind"] == "case")
         .map(|(p, v)| (p.file_name().unwrap().to_string_lossy().into_owned(), v))
         .collect()
+}
+
+/// The count of resumed points in `report`'s last stdout line (`…, N resumed`).
+fn resumed_of(stdout: &str) -> u64 {
+    stdout
+        .split(" resumed")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no resume count in: {stdout}"))
 }
 
 /// Two-sided critical value of Student's t with `dof` degrees of freedom at `ALPHA`.
@@ -317,14 +329,6 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
     let o = args(1 << 14, &reports).output().unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{stdout}");
-    let resumed_of = |stdout: &str| -> u64 {
-        stdout
-            .split(" resumed")
-            .next()
-            .and_then(|s| s.rsplit(' ').next())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or_else(|| panic!("no resume count in: {stdout}"))
-    };
     let resumed = resumed_of(&stdout);
     assert!(resumed >= 1, "{stdout}");
     // The same reports as a fresh run.
@@ -381,6 +385,155 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
         0,
         "a changed case resumes nothing"
     );
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// `report` resumes only the points of its own build (README: "same case, seed and build:
+/// version and revision, dirty digest included"). The same run again takes back every
+/// point; after the stored report's `run.git_revision`, or its `run.lightproof_version`,
+/// is changed to another build's, it takes back none, says why, and the report it writes
+/// records this build. Fails if `same_build` accepts any build.
+#[test]
+fn points_of_another_build_are_not_resumed() {
+    use lightproof::report::machine::{GIT_REVISION, VERSION};
+    let out = tmp("build");
+    let file = out.join("disk_on_axis.json");
+    let report = || {
+        let o = Command::new(env!("CARGO_BIN_EXE_lightproof"))
+            .arg("report")
+            .arg(disk_case())
+            .args(["--estimator", "light", "--sampler", "independent"])
+            .args([
+                "--max-samples",
+                "4096",
+                "--seed",
+                &common::seed().to_string(),
+            ])
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{stdout}{stderr}");
+        (resumed_of(&stdout), stderr)
+    };
+    let points = |v: &Value| -> u64 {
+        v["series"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["points"].as_array().unwrap().len() as u64)
+            .sum()
+    };
+    assert_eq!(report().0, 0);
+    let all = points(&read(&file));
+    assert_eq!(all, 5, "2^8..2^12, one series");
+    // The control: as written, the report is this build's and resumes whole.
+    assert_eq!(report().0, all);
+    for (field, other) in [
+        (
+            "git_revision",
+            "0123456789abcdef0123456789abcdef01234567-dirty-0123456789abcdef",
+        ),
+        ("lightproof_version", "0.0.0-another-build"),
+    ] {
+        let mut v = read(&file);
+        assert!(v["run"][field].is_string(), "no run.{field} in the report");
+        assert_ne!(v["run"][field], other);
+        v["run"][field] = other.into();
+        std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+        let (resumed, stderr) = report();
+        assert_eq!(resumed, 0, "points of another {field} were resumed");
+        assert!(
+            stderr.contains("another build of lightproof"),
+            "{field}: {stderr}"
+        );
+        let now = read(&file);
+        assert_eq!(now["run"]["git_revision"], GIT_REVISION);
+        assert_eq!(now["run"]["lightproof_version"], VERSION);
+        assert_eq!(now["run"]["points_resumed"], 0);
+        assert_eq!(now["run"]["points_computed"], all);
+        assert_eq!(points(&now), all);
+    }
+    assert!(validate_dir(&out) >= 2);
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// `report --estimator E` (repeatable) sweeps the series of the estimators asked for that
+/// the case names, with every sampler asked for, and none of the case's other estimators;
+/// when no case names any of them it exits 2 with one line, "nothing to run", and writes
+/// no report.
+#[test]
+fn the_estimator_filter_runs_only_its_series() {
+    let out = tmp("estimator");
+    let report = |dir: &Path, estimators: &[&str]| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_lightproof"));
+        c.arg("report")
+            .arg(disk_case())
+            .args(["--sampler", "independent", "--sampler", "sobol"])
+            .args(["--max-samples", "1024", "--out"])
+            .arg(dir);
+        for e in estimators {
+            c.args(["--estimator", e]);
+        }
+        c.output().unwrap()
+    };
+    let series = |dir: &Path, estimators: &[&str]| -> Vec<(String, String)> {
+        let o = report(dir, estimators);
+        assert!(
+            o.status.success(),
+            "{estimators:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let mut s: Vec<(String, String)> = read(&dir.join("disk_on_axis.json"))["series"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| {
+                (
+                    s["estimator"].as_str().unwrap().to_string(),
+                    s["sampler"].as_str().unwrap().to_string(),
+                )
+            })
+            .collect();
+        s.sort();
+        s
+    };
+    let pairs = |estimators: &[&str]| -> Vec<(String, String)> {
+        let mut p: Vec<(String, String)> = estimators
+            .iter()
+            .flat_map(|e| ["independent", "sobol"].map(|s| (e.to_string(), s.to_string())))
+            .collect();
+        p.sort();
+        p
+    };
+    // The case names light, mis and mis_balance, not bsdf; unfiltered, all three run.
+    let case = read(&disk_case());
+    assert_eq!(
+        case["estimators"],
+        serde_json::json!(["light", "mis", "mis_balance"])
+    );
+    assert_eq!(
+        series(&out.join("all"), &[]),
+        pairs(&["light", "mis", "mis_balance"])
+    );
+    assert_eq!(series(&out.join("mis"), &["mis"]), pairs(&["mis"]));
+    // Estimators the case does not name are skipped, the others run.
+    assert_eq!(
+        series(&out.join("two"), &["mis_balance", "bsdf", "light"]),
+        pairs(&["light", "mis_balance"])
+    );
+    // Nothing left to run: input error, exit 2, one line, no report.
+    let none = out.join("none");
+    let o = report(&none, &["bsdf", "uniform"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("nothing to run"), "{err}");
+    assert!(err.contains("--estimator"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!none.join("disk_on_axis.json").exists());
     let _ = std::fs::remove_dir_all(out);
 }
 
