@@ -671,6 +671,24 @@ mod tests {
         let _ = std::fs::remove_dir_all(dir);
     }
 
+    /// `--renderer NAME` names the renderer in the JSON (`renderer`), and `--json` prints
+    /// the judgement as one JSON object instead of the table.
+    #[test]
+    fn the_renderer_is_named_in_the_json() {
+        let dir =
+            std::env::temp_dir().join(format!("lightproof-judge-name-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let one = render(&dir, "one.exr", |_| {});
+        let files = [furnace(), one];
+        let (text, passed) = run(&files, None, Some("mitsuba 3.9.1"), true, 1e-4).unwrap();
+        let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert!(passed && doc["renderer"] == "mitsuba 3.9.1", "{doc}");
+        assert_eq!(doc["verdict"]["passed"], true, "{doc}");
+        let (table, _) = run(&files, None, None, false, 1e-4).unwrap();
+        assert!(table.contains("(renderer: 1 renders;"), "{table}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
     /// A channel below zero is counted per pixel (in row-major order the first is named)
     /// even where the pixel's mean is the reference, and fails a verdict that passes
     /// without it; non-finite pixels are counted apart.

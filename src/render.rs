@@ -134,7 +134,7 @@ pub fn render_file(
         &file,
         &scene,
         &eye_measure,
-        desc.spectral.as_ref().or(Some(&visible)),
+        Some(&visible),
         desc.time.as_ref(),
     )?;
     let dims = &plans.pruned.dims;

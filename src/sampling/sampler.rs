@@ -342,6 +342,29 @@ mod tests {
         }
     }
 
+    /// Each batch of a quasi-random run is its own randomisation (what its batch-means
+    /// error bar assumes): the same point of two batches differs, in every one of the
+    /// first 16 dimensions for Sobol (another Owen scramble) and in most for stratified
+    /// (another permutation of the strata, another jitter).
+    #[test]
+    fn every_batch_is_another_randomisation() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Stratified] {
+            for seed in 0..4u64 {
+                let s = Sampler::new(kind, seed, 64);
+                for i in [0u64, 5, 63] {
+                    let (mut a, mut b, mut c) = (s.stream(i), s.stream(64 + i), s.stream(128 + i));
+                    let differ = (0..16)
+                        .filter(|_| {
+                            let (x, y, z) = (a.next_1d(), b.next_1d(), c.next_1d());
+                            x != y && y != z && x != z
+                        })
+                        .count();
+                    assert_eq!(differ, 16, "{kind:?} seed {seed} point {i}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn small_permutations_depend_on_the_seed() {
         for n in 2..=16u64 {

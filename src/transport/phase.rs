@@ -201,7 +201,7 @@ impl<L: Lanes> Phase for PhaseSample<L> {
                     if t >= t1 && t < t2 { 1.0 } else { 0.0 }
                 }
                 // A steady emitter delivers its rate over the whole bin.
-                None => { let _ = (t1, t2); 1.0 }
+                None => (t2 - t1) as f32,
             },
         };
         match &props.spectrum {
