@@ -408,7 +408,7 @@ fn plan_cases(opts: &Options, settings: &Settings) -> Result<Vec<CaseState>, Err
             digest: case_digest(&case),
         };
         let mut series = vec![];
-        let wanted = |_e: &&Estimator| true;
+        let wanted = |e: &&Estimator| opts.estimators.is_empty() || opts.estimators.contains(e);
         for &est in case.desc.estimators.iter().filter(wanted) {
             for &sampler in &samplers {
                 series.push(SeriesState {

@@ -340,6 +340,41 @@ fn hostile_corpus() {
     );
 }
 
+/// An OBJ mesh past the 1 GiB asset limit (a sparse file: no disk used) is refused
+/// before it is read, naming the field, the file and the limit (exit 2, within the
+/// timeout: nothing is parsed). A case file cannot name the fixture's temporary path, so
+/// this input lives here rather than in the corpus' manifest.
+#[test]
+fn an_obj_past_the_asset_limit_is_refused() {
+    let fx = Fixture::new("big-obj");
+    let big_obj = fx.root.join("big.obj");
+    std::fs::File::create(&big_obj)
+        .unwrap()
+        .set_len(lightproof::io::MAX_ASSET_BYTES + 1)
+        .unwrap();
+    let case = fx.root.join("big_obj.json");
+    let text = format!(
+        r#"{{ "name": "big obj", "teaches": "assets are size-checked before they are read",
+  "scene": {{ "shapes": [ {{ "geometry": {{ "type": "obj", "path": "{}" }}, "emission": {{ "radiance": 1 }} }} ] }},
+  "measure": {{ "irradiance": {{ "at": [0, 0, 0], "normal": [0, 0, 1] }} }},
+  "estimators": ["light"], "samples": 4096 }}"#,
+        big_obj.display()
+    );
+    std::fs::write(&case, text).unwrap();
+    let args = ["verify".to_string(), case.display().to_string()];
+    let r = run(&binary(), &args, &fx.root, false);
+    assert!(!r.timed_out, "timed out after {:.1}s", r.seconds);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    for want in [
+        "scene.shapes[0].geometry.path",
+        "big.obj",
+        "larger than the limit of 1073741824 bytes",
+    ] {
+        assert!(r.stderr.contains(want), "`{want}` not in {}", r.stderr);
+    }
+    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+}
+
 /// A closed stdout (`lightproof estimate CASE | head -n 3`) ends the process quietly: a
 /// clean exit or SIGPIPE, never a panic.
 #[test]
