@@ -27,7 +27,8 @@ const SPHERE_CASE: &str = r#"{
   "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 3], "radius": 1 } } ] },
   "measure": { "solid_angle": { "from": [0, 0, 0], "shape": 0 } },
   "reference": { "closed_form": "solid_angle_sphere", "point": [0, 0, 0], "center": [0, 0, 3], "radius": 1 },
-  "estimators": ["uniform", "area"]
+  "estimators": ["uniform", "area"],
+  "samplers": ["sobol"], "samples": 1048576
 }"#;
 
 fn main() {

@@ -37,7 +37,8 @@ const DISK_CASE: &str = r#"{
                            "emission": { "radiance": 1 } } ] },
   "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
   "reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },
-  "estimators": ["light", "bsdf", "mis"]
+  "estimators": ["light", "bsdf", "mis"],
+  "samplers": ["sobol"], "samples": 1048576
 }"#;
 
 fn main() {

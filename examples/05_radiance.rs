@@ -42,7 +42,8 @@ const SKY_CASE: &str = r#"{
   },
   "measure": { "radiance": { "at": [0, 0, 30], "direction": [0.01, 0.005, -1] } },
   "reference": { "closed_form": "furnace_convex_object", "albedo": 0.6, "radiance": 1.5 },
-  "estimators": ["light", "bsdf", "mis"]
+  "estimators": ["light", "bsdf", "mis"],
+  "samplers": ["sobol"], "samples": 1048576
 }"#;
 
 fn main() {

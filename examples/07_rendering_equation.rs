@@ -38,7 +38,8 @@ const FURNACE_CASE: &str = r#"{
   },
   "measure": { "radiance": { "at": [0.2, -0.1, 0.3], "direction": [0.3, 0.5, -0.8] } },
   "reference": { "closed_form": "furnace_closed_enclosure", "emitted_radiance": 1, "albedo": 0.8 },
-  "estimators": ["mis"]
+  "estimators": ["mis"],
+  "samplers": ["sobol"], "samples": 1048576
 }"#;
 
 fn main() {
