@@ -494,6 +494,67 @@ fn flux_is_judged_as_mean_irradiance() {
     let _ = std::fs::remove_dir_all(d);
 }
 
+/// The peers' drivers run without a peer installed as far as they can: Mitsuba's
+/// `render_all.py` parses (its `--help`, which imports Mitsuba only once it renders) and
+/// refuses `--renders 1` before it needs Mitsuba; pbrt's `render_all.sh` passes `sh -n`
+/// and stops, naming it, when `PBRT` names no program. So a default `cargo test`
+/// catches a driver broken by an edit, not only the opt-in peer tests below.
+#[test]
+fn the_peer_drivers_parse_and_refuse_without_a_peer() {
+    let cases = scratch("drivers-cases");
+    std::fs::write(cases.join("furnace.json"), furnace(0.8, None)).unwrap();
+    for to in ["mitsuba", "pbrt"] {
+        let out_dir = scratch(&format!("drivers-{to}"));
+        let o = bin()
+            .args(["export", "--all", "--to", to, "--out"])
+            .arg(&out_dir)
+            .arg(&cases)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o));
+        if to == "mitsuba" {
+            let py = |args: &[&str]| {
+                Command::new("python3")
+                    .arg(out_dir.join("render_all.py"))
+                    .args(args)
+                    .output()
+            };
+            let Ok(help) = py(&["--help"]) else {
+                eprintln!("skipped render_all.py: no python3 on this machine");
+                continue;
+            };
+            assert!(
+                help.status.success() && text(&help).contains("--pass-spp"),
+                "{}",
+                text(&help)
+            );
+            let one = py(&["--renders", "1"]).unwrap();
+            assert!(
+                !one.status.success() && text(&one).contains("--renders must be at least 2"),
+                "{}",
+                text(&one)
+            );
+        } else {
+            let script = out_dir.join("render_all.sh");
+            let n = Command::new("sh").arg("-n").arg(&script).output().unwrap();
+            assert!(n.status.success(), "{}", text(&n));
+            let o = Command::new("sh")
+                .arg(&script)
+                .env("PBRT", "/nonexistent/pbrt")
+                .env("RENDERS", "2")
+                .output()
+                .unwrap();
+            assert!(
+                !o.status.success() && text(&o).contains("/nonexistent/pbrt"),
+                "{}",
+                text(&o)
+            );
+        }
+        let _ = std::fs::remove_dir_all(out_dir);
+    }
+    let _ = std::fs::remove_dir_all(cases);
+}
+
 /// A peer renderer that renders an exported suite with its driver: Mitsuba's
 /// `render_all.py` under this Python, or pbrt-v4's `render_all.sh` with this binary.
 enum Peer {
