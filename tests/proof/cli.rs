@@ -508,6 +508,17 @@ fn the_whole_catalog_family_counts_the_warp_suites() {
         )),
         "{stdout}"
     );
+    // `--no-chi2`: the same catalog without the warp suites, k = the statistical verdicts.
+    let out = bin()
+        .args(["verify", "--samples", "256", "--no-chi2", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(matches!(out.status.code(), Some(0 | 1)));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["chi2"].as_array().map(Vec::len), Some(0));
+    assert_eq!(doc["tests"].as_u64(), Some(statistical as u64));
     let _ = std::fs::remove_file(json);
 }
 
