@@ -51,7 +51,9 @@ fn writes_of(name: &str) -> Vec<String> {
         .collect()
 }
 
-fn run_example(name: &str) {
+/// Run example `name` with 20 000 samples: it must pass and write what README.md says;
+/// returns what it printed.
+fn run_example(name: &str) -> String {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
     let writes = writes_of(name);
     assert!(!writes.is_empty(), "README.md lists no file for {name}");
@@ -84,6 +86,7 @@ fn run_example(name: &str) {
             "example {name} did not write target/examples/{w}, as README.md says"
         );
     }
+    stdout.into_owned()
 }
 
 #[test]
@@ -99,9 +102,16 @@ fn every_example_runs_and_passes() {
         "building the examples failed:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    for name in EXAMPLES {
-        run_example(name);
-    }
+    let printed: Vec<String> = EXAMPLES.iter().map(|name| run_example(name)).collect();
+    // An estimate without variance is marked, not shown as "± 0" (README.md: a point
+    // light's intensity, cosine-sampled Lambertian albedo).
+    assert!(
+        printed
+            .iter()
+            .any(|p| p.contains("(no variance)") && p.contains("f32 bound")),
+        "no example marked an estimate without variance"
+    );
+    assert!(!printed.iter().any(|p| p.contains("± 0.000000 ")));
     // The case files they save pass `lightproof verify` as README.md says to run it: at
     // the files' own counts every verdict passes and sees a 0.5 % bias (none weak).
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
