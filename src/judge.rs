@@ -686,6 +686,16 @@ mod tests {
         assert_eq!(doc["verdict"]["passed"], true, "{doc}");
         let (table, _) = run(&files, None, None, false, 1e-4).unwrap();
         assert!(table.contains("(renderer: 1 renders;"), "{table}");
+        // A case without renders, or a suite with files besides: the usage, not a verdict.
+        for (files, suite) in [(&files[..1], None), (&files[..], Some(dir.as_path()))] {
+            let err = run(files, suite, None, false, 1e-4)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains("give CASE.json RENDER.exr... or --suite DIR"),
+                "{err}"
+            );
+        }
         let _ = std::fs::remove_dir_all(dir);
     }
 
