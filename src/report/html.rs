@@ -543,8 +543,8 @@ fn qq_svg(finite: &[f64]) -> String {
     s
 }
 
-/// The catalog's requirement on a statistical verdict's detectable relative bias.
-const BIAS_REQUIREMENT: f64 = 0.005;
+/// The proof's requirement on a statistical verdict's detectable relative bias.
+const BIAS_REQUIREMENT: f64 = crate::verdict::DETECTABLE_BOUND;
 
 fn bias_svg(outcomes: &[Outcome]) -> String {
     let mut b: Vec<f64> = outcomes
