@@ -308,6 +308,11 @@ impl Judgement {
         }
     }
 
+    /// Whether it passed weakly ([`Verdict::weak`]).
+    pub fn is_weak(&self) -> bool {
+        self.verdict.as_ref().is_some_and(|v| v.weak)
+    }
+
     /// Whether it is a member of the Šidák family.
     pub fn is_statistical(&self) -> bool {
         self.reference.is_some() && self.std_error.is_some()
@@ -578,10 +583,7 @@ pub fn run(
         }
     };
     let passed = judgements.iter().all(Judgement::passed);
-    let weak = judgements
-        .iter()
-        .filter(|j| j.verdict.as_ref().is_some_and(|v| v.weak))
-        .count();
+    let weak = judgements.iter().filter(|j| j.is_weak()).count();
     let summary = if weak > 0 {
         format!(
             "{summary}{weak} of the passes are weak: they cannot see a {}% bias, so they show agreement, not a proof: judge more renders (or more samples per render)\n",

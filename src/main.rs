@@ -688,10 +688,7 @@ fn verify(
         lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
     );
-    let weak = outcomes
-        .iter()
-        .filter(|o| o.verdict.as_ref().is_some_and(|v| v.weak))
-        .count();
+    let weak = outcomes.iter().filter(|o| o.is_weak()).count();
     if weak > 0 {
         println!(
             "{weak} of the {statistical} statistical passes are weak: drawn with fewer samples than their case's own count (--samples), they cannot see a {}% bias, so they show agreement, not a proof: rerun at the case's own count",
@@ -753,31 +750,36 @@ fn estimate(
     let mut all = vec![case.run(est, sampler, n, run_seed)];
     all.extend(case.run_bins(est, sampler, n, seed));
     judge_family(&mut all, 0, ALPHA);
-    let listed: Vec<&str> = case.desc.estimators.iter().map(|e| e.name()).collect();
-    let samplers: Vec<&str> = case.samplers().iter().map(|s| s.name()).collect();
+    // What puts the run outside the proof's conditions, besides its count: an estimator
+    // or a sampler the case does not list.
+    let names = |v: Vec<&str>| v.join(", ");
+    let unlisted = if !case.desc.estimators.contains(&est) {
+        Some((
+            format!(
+                "`{}` is not among the case's estimators ({})",
+                est.name(),
+                names(case.desc.estimators.iter().map(|e| e.name()).collect())
+            ),
+            "run the case's own estimators to tell",
+        ))
+    } else if !case.samplers().contains(&sampler) {
+        Some((
+            format!(
+                "`{}` is not among the case's samplers ({})",
+                sampler.name(),
+                names(case.samplers().iter().map(|s| s.name()).collect())
+            ),
+            "run the case's own samplers to tell",
+        ))
+    } else {
+        None
+    };
     let own = case.samples(None, 1);
-    let listed_pair = case.desc.estimators.contains(&est) && case.samplers().contains(&sampler);
     for o in &mut all {
-        o.require_power(listed_pair && !o.drew_fewer(n, own));
+        o.require_power(unlisted.is_none() && !o.drew_fewer(n, own));
         o.note_fewer_samples(n, own);
-        if !case.desc.estimators.contains(&est) {
-            o.note_outside_the_proof(
-                &format!(
-                    "`{}` is not among the case's estimators ({})",
-                    est.name(),
-                    listed.join(", ")
-                ),
-                "run the case's own estimators to tell",
-            );
-        } else if !case.samplers().contains(&sampler) {
-            o.note_outside_the_proof(
-                &format!(
-                    "`{}` is not among the case's samplers ({})",
-                    sampler.name(),
-                    samplers.join(", ")
-                ),
-                "run the case's own samplers to tell",
-            );
+        if let Some((what, remedy)) = &unlisted {
+            o.note_outside_the_proof(what, remedy);
         }
     }
     let outcome = &all[0];

@@ -116,14 +116,17 @@ impl Verdict {
     /// proof's conditions (the case's own estimators and samplers at its own sample
     /// count or more, where the catalog's proof shows every verdict of a correct engine
     /// sees 0.5 %): there such a verdict fails; outside them it stays a pass marked
-    /// [`Verdict::weak`]. Exact verdicts (their tolerance is the f32 bound) and failures
-    /// are left as they are.
+    /// [`Verdict::weak`]. This holds for any case file at its own count, a user's too: its
+    /// `samples` is the count its author vouches for. A zero reference has no relative
+    /// bias to see (`detectable_relative_bias` is then the absolute one, in the case's
+    /// units), so such a pass is only marked weak. Exact verdicts (their tolerance is the
+    /// f32 bound) and failures are left as they are.
     pub fn require_power(&mut self, inside: bool) {
         let sees = self.detectable_relative_bias <= DETECTABLE_BOUND;
         if self.class != crate::stats::VerdictClass::Statistical || !self.passed || sees {
             return;
         }
-        if inside {
+        if inside && self.reference != 0.0 {
             self.passed = false;
             // The detectable bias falls as 1/√N: the samples that would reach the bound.
             let rel = self.detectable_relative_bias;
@@ -135,7 +138,7 @@ impl Verdict {
                         100.0 * rel
                     ),
                     if more.is_finite() {
-                        format!(" about {more}×")
+                        format!(" to about {more}× the samples this run drew")
                     } else {
                         String::new()
                     },
@@ -317,6 +320,11 @@ impl Outcome {
             None => why,
         });
         true
+    }
+
+    /// Whether it passed weakly ([`Verdict::weak`]).
+    pub fn is_weak(&self) -> bool {
+        self.verdict.as_ref().is_some_and(|v| v.weak)
     }
 
     /// Whether the outcome will be a member of the statistical (Šidák) family.
@@ -561,7 +569,7 @@ mod tests {
         outside.require_power(false);
         let v = outside.verdict.as_ref().unwrap();
         assert!(outside.passed() && v.weak && v.reason.is_none() && v.label() == "weak");
-        // At the bound exactly it sees the bias; NaN (a zero reference) sees nothing.
+        // At the bound exactly it sees the bias; NaN (a non-finite error bar) sees nothing.
         for (det, passes) in [(DETECTABLE_BOUND, true), (f64::NAN, false)] {
             let mut o = judged(1e-4);
             o.verdict.as_mut().unwrap().detectable_relative_bias = det;
@@ -585,6 +593,13 @@ mod tests {
         exact.verdict.as_mut().unwrap().detectable_relative_bias = 1.0;
         exact.require_power(true);
         assert!(exact.passed() && !exact.verdict.unwrap().weak);
+        // A zero reference: the detectable bias is absolute, no relative power to require.
+        let mut zero = outcome(1e-3, Some(1e-3), Some(0.0), 1 << 16, 0);
+        zero.judge(1e-4, 1);
+        assert!(zero.passed(), "{:?}", zero.verdict);
+        zero.require_power(true);
+        let v = zero.verdict.as_ref().unwrap();
+        assert!(zero.passed() && v.weak && v.reason.is_none(), "{v:?}");
         // A failure keeps its own reason; an unjudged outcome stays unjudged.
         let mut failed = outcome(2.0, Some(0.1), Some(1.0), 1 << 16, 0);
         failed.judge(1e-4, 1);

@@ -160,12 +160,18 @@ pub fn render(page: &Page) -> String {
     let failed = page.outcomes.iter().filter(|o| !o.passed()).count()
         + page.chi2.iter().filter(|c| !c.passed).count();
     let total = page.outcomes.len() + page.chi2.len();
+    let weak = page.outcomes.iter().filter(|o| o.is_weak()).count();
+    let weak = if weak > 0 {
+        format!(" ({weak} of them weak: they cannot see a 0.5% bias)")
+    } else {
+        String::new()
+    };
     let mut s = String::new();
     let _ = write!(
         s,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <title>lightproof verdicts: {} passed, {failed} failed</title>\n<style>{STYLE}</style>\n</head>\n<body>\n\
-         <h1>lightproof verdicts</h1>\n<p id=\"summary\">{} passed, {failed} failed of {total} verdicts \
+         <h1>lightproof verdicts</h1>\n<p id=\"summary\">{} passed{weak}, {failed} failed of {total} verdicts \
          ({} outcomes, {} chi-square suites); statistical verdicts Šidák-corrected over k = {} at family α = {}; seed {}.</p>\n",
         total - failed,
         total - failed,

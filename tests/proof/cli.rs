@@ -552,7 +552,7 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     for want in [
         "cannot see a relative bias below",
-        "must see 0.5%, or its pass proves nothing: raise the case's `samples` about",
+        "must see 0.5%, or its pass proves nothing: raise the case's `samples` to about",
         "0 passed (0 statistical, 0 exact), 2 failed",
     ] {
         assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
@@ -591,6 +591,7 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     );
     let page = std::fs::read_to_string(&html).unwrap();
     assert_eq!(page.matches(">weak</td>").count(), 2, "{page}");
+    assert!(page.contains("2 passed (2 of them weak: they cannot see a 0.5% bias), 0 failed"));
     // At its own count of 65536 the same case sees 0.5 %: plain passes.
     let good = tmp("good.json", GOOD);
     let out = succeeds(bin().arg("verify").arg(&good));
