@@ -775,6 +775,9 @@ mod tests {
         ];
         outcomes[5].non_finite = 3;
         let k = judge_family(&mut outcomes, 1, 1e-4);
+        // Outside the proof's conditions: the two a.json passes (± 0.1 %, detectable
+        // ~0.7 %) are weak.
+        outcomes.iter_mut().for_each(|o| o.require_power(false));
         let dir = std::env::temp_dir().join(format!("lightproof-html-{}", std::process::id()));
         let chi2 = vec![Chi2Outcome {
             name: "bad <warp>".into(),
@@ -817,6 +820,13 @@ mod tests {
         for t in ["html", "head", "body", "table", "svg", "script"] {
             assert!(tags.iter().any(|x| x == t), "no <{t}>");
         }
+        // The summary: 7 outcomes and 1 suite, 2 + 1 failed, the weak passes counted.
+        assert!(
+            html.contains("<p id=\"summary\">5 passed (2 of them weak: they cannot see a 0.5% bias), 3 failed of 8 verdicts (7 outcomes, 1 chi-square suites)"),
+            "{html}"
+        );
+        assert!(html.contains("<title>lightproof verdicts: 5 passed, 3 failed</title>"));
+        assert_eq!(html.matches(">weak</td>").count(), 2);
         // Self-contained: nothing fetched.
         assert!(!html.contains("http") && !html.contains("src=\"/") && !html.contains("url("));
         // One row per outcome, failures first, each case's id and teaches line.

@@ -160,7 +160,13 @@ mod tests {
             .join("analytic/cases/time/pulsed_disk_transient.json");
         let c = Case::load(&path).unwrap();
         let dir = std::env::temp_dir().join(format!("lightproof-transient-{}", std::process::id()));
-        let files = write_all(&[("t".into(), c)], &dir, |_, _| Some(1 << 12), 5).unwrap();
+        let files = write_all(
+            &[("t".into(), Case::load(&path).unwrap())],
+            &dir,
+            |_, _| Some(1 << 12),
+            5,
+        )
+        .unwrap();
         assert_eq!(files, vec![dir.join("t.transient.svg")]);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         // 4096 samples, below the case's own count: the four bins with light pass weakly
@@ -171,7 +177,12 @@ mod tests {
         );
         assert!(svg.contains("arrival time (ns)") && svg.contains("closed form"));
         std::fs::remove_dir_all(dir).unwrap();
-        // Nothing to plot is an error, not an empty picture.
+        // Nothing to plot is an error, not an empty picture; so is an outcome that is
+        // not a bin among bins.
         assert!(super::svg("none", &[]).is_err());
+        let mut bins = c.run_bins(c.desc.estimators[0], SamplerKind::Sobol, 1 << 12, 5);
+        assert!(super::svg("bins", &bins).is_ok());
+        bins[2].bin = None;
+        assert!(super::svg("one not a bin", &bins).is_err());
     }
 }
