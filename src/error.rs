@@ -13,7 +13,7 @@ use serde_path_to_error::Segment;
 
 /// Bad input, located.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {field}: {reason}")]
+#[error("{file}: {}{reason}", at_field(field))]
 pub struct InputError {
     /// The file (or `<inline>` for strings).
     pub file: String,
@@ -21,6 +21,15 @@ pub struct InputError {
     pub field: String,
     /// Why it is rejected.
     pub reason: String,
+}
+
+/// `FIELD: ` as an error message shows it; nothing for `-` (the file as a whole), so a
+/// missing top-level field reads `case.json: missing field `measure``, not `case.json: -: …`.
+fn at_field(field: &str) -> String {
+    match field {
+        "-" => String::new(),
+        f => format!("{f}: "),
+    }
 }
 
 impl InputError {
@@ -480,6 +489,11 @@ mod tests {
         );
         assert_eq!(field(r#"{"shapes": [{"geo": 1}]}"#), "shapes[0].geo");
         assert_eq!(field("not json"), "-");
+        // The file as a whole (`-`) is not shown as a field; any other field is.
+        let whole = InputError::new("case.json", "-", "missing field `measure`");
+        assert_eq!(whole.to_string(), "case.json: missing field `measure`");
+        let one = InputError::new("case.json", "scene.shapes[0]", "bad");
+        assert_eq!(one.to_string(), "case.json: scene.shapes[0]: bad");
     }
 
     #[test]

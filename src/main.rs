@@ -429,7 +429,7 @@ fn require_cases(paths: &[PathBuf]) -> Result<(), Failure> {
     for p in paths {
         if collect_cases(std::slice::from_ref(p))?.is_empty() {
             return Err(Failure::Input(format!(
-                "{}: -: no case files (*.json) found",
+                "{}: no case files (*.json) found",
                 p.display()
             )));
         }
