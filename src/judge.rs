@@ -653,6 +653,12 @@ mod tests {
         assert_eq!(j.row().cells[6], "weak");
         let mut files = vec![furnace()];
         files.extend(wide);
+        let (json, _) = run(&files, None, None, true, 1e-4).unwrap();
+        let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert!(
+            doc["verdict"]["weak"] == true && doc["verdict"]["passed"] == true,
+            "{doc}"
+        );
         let (text, passed) = run(&files, None, None, false, 1e-4).unwrap();
         assert!(passed, "{text}");
         assert!(
