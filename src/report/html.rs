@@ -140,7 +140,7 @@ h1{font-size:22px}h2{font-size:18px;margin-top:28px}\
 table{border-collapse:collapse}td,th{padding:3px 8px;border-bottom:1px solid #ddd;text-align:left;vertical-align:top}\
 th{cursor:pointer;background:#f3f3f3;user-select:none}th:hover{background:#e4e4e4}\
 td.n{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\
-tr.fail td{background:#fde8e8}.teaches{color:#666;font-size:12px}\
+tr.fail td{background:#fde8e8}tr.weak td{background:#fff4dc}.teaches{color:#666;font-size:12px}\
 .fig{display:inline-block;margin:0 16px 16px 0;vertical-align:top}\
 .fig p{margin:4px 0;max-width:520px;color:#444;font-size:12px}\
 img.residual{image-rendering:pixelated;width:512px;border:1px solid #999}\
@@ -624,7 +624,11 @@ fn verdict_table(s: &mut String, page: &Page) {
             s,
             "<tr class=\"outcome{}\"><td data-v=\"{}\"><b>{}</b><div class=\"teaches\">{}</div></td>\
              <td>{}</td>{}{}{}{}{}<td>{class}</td>{}<td data-v=\"{rank}\">{verdict}</td></tr>",
-            if o.passed() { "" } else { " fail" },
+            match (o.passed(), o.is_weak()) {
+                (false, _) => " fail",
+                (true, true) => " weak",
+                (true, false) => "",
+            },
             esc(id),
             esc(id),
             esc(teaches),
@@ -835,7 +839,13 @@ mod tests {
         let fails = outcomes.iter().filter(|o| !o.passed()).count();
         assert_eq!(fails, 2);
         assert!(rows[..fails].iter().all(|r| r.starts_with(" fail")));
-        assert!(rows[fails..].iter().all(|r| r.starts_with('"')));
+        // The passes after them: the two weak ones shaded apart (`tr.weak`).
+        assert_eq!(rows.iter().filter(|r| r.starts_with(" weak\"")).count(), 2);
+        assert!(
+            rows[fails..]
+                .iter()
+                .all(|r| r.starts_with('"') || r.starts_with(" weak\""))
+        );
         assert!(html.contains(
             "<b>irradiance/a</b><div class=\"teaches\">E = π L R²/(R² + h²) &amp; more</div>"
         ));
