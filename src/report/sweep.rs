@@ -768,6 +768,47 @@ fn resume_partial(
 mod tests {
     use super::*;
 
+    fn series(wall: &[(u32, f64)], pending: &[u32]) -> SeriesState {
+        SeriesState {
+            est: Estimator::Light,
+            sampler: SamplerKind::Independent,
+            seed: 1,
+            done: BTreeMap::new(),
+            parts: BTreeMap::new(),
+            wall: wall.iter().copied().collect(),
+            pending: pending.to_vec(),
+            cut: false,
+        }
+    }
+
+    /// The sweep's order (module doc): a point's wall time is predicted from the nearest
+    /// smaller known point, doubling per k; the queue pops the cheapest pending point,
+    /// ties in plan order, so every series gets its small points before any gets a large
+    /// one.
+    #[test]
+    fn points_run_cheapest_first_ties_in_plan_order() {
+        let s = series(&[(10, 0.5), (12, 3.0)], &[13, 14]);
+        assert_eq!(s.predict(11), 1.0);
+        assert_eq!(s.predict(13), 6.0);
+        assert_eq!(s.predict(15), 24.0);
+        assert_eq!(s.predict(10), 0.0, "nothing known below k = 10");
+        // Three series: next points predicted 6 s, 0 s (nothing known yet), 6 s.
+        let all = [
+            series(&[(12, 3.0)], &[13]),
+            series(&[], &[8, 9]),
+            series(&[(12, 3.0)], &[13]),
+        ];
+        let mut q = Queue::default();
+        for (si, s) in all.iter().enumerate() {
+            q.push_next(s, 0, si);
+        }
+        q.push_next(&series(&[], &[]), 0, 9); // nothing pending: nothing queued
+        let order: Vec<(f64, usize)> = std::iter::from_fn(|| q.pop())
+            .map(|(t, _, si)| (t, si))
+            .collect();
+        assert_eq!(order, [(0.0, 1), (6.0, 0), (6.0, 2)]);
+    }
+
     #[test]
     fn transient_plots_fit_the_budget_left() {
         // 6 bins at 1 ms per sample each: 6 ms per sample of the plot.
