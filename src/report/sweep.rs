@@ -798,15 +798,16 @@ mod tests {
             series(&[], &[8, 9]),
             series(&[(12, 3.0)], &[13]),
         ];
+        // Queued last series first: a tie goes to the one queued first, not the lower index.
         let mut q = Queue::default();
-        for (si, s) in all.iter().enumerate() {
+        for (si, s) in all.iter().enumerate().rev() {
             q.push_next(s, 0, si);
         }
         q.push_next(&series(&[], &[]), 0, 9); // nothing pending: nothing queued
         let order: Vec<(f64, usize)> = std::iter::from_fn(|| q.pop())
             .map(|(t, _, si)| (t, si))
             .collect();
-        assert_eq!(order, [(0.0, 1), (6.0, 0), (6.0, 2)]);
+        assert_eq!(order, [(0.0, 1), (6.0, 2), (6.0, 0)]);
     }
 
     #[test]
