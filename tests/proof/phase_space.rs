@@ -579,6 +579,15 @@ fn render_samples_the_visible_range_whatever_the_case_band() {
 }
 
 /// Print one judged estimate of a motion test and require it to pass.
+/// Each estimator of `runs` (with its sample count) of case `c`, judged against `exact`
+/// as `what, ESTIMATOR`; the k-th run's seed salt is `salt + k`.
+fn judge_each(what: &str, c: &Case, exact: f64, runs: &[(Estimator, u64)], salt: u64) {
+    for (k, &(est, n)) in runs.iter().enumerate() {
+        let e = c.estimate(est, &spec(n, salt + k as u64));
+        judge_motion(&format!("{what}, {}", est.name()), &e, exact);
+    }
+}
+
 fn judge_motion(label: &str, e: &Estimate, exact: f64) {
     let v = judge(e, SamplerKind::Independent, exact, ALPHA, FAMILY);
     println!(
@@ -670,17 +679,12 @@ fn moving_half_plane_occluder_sweeps_a_square_light() {
         "moving half-plane: whole square {:.6}, shutter average {exact:.6}",
         e_at(0.0)
     );
-    for (k, (est, n)) in [
+    let runs = [
         (Estimator::Light, 1 << 14),
         (Estimator::Bsdf, 1 << 16),
         (Estimator::Mis, 1 << 15),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let e = c.estimate(est, &spec(n, 120 + k as u64));
-        judge_motion(&format!("moving half-plane, {}", est.name()), &e, exact);
-    }
+    ];
+    judge_each("moving half-plane", &c, exact, &runs, 120);
 }
 
 /// pbrt's spot falloff, smoothstep in cos θ between cos(cone) and cos(falloff start),
@@ -725,10 +729,8 @@ fn moving_spot_light_matches_time_quadrature() {
     let exact = adaptive(e_at, 0.0, 0.25, 1e-12)
         + adaptive(e_at, 0.25, t_full, 1e-12)
         + adaptive(e_at, t_full, 1.0, 1e-12);
-    for (k, est) in [Estimator::Light, Estimator::Mis].into_iter().enumerate() {
-        let e = c.estimate(est, &spec(1 << 14, 130 + k as u64));
-        judge_motion(&format!("moving spot, {}", est.name()), &e, exact);
-    }
+    let runs = [(Estimator::Light, 1 << 14), (Estimator::Mis, 1 << 14)];
+    judge_each("moving spot", &c, exact, &runs, 130);
 }
 
 /// A moving reflector, seen by one bounce: a Lambertian sphere (albedo ρ = 0.5, radius
@@ -771,15 +773,10 @@ fn moving_reflector_under_a_sky_matches_time_quadrature() {
         "moving reflector: at rest {:.6}, shutter average {exact:.6}",
         e_at(0.0)
     );
-    for (k, (est, n)) in [
+    let runs = [
         (Estimator::Light, 1 << 17),
         (Estimator::Bsdf, 1 << 15),
         (Estimator::Mis, 1 << 15),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let e = c.estimate(est, &spec(n, 140 + k as u64));
-        judge_motion(&format!("moving reflector, {}", est.name()), &e, exact);
-    }
+    ];
+    judge_each("moving reflector", &c, exact, &runs, 140);
 }
