@@ -207,6 +207,51 @@ mod tests {
         assert!((fr_conductor(1.0, 1.5, 0.0) - 0.04).abs() < 1e-6);
     }
 
+    /// The conductor's reflectance against the Fresnel equations with a complex index
+    /// n̂ = η + ik written out in `f64` complex arithmetic (Born & Wolf, Principles of
+    /// Optics, §14.2): with w = √(n̂² − sin²θ) on the principal branch,
+    /// R_s = |(cos θ − w)/(cos θ + w)|², R_p = |(n̂² cos θ − w)/(n̂² cos θ + w)|², R = ½(R_s + R_p);
+    /// metals (gold, aluminium), a dielectric-like index and near-vacuum, normal to grazing.
+    #[test]
+    fn conductor_matches_the_complex_fresnel_equations() {
+        type C = (f64, f64);
+        let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+        let div = |a: C, b: C| {
+            let d = b.0 * b.0 + b.1 * b.1;
+            ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+        };
+        let sqrt = |a: C| {
+            let r = a.0.hypot(a.1);
+            let re = ((r + a.0) / 2.0).sqrt();
+            let im = ((r - a.0) / 2.0).sqrt().copysign(a.1);
+            (re, im)
+        };
+        let norm2 = |a: C| a.0 * a.0 + a.1 * a.1;
+        for (eta, k) in [
+            (0.2f64, 3.9f64),
+            (1.5, 0.5),
+            (0.05, 2.0),
+            (2.9, 3.1),
+            (1.0, 1e-3),
+        ] {
+            for c in [1.0f64, 0.8, 0.5, 0.2, 0.05] {
+                let n2 = mul((eta, k), (eta, k));
+                let w = sqrt((n2.0 - (1.0 - c * c), n2.1));
+                let rs = norm2(div((c - w.0, -w.1), (c + w.0, w.1)));
+                let n2c = (n2.0 * c, n2.1 * c);
+                let rp = norm2(div((n2c.0 - w.0, n2c.1 - w.1), (n2c.0 + w.0, n2c.1 + w.1)));
+                let want = 0.5 * (rs + rp);
+                let got = fr_conductor(c as f32, eta as f32, k as f32) as f64;
+                assert!(
+                    (got - want).abs() < 2e-6,
+                    "R({c}, {eta} + {k}i) = {got}, not {want}"
+                );
+                // The side of the incident direction does not matter.
+                assert_eq!(fr_conductor(-c as f32, eta as f32, k as f32) as f64, got);
+            }
+        }
+    }
+
     /// Both sides of the interface against the Fresnel equations in their angle form
     /// (Hecht, Optics, eqs. 4.42–4.43): R_s = sin²(θi − θt)/sin²(θi + θt),
     /// R_p = tan²(θi − θt)/tan²(θi + θt), θt from Snell's law sin θt = sin θi/η, with 1/η
