@@ -207,6 +207,45 @@ mod tests {
         assert!((fr_conductor(1.0, 1.5, 0.0) - 0.04).abs() < 1e-6);
     }
 
+    /// F_dr: zero without an interface, about 0.092 for glass seen from outside (the
+    /// literature's value for η = 1.5, e.g. d'Eon & Irving 2011) and 0.596 from inside,
+    /// 1 − (1 − 0.092)/1.5² by the étendue identity `diffuse_reflectance_etendue_identity`
+    /// checks; the inside one is larger (its total-internal-reflection cone).
+    #[test]
+    fn diffuse_reflectance_holds_its_values() {
+        assert!(fresnel_diffuse_reflectance(1.0).abs() < 1e-15);
+        let glass = fresnel_diffuse_reflectance(1.5);
+        assert!((0.091..0.093).contains(&glass), "{glass}");
+        let inside = fresnel_diffuse_reflectance(1.0 / 1.5);
+        assert!((0.595..0.598).contains(&inside), "{inside}");
+        for eta in [1.1f64, 1.33, 2.4] {
+            let (out, inside) = (
+                fresnel_diffuse_reflectance(eta),
+                fresnel_diffuse_reflectance(1.0 / eta),
+            );
+            assert!(
+                0.0 < out && out < inside && inside < 1.0,
+                "{eta}: {out} {inside}"
+            );
+        }
+    }
+
+    /// The mirror direction 2(w·n)n − w: about +z and about a tilted normal, where it
+    /// keeps w's angle to n and stays in the plane of w and n.
+    #[test]
+    fn reflect_mirrors_about_the_normal() {
+        let w = Vec3::new(0.6, 0.0, 0.8);
+        assert!((reflect(w, Vec3::Z) - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-7);
+        let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+        let w = Vec3::new(-0.5, 0.4, 0.3).normalize();
+        let r = reflect(w, n);
+        assert!((r.length() - 1.0).abs() < 1e-6);
+        assert!((r.dot(n) - w.dot(n)).abs() < 1e-6);
+        assert!((r + w - 2.0 * w.dot(n) * n).length() < 1e-6);
+        assert!(r.dot(n.cross(w)).abs() < 1e-6);
+        assert!((r - w).length() > 0.1, "not the identity");
+    }
+
     /// The conductor's reflectance against the Fresnel equations with a complex index
     /// n̂ = η + ik written out in `f64` complex arithmetic (Born & Wolf, Principles of
     /// Optics, §14.2): with w = √(n̂² − sin²θ) on the principal branch,
