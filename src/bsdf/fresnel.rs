@@ -230,6 +230,34 @@ mod tests {
         }
     }
 
+    /// Snell's law in f64: the refracted direction is a unit vector on the other side, in
+    /// the plane of w and n, with sin θt = sin θi/η; none past the critical angle.
+    #[test]
+    fn refract_obeys_snells_law() {
+        let n = Vec3::new(0.2, -0.1, 0.97).normalize();
+        for w in [
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::new(-0.3, 0.5, 0.81),
+            Vec3::new(0.05, 0.02, 0.99),
+        ] {
+            let w = w.normalize();
+            for eta in [1.5f32, 1.0001, 2.4, 0.8] {
+                let (ci, si) = (w.dot(n) as f64, w.cross(n).length() as f64);
+                let st = si / eta as f64;
+                match refract(w, n, eta) {
+                    None => assert!(st > 1.0 - 1e-6, "{w} {eta}"),
+                    Some(t) => {
+                        assert!(ci > 0.0 && st < 1.0, "{w} {eta}");
+                        assert!((t.length() - 1.0).abs() < 1e-5, "{t}");
+                        assert!((t.dot(n) as f64 + (1.0 - st * st).sqrt()).abs() < 1e-5);
+                        assert!(((t.cross(n).length() as f64) - st).abs() < 1e-5);
+                        assert!(t.dot(n.cross(w)).abs() < 1e-5, "in the plane");
+                    }
+                }
+            }
+        }
+    }
+
     /// The mirror direction 2(w·n)n − w: about +z and about a tilted normal, where it
     /// keeps w's angle to n and stays in the plane of w and n.
     #[test]
