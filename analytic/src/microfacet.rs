@@ -269,12 +269,7 @@ fn mirror_albedo(
     // 2⟨ωo, h⟩ cos θh > cos θo ⟺ cos φ > c₀ = (cos θo/(2 cos θh) − cos θo cos θh)/(sin θo sin θh).
     let phi_max = |x: f64| {
         let [hx, _, hz] = normal(alpha, slope2(dist, x), 0.0);
-        let need = co / (2.0 * hz) - co * hz;
-        let den = so * hx;
-        if den <= 0.0 {
-            return if need < 0.0 { PI } else { 0.0 };
-        }
-        (need / den).clamp(-1.0, 1.0).acos()
+        azimuth_limit(co / (2.0 * hz) - co * hz, so * hx)
     };
     let g = |x: f64, phi: f64| {
         let h = normal(alpha, slope2(dist, x), phi);
@@ -333,6 +328,16 @@ fn mirror_albedo(
     cuts.extend([0.0, 1.0]);
     cuts.sort_by(f64::total_cmp);
     piecewise(inner, &cuts, TOL) / PI
+}
+
+/// The azimuth range [0, φ_max] of the half vectors h = (sin θh cos φ, ·, cos θh) (φ from
+/// ωo's azimuth) whose ⟨ωo, h⟩ − cos θo cos θh = sin θo sin θh cos φ exceeds `need`:
+/// cos φ > need/den with den = sin θo sin θh; all of [0, π] or nothing when den = 0.
+fn azimuth_limit(need: f64, den: f64) -> f64 {
+    if den <= 0.0 {
+        return if need < 0.0 { PI } else { 0.0 };
+    }
+    (need / den).clamp(-1.0, 1.0).acos()
 }
 
 /// ∫₀¹ f over the pieces between the sorted `cuts` (0 and 1 included) to an *absolute*
@@ -471,12 +476,7 @@ pub fn dielectric_transmission_albedo(
     };
     let phi_max = |y: f64| {
         let [hx, _, hz] = normal(alpha, s2(y), 0.0);
-        let need = oh_min(hz) - co * hz;
-        let den = so * hx;
-        if den <= 0.0 {
-            return if need < 0.0 { PI } else { 0.0 };
-        }
-        (need / den).clamp(-1.0, 1.0).acos()
+        azimuth_limit(oh_min(hz) - co * hz, so * hx)
     };
     let g = |y: f64, phi: f64| {
         let h = normal(alpha, s2(y), phi);
