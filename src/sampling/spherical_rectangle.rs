@@ -40,7 +40,10 @@
 //!
 //! **Cost.** [`SphericalRectangle::new`] forms the frame, Ω and k only (what the density
 //! needs, e.g. for the MIS weight of a BSDF-sampled hit); the constants of the inverse
-//! CDF are formed by the sample that uses them.
+//! CDF are formed by the sample that uses them. The `atan2` and `sincos` are the `libm`
+//! crate's (FreeBSD's msun in Rust, < 1 ulp): inlined here rather than called through the
+//! C library's wrapper, they took the Cornell box from 11 786 to 11 414 instructions per
+//! path (callgrind), and every estimate of `verify --no-chi2` stayed the same to the bit.
 
 use glam::{DVec3, Vec2, Vec3};
 
@@ -68,7 +71,7 @@ fn edge_angle(x: f64, y0: f64, y1: f64, h: f64) -> f64 {
     let h2x2 = h * h + x * x;
     let (a0, b0) = (h * (h2x2 + y0 * y0).sqrt(), x * y0);
     let (a1, b1) = (h * (h2x2 + y1 * y1).sqrt(), x * y1);
-    (b1 * a0 - a1 * b0).atan2(a1 * a0 + b1 * b0)
+    libm::atan2(b1 * a0 - a1 * b0, a1 * a0 + b1 * b0)
 }
 
 impl SphericalRectangle {
@@ -141,7 +144,7 @@ impl SphericalRectangle {
         let (l0, l1) = (l0_sq.sqrt(), l1_sq.sqrt());
         let (b0, b1) = (-self.y0 / l0, self.y1 / l1);
         let au = u.x as f64 * self.solid_angle + self.k;
-        let (sin_au, cos_au) = au.sin_cos();
+        let (sin_au, cos_au) = libm::sincos(au);
         let fu = (cos_au * b0 - b1) / sin_au;
         // xu = −cu z0/√(1 − cu²) with cu = sign(fu)/√(fu² + b0²), without forming 1 − cu²,
         // which cancels when |xu| ≫ |z0|, i.e. for a viewer close to the plane. With
