@@ -628,39 +628,53 @@ fn estimate_runs_the_cases_sampler_and_an_unlisted_one_is_weak() {
     );
 }
 
+/// `verify --samples 16384 --json` on `cases` with `args` and environment `env`, which
+/// must exit 0: (stdout, the JSON report without its wall seconds).
+fn verify_json(
+    label: &str,
+    args: &[&str],
+    env: &[(&str, &str)],
+    cases: &[&str],
+) -> (String, serde_json::Value) {
+    let json = std::env::temp_dir().join(format!(
+        "lightproof-cli-{label}-{}.json",
+        std::process::id()
+    ));
+    let out = bin()
+        .args(["verify", "--samples", "16384"])
+        .args(args)
+        .envs(env.iter().copied())
+        .arg("--json")
+        .arg(&json)
+        .args(cases.iter().map(|c| catalog_case(c)))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let _ = std::fs::remove_file(json);
+    for o in doc["outcomes"].as_array_mut().unwrap() {
+        o.as_object_mut().unwrap().remove("seconds");
+    }
+    (stdout, doc)
+}
+
 /// `verify` gives the same verdicts whatever `--threads` is (only the wall seconds
 /// differ), time bins included: each bin of a time-resolved case is its own row
 /// (`ID t∈[t₁, t₂] ns`) and a member of the family.
 #[test]
 fn verify_is_the_same_whatever_the_threads_and_judges_every_bin() {
     let run = |threads: &str| {
-        let json = std::env::temp_dir().join(format!(
-            "lightproof-cli-threads-{threads}-{}.json",
-            std::process::id()
-        ));
-        let out = bin()
-            .args([
-                "verify",
-                "--samples",
-                "16384",
-                "--threads",
-                threads,
-                "--json",
-            ])
-            .arg(&json)
-            .arg(catalog_case("time/pulsed_disk_transient.json"))
-            .arg(catalog_case("irradiance/disk_on_axis.json"))
-            .output()
-            .unwrap();
-        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-        assert_eq!(out.status.code(), Some(0), "{stdout}");
-        let mut doc: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        let _ = std::fs::remove_file(json);
-        for o in doc["outcomes"].as_array_mut().unwrap() {
-            o.as_object_mut().unwrap().remove("seconds");
-        }
-        (stdout, doc)
+        verify_json(
+            &format!("threads-{threads}"),
+            &["--threads", threads],
+            &[],
+            &[
+                "time/pulsed_disk_transient.json",
+                "irradiance/disk_on_axis.json",
+            ],
+        )
     };
     let (one, doc1) = run("1");
     let (_, doc2) = run("2");
@@ -680,6 +694,36 @@ fn verify_is_the_same_whatever_the_threads_and_judges_every_bin() {
         .filter(|l| l.starts_with("pulsed_disk_transient t∈["))
         .count();
     assert_eq!(rows, 12, "{one}");
+}
+
+/// The catalog is the same bit for bit whichever code path the C library picks for this
+/// CPU. glibc chooses its `exp`, `log`, `sin`, `atan2`… by the CPU's features (variants
+/// built for FMA and AVX2, or for SSE2 alone), and the engine (Beckmann's erf through
+/// statrs, the blackbody's exponentials, microfacet and Oren–Nayar trigonometry, the
+/// spherical triangle's and the sphere cone's angles) and the oracle call them. With those
+/// features masked (`GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-AVX512F`, which glibc
+/// 2.36 honours: callgrind shows `__ieee754_atan2_avx` and `__sincos_sse2` called instead
+/// of the `_fma` ones), `verify` gives the same JSON. Where the C library ignores the
+/// tunable, both runs take one path and this proves determinism only.
+#[test]
+fn verify_is_the_same_whatever_the_c_librarys_cpu_path() {
+    let cases = [
+        "bsdf_albedo/rough_conductor_beckmann_alpha0_5_0_uncorrelated.json",
+        "bsdf_albedo/rough_dielectric_ggx_alpha0_3_60.json",
+        "bsdf_albedo/oren_nayar_fujii_sigma0_5_60.json",
+        "spectral/blackbody_visible_band_3000K.json",
+        "irradiance/triangle_light.json",
+        "irradiance/sphere_light.json",
+    ];
+    let (_, native) = verify_json("libc-native", &[], &[], &cases);
+    let (_, baseline) = verify_json(
+        "libc-baseline",
+        &[],
+        &[("GLIBC_TUNABLES", "glibc.cpu.hwcaps=-AVX2,-FMA,-AVX512F")],
+        &cases,
+    );
+    assert!(native["outcomes"].as_array().unwrap().len() > cases.len());
+    assert_eq!(native, baseline);
 }
 
 /// An estimate without variance that misses its reference fails, saying what it cannot
