@@ -232,7 +232,8 @@ fn independent_rate_is_minus_half_and_sobol_is_steeper() {
 #[test]
 fn merged_shards_equal_the_single_run_whatever_the_threads() {
     let out = tmp("merge");
-    let cases = vec![disk_case(), no_reference_case(&out)];
+    let transient = root().join("analytic/cases/time/pulsed_disk_transient.json");
+    let cases = vec![disk_case(), no_reference_case(&out), transient];
     let max = 1 << 12;
     // The single run, on one thread.
     let single = out.join("single");
@@ -251,11 +252,15 @@ fn merged_shards_equal_the_single_run_whatever_the_threads() {
     }
     let merged = out.join("merged");
     let m = merge(std::slice::from_ref(&shards), &merged, 2).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(m.reports.len(), 2);
+    assert_eq!(m.reports.len(), 3);
     let a = case_reports(&single);
     let b = case_reports(&merged);
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
-    assert_eq!(a.len(), 2);
+    assert_eq!(a.len(), 3);
+    // A time-resolved case merges like any other; only a single run draws its plot.
+    let plot = "pulsed_disk_transient.transient.svg";
+    assert!(single.join(plot).is_file());
+    assert!(!merged.join(plot).exists() && !shards.join(plot).exists());
     for (name, va) in &a {
         let vb = &b[name];
         assert_eq!(untimed(va.clone()), untimed(vb.clone()), "{name}");
