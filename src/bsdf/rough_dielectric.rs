@@ -299,3 +299,35 @@ impl ModelFacts for RoughDielectric {
         Index::Dielectric(&mut self.eta)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Straight through, ωo = +z and ωi = −z: the half vector (η_o ωo + η_i ωi, turned
+    /// to +z) is the normal itself, a configuration sampling reaches with probability 0
+    /// and that only a direct evaluation checks. Walter et al. 2007 eq. 21 there, with
+    /// ωo·h = 1, ωi·h = −1, G₂ = 1 and D(n) = 1/(πα²) (GGX): from outside (η_o = 1,
+    /// η_i = η) f = (1 − F₀)/(πα² (η − 1)²), and from inside η² times that (the η² rule
+    /// of transmitted radiance), F₀ = ((η − 1)/(η + 1))².
+    #[test]
+    fn straight_through_transmission_has_walters_value() {
+        for (alpha, eta) in [(0.3f32, 1.5f32), (0.05, 1.33), (1.0, 2.4), (0.3, 1.0 / 1.5)] {
+            let b = RoughDielectric::new(alpha, eta);
+            let (a, e) = (alpha as f64, eta as f64);
+            let f0 = ((e - 1.0) / (e + 1.0)).powi(2);
+            let outside = (1.0 - f0) / (std::f64::consts::PI * a * a * (e - 1.0).powi(2));
+            for (wo, wi, want) in [
+                (Vec3::Z, -Vec3::Z, outside),
+                (-Vec3::Z, Vec3::Z, e * e * outside),
+            ] {
+                let got = b.eval(wo, wi) as f64;
+                assert!(
+                    (got / want - 1.0).abs() < 1e-5,
+                    "α = {alpha}, η = {eta}, ωo = {wo}: f = {got}, Walter: {want}"
+                );
+                assert!(b.pdf(wo, wi) > 0.0, "α = {alpha}, η = {eta}, ωo = {wo}");
+            }
+        }
+    }
+}
