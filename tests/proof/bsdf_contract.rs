@@ -205,8 +205,10 @@ fn chi2_cases() -> Vec<(Bsdf, Vec3, u64)> {
 /// 64 × 64 cells then cut into slices of 1/16 to 1/4 of its width. The hard ends:
 /// α = 10⁻⁴ at normal incidence (a lobe 2·10⁻⁴ rad wide, resolved by the cap's tangent
 /// coordinates where the `f32` z component could not), and α = 0.01 at grazing
-/// incidence, reflected at θo = 85° (the lobe squashed against the horizon, part of the
-/// cap below it) and refracted at θo = 80°. Each of the last three fails when the GGX
+/// incidence, reflected at θo = 85° (foreshortened by cos θo ≈ 0.09 across the plane of
+/// incidence: about 0.004 rad wide there against 0.04 in the plane, so the cells resolve
+/// it in the plane and only coarsely across; a corner of the cap lies below the horizon)
+/// and refracted at θo = 80° (the cap holds ~90% of that lobe). Each of the last three fails when the GGX
 /// visible normals are stretched by 3% in α (tried in a scratch copy of the engine).
 fn near_delta_cases() -> Vec<(Bsdf, Vec3, Vec3, f32)> {
     let wo = direction(deg(30.0), 0.3);
