@@ -373,6 +373,12 @@ fn relative_index(cos_theta: f64, eta: f64) -> f64 {
     if cos_theta < 0.0 { 1.0 / eta } else { eta }
 }
 
+/// Where the dielectric F(⟨ωo, h⟩; η′) has its kink: from the denser side (η′ < 1) F = 1
+/// up to the critical cosine √(1 − η′²); from the rarer side F is smooth (`None`).
+fn fresnel_kink(etap: f64) -> Option<f64> {
+    (etap < 1.0).then(|| (1.0 - etap * etap).sqrt())
+}
+
 /// The reflected part of [`dielectric_albedo`]: [`albedo_with_fresnel`] with the
 /// dielectric Fresnel F(⟨ωo, h⟩; η′), η′ from the side of ωo (`cos_theta` signed,
 /// negative from inside, where F = 1 beyond the critical angle); 0 at `eta` = 1.
@@ -389,8 +395,7 @@ pub fn dielectric_reflection_albedo(
         return 0.0;
     }
     let etap = relative_index(cos_theta, eta);
-    // From the denser side F = 1 up to the critical cosine √(1 − η′²), with a kink there.
-    let kink = (etap < 1.0).then(|| (1.0 - etap * etap).sqrt());
+    let kink = fresnel_kink(etap);
     mirror_albedo(
         dist,
         masking,
@@ -1011,7 +1016,21 @@ mod tests {
     fn the_kink_split_keeps_the_reflection_albedo_cheap() {
         let eta: f64 = 1.5;
         let etap = 1.0 / eta;
-        let kink = (1.0 - etap * etap).sqrt();
+        // The critical cosine: sin θc = η′ (Snell at 90°), cos θc = √(1 − η′²).
+        let kink = 41.81f64.to_radians().cos();
+        let Some(found) = fresnel_kink(etap) else {
+            panic!("no kink from the denser side")
+        };
+        assert!(
+            (found - kink).abs() < 1e-4,
+            "{found} vs cos 41.81° = {kink}"
+        );
+        for rarer in [1.0, eta, 2.4] {
+            assert_eq!(fresnel_kink(rarer), None, "η′ = {rarer}");
+        }
+        assert!((fresnel::dielectric(found - 1e-9, etap) - 1.0).abs() < 1e-12);
+        assert!(fresnel::dielectric(found + 1e-3, etap) < 0.99);
+        let kink = found;
         let m = Masking::HeightCorrelated;
         for (alpha, degrees, budget) in [
             (0.3, 60.0f64, 1_660_000u64),
