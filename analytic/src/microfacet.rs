@@ -1008,10 +1008,12 @@ mod tests {
     /// reflection albedo's quadrature cheap: without it the adaptive rule refines towards
     /// the kink 5–20× longer (measured: 14.0 M, 4.2 M and 25.7 M Fresnel evaluations for
     /// the three configurations below, against 0.83 M, 0.85 M and 1.34 M with it), and a
-    /// split in the wrong place (a wrong φ_k or a wrong cut in θh) costs the same. Counted,
-    /// not timed: the evaluations are the same on every machine. Each configuration must
-    /// stay within twice the split rule's count (its value is checked against brute force
-    /// in `dielectric_albedo_matches_brute_force`).
+    /// split in the wrong place (a wrong φ_k or a wrong cut in θh) costs more. Counted,
+    /// not timed: the evaluations are the same on every machine (the adaptive rule's
+    /// decisions could differ with another C library's last bits, a few intervals among
+    /// hundreds of thousands). Each configuration must stay within 10% of the split
+    /// rule's count today (its value is checked against brute force in
+    /// `dielectric_albedo_matches_brute_force`).
     #[test]
     fn the_kink_split_keeps_the_reflection_albedo_cheap() {
         let eta: f64 = 1.5;
@@ -1033,9 +1035,9 @@ mod tests {
         let kink = found;
         let m = Masking::HeightCorrelated;
         for (alpha, degrees, budget) in [
-            (0.3, 60.0f64, 1_660_000u64),
-            (0.05, 60.0, 1_700_000),
-            (0.3, 30.0, 2_680_000),
+            (0.3, 60.0f64, 913_000u64),
+            (0.05, 60.0, 931_000),
+            (0.3, 30.0, 1_470_000),
         ] {
             let co = degrees.to_radians().cos();
             let n = std::cell::Cell::new(0u64);
