@@ -185,4 +185,31 @@ mod tests {
         bins[2].bin = None;
         assert!(super::svg("one not a bin", &bins).is_err());
     }
+
+    /// The y axis reaches the highest error bar and the reference, with a little head-room
+    /// (8%), not more: every bin's estimate 1 ± 2·0.5 against a reference of 1 needs the
+    /// axis to 2 (its top tick label between 1.8 and 2.6); the bins are moved to 100 ns
+    /// and beyond so that the time axis's labels cannot be taken for the y axis's.
+    #[test]
+    fn the_y_axis_holds_every_error_bar() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("analytic/cases/time/pulsed_disk_transient.json");
+        let c = Case::load(&path).unwrap();
+        let mut bins = c.run_bins(c.desc.estimators[0], SamplerKind::Sobol, 1 << 10, 5);
+        for (i, o) in bins.iter_mut().enumerate() {
+            let t = 100e-9 + i as f64 * 1e-9;
+            o.bin = Some([t, t + 1e-9]);
+            o.estimate = 1.0;
+            o.std_error = Some(0.5);
+            o.reference = Some(1.0);
+        }
+        let svg = super::svg("head-room", &bins).unwrap();
+        let top = svg
+            .split("<text")
+            .filter_map(|t| t.split_once('>')?.1.split_once("</text>"))
+            .filter_map(|(label, _)| label.trim().parse::<f64>().ok())
+            .filter(|v| *v < 50.0)
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!((1.8..=2.6).contains(&top), "top y label {top}");
+    }
 }
