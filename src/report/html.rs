@@ -162,7 +162,10 @@ pub fn render(page: &Page) -> String {
     let total = page.outcomes.len() + page.chi2.len();
     let weak = page.outcomes.iter().filter(|o| o.is_weak()).count();
     let weak = if weak > 0 {
-        format!(" ({weak} of them weak: they cannot see a 0.5% bias)")
+        format!(
+            " ({weak} of them weak: they cannot see a {}% bias)",
+            100.0 * BIAS_REQUIREMENT
+        )
     } else {
         String::new()
     };
@@ -455,9 +458,11 @@ fn calibration(s: &mut String, page: &Page) {
     );
     s.push_str("<div class=\"fig\">");
     s.push_str(&bias_svg(page.outcomes));
-    s.push_str(
+    let _ = writeln!(
+        s,
         "<p>Detectable bias of each statistical verdict (the smallest relative bias found \
-         with 99% power), smallest first; dashed: the catalog's 0.5% requirement.</p></div>\n",
+         with 99% power), smallest first; dashed: the catalog's {}% requirement.</p></div>",
+        100.0 * BIAS_REQUIREMENT
     );
 }
 
