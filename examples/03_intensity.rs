@@ -33,7 +33,7 @@ const DISK_CASE: &str = r#"{
                            "emission": { "radiance": 2 } } ] },
   "measure": { "intensity": { "shape": 0, "direction": [0.8660254037844386, 0, 0.5] } },
   "reference": { "closed_form": "lambertian_intensity", "radiance": 2, "area": 0.7853981633974483, "theta": 1.0471975511965976 },
-  "estimators": ["area"]
+  "estimators": ["area"], "samples": 1048576, "samplers": ["sobol"]
 }"#;
 
 fn main() {

@@ -521,6 +521,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             max_depth,
             exposure,
         } => {
+            lightproof::render::check_output_name(&output)?;
             let t0 = std::time::Instant::now();
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
             let seconds = t0.elapsed().as_secs_f64();
@@ -688,11 +689,28 @@ fn verify(
         lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
     );
-    let weak = outcomes.iter().filter(|o| o.is_weak()).count();
+    // Weak at the case's own count only where the reference is 0 (no relative bias to
+    // see: `Verdict::require_power`); those get their own line.
+    let (mut weak, mut weak_zero) = (0, 0);
+    for (o, &(ran, own)) in outcomes.iter().zip(&counts) {
+        if o.is_weak() {
+            if o.drew_fewer(ran, own) {
+                weak += 1;
+            } else {
+                weak_zero += 1;
+            }
+        }
+    }
     if weak > 0 {
         println!(
             "{weak} of the {statistical} statistical passes are weak: drawn with fewer samples than their case's own count (--samples), they cannot see a {}% bias, so they show agreement, not a proof: rerun at the case's own count",
             100.0 * lightproof::verdict::DETECTABLE_BOUND
+        );
+    }
+    if weak_zero > 0 {
+        println!(
+            "{weak_zero} of the {statistical} statistical passes are weak: their reference is 0, so there is no relative bias to see, and they cannot see an absolute one of {} (in their case's units): raise their case's samples",
+            lightproof::verdict::DETECTABLE_BOUND
         );
     }
     if below > 0 {

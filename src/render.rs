@@ -218,6 +218,25 @@ fn expose(v: f32, k: f32) -> f32 {
     }
 }
 
+/// Check `render`'s output name before any work: it must end in `.exr` or `.png` (any
+/// case), the two formats [`write_image`] writes; another extension (`out.jpg`) would get
+/// an EXR under a name that says otherwise.
+pub fn check_output_name(path: &Path) -> Result<(), InputError> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if ext.eq_ignore_ascii_case("exr") || ext.eq_ignore_ascii_case("png") {
+        Ok(())
+    } else {
+        Err(InputError::new(
+            "<command line>",
+            "--output",
+            format!(
+                "the image must be named .exr (linear) or .png (8-bit sRGB), got `{}`",
+                path.display()
+            ),
+        ))
+    }
+}
+
 /// Write the image times 2^`exposure` atomically: an 8-bit sRGB PNG (linear values
 /// clipped at 1, then the sRGB transfer curve; NaN black, +∞ white) when `path` ends in
 /// `.png`, else a linear RGB EXR ([`write_exr`]) where a pixel that is not finite keeps
@@ -260,6 +279,20 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[[f32; 3]]) -> std::io:
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_output_is_named_exr_or_png() {
+        for ok in ["out.exr", "a/b.PNG", "x.Exr", "img.png"] {
+            assert!(check_output_name(Path::new(ok)).is_ok(), "{ok}");
+        }
+        for bad in ["out.jpg", "out", "out.exr.tmp", "png", ".png"] {
+            let e = check_output_name(Path::new(bad)).unwrap_err();
+            assert!(
+                e.field == "--output" && e.reason.contains(bad),
+                "{bad}: {e}"
+            );
+        }
+    }
     use super::*;
 
     /// A pixel that is not finite is kept as it is (never masked): NaN and ±∞ stay in the

@@ -600,6 +600,18 @@ mod tests {
         zero.require_power(true);
         let v = zero.verdict.as_ref().unwrap();
         assert!(zero.passed() && v.weak && v.reason.is_none(), "{v:?}");
+        // … and one whose absolute detectable bias is within the bound (0.005 in the
+        // case's units) sees enough: a plain pass, not weak.
+        let mut small = outcome(1e-6, Some(1e-6), Some(0.0), 1 << 16, 0);
+        small.judge(1e-4, 1);
+        let before = small.verdict.clone();
+        small.require_power(true);
+        let v = small.verdict.as_ref().unwrap();
+        assert!(v.detectable_relative_bias < DETECTABLE_BOUND, "{v:?}");
+        assert!(
+            small.passed() && !v.weak && small.verdict == before,
+            "{v:?}"
+        );
         // A failure keeps its own reason; an unjudged outcome stays unjudged.
         let mut failed = outcome(2.0, Some(0.1), Some(1.0), 1 << 16, 0);
         failed.judge(1e-4, 1);

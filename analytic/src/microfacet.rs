@@ -819,8 +819,10 @@ mod tests {
                         let b = albedo_brute(dist, m, alpha, c, fr);
                         let rel = (v - b).abs() / b;
                         worst = worst.max(rel);
+                        // Measured worst 1e-12 (README); 1e-10 leaves room for another
+                        // C library's last bits.
                         assert!(
-                            rel < 1e-6,
+                            rel < 1e-10,
                             "{dist:?} {m:?} α = {alpha} θ = {theta} η = {eta} k = {k}: {v} vs {b}"
                         );
                         assert!(v > 0.0 && v < 1.0);
@@ -953,9 +955,10 @@ mod tests {
                 // Beckmann at 85° from inside transmits 1e-71 (α = 0.3) and 1e-14 (0.7),
                 // through microfacets so tilted that the half-vector rule sees none of
                 // them: an absolute floor, far below any albedo here.
+                // Measured worst 1.1e-7 relative (README), the brute force's own limit.
                 let err = (v - b).abs();
                 assert!(
-                    err < 1e-6 * b || err < 1e-12,
+                    err < 3e-7 * b || err < 1e-12,
                     "{what}: {part} {v} vs brute force {b}"
                 );
                 if b > 1e-9 {

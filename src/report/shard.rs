@@ -3,7 +3,7 @@
 //! The unit of work is one batch b of one point k of one series (case × estimator ×
 //! sampler). Shard K of N runs the units with
 //! `(b + hash_words([series seed, k])) mod N = K`: every shard gets ⌊128/N⌋ or ⌈128/N⌉
-//! batches of every point (so shards cost alike), and the assignment depends only on the
+//! batches of every point (so shards cost alike; N ≤ 128, so that none is idle), and the assignment depends only on the
 //! unit, not on what else is in the run. A shard writes its raw per-batch accumulators to
 //! a partial file (`shard-K-of-N.json`); [`merge`] gathers the 128 batches of each point,
 //! merges them in batch order with the same code as a single run, and writes the same
@@ -75,7 +75,18 @@ pub fn parse_shard(s: &str) -> Result<Shard, InputError> {
     if n == 0 || k >= n {
         return Err(bad("need 0 ≤ K < N"));
     }
+    if n as u64 > BATCHES {
+        return Err(bad(&too_many(n as u64)));
+    }
     Ok(Shard { index: k, count: n })
+}
+
+/// Why N shards are too many: a point has [`BATCHES`] batches, the unit of a shard's
+/// work, so beyond that count some shards would get none of a point and run idle.
+fn too_many(count: u64) -> String {
+    format!(
+        "at most {BATCHES} shards (a point has {BATCHES} batches, each run by one shard: with {count} shards some would get none), N is {count}"
+    )
 }
 
 fn var(env: &BTreeMap<String, String>, name: &str) -> Result<Option<u64>, InputError> {
@@ -88,12 +99,16 @@ fn var(env: &BTreeMap<String, String>, name: &str) -> Result<Option<u64>, InputE
     }
 }
 
-fn make(index: u64, count: u64, index_var: &str) -> Result<Shard, InputError> {
-    if count == 0 || count > u32::MAX as u64 {
+/// Shard `index` of `count`, read from the variables `index_var` and `count_var`.
+fn make(index: u64, count: u64, index_var: &str, count_var: &str) -> Result<Shard, InputError> {
+    if count == 0 {
         return Err(shard_err(
             index_var,
             format!("shard count {count} is out of range"),
         ));
+    }
+    if count > BATCHES {
+        return Err(shard_err(count_var, too_many(count)));
     }
     if index >= count {
         return Err(shard_err(
@@ -126,7 +141,7 @@ pub fn shard_from_env(env: &BTreeMap<String, String>) -> Result<Shard, InputErro
                 "must be set with LIGHTPROOF_SHARD_INDEX",
             )
         })?;
-        return make(i, n, "LIGHTPROOF_SHARD_INDEX");
+        return make(i, n, "LIGHTPROOF_SHARD_INDEX", "LIGHTPROOF_SHARD_COUNT");
     }
     if let Some(i) = var(env, "JOB_COMPLETION_INDEX")? {
         let n = count.ok_or_else(|| {
@@ -135,11 +150,11 @@ pub fn shard_from_env(env: &BTreeMap<String, String>) -> Result<Shard, InputErro
                 "must be set to the Job's completions in an indexed Job",
             )
         })?;
-        return make(i, n, "JOB_COMPLETION_INDEX");
+        return make(i, n, "JOB_COMPLETION_INDEX", "LIGHTPROOF_SHARD_COUNT");
     }
     if let Some(id) = var(env, "SLURM_ARRAY_TASK_ID")? {
         if let Some(n) = count {
-            return make(id, n, "SLURM_ARRAY_TASK_ID");
+            return make(id, n, "SLURM_ARRAY_TASK_ID", "LIGHTPROOF_SHARD_COUNT");
         }
         let n = var(env, "SLURM_ARRAY_TASK_COUNT")?
             .ok_or_else(|| shard_err("SLURM_ARRAY_TASK_COUNT", "is not set"))?;
@@ -162,7 +177,12 @@ pub fn shard_from_env(env: &BTreeMap<String, String>) -> Result<Shard, InputErro
                 ),
             ));
         }
-        return make((id - min) / step, n, "SLURM_ARRAY_TASK_ID");
+        return make(
+            (id - min) / step,
+            n,
+            "SLURM_ARRAY_TASK_ID",
+            "SLURM_ARRAY_TASK_COUNT",
+        );
     }
     Err(shard_err(
         "-",
@@ -577,7 +597,7 @@ mod tests {
 
     #[test]
     fn every_batch_has_one_owner_and_shards_are_balanced() {
-        for n in [1u32, 2, 3, 7, 128, 200] {
+        for n in [1u32, 2, 3, 7, 127, 128] {
             let mut counts = vec![0u64; n as usize];
             for b in 0..BATCHES {
                 counts[Shard::owner(n, 42, 10, b) as usize] += 1;
@@ -600,6 +620,50 @@ mod tests {
         for bad in ["8/8", "1", "a/2", "0/0", "-1/3"] {
             assert!(parse_shard(bad).is_err(), "{bad}");
         }
+        // Up to one shard per batch: beyond, a shard would get none of a point.
+        assert_eq!(
+            parse_shard("127/128").unwrap(),
+            Shard {
+                index: 127,
+                count: 128
+            }
+        );
+        let e = parse_shard("0/129").unwrap_err();
+        assert!(e.reason.contains("at most 128 shards"), "{e}");
+        let env = |p: &[(&str, &str)]| shard_from_env(&env(p));
+        for (vars, field) in [
+            (
+                &[
+                    ("LIGHTPROOF_SHARD_INDEX", "0"),
+                    ("LIGHTPROOF_SHARD_COUNT", "129"),
+                ][..],
+                "LIGHTPROOF_SHARD_COUNT",
+            ),
+            (
+                &[
+                    ("SLURM_ARRAY_TASK_ID", "0"),
+                    ("SLURM_ARRAY_TASK_COUNT", "300"),
+                ][..],
+                "SLURM_ARRAY_TASK_COUNT",
+            ),
+        ] {
+            let e = env(vars).unwrap_err();
+            assert!(
+                e.field == field && e.reason.contains("at most 128 shards"),
+                "{e}"
+            );
+        }
+        assert_eq!(
+            env(&[
+                ("JOB_COMPLETION_INDEX", "127"),
+                ("LIGHTPROOF_SHARD_COUNT", "128")
+            ])
+            .unwrap(),
+            Shard {
+                index: 127,
+                count: 128
+            }
+        );
     }
 
     #[test]

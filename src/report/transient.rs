@@ -176,6 +176,16 @@ mod tests {
             "{svg}"
         );
         assert!(svg.contains("arrival time (ns)") && svg.contains("closed form"));
+        // The same run at the case's own count (its `samples` lowered to 4096): the rule of
+        // `verify`, a bin that cannot see 0.5% there fails, it is not a weak pass.
+        let mut own = Case::load(&path).unwrap();
+        own.desc.samples = Some(1 << 12);
+        let files = write_all(&[("own".into(), own)], &dir, |_, _| Some(1 << 12), 5).unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(
+            svg.contains("2 of 6 bins pass") && !svg.contains("weak"),
+            "{svg}"
+        );
         std::fs::remove_dir_all(dir).unwrap();
         // Nothing to plot is an error, not an empty picture; so is an outcome that is
         // not a bin among bins.

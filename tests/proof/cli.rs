@@ -628,6 +628,73 @@ fn estimate_runs_the_cases_sampler_and_an_unlisted_one_is_weak() {
     );
 }
 
+/// `estimate` applies `verify`'s rule: at the case's own sample count a statistical pass
+/// that cannot see a 0.5% bias fails (exit 1, `"passed": false`, the reason saying how
+/// many more samples would see it); below that count the same verdict is a weak pass.
+#[test]
+fn estimate_fails_a_blind_pass_at_the_cases_own_count() {
+    let case = tmp("own_1024.json", &GOOD.replace("65536", "1024"));
+    let out = bin()
+        .args(["estimate", "--estimator", "light"])
+        .arg(&case)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let verdict = &v["verdict"];
+    assert!(
+        verdict["passed"] == false
+            && verdict.get("weak").is_none()
+            && verdict["reason"]
+                .as_str()
+                .is_some_and(|r| r.contains("cannot see a relative bias below")),
+        "{v}"
+    );
+    let below = estimate_json(&case, &["--estimator", "light", "--samples", "512"]);
+    assert!(
+        below["verdict"]["passed"] == true && below["verdict"]["weak"] == true,
+        "{below}"
+    );
+}
+
+/// Exit 3 for worker threads that cannot start (README: "3 an output that cannot be
+/// written or worker threads that cannot start"): the address space is capped just above
+/// what the binary needs to start (found by running `--version` under growing caps), so
+/// 16 threads' stacks (2 MiB each) cannot all be mapped. Unix shells only.
+#[cfg(unix)]
+#[test]
+fn worker_threads_that_cannot_start_exit_3() {
+    let exe = env!("CARGO_BIN_EXE_lightproof");
+    let capped = |kib: u64, args: &[&str]| {
+        Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+            .arg(exe)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let mut kib = 8 * 1024;
+    while !capped(kib, &["--version"]).status.success() {
+        kib += kib / 4;
+        assert!(kib < 4 << 20, "--version never ran under a cap up to 4 GiB");
+    }
+    let case = tmp("threads.json", GOOD);
+    let case = case.to_str().unwrap();
+    let out = capped(
+        kib + 4 * 1024,
+        &["estimate", case, "--threads", "16", "--samples", "1024"],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.trim_end().lines().count() == 1
+            && err.starts_with("error: worker threads: cannot start:"),
+        "{err}"
+    );
+}
+
 /// `verify --samples 16384 --json` on `cases` with `args` and environment `env`, which
 /// must exit 0: (stdout, the JSON report without its wall seconds).
 fn verify_json(

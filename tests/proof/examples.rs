@@ -122,6 +122,13 @@ fn every_example_runs_and_passes() {
         .collect();
     assert!(cases.len() >= 5, "{cases:?}");
     for w in cases {
+        // Each names its own count and sampler (README.md): 2²⁰ Sobol samples.
+        let text = std::fs::read_to_string(dir.join(&w)).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert!(
+            v["samples"] == 1u64 << 20 && v["samplers"] == serde_json::json!(["sobol"]),
+            "target/examples/{w} does not name 2²⁰ Sobol samples: {text}"
+        );
         let out = Command::new(env!("CARGO_BIN_EXE_lightproof"))
             .arg("verify")
             .arg(dir.join(&w))
