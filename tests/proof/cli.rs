@@ -658,6 +658,43 @@ fn estimate_fails_a_blind_pass_at_the_cases_own_count() {
     );
 }
 
+/// Every case file README.md shows (its ```json blocks) is a whole case that `verify`
+/// runs and passes at its own count, none weak: the README's examples cannot drift from
+/// the schema or the oracle.
+#[test]
+fn the_readmes_case_files_pass_verify() {
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let blocks: Vec<&str> = readme
+        .split("```json\n")
+        .skip(1)
+        .map(|rest| rest.split("```").next().unwrap())
+        .collect();
+    assert!(
+        blocks.len() >= 8,
+        "{} JSON blocks in README.md",
+        blocks.len()
+    );
+    let files: Vec<PathBuf> = blocks
+        .iter()
+        .enumerate()
+        .map(|(i, text)| tmp(&format!("readme_{i}.json"), text))
+        .collect();
+    let out = bin()
+        .args(["verify", "--no-chi2"])
+        .args(&files)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success()
+            && !stdout.contains("weak")
+            && stdout.contains(&format!("({} cases,", blocks.len())),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Exit 3 for worker threads that cannot start (README: "3 an output that cannot be
 /// written or worker threads that cannot start"): the address space is capped just above
 /// what the binary needs to start (found by running `--version` under growing caps), so
