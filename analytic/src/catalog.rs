@@ -1393,6 +1393,26 @@ mod tests {
                 && e.to_string().contains("height_correlated, uncorrelated"),
             "{e}"
         );
+        // Indices far beyond any metal (fuzzing's 10³⁰⁸; before, NaN Fresnel factors
+        // made the nested quadrature bisect to its caps for over ten minutes): F ≈ 1, so
+        // the white albedo; at |η̃| near f64::MAX the formula overflows and the result is
+        // refused at once as non-finite.
+        let white = evaluate(
+            "microfacet_white_albedo",
+            &obj(
+                json!({"distribution": "ggx", "masking": "height_correlated", "alpha": 0.5, "cos_theta": 0.5}),
+            ),
+        )
+        .unwrap();
+        for (eta, k) in [(1e308, 0.5), (1.5, 1e308), (1e200, 1e200)] {
+            let v = rough(eta, k, 0.5).unwrap();
+            assert!(
+                (v - white).abs() < 1e-12,
+                "η = {eta}, k = {k}: {v} vs {white}"
+            );
+        }
+        let e = rough(1.7e308, 1.7e308, 0.5).unwrap_err();
+        assert!(e.to_string().contains("non-finite"), "{e}");
         // A matched index (η = 1, k = 0) reflects nothing; a conductor less than F ≡ 1.
         assert_eq!(rough(1.0, 0.0, 0.5).unwrap(), 0.0);
         let near = rough(1.01, 0.0, 0.5).unwrap();

@@ -54,12 +54,18 @@ impl Complex {
             self.re * o.im + self.im * o.re,
         )
     }
+    /// Smith's (1962) division: scaled by the divisor's larger component, so that no
+    /// |o|² is formed, which overflows for |o| > 10¹⁵⁴ (an index of 10²⁰⁰ gave NaN).
     fn div(self, o: Self) -> Self {
-        let d = o.re * o.re + o.im * o.im;
-        Self::new(
-            (self.re * o.re + self.im * o.im) / d,
-            (self.im * o.re - self.re * o.im) / d,
-        )
+        if o.re.abs() >= o.im.abs() {
+            let r = o.im / o.re;
+            let d = o.re + o.im * r;
+            Self::new((self.re + self.im * r) / d, (self.im - self.re * r) / d)
+        } else {
+            let r = o.re / o.im;
+            let d = o.re * r + o.im;
+            Self::new((self.re * r + self.im) / d, (self.im * r - self.re) / d)
+        }
     }
     fn norm2(self) -> f64 {
         self.re * self.re + self.im * self.im
@@ -90,7 +96,8 @@ pub fn conductor(cos_theta: f64, eta: f64, k: f64) -> f64 {
     let sin2_i = (1.0 - cos_i) * (1.0 + cos_i);
     let eta_c = Complex::new(eta, k);
     let ci = Complex::new(cos_i, 0.0);
-    let sin2_t = Complex::new(sin2_i, 0.0).div(eta_c.mul(eta_c));
+    // sin²θt = sin²θi/η², divided twice: η² overflows for |η| > 10¹⁵⁴.
+    let sin2_t = Complex::new(sin2_i, 0.0).div(eta_c).div(eta_c);
     let cos_t = Complex::new(1.0, 0.0).sub(sin2_t).sqrt();
     let ec = eta_c.mul(cos_t);
     let rs = ci.sub(ec).div(ci.add(ec));
@@ -287,6 +294,33 @@ mod tests {
             }
             assert!((conductor(0.0, eta, k) - 1.0).abs() < 1e-12);
         }
+    }
+
+    /// Indices far beyond any metal (10¹⁰⁰ to 10³⁰⁸, where |η̃|² overflows; |η̃| itself
+    /// must stay below f64::MAX/2, the sums of the formula) reflect
+    /// almost everything: F = 1 − O(cos θ/|η̃|), finite and within [0, 1], not NaN. Where
+    /// the square still fits (10¹⁰⁰), also the normal-incidence closed form.
+    #[test]
+    fn huge_indices_reflect_everything() {
+        for (eta, k) in [
+            (1e100, 0.0),
+            (1e200, 0.5),
+            (1e308, 0.5),
+            (1.5, 1e200),
+            (1.5, 1e308),
+            (1e307, 1e307),
+        ] {
+            for c in [1.0, 0.3, 1e-3, 0.0] {
+                let f = conductor(c, eta, k);
+                assert!(
+                    (0.0..=1.0).contains(&f) && f >= 1.0 - 1e-90,
+                    "η = {eta}, k = {k}, cos θ = {c}: F = {f}"
+                );
+            }
+        }
+        let (eta, k) = (1e100, 3.0);
+        let r0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+        assert!(rel(conductor(1.0, eta, k), r0) < 1e-12);
     }
 
     #[test]
