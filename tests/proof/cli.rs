@@ -372,6 +372,19 @@ fn render_takes_threads_and_max_depth() {
         "depth 1 lights the grey floor grey"
     );
     render("2", Some("0"), "d0.exr");
+    // Looking up into the light (the disk fills the 30° view): a grey scene renders grey,
+    // each pixel R = G = B = the emitted radiance, 10, at any depth (nothing else is seen).
+    let up = tmp(
+        "into_the_light.json",
+        &LIT_FLOOR.replace(r#""look_at": [0, 0, 0]"#, r#""look_at": [0, 0, 3]"#),
+    );
+    for depth in [Some(0), None] {
+        let (_, _, data) = lightproof::render::render_file(&up, 8, 1, depth).expect("renders");
+        assert!(
+            !data.is_empty() && data.iter().all(|&p| p == [10.0; 3]),
+            "depth {depth:?}: {data:?}"
+        );
+    }
 }
 
 fn catalog_case(rel: &str) -> PathBuf {

@@ -555,6 +555,128 @@ fn the_peer_drivers_parse_and_refuse_without_a_peer() {
     let _ = std::fs::remove_dir_all(cases);
 }
 
+/// Stand-ins for Mitsuba's and Dr.Jit's Python modules that log what `render_all.py`
+/// asks of them (each `render` call's spp and seed, each thread count, the thread count
+/// at each EXR write) and answer with a one-pixel image.
+const STUB_MITSUBA: &str = r#"import os
+import drjit
+__version__ = "stub"
+LOG = os.environ["LIGHTPROOF_STUB_LOG"]
+def log(line):
+    with open(LOG, "a") as f:
+        f.write(line + "\n")
+def set_variant(v):
+    log("variant %s" % v)
+def load_file(path):
+    return path
+class Image:
+    shape = (1, 1, 3)
+    array = [1.0, 1.0, 1.0]
+def render(scene, seed=0, spp=0):
+    log("render spp=%d seed=%d" % (spp, seed))
+    return Image()
+def TensorXf(values, shape):
+    return values
+class util:
+    @staticmethod
+    def write_bitmap(path, tensor, write_async=True):
+        log("write threads=%d" % drjit.THREADS)
+        with open(path, "w") as f:
+            f.write("stub")
+"#;
+
+const STUB_DRJIT: &str = r#"import os
+THREADS = 0
+def set_thread_count(n):
+    global THREADS
+    THREADS = n
+    with open(os.environ["LIGHTPROOF_STUB_LOG"], "a") as f:
+        f.write("threads %d\n" % n)
+"#;
+
+/// The Mitsuba driver as README.md describes it, run against stand-in modules (no
+/// Mitsuba needed): it renders in passes of at most `--pass-spp` (default 256) samples per
+/// pixel with distinct seeds, at least the spp that `--samples` asks for, and with
+/// `--threads 1` it writes each EXR with two threads (Mitsuba 3.9.1 deadlocks with one)
+/// and goes back to one.
+#[test]
+fn the_mitsuba_driver_renders_in_passes_and_writes_with_two_threads() {
+    let cases = scratch("stub-cases");
+    std::fs::write(cases.join("furnace.json"), furnace(0.8, None)).unwrap();
+    let out_dir = scratch("stub-mitsuba");
+    let o = bin()
+        .args(["export", "--all", "--to", "mitsuba", "--out"])
+        .arg(&out_dir)
+        .arg(&cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let stubs = scratch("stub-modules");
+    for (module, code) in [("mitsuba", STUB_MITSUBA), ("drjit", STUB_DRJIT)] {
+        std::fs::create_dir_all(stubs.join(module)).unwrap();
+        std::fs::write(stubs.join(module).join("__init__.py"), code).unwrap();
+    }
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join("furnace/export.json")).unwrap(),
+    )
+    .unwrap();
+    let pixels = manifest["width"].as_u64().unwrap() * manifest["height"].as_u64().unwrap();
+    for (samples, pass_spp) in [(70_000u64, None), (3_000, Some(100u64)), (100, None)] {
+        let log = stubs.join("calls.log");
+        let _ = std::fs::remove_file(&log);
+        let mut cmd = Command::new("python3");
+        cmd.arg(out_dir.join("render_all.py"))
+            .args(["--renders", "2", "--threads", "1", "--samples"])
+            .arg(samples.to_string())
+            .env("PYTHONPATH", &stubs)
+            .env("LIGHTPROOF_STUB_LOG", &log);
+        if let Some(p) = pass_spp {
+            cmd.args(["--pass-spp", &p.to_string()]);
+        }
+        let Ok(run) = cmd.output() else {
+            eprintln!("skipped render_all.py: no python3 on this machine");
+            return;
+        };
+        assert!(run.status.success(), "{}", text(&run));
+        let calls = std::fs::read_to_string(&log).unwrap();
+        let limit = pass_spp.unwrap_or(256);
+        let want = samples.div_ceil(pixels);
+        let mut seeds = std::collections::BTreeSet::new();
+        let (mut spp_sum, mut writes) = (0, 0);
+        // The thread counts set, in order: 1 from `--threads 1`, then 2 and back to 1
+        // around each write.
+        let threads: Vec<&str> = calls
+            .lines()
+            .filter_map(|l| l.strip_prefix("threads "))
+            .collect();
+        assert_eq!(threads, ["1", "2", "1", "2", "1"], "{calls}");
+        for line in calls.lines() {
+            if let Some(rest) = line.strip_prefix("render spp=") {
+                let (spp, seed) = rest.split_once(" seed=").unwrap();
+                let spp: u64 = spp.parse().unwrap();
+                assert!(
+                    spp >= 1 && spp <= limit,
+                    "{samples}: a pass of {spp} spp: {calls}"
+                );
+                assert!(seeds.insert(seed.to_string()), "seed {seed} twice: {calls}");
+                spp_sum += spp;
+            } else if let Some(t) = line.strip_prefix("write threads=") {
+                assert_eq!(t, "2", "an EXR written with {t} threads: {calls}");
+                // Each render's passes add up to at least the spp asked for.
+                assert!(
+                    spp_sum >= want,
+                    "{samples}: {spp_sum} spp < {want}: {calls}"
+                );
+                (spp_sum, writes) = (0, writes + 1);
+            }
+        }
+        assert_eq!(writes, 2, "{calls}");
+    }
+    let _ = std::fs::remove_dir_all(out_dir);
+    let _ = std::fs::remove_dir_all(stubs);
+    let _ = std::fs::remove_dir_all(cases);
+}
+
 /// A peer renderer that renders an exported suite with its driver: Mitsuba's
 /// `render_all.py` under this Python, or pbrt-v4's `render_all.sh` with this binary.
 enum Peer {
