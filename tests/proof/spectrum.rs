@@ -872,3 +872,43 @@ proptest! {
         prop_assert!(ok32(w.pdf(u)));
     }
 }
+
+/// README.md: `analytic/scenes/blackbodies.json` holds five blackbody spheres from
+/// 1900 K to 12 000 K, "each scaled to Ŷ = 1 so that only the colour differs", and
+/// renders. Ŷ = L ∫ B_λ(λ, T) ȳ(λ) dλ / ∫ ȳ dλ over the render's 360–830 nm (the
+/// E-normalised observer of `render`), by a 0.1 nm midpoint rule; the file gives each
+/// scale to 3–5 significant digits, so Ŷ must be 1 within 10⁻³.
+#[test]
+fn the_blackbody_scene_scales_every_sphere_to_unit_luminance() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes/blackbodies.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let observer = cie::Observer::over(360.0, 830.0);
+    let mut temperatures = Vec::new();
+    for shape in v["scene"]["shapes"].as_array().unwrap() {
+        let Some(t) = shape["emission"]["spectrum"]["blackbody"]["temperature"].as_f64() else {
+            continue;
+        };
+        let radiance = shape["emission"]["radiance"].as_f64().unwrap();
+        let steps = 4700;
+        let y: f64 = (0..steps)
+            .map(|i| {
+                let lambda = 360.0 + (i as f64 + 0.5) * 0.1;
+                planck_radiance(lambda, t) * observer.weights(lambda as f32)[1] as f64 * 0.1
+            })
+            .sum();
+        let luminance = radiance * y;
+        assert!(
+            (luminance - 1.0).abs() < 1e-3,
+            "{t} K: Ŷ = {luminance} (radiance {radiance})"
+        );
+        temperatures.push(t);
+    }
+    assert_eq!(temperatures.first(), Some(&1900.0));
+    assert_eq!(temperatures.last(), Some(&12000.0));
+    assert_eq!(temperatures.len(), 5, "{temperatures:?}");
+    let (w, h, data) = lightproof::render::render_file(&path, 1, 1, Some(2)).expect("renders");
+    assert_eq!(data.len(), w * h);
+    assert!(data.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
+}
