@@ -33,6 +33,13 @@ fn at_field(field: &str) -> String {
 }
 
 impl InputError {
+    /// The error without its file: `FIELD: REASON`, or the reason alone where the file
+    /// as a whole is at fault (for a message that names its source another way, such as
+    /// a command-line argument).
+    pub fn without_file(&self) -> String {
+        format!("{}{}", at_field(&self.field), self.reason)
+    }
+
     /// A located error.
     pub fn new(
         file: impl Into<String>,
@@ -282,6 +289,66 @@ pub fn f32_problem(v: f64) -> Option<String> {
     }
 }
 
+/// Numbers read from JSON straight into `f32` fields (a BSDF's parameters, a spectrum's
+/// or an index's coefficients), through the one check [`f32_problem`]: a value the
+/// conversion would overflow to ∞ or flush to zero or a subnormal is a parse error
+/// naming the field, not a silent change. Use with
+/// `#[serde(deserialize_with = "crate::error::json_f32::scalar")]` (or `optional`,
+/// `triple`, `list` for `Option<f32>`, `[f32; 3]`, `Vec<f32>`).
+pub mod json_f32 {
+    use serde::{Deserialize, Deserializer, de};
+
+    /// An `f64` from JSON that fits `f32` ([`super::f32_problem`] finds nothing wrong);
+    /// otherwise the error `f32_problem` gives. Any serde number (and only a number) is
+    /// read.
+    pub fn checked<E: de::Error>(v: f64) -> Result<f64, E> {
+        match super::f32_problem(v) {
+            None => Ok(v),
+            Some(why) => Err(E::custom(why)),
+        }
+    }
+
+    /// One `f32` read through [`checked`].
+    struct Checked(f32);
+
+    impl<'de> Deserialize<'de> for Checked {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            let v = f64::deserialize(d)?;
+            checked(v).map(|v| Checked(v as f32))
+        }
+    }
+
+    /// An `f32` field.
+    pub fn scalar<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+        Checked::deserialize(d).map(|c| c.0)
+    }
+
+    /// An optional `f32` field (give it `#[serde(default)]` too, for when it is absent).
+    pub fn optional<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
+        Option::<Checked>::deserialize(d).map(|o| o.map(|c| c.0))
+    }
+
+    /// Three `f32`s.
+    pub fn triple<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 3], D::Error> {
+        <[Checked; 3]>::deserialize(d).map(|a| a.map(|c| c.0))
+    }
+
+    /// A list of `f32`s.
+    pub fn list<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f32>, D::Error> {
+        Vec::<Checked>::deserialize(d).map(|v| v.into_iter().map(|c| c.0).collect())
+    }
+
+    /// A list of `f32`s read by [`list`], for a hand-written visitor
+    /// (`map.next_value::<List>()?.0`).
+    pub struct List(pub Vec<f32>);
+
+    impl<'de> Deserialize<'de> for List {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            list(d).map(List)
+        }
+    }
+}
+
 /// Check a number is finite, representable in `f32` (the engine computes in `f32`:
 /// see [`fits_f32`]) and within bounds; `what` describes the bound.
 pub fn check_number(
@@ -494,6 +561,73 @@ mod tests {
         assert_eq!(whole.to_string(), "case.json: missing field `measure`");
         let one = InputError::new("case.json", "scene.shapes[0]", "bad");
         assert_eq!(one.to_string(), "case.json: scene.shapes[0]: bad");
+    }
+
+    /// A model whose parameters are read straight into `f32`, as a BSDF's are.
+    #[allow(dead_code)]
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+    enum Paint {
+        Matte {
+            #[serde(deserialize_with = "json_f32::scalar")]
+            albedo: f32,
+            #[serde(default, deserialize_with = "json_f32::optional")]
+            k: Option<f32>,
+            #[serde(default, deserialize_with = "json_f32::triple")]
+            rgb: [f32; 3],
+            #[serde(default, deserialize_with = "json_f32::list")]
+            table: Vec<f32>,
+        },
+    }
+
+    /// Every `f32` field read through [`json_f32`] refuses what [`f32_problem`] refuses,
+    /// with its message and the field's name (found inside the tagged object), and keeps
+    /// what fits.
+    #[test]
+    fn numbers_read_into_f32_fields_must_fit() {
+        let matte = |body: &str| {
+            parse_json::<Paint>(
+                "p.json",
+                &format!(r#"{{"type": "matte", "albedo": 0.5, {body}}}"#),
+            )
+        };
+        for bad in ["1e-39", "-1e-39", "5e-324", "1e39", "-1e39", "1e308"] {
+            let v: f64 = bad.parse().unwrap();
+            let why = f32_problem(v).unwrap();
+            for (field, body) in [
+                ("k", format!(r#""k": {bad}"#)),
+                ("rgb", format!(r#""rgb": [0, {bad}, 0]"#)),
+                ("table", format!(r#""table": [1, 2, {bad}]"#)),
+            ] {
+                let e = matte(&body).unwrap_err();
+                assert_eq!(e.field, field, "{body}: {e}");
+                assert!(e.reason.starts_with(&why), "{body}: {e}");
+            }
+            let e = parse_json::<Paint>(
+                "p.json",
+                &format!(r#"{{"type": "matte", "albedo": {bad}}}"#),
+            )
+            .unwrap_err();
+            assert_eq!(
+                (e.field.as_str(), e.reason.starts_with(&why)),
+                ("albedo", true),
+                "{e}"
+            );
+        }
+        for good in ["0", "-0.0", "1", "-1", "1.2e-38", "3e38", "7"] {
+            let v = good.parse::<f64>().unwrap() as f32;
+            let Ok(Paint::Matte { k, rgb, table, .. }) = matte(&format!(
+                r#""k": {good}, "rgb": [{good}, 0, 0], "table": [{good}]"#
+            )) else {
+                panic!("{good}")
+            };
+            assert_eq!((k, rgb, table), (Some(v), [v, 0.0, 0.0], vec![v]), "{good}");
+        }
+        let Ok(Paint::Matte { k: None, .. }) = matte(r#""rgb": [1, 2, 3]"#) else {
+            panic!("k is optional")
+        };
+        let e = matte(r#""k": "NaN""#).unwrap_err();
+        assert_eq!(e.field, "k", "{e}");
     }
 
     #[test]

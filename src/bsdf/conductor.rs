@@ -21,8 +21,10 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct Conductor {
     /// Real part η of the relative index (> 0).
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub eta: f32,
     /// Extinction coefficient k (≥ 0).
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub k: f32,
 }
 

@@ -32,6 +32,7 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct Dielectric {
     /// η_inside/η_outside (inside = −z).
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub eta: f32,
 }
 

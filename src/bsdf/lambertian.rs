@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct Lambertian {
     /// Albedo ρ.
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub albedo: f32,
 }
 

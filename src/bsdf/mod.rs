@@ -262,10 +262,12 @@ impl Bsdf {
     }
 
     /// Parse a model from its JSON text and validate it; the error names the problem
-    /// (a JSON syntax error with its line and column, an unknown `type` or field, or the
-    /// parameter `validate` rejects).
+    /// (a JSON syntax error with its line and column, an unknown `type` or field, a
+    /// number that does not fit `f32` with its field, or the parameter `validate`
+    /// rejects).
     pub fn from_json(text: &str) -> Result<Bsdf, String> {
-        let b: Bsdf = serde_json::from_str(text).map_err(|e| format!("invalid BSDF JSON: {e}"))?;
+        let b: Bsdf = crate::error::parse_json("<bsdf>", text)
+            .map_err(|e| format!("invalid BSDF JSON: {}", e.without_file()))?;
         b.validate()
             .map_err(|e| format!("invalid {} BSDF: {e}", b.name()))?;
         Ok(b)

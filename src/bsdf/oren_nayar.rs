@@ -34,8 +34,10 @@ use std::f32::consts::FRAC_PI_2;
 #[serde(deny_unknown_fields)]
 pub struct OrenNayar {
     /// Albedo ρ ∈ [0, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub albedo: f32,
     /// Fujii's roughness σ ∈ [0, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub sigma: f32,
 }
 

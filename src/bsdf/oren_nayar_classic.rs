@@ -31,8 +31,10 @@ use std::f32::consts::FRAC_PI_2;
 #[serde(deny_unknown_fields)]
 pub struct OrenNayarClassic {
     /// Albedo ρ ∈ [0, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub albedo: f32,
     /// Slope-angle standard deviation σ ∈ [0, π/2] (radians).
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub sigma: f32,
 }
 

@@ -35,8 +35,10 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct PlasticParams {
     /// Base albedo ρ ∈ [0, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub albedo: f32,
     /// Coat index η ∈ [1, 10] relative to the outside.
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub eta: f32,
 }
 

@@ -60,12 +60,21 @@ impl<'de> Deserialize<'de> for FresnelMode {
 #[serde(deny_unknown_fields)]
 pub struct RoughConductor {
     /// Roughness α ∈ [1e-4, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub alpha: f32,
     /// Real part η of the relative index (> 0); required unless `fresnel` is `none`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::error::json_f32::optional"
+    )]
     pub eta: Option<f32>,
     /// Extinction coefficient k (≥ 0); required unless `fresnel` is `none`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::error::json_f32::optional"
+    )]
     pub k: Option<f32>,
     /// The Fresnel factor (default `conductor`).
     #[serde(default)]

@@ -46,8 +46,10 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct RoughDielectric {
     /// Roughness α ∈ [1e-4, 1].
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub alpha: f32,
     /// η_inside/η_outside (inside = −z).
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     pub eta: f32,
     /// Normal distribution.
     #[serde(default)]

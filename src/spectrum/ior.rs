@@ -256,17 +256,20 @@ fn physical(n: f64) -> Option<f32> {
 #[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct CauchyBody {
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     a: f32,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::error::json_f32::scalar")]
     b: f32,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::error::json_f32::scalar")]
     c: f32,
 }
 
 #[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct SellmeierBody {
+    #[serde(deserialize_with = "crate::error::json_f32::triple")]
     b: [f32; 3],
+    #[serde(deserialize_with = "crate::error::json_f32::triple")]
     c: [f32; 3],
 }
 

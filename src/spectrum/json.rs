@@ -3,6 +3,7 @@
 //! that a bad value gets serde's precise message and field path instead of "data did
 //! not match any variant".
 
+use crate::error::json_f32::checked;
 use serde::Deserializer;
 use serde::de::{self, MapAccess, Visitor};
 use std::fmt;
@@ -30,29 +31,22 @@ where
         fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
             f.write_str(T::EXPECTING)
         }
+        // A bare number is stored as `f32`: refused where the conversion would overflow
+        // to ∞ or flush a non-zero value to zero or a subnormal.
         fn visit_f64<E: de::Error>(self, v: f64) -> Result<T, E> {
-            T::from_number(fits_f32(v)?)
+            T::from_number(checked(v)?)
         }
         fn visit_i64<E: de::Error>(self, v: i64) -> Result<T, E> {
-            T::from_number(fits_f32(v as f64)?)
+            T::from_number(checked(v as f64)?)
         }
         fn visit_u64<E: de::Error>(self, v: u64) -> Result<T, E> {
-            T::from_number(fits_f32(v as f64)?)
+            T::from_number(checked(v as f64)?)
         }
         fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<T, A::Error> {
             T::from_map(map)
         }
     }
     d.deserialize_any(V(PhantomData))
-}
-
-/// A bare number stored as `f32`: refused where the conversion would overflow to ∞ or
-/// flush a non-zero value to zero or a subnormal, instead of silently changing it.
-fn fits_f32<E: de::Error>(v: f64) -> Result<f64, E> {
-    match crate::error::f32_problem(v) {
-        None => Ok(v),
-        Some(why) => Err(E::custom(why)),
-    }
 }
 
 /// Read the single key of a one-key map (one of `kinds`); the caller reads its value

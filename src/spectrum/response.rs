@@ -121,7 +121,7 @@ impl<'de> NumberOrMap<'de> for Body {
             if slot.is_some() {
                 return Err(de::Error::custom(format!("duplicate field `{k}`")));
             }
-            *slot = Some(map.next_value()?);
+            *slot = Some(map.next_value::<crate::error::json_f32::List>()?.0);
             next = map.next_key()?;
         }
         Ok(Body(Spectrum::Sampled {

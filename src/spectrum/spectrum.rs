@@ -176,8 +176,9 @@ impl Spectrum {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PlanckBody {
+    #[serde(deserialize_with = "crate::error::json_f32::scalar")]
     temperature: f32,
-    #[serde(default = "one")]
+    #[serde(default = "one", deserialize_with = "crate::error::json_f32::scalar")]
     scale: f32,
 }
 

@@ -123,7 +123,9 @@ pub(crate) fn validate(w: &[f32], v: &[f32], positive: bool) -> Result<(), Strin
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct TableBody {
+    #[serde(deserialize_with = "crate::error::json_f32::list")]
     pub wavelengths: Vec<f32>,
+    #[serde(deserialize_with = "crate::error::json_f32::list")]
     pub values: Vec<f32>,
 }
 

@@ -1150,6 +1150,24 @@ fn json_round_trip_and_validation_messages() {
             "unknown field",
         ),
         (r#"{"type":"velvet"}"#, "unknown variant"),
+        // Numbers that do not fit f32 (a subnormal would be flushed or kept denormal,
+        // 1e39 would become ∞): refused at parse time, naming the field.
+        (
+            r#"{"type":"lambertian","albedo":1e-39}"#,
+            "albedo: underflows f32",
+        ),
+        (
+            r#"{"type":"oren_nayar_classic","albedo":0.5,"sigma":5e-324}"#,
+            "sigma: underflows f32",
+        ),
+        (
+            r#"{"type":"rough_conductor","alpha":0.3,"eta":0.2,"k":1e-39}"#,
+            "k: underflows f32",
+        ),
+        (
+            r#"{"type":"plastic","albedo":0.5,"eta":1e39}"#,
+            "eta: overflows f32",
+        ),
         (
             r#"{"type":"rough_conductor","alpha":0.3,"eta":0.2,"k":3.9,"distribution":"phong"}"#,
             "unknown variant",
