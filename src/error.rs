@@ -152,13 +152,17 @@ impl Error {
 pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, InputError> {
     let de = &mut serde_json::Deserializer::from_str(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
-        // serde_path_to_error shows the document itself as `.`.
         let shown = e.path().to_string();
-        let mut keys: Vec<String> = match &shown {
-            p if p == "." => vec![],
-            p => vec![p.clone()],
-        };
         let segments: Vec<Segment> = e.path().iter().cloned().collect();
+        // The path up to the first segment serde could not name (a key not yet read
+        // when a truncated or malformed text ends the parse, shown as `?`): the field is
+        // the deepest one read, or none (the file as a whole is at fault).
+        let known = known_prefix(&segments);
+        let mut keys: Vec<String> = if known.is_empty() {
+            vec![]
+        } else {
+            vec![known]
+        };
         let reason = e.into_inner().to_string();
         if let Ok(doc) = serde_json::from_str::<serde_json::Value>(text) {
             keys.extend(field_in_tagged::<T>(&doc, &segments, &shown, &reason));
@@ -170,6 +174,26 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
         };
         InputError::new(file, field, reason)
     })
+}
+
+/// A path as serde_path_to_error shows it (`scene.shapes[0].geometry`), cut before its
+/// first [`Segment::Unknown`]; empty for the document itself or a path that starts with
+/// an unknown segment.
+fn known_prefix(path: &[Segment]) -> String {
+    let mut shown = String::new();
+    for (i, seg) in path.iter().enumerate() {
+        match seg {
+            Segment::Unknown => break,
+            Segment::Seq { index } => shown.push_str(&format!("[{index}]")),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                if i > 0 {
+                    shown.push('.');
+                }
+                shown.push_str(key);
+            }
+        }
+    }
+    shown
 }
 
 /// The JSON Pointer (RFC 6901) of a path of segments, for `Value::pointer`: an
@@ -561,6 +585,50 @@ mod tests {
         assert_eq!(whole.to_string(), "case.json: missing field `measure`");
         let one = InputError::new("case.json", "scene.shapes[0]", "bad");
         assert_eq!(one.to_string(), "case.json: scene.shapes[0]: bad");
+    }
+
+    /// A text that ends or breaks before serde has read a key leaves the field out
+    /// (serde_path_to_error shows the unread key as `?`); one that ends inside a value
+    /// names the deepest field it read.
+    #[test]
+    fn a_truncated_text_names_no_unread_field() {
+        for (text, field, reason) in [
+            ("{", "-", "EOF while parsing an object at line 1 column 1"),
+            (r#"{"shapes": [], "#, "-", "EOF while parsing a value"),
+            (r#"{"shapes": [] "named""#, "-", "expected `,` or `}`"),
+            (r#"{"shapes": ["#, "shapes", "EOF while parsing a list"),
+            (
+                r#"{"shapes": [{"geometry": "#,
+                "shapes[0].geometry",
+                "EOF while parsing a value",
+            ),
+        ] {
+            let e = parse_json::<Doc>("bad.json", text).unwrap_err();
+            assert_eq!(e.field, field, "{text}: {e}");
+            assert!(e.reason.starts_with(reason), "{text}: {e}");
+            assert!(!e.to_string().contains('?'), "{text}: {e}");
+        }
+        let e = parse_json::<Doc>("bad.json", "{").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "bad.json: EOF while parsing an object at line 1 column 1"
+        );
+        assert_eq!(
+            e.without_file(),
+            "EOF while parsing an object at line 1 column 1"
+        );
+        let one = InputError::new("case.json", "scene.shapes[0]", "bad");
+        assert_eq!(one.without_file(), "scene.shapes[0]: bad");
+        assert_eq!(known_prefix(&[]), "");
+        assert_eq!(
+            known_prefix(&[
+                Segment::Seq { index: 2 },
+                Segment::Map { key: "a".into() },
+                Segment::Unknown,
+                Segment::Map { key: "b".into() },
+            ]),
+            "[2].a"
+        );
     }
 
     /// A model whose parameters are read straight into `f32`, as a BSDF's are.
