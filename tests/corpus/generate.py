@@ -545,6 +545,15 @@ case("measure_unknown", "baseline", DISK, [("measure", {"glow": {}})], 2, "measu
 case("measure_missing", "baseline", DISK, [("measure", DELETE)], 2, "measure")
 
 # ---------------------------------------------------------------- reference, samples, estimators, top level
+# A rough conductor's albedo reference at extreme indices (fuzzing with a seed of 101 found
+# η = 1e308: NaN Fresnel factors kept the oracle's nested quadrature bisecting for over
+# ten minutes; now F ≈ 1 there, and a non-finite integrand stops the quadrature at once).
+CONDUCTOR_REF = dict(ALBEDO, reference={"closed_form": "microfacet_conductor_albedo", "distribution": "ggx",
+                                        "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5,
+                                        "eta": 0.2, "k": 3.9})
+sweep("conductor_reference_eta", CONDUCTOR_REF, "reference.eta", "reference", outcomes("valid", m1=2, zero=2, str=2))
+sweep("conductor_reference_k", CONDUCTOR_REF, "reference.k", "reference", outcomes("valid", m1=2, str=2))
+
 # As for microfacet_reference_* above: the closed form's domain, in f64.
 sweep("reference_scale", REF, "reference.scale", "reference.scale", outcomes("valid", m1=2, zero=2, str=2))
 sweep("reference_radius", REF, "reference.radius", "reference", outcomes("valid", m1=2, zero=2, e308=2, str=2))
