@@ -279,6 +279,7 @@ pub fn write_exr(path: &Path, w: usize, h: usize, data: &[[f32; 3]]) -> std::io:
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     #[test]
     fn the_output_is_named_exr_or_png() {
@@ -293,7 +294,6 @@ mod tests {
             );
         }
     }
-    use super::*;
 
     /// A pixel that is not finite is kept as it is (never masked): NaN and ±∞ stay in the
     /// EXR, a PNG shows NaN black and +∞ white; a finite pixel that the exposure would

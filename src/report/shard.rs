@@ -3,8 +3,8 @@
 //! The unit of work is one batch b of one point k of one series (case × estimator ×
 //! sampler). Shard K of N runs the units with
 //! `(b + hash_words([series seed, k])) mod N = K`: every shard gets ⌊128/N⌋ or ⌈128/N⌉
-//! batches of every point (so shards cost alike; N ≤ 128, so that none is idle), and the assignment depends only on the
-//! unit, not on what else is in the run. A shard writes its raw per-batch accumulators to
+//! batches of every point (so shards cost alike; N ≤ 128, so that none is idle), and the
+//! assignment depends only on the unit, not on what else is in the run. A shard writes its raw per-batch accumulators to
 //! a partial file (`shard-K-of-N.json`); [`merge`] gathers the 128 batches of each point,
 //! merges them in batch order with the same code as a single run, and writes the same
 //! reports: identical estimates, errors and fits, only the timing fields differ.
