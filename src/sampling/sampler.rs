@@ -9,7 +9,8 @@
 //! - **Stratified**: Latin hypercube within each batch of `batch` samples: in every
 //!   dimension each of the strata [k/B, (k+1)/B) holds exactly one sample of the batch (a
 //!   hashed permutation, Kensler 2013 "Correlated Multi-Jittered Sampling", picks
-//!   which), jittered inside it.
+//!   which), jittered inside it and rounded to `f32` within it (for B up to 2²⁴, where
+//!   the strata are no narrower than the `f32` spacing below 1).
 //! - **Sobol**: Owen-scrambled Sobol (Burley 2020, "Practical Hash-based Owen
 //!   Scrambling", via `sobol_burley`), 256 dimensions; each batch (at most 2¹⁶ samples)
 //!   has its own scramble seed, and dimensions past 256 fall back to independent numbers.
@@ -210,7 +211,17 @@ impl SampleStream {
                 let dim_seed = hash_words(&[self.seed, d as u64, self.index / self.count]);
                 let stratum = permute(self.index % self.count, self.count, dim_seed);
                 let jitter = unit_float_from_bits(self.rng.next_u32()) as f64;
-                ((stratum as f64 + jitter) / self.count as f64) as f32
+                let count = self.count as f64;
+                let x = (stratum as f64 + jitter) / count;
+                // Rounded to f32 within the stratum: to nearest, a value just below
+                // (k + 1)/B lands on it, in the next stratum (84 of 65 536 samples per
+                // dimension at B = 2¹⁶).
+                let v = x as f32;
+                if v as f64 >= (stratum + 1) as f64 / count {
+                    v.next_down()
+                } else {
+                    v
+                }
             }
         };
         u.min(ONE_MINUS_EPSILON)
@@ -409,19 +420,22 @@ mod tests {
 
     #[test]
     fn stratified_fills_every_stratum_in_every_dimension() {
-        let n = 1000u64;
-        let s = Sampler::new(SamplerKind::Stratified, 7, n);
-        for dim in 0..4 {
-            let mut seen = vec![false; n as usize];
-            for i in 0..n {
-                let mut st = s.stream(i);
-                let mut u = 0.0;
-                for _ in 0..=dim {
-                    u = st.next_1d();
+        // 1000 and 2¹⁶ per batch: at 2¹⁶ the f32 rounding to nearest put 84 samples per
+        // dimension into the next stratum, before they were rounded within their own.
+        for n in [1000u64, 1 << 16] {
+            let s = Sampler::new(SamplerKind::Stratified, 7, n);
+            for dim in 0..4 {
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let mut st = s.stream(i);
+                    let mut u = 0.0;
+                    for _ in 0..=dim {
+                        u = st.next_1d();
+                    }
+                    let k = (u as f64 * n as f64) as usize;
+                    assert!(!seen[k], "n = {n}: stratum {k} twice in dim {dim}");
+                    seen[k] = true;
                 }
-                let k = (u as f64 * n as f64) as usize;
-                assert!(!seen[k], "stratum {k} twice in dim {dim}");
-                seen[k] = true;
             }
         }
     }
