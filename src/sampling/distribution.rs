@@ -202,6 +202,25 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// Negative and non-finite values count as 0: never drawn, density 0 there, and the
+    /// integral of what is left (the mean of 1 and 2 over five cells, 0.6).
+    #[test]
+    fn negative_and_non_finite_values_are_zero() {
+        let d = Distribution1D::new(&[1.0, -1.0, f32::NAN, f32::INFINITY, 2.0]);
+        assert!((d.integral() - 0.6).abs() < 1e-12, "{}", d.integral());
+        for cell in 1..4 {
+            let x = (cell as f32 + 0.5) / 5.0;
+            assert_eq!(d.pdf(x), 0.0, "cell {cell}");
+        }
+        for i in 0..1000 {
+            let (_, pdf, cell) = d.sample((i as f32 + 0.5) / 1000.0);
+            assert!(
+                (cell == 0 || cell == 4) && pdf > 0.0,
+                "u = {i}/1000: cell {cell}"
+            );
+        }
+    }
+
     proptest! {
         #[test]
         fn sample_pdf_invert_agree(u in 0.0f32..1.0, v in 0.0f32..1.0) {

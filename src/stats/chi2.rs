@@ -291,9 +291,11 @@ impl Chi2Test {
     /// alone (E ≥ 5) and a share s E/√5 of s√(5) for a cell pooled with others.
     ///
     /// Why this bounds the statistic: the judge's cells (one cell of expected count
-    /// E_g ≥ 5, or a pool of smaller ones with 5 ≤ E_g < 10; the last remainder joins
-    /// the smallest, E_g < 15) then carry errors δ_g with δ_g²/E_g ≤ 2s² (3s² for the
-    /// one with the remainder), so the quadrature can add at most
+    /// E_g ≥ 5, or a pool of smaller ones with 5 ≤ E_g < 10; the last remainder, E_r < 5,
+    /// joins the smallest group: a pool, then E_g < 15, or where no pool formed the
+    /// smallest single cell E_c, whose (√E_c + E_r/√5)²/(E_c + E_r) ≤ 2 keeps its bound
+    /// at 2s²) then carry errors δ_g with δ_g²/E_g ≤ 2s² (3s² for a pool with the
+    /// remainder), so the quadrature can add at most
     /// Σ δ_g²/E_g ≤ s²(2G + 1) to the statistic, G ≤ cells the number of judged cells.
     /// With s² = [`QUADRATURE_BUDGET`]·√(2·cells)/(2·cells) that is
     /// 0.05·(G + ½)/√(cells·(G − 1)) standard deviations √(2(G − 1)): about 0.05 (half

@@ -24,11 +24,13 @@ use serde::{Deserialize, Serialize};
 pub struct CostFit {
     /// Fixed cost t₀ in seconds (≥ 0).
     pub t0: f64,
-    /// Standard error of t₀ (null with fewer than three points).
+    /// Standard error of t₀: null with fewer than three points; 0 where a negative
+    /// intercept was clamped to 0 (the line then goes through the origin).
     pub t0_std_error: Option<f64>,
     /// Cost per sample c in seconds.
     pub per_sample: f64,
-    /// Standard error of c (null with fewer than three points).
+    /// Standard error of c: null with fewer than three points, or with fewer than two
+    /// where the line goes through the origin (one parameter, n − 1 degrees of freedom).
     pub per_sample_std_error: Option<f64>,
     /// Points used.
     pub points: usize,
@@ -269,5 +271,23 @@ mod tests {
         assert!(fit_cost(&[1.0, 2.0, 3.0], &[3.0, 2.0, 1.0]).is_none());
         assert!(fit_cost(&[1.0], &[1.0]).is_none());
         assert!(fit_cost(&[4.0, 4.0], &[1.0, 2.0]).is_none());
+        // Two points: the free line has no degrees of freedom left (no errors), the one
+        // through the origin (a negative intercept clamped) has one: t₀'s error is 0 and
+        // c's that of a one-parameter fit.
+        let free = fit_cost(&[1.0, 2.0], &[2.0, 3.0]).unwrap();
+        assert!(
+            free.t0 > 0.0 && free.t0_std_error.is_none() && free.per_sample_std_error.is_none(),
+            "{free:?}"
+        );
+        let clamped = fit_cost(&[1.0, 2.0], &[1.0, 3.0]).unwrap();
+        assert_eq!(
+            (clamped.t0, clamped.t0_std_error),
+            (0.0, Some(0.0)),
+            "{clamped:?}"
+        );
+        assert!(
+            clamped.per_sample_std_error.is_some_and(|e| e > 0.0),
+            "{clamped:?}"
+        );
     }
 }

@@ -72,5 +72,9 @@ mod tests {
     fn too_few_points() {
         assert!(fit_slope(&[1.0], &[1.0]).is_none());
         assert!(fit_slope(&[1.0, 1.0], &[1.0, 2.0]).is_none());
+        // Two points fix the line and leave no degree of freedom: no error bar.
+        let two = fit_slope(&[1.0, 2.0], &[1.0, 3.0]).unwrap();
+        assert_eq!((two.slope, two.points), (2.0, 2), "{two:?}");
+        assert_eq!(two.slope_std_error, f64::INFINITY, "{two:?}");
     }
 }

@@ -6,7 +6,8 @@
 //! BSDF to continue. Delta lobes and delta lights are never MIS-weighted (only one
 //! strategy can produce them). Russian roulette from the `rr_depth`-th bounce keeps a
 //! path with probability q = min(1, β) and divides β by q: the estimate stays unbiased
-//! because no path is ever truncated outright (Arvo & Kirk 1990; pbrt-v4 §13.1).
+//! because roulette truncates no path outright (Arvo & Kirk 1990; pbrt-v4 §13.1); only
+//! the depth caps do (a case's `max_depth`, and the guard of 2¹⁶ bounces below).
 //!
 //! The [`Config`] comes from the plan's effects ([`Config::for_estimator`]): a scene
 //! that cannot produce a second bounce is traced for one bounce only, and shadow rays are

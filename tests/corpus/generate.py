@@ -817,6 +817,8 @@ entry("judge_truncated", "crash", ["judge", J, a("render_ok.exr"), a("render_tru
       "render_truncated.exr", "EXR")
 entry("judge_size_mismatch", "baseline", ["judge", J, a("render_ok.exr"), a("render_small.exr")], 2,
       "render_small.exr", "expected 4 × 2")
+entry("judge_one_pixel", "wrong", ["judge", J, a("render_one_pixel.exr")], 2, "render_one_pixel.exr",
+      "one render of one pixel")
 entry("judge_not_exr", "baseline", ["judge", J, "{corpus}/cases/valid_disk.json"], 2, "valid_disk.json", "EXR")
 entry("judge_render_over_1gib", "hang", ["judge", J, "{big_asset}"], 2, "big.exr", "limit")
 entry("judge_render_folder", "baseline", ["judge", J, "{empty_dir}"], 2, "folder")
@@ -885,6 +887,7 @@ if __name__ == "__main__":
     write("assets/render_negative_channel.exr", exr(4, 2, ok[:5] + [(-0.5, Y, Y)] + ok[6:]))
     write("assets/render_nan.exr", exr(4, 2, ok[:2] + [(float("nan"),) * 3] + ok[3:]))
     write("assets/render_small.exr", exr(2, 2, ok[:4]))
+    write("assets/render_one_pixel.exr", exr(1, 1, ok[:1]))
     # A header within the pixel limit (8000 × 8000 < 2^26) whose chunk table alone (8000
     # offsets) is longer than the file.
     write("assets/render_header_only.exr", exr(4, 2, [], claim=(8000, 8000), offsets=False))
