@@ -853,7 +853,7 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "microfacet_dielectric_albedo",
         ["distribution", "masking", "alpha", "cos_theta", "eta"],
-        "directional albedo ∫ f |cos θi| dωi (1) over both hemispheres of a rough dielectric (Walter et al. 2007, eqs. 20–21: reflection F D G2/(4|cos θo cos θi|) plus transmission with the refraction Jacobian, radiance convention: transmitted radiance scaled by 1/η′²), eta = η_inside/η_outside with the inside below; cos_theta in [−1, 1], ≠ 0, negative from inside (η′ = 1/eta, total internal reflection included); distribution and masking as microfacet_white_albedo, height_correlated meaning 1/(1 + Λo + Λi) for transmission too (pbrt-v4); quadrature over half vectors; the smooth limit is R + (1 − R)/η′²",
+        "directional albedo ∫ f |cos θi| dωi (1) over both hemispheres of a rough dielectric (Walter et al. 2007, eqs. 20–21: reflection F D G2/(4|cos θo cos θi|) plus transmission with the refraction Jacobian, radiance convention: transmitted radiance scaled by 1/η′²), eta = η_inside/η_outside with the inside below; cos_theta in [−1, 1], ≠ 0, negative from inside (η′ = 1/eta, total internal reflection included); eta in [0.1, 10], where the quadrature is validated; distribution and masking as microfacet_white_albedo, height_correlated meaning 1/(1 + Λo + Λi) for transmission too (pbrt-v4); quadrature over half vectors; the smooth limit is R + (1 − R)/η′²",
         |p| {
             let (d, m, a) = (p.distribution()?, p.masking()?, p.alpha()?);
             let c = p.range("cos_theta", -1.0, 1.0, false)?;
@@ -863,13 +863,12 @@ static ENTRIES: &[Entry] = &[
                     "must be ≠ 0 (the albedo at exactly grazing is a limit; the sign says the side)",
                 ));
             }
-            Ok(microfacet::dielectric_albedo(
-                d,
-                m,
-                a,
-                c,
-                p.positive("eta")?,
-            ))
+            // The validated range: beyond it the Fresnel kink from the denser side
+            // (√(1 − 1/η²) > 0.995) squeezes the split pieces against normal incidence and
+            // the quadrature's cost grows without bound (η = 30 from inside: over 20 s;
+            // fuzzing found 10¹² taking minutes), where η ≤ 10 takes at most 3 s.
+            let eta = p.range("eta", 0.1, 10.0, false)?;
+            Ok(microfacet::dielectric_albedo(d, m, a, c, eta))
         }
     ),
     // ---- Oren–Nayar ----
@@ -1425,7 +1424,8 @@ mod tests {
         .unwrap();
         assert!(gold > 0.8 * white && gold < white, "{gold} vs {white}");
 
-        // The rough dielectric: cos θo signed (negative from inside, never 0), eta > 0,
+        // The rough dielectric: cos θo signed (negative from inside, never 0), eta in
+        // [0.1, 10],
         // mirror parameters as `microfacet_white_albedo`'s.
         let glass = |c: Value, eta: Value| {
             evaluate(
@@ -1445,11 +1445,18 @@ mod tests {
             e.to_string().contains("`cos_theta`") && e.to_string().contains("[-1, 1]"),
             "{e}"
         );
-        let e = glass(json!(0.5), json!(0)).unwrap_err();
-        assert!(
-            e.to_string().contains("`eta`") && e.to_string().contains("must be > 0"),
-            "{e}"
-        );
+        // eta within its validated range [0.1, 10], ends included (fuzzing's 1.5·10¹²
+        // took the quadrature minutes).
+        for bad in [0.0, 0.0999, 10.001, 1.5e12] {
+            let e = glass(json!(0.5), json!(bad)).unwrap_err();
+            assert!(
+                e.to_string().contains("`eta`") && e.to_string().contains("[0.1, 10]"),
+                "{bad}: {e}"
+            );
+        }
+        for ok in [0.1, 10.0] {
+            assert!(glass(json!(0.5), json!(ok)).is_ok(), "{ok}");
+        }
         let e = glass(json!(0.5), json!("glass")).unwrap_err();
         assert!(e.to_string().contains("`eta`"), "{e}");
         let e = evaluate(

@@ -554,6 +554,16 @@ CONDUCTOR_REF = dict(ALBEDO, reference={"closed_form": "microfacet_conductor_alb
 sweep("conductor_reference_eta", CONDUCTOR_REF, "reference.eta", "reference", outcomes("valid", m1=2, zero=2, str=2))
 sweep("conductor_reference_k", CONDUCTOR_REF, "reference.k", "reference", outcomes("valid", m1=2, str=2))
 
+# A rough dielectric's albedo reference: eta within [0.1, 10], where its quadrature is
+# validated (fuzzing with a seed of 1007 found eta = 1.5e12, which took it minutes).
+DIELECTRIC_REF = dict(ALBEDO, reference={"closed_form": "microfacet_dielectric_albedo", "distribution": "ggx",
+                                         "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5,
+                                         "eta": 1.5})
+sweep("dielectric_reference_eta", DIELECTRIC_REF, "reference.eta", "reference", outcomes(2))
+case("dielectric_reference_eta_1.5e12", "hang", DIELECTRIC_REF, [("reference.eta", 1.5e12)], 2, "reference",
+     "[0.1, 10]")
+case("dielectric_reference_eta_10_valid", "baseline", DIELECTRIC_REF, [("reference.eta", 10)], "valid")
+
 # As for microfacet_reference_* above: the closed form's domain, in f64.
 sweep("reference_scale", REF, "reference.scale", "reference.scale", outcomes("valid", m1=2, zero=2, str=2))
 sweep("reference_radius", REF, "reference.radius", "reference", outcomes("valid", m1=2, zero=2, e308=2, str=2))
