@@ -82,7 +82,10 @@ impl BsdfModel for Conductor {
     }
 }
 
-/// Reflects only; never black (F > 0 for every η, k the model accepts).
+/// Reflects only; never black. F > 0 for every index the model accepts but the matched
+/// one, η = 1 and k = 0, where the true F is 0 and the `f32` formula leaves rounding (about
+/// 4·10⁻⁸, and 1 within 0.006° of grazing, where 1 − cos² rounds to 1); not black there
+/// either, which costs the pruning some work and no expected value.
 impl ModelFacts for Conductor {
     fn eta_inside(&self) -> f32 {
         1.0

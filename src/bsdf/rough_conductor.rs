@@ -228,7 +228,9 @@ impl BsdfModel for RoughConductor {
     }
 }
 
-/// Reflects only; never black (F > 0); with `fresnel: none` it has no index to vary.
+/// Reflects only; never black (F > 0, but at the matched index η = 1, k = 0 only by
+/// `f32` rounding, as for [`super::Conductor`]); with `fresnel: none` it has no index to
+/// vary.
 impl ModelFacts for RoughConductor {
     fn eta_inside(&self) -> f32 {
         1.0

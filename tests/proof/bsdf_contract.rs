@@ -756,6 +756,8 @@ fn model_facts_agree_with_samples() {
         Bsdf::OrenNayarClassic(OrenNayarClassic::new(0.0, 0.5)),
         angles_both(),
     ));
+    // A black base under a coat of index 1: the coat reflects nothing either.
+    models.push((Bsdf::Plastic(Plastic::new(0.0, 1.0)), angles_both()));
     let mut failures = Vec::new();
     for (k, (b, angles)) in models.iter().enumerate() {
         let eta = b.eta_inside();
