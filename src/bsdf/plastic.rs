@@ -211,9 +211,10 @@ impl BsdfModel for Plastic {
 /// Reflects only (the coat and base are one surface); its coat index is fixed. Black
 /// exactly when ρ = 0 and η = 1: otherwise the coat reflects F > 0 even at ρ = 0, or the
 /// base shows through; at η = 1 the coat's F is 0 exactly (cos θt = cos θi to the bit:
-/// cos²θt = (0·sin²θi + cos²θi)/1, for cos θi ≥ 10⁻¹⁹, where cos²θi is a normal `f32`;
-/// below, within 10⁻¹⁷° of grazing, a rounding of F ≈ 10⁻¹⁰ at most, which pruning
-/// the model may ignore).
+/// cos²θt = (0·sin²θi + cos²θi)/1, for cos θi ≥ 1.1·10⁻¹⁹, where cos²θi is a normal
+/// `f32`; below, within 10⁻¹⁷° of grazing, cos²θi is subnormal and F rounds to up to 0.03,
+/// and to 1 where it underflows to 0, cos θi < 2.7·10⁻²³: directions of measure below
+/// 10⁻³⁸, which pruning the model ignores).
 impl ModelFacts for Plastic {
     fn eta_inside(&self) -> f32 {
         1.0
