@@ -213,8 +213,8 @@ impl BsdfModel for Plastic {
 /// base shows through; at η = 1 the coat's F is 0 exactly (cos θt = cos θi to the bit:
 /// cos²θt = (0·sin²θi + cos²θi)/1, for cos θi ≥ 1.1·10⁻¹⁹, where cos²θi is a normal
 /// `f32`; below, within 10⁻¹⁷° of grazing, cos²θi is subnormal and F rounds to up to 0.03,
-/// and to 1 where it underflows to 0, cos θi < 2.7·10⁻²³: directions of measure below
-/// 10⁻³⁸, which pruning the model ignores).
+/// and to 1 where it underflows to 0, cos θi < 2.7·10⁻²³: directions of less than
+/// 10⁻³⁷ sr of projected solid angle (π cos²θi), which pruning the model ignores).
 impl ModelFacts for Plastic {
     fn eta_inside(&self) -> f32 {
         1.0
