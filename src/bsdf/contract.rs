@@ -166,9 +166,10 @@ pub fn write_chi2_images(
 /// Relative tolerance floor of the consistency and reciprocity checks.
 ///
 /// The compared quantities are the same physical value computed along two `f32` paths
-/// of at most ~100 operations: rounding contributes at most γ₁₀₀ ≈ 6e-6 relative.
-/// 1e-4 leaves a margin of ~16 while still catching any modelling error (a wrong
-/// Jacobian, a missing cos, a wrong Fresnel argument) by orders of magnitude.
+/// of at most ~100 operations: each path's rounding is about γ₁₀₀ ≈ 6e-6 relative (a
+/// heuristic where a path sums terms that may cancel), so their difference about
+/// 2γ₁₀₀ ≈ 1.2e-5. 1e-4 leaves a margin of ~8 while still catching any modelling error
+/// (a wrong Jacobian, a missing cos, a wrong Fresnel argument) by orders of magnitude.
 pub const REL_TOL: f64 = 1e-4;
 
 /// Rounding of a sampled direction, in units of ε = 2⁻²³, assumed by

@@ -38,7 +38,12 @@ const LANES: usize = 8;
 /// Entry distances are scaled by 1 − 2⁻²⁰ and exit distances by 1 + 2⁻²⁰, and 2⁻²⁰ ≈
 /// 9.5·10⁻⁷ exceeds 2γ₃ plus the rounding of the scaling itself, so no box the exact ray
 /// meets inside (tmin, tmax) is culled. Entry distances are ≥ tmin ≥ 0, so the scaling
-/// only lowers them. The boxes themselves are unions of [`Primitive::bounds`], which pad
+/// only lowers them. Two limits, both far below any scene's scale: a direction component
+/// below 2⁻¹²⁸ ≈ 2.9·10⁻³⁹ in magnitude (a subnormal) has a reciprocal that overflows to
+/// ±∞, as for ±0, so the ray counts as parallel to that slab, and a box that it meets
+/// only through its drift along that axis (|dᵢ|·t, under 3·10⁻²¹ for t ≤ 10¹⁸) can be
+/// culled; and a slab distance in the subnormal range (below 1.2·10⁻³⁸) carries an
+/// absolute rounding of up to 2⁻¹⁵⁰ that the relative widening does not cover. The boxes themselves are unions of [`Primitive::bounds`], which pad
 /// each primitive by the error of its own arithmetic.
 const NEAR_SCALE: f32 = 1.0 - 1.0 / (1u32 << 20) as f32;
 /// See [`NEAR_SCALE`].
@@ -260,7 +265,8 @@ impl Tree {
 /// A ray as the box test reads it.
 struct BoxRay {
     o: [f32; 3],
-    /// 1/d per component, exactly rounded; ±∞ for a ±0 component.
+    /// 1/d per component, exactly rounded; ±∞ for a ±0 component, and for one below
+    /// 2⁻¹²⁸ in magnitude, whose reciprocal overflows ([`NEAR_SCALE`]).
     inv: [f32; 3],
     /// Per axis, the row of [`Node::q`] holding the entry planes: 2a + 1 (the high
     /// planes) where 1/d < 0, 2a otherwise; the exit planes are the other row.

@@ -385,9 +385,9 @@ fn sliver_ratio_scaled(e1: Vec3, e2: Vec3) -> f32 {
     e1.length() * e2.length() / e1.cross(e2).length()
 }
 
-/// Above this [`sliver_ratio`] (an angle at v₀ under 0.22°) a triangle light is sampled
-/// by area: its f32 normal may tilt by γ₁₈·256 ≈ 2.7·10⁻⁴, and no more, where the
-/// spherical-triangle strategy places points on the plane of that normal.
+/// Above this [`sliver_ratio`] (an angle at v₀ under asin(1/256) = 0.224°) a triangle
+/// light is sampled by area: its f32 normal may tilt by γ₁₈·256 ≈ 2.7·10⁻⁴, and no more,
+/// where the spherical-triangle strategy places points on the plane of that normal.
 pub const SLIVER_RATIO: f32 = 256.0;
 
 /// The density of a point [`sample_prim`] drew.
