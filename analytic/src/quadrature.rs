@@ -103,7 +103,8 @@ const MAX_DEPTH: u32 = 48;
 /// Gauss–Legendre rule.
 ///
 /// A non-finite integrand (NaN or ±∞ somewhere, e.g. parameters whose arithmetic
-/// overflows) cannot converge: its value is returned as soon as it shows, so that the
+/// overflows; or values near f64::MAX whose sums overflow, where the coarse sum is
+/// returned unrefined) cannot converge: its value is returned as soon as it shows, so that the
 /// caller's finiteness check reports it, instead of bisecting to the evaluation cap,
 /// which a nested rule ([`adaptive_2d`]) multiplies into hours (a rough-conductor albedo
 /// with η = 10³⁰⁸ took over ten minutes before it failed).

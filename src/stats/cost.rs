@@ -29,8 +29,9 @@ pub struct CostFit {
     pub t0_std_error: Option<f64>,
     /// Cost per sample c in seconds.
     pub per_sample: f64,
-    /// Standard error of c: null with fewer than three points, or with fewer than two
-    /// where the line goes through the origin (one parameter, n − 1 degrees of freedom).
+    /// Standard error of c: for the free line null with fewer than three points; where
+    /// the line goes through the origin (one parameter, n − 1 degrees of freedom) null
+    /// only with a single point.
     pub per_sample_std_error: Option<f64>,
     /// Points used.
     pub points: usize,
