@@ -24,6 +24,19 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
+/// `lightproof export --all --to TO --out OUT CASES`, which must succeed: its output.
+#[track_caller]
+fn export_all(to: &str, cases: &Path, out: &Path) -> Output {
+    let o = bin()
+        .args(["export", "--all", "--to", to, "--out"])
+        .arg(out)
+        .arg(cases)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    o
+}
+
 fn text(o: &Output) -> String {
     format!(
         "{}{}",
@@ -159,13 +172,7 @@ fn round_trip_through_lightproof_render() {
     )
     .unwrap();
     let out_dir = scratch("suite");
-    let o = bin()
-        .args(["export", "--all", "--to", "lightproof", "--out"])
-        .arg(&out_dir)
-        .arg(&cases)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
+    let o = export_all("lightproof", &cases, &out_dir);
     assert!(text(&o).contains("exported 3 cases"), "{}", text(&o));
     let o = Command::new("sh")
         .arg(out_dir.join("render_all.sh"))
@@ -505,13 +512,7 @@ fn the_peer_drivers_parse_and_refuse_without_a_peer() {
     std::fs::write(cases.join("furnace.json"), furnace(0.8, None)).unwrap();
     for to in ["mitsuba", "pbrt"] {
         let out_dir = scratch(&format!("drivers-{to}"));
-        let o = bin()
-            .args(["export", "--all", "--to", to, "--out"])
-            .arg(&out_dir)
-            .arg(&cases)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", text(&o));
+        export_all(to, &cases, &out_dir);
         if to == "mitsuba" {
             let py = |args: &[&str]| {
                 Command::new("python3")
@@ -604,13 +605,7 @@ fn the_mitsuba_driver_renders_in_passes_and_writes_with_two_threads() {
     let cases = scratch("stub-cases");
     std::fs::write(cases.join("furnace.json"), furnace(0.8, None)).unwrap();
     let out_dir = scratch("stub-mitsuba");
-    let o = bin()
-        .args(["export", "--all", "--to", "mitsuba", "--out"])
-        .arg(&out_dir)
-        .arg(&cases)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", text(&o));
+    export_all("mitsuba", &cases, &out_dir);
     let stubs = scratch("stub-modules");
     for (module, code) in [("mitsuba", STUB_MITSUBA), ("drjit", STUB_DRJIT)] {
         std::fs::create_dir_all(stubs.join(module)).unwrap();
@@ -692,13 +687,7 @@ fn export_render_judge(peer: Peer, cases: &Path, out_dir: &Path) -> (Output, Out
         Peer::Mitsuba(_) => "mitsuba",
         Peer::Pbrt(_) => "pbrt",
     };
-    let exported = bin()
-        .args(["export", "--all", "--to", to, "--out"])
-        .arg(out_dir)
-        .arg(cases)
-        .output()
-        .unwrap();
-    assert!(exported.status.success(), "{}", text(&exported));
+    let exported = export_all(to, cases, out_dir);
     let samples = (65536 * common_scale()).to_string();
     let o = match peer {
         Peer::Mitsuba(python) => Command::new(python)
