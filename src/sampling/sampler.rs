@@ -217,10 +217,13 @@ impl SampleStream {
                 // (k + 1)/B lands on it, in the next stratum (84 of 65 536 samples per
                 // dimension at B = 2¹⁶), and where k/B is no f32 (B not a power of two) a
                 // value just above it can round below, into the previous one.
+                // v·B is exact in f64 for B ≤ 2²⁹ (24 + 29 bits), so one product decides
+                // both edges without dividing.
                 let v = x as f32;
-                if v as f64 >= (stratum + 1) as f64 / count {
+                let scaled = v as f64 * count;
+                if scaled >= (stratum + 1) as f64 {
                     v.next_down()
-                } else if (v as f64) < stratum as f64 / count {
+                } else if scaled < stratum as f64 {
                     v.next_up()
                 } else {
                     v
