@@ -276,7 +276,8 @@ impl Outcome {
     /// in rare events (a near-delta lobe at grazing incidence, a thin strip of a view
     /// factor) can hide it from the standard error, so a failure there may be a false alarm
     /// (`verify --samples 256 --no-chi2` failed 3–7 of the 282 verdicts of a correct
-    /// engine across the default seed and the seven after it, measured in session 36). Passed verdicts, and failures that are never chance (non-finite samples or
+    /// engine across the default seed and the seven after it, measured in session 36).
+    /// Passed verdicts, and failures that are never chance (non-finite samples or
     /// reference), are left as they are.
     /// Returns whether it added the note.
     pub fn note_fewer_samples(&mut self, ran: u64, own: u64) -> bool {
