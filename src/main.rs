@@ -689,18 +689,8 @@ fn verify(
         lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
     );
-    // Weak at the case's own count only where the reference is 0 (no relative bias to
-    // see: `Verdict::require_power`); those get their own line.
-    let (mut weak, mut weak_zero) = (0, 0);
-    for (o, &(ran, own)) in outcomes.iter().zip(&counts) {
-        if o.is_weak() {
-            if o.drew_fewer(ran, own) {
-                weak += 1;
-            } else {
-                weak_zero += 1;
-            }
-        }
-    }
+    // Weak at the case's own count only where the reference is 0: its own line.
+    let (weak, weak_zero) = lightproof::verdict::weak_counts(&outcomes, &counts);
     if weak > 0 {
         println!(
             "{weak} of the {statistical} statistical passes are weak: drawn with fewer samples than their case's own count (--samples), they cannot see a {}% bias, so they show agreement, not a proof: rerun at the case's own count",

@@ -371,6 +371,25 @@ impl Outcome {
     }
 }
 
+/// The weak passes of a run, by cause: (drawn with fewer samples than their case's own
+/// count, at that count with a zero reference). `counts` holds each outcome's (samples
+/// asked for, its case's own count); at its own count a statistical pass that cannot see
+/// the bound fails unless its reference is 0 ([`Verdict::require_power`]), so a weak pass
+/// that drew enough has a zero reference.
+pub fn weak_counts(outcomes: &[Outcome], counts: &[(u64, u64)]) -> (usize, usize) {
+    let (mut fewer, mut zero) = (0, 0);
+    for (o, &(ran, own)) in outcomes.iter().zip(counts) {
+        if o.is_weak() {
+            if o.drew_fewer(ran, own) {
+                fewer += 1;
+            } else {
+                zero += 1;
+            }
+        }
+    }
+    (fewer, zero)
+}
+
 /// Judge every outcome of a run as one family: the statistical ones (and `others`
 /// further statistical tests of the same run, e.g. chi-square suites) share the Šidák
 /// correction at family-wise level `alpha`; exact ones are judged outside it. Returns
@@ -570,6 +589,14 @@ mod tests {
         outside.require_power(false);
         let v = outside.verdict.as_ref().unwrap();
         assert!(outside.passed() && v.weak && v.reason.is_none() && v.label() == "weak");
+        // `verify`'s summary counts it as drawn with fewer samples (2¹⁶ of a case's 2²⁰),
+        // and a zero-reference weak pass at its own count apart; a plain pass in neither.
+        let mut zero_ref = outcome(1e-3, Some(1e-3), Some(0.0), 1 << 16, 0);
+        zero_ref.judge(1e-4, 1);
+        zero_ref.require_power(true);
+        let run = [outside.clone(), zero_ref, judged(1e-4)];
+        let counts = [(1 << 16, 1 << 20), (1 << 16, 1 << 16), (1 << 16, 1 << 16)];
+        assert_eq!(weak_counts(&run, &counts), (1, 1));
         // At the bound exactly it sees the bias; NaN (a non-finite error bar) sees nothing.
         for (det, passes) in [(DETECTABLE_BOUND, true), (f64::NAN, false)] {
             let mut o = judged(1e-4);
