@@ -151,7 +151,7 @@ impl Error {
 /// tracks ends at the object; [`field_in_tagged`] then finds the field at fault inside it.
 pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, InputError> {
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let shown = e.path().to_string();
         let segments: Vec<Segment> = e.path().iter().cloned().collect();
         // The path up to the first segment serde could not name (a key not yet read
@@ -173,7 +173,13 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
             keys.join(".")
         };
         InputError::new(file, field, reason)
-    })
+    })?;
+    // Text after the document (a second object, stray braces, a pasted fragment) is an
+    // error, as `serde_json::from_str` makes it: the file is not the one JSON value it
+    // should be, and what follows the first value would be silently ignored.
+    de.end()
+        .map_err(|e| InputError::new(file, "-", e.to_string()))?;
+    Ok(value)
 }
 
 /// A path as serde_path_to_error shows it (`scene.shapes[0].geometry`), cut before its
@@ -510,6 +516,23 @@ mod tests {
     #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
     enum Glow {
         Flat { value: f64 },
+    }
+
+    /// Text after the document is refused, the file as a whole at fault; whitespace
+    /// after it is not text.
+    #[test]
+    fn text_after_the_document_is_refused() {
+        let doc = r#"{"shapes": []}"#;
+        assert!(parse_json::<Doc>("f.json", &format!("{doc} \n\t")).is_ok());
+        for tail in [" {}", "}", " xyz", "\n{\"shapes\": []}", " 1"] {
+            let e = parse_json::<Doc>("f.json", &format!("{doc}{tail}")).unwrap_err();
+            assert_eq!(
+                (e.file.as_str(), e.field.as_str()),
+                ("f.json", "-"),
+                "{tail:?}"
+            );
+            assert!(e.reason.starts_with("trailing characters"), "{tail:?}: {e}");
+        }
     }
 
     /// The field serde's path stops short of, inside a tagged object: found by removing

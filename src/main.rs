@@ -273,8 +273,10 @@ fn parse_budget(s: &str) -> Result<f64, String> {
 }
 
 fn parse_estimator(s: &str) -> Result<Estimator, String> {
-    serde_json::from_value(serde_json::Value::String(s.to_string()))
-        .map_err(|_| format!("unknown estimator `{s}`"))
+    serde_json::from_value(serde_json::Value::String(s.to_string())).map_err(|_| {
+        let names: Vec<&str> = Estimator::ALL.iter().map(|e| e.name()).collect();
+        format!("unknown estimator `{s}` ({})", names.join(", "))
+    })
 }
 
 fn parse_sampler(s: &str) -> Result<SamplerKind, String> {

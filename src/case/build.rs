@@ -342,7 +342,8 @@ fn microfacet_measure(
     })
 }
 
-/// At least one estimator, each one the measurement can use.
+/// At least one estimator, each one the measurement can use, and no estimator or
+/// sampler listed twice.
 pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(), InputError> {
     if desc.estimators.is_empty() {
         return Err(InputError::new(
@@ -365,8 +366,22 @@ pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(
                 ),
             ));
         }
+        if desc.estimators[..i].contains(e) {
+            return Err(twice(f, format!("estimators[{i}]"), e.name()));
+        }
+    }
+    for (i, s) in desc.samplers.iter().enumerate() {
+        if desc.samplers[..i].contains(s) {
+            return Err(twice(f, format!("samplers[{i}]"), s.name()));
+        }
     }
     Ok(())
+}
+
+/// An estimator or sampler listed twice: it would run the same series twice (same
+/// seed), counting one test as two in the verdict's Šidák correction.
+fn twice(f: &str, field: String, name: &str) -> InputError {
+    InputError::new(f, field, format!("`{name}` is listed twice"))
 }
 
 /// The case's `max_depth` as the path tracer's bound on scatterings (`None`: unbounded):
@@ -682,6 +697,35 @@ mod tests {
         let two = desc(json!({ "estimators": ["cosine", "light"] }));
         let e = check_estimators("c.json", &two, &m).unwrap_err();
         assert_eq!(e.field, "estimators[1]");
+        // Listed twice: the second is at fault, for estimators and samplers alike.
+        let e = check_estimators(
+            "c.json",
+            &desc(json!({ "estimators": ["cosine", "uniform", "cosine"] })),
+            &m,
+        )
+        .unwrap_err();
+        assert_eq!(
+            (e.field.as_str(), e.reason.as_str()),
+            ("estimators[2]", "`cosine` is listed twice")
+        );
+        let e = check_estimators(
+            "c.json",
+            &desc(json!({ "samplers": ["sobol", "independent", "sobol"] })),
+            &m,
+        )
+        .unwrap_err();
+        assert_eq!(
+            (e.field.as_str(), e.reason.as_str()),
+            ("samplers[2]", "`sobol` is listed twice")
+        );
+        assert!(
+            check_estimators(
+                "c.json",
+                &desc(json!({ "samplers": ["sobol", "independent"] })),
+                &m
+            )
+            .is_ok()
+        );
     }
 
     #[test]

@@ -83,6 +83,7 @@ pub enum Kind {
 
 /// What a sweep was asked for: equal settings (and case, and engine) give equal numbers.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Settings {
     /// Base seed.
     pub seed: u64,
@@ -103,6 +104,7 @@ impl Settings {
 
 /// The case a report is about.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CaseInfo {
     /// Its name.
     pub name: String,
@@ -130,6 +132,7 @@ pub enum ErrorMeasure {
 
 /// The machine a run used.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Machine {
     /// CPU model (from /proc/cpuinfo where there is one).
     pub cpu: String,
@@ -143,6 +146,7 @@ pub struct Machine {
 
 /// Who made a file, where and how.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RunInfo {
     /// `CARGO_PKG_VERSION`.
     pub lightproof_version: String,
@@ -171,6 +175,7 @@ pub struct RunInfo {
 
 /// One shard's run, recorded in a merged report.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShardRun {
     /// Shard index K (from 0).
     pub index: u32,
@@ -194,6 +199,7 @@ pub enum Status {
 
 /// One sweep point: one independent run of `samples` samples.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Point {
     /// N.
     pub samples: u64,
@@ -221,6 +227,7 @@ pub struct Point {
 
 /// A least-squares line through log–log points.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Fit {
     /// Slope b.
     pub slope: f64,
@@ -245,6 +252,7 @@ impl From<SlopeFit> for Fit {
 
 /// The cost of one relative-error target.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TimeTo {
     /// The target ε.
     pub rel_error: f64,
@@ -258,6 +266,7 @@ pub struct TimeTo {
 
 /// One estimator × sampler of a case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Series {
     /// Estimator.
     pub estimator: Estimator,
@@ -286,6 +295,7 @@ pub struct Series {
 
 /// How another series compares with the best one.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Comparison {
     /// Estimator.
     pub estimator: Estimator,
@@ -299,6 +309,7 @@ pub struct Comparison {
 
 /// The most efficient series of a case, and by how much.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Best {
     /// Estimator.
     pub estimator: Estimator,
@@ -316,6 +327,7 @@ pub struct Best {
 
 /// The report of one case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CaseReport {
     /// [`FORMAT`].
     pub format: String,
@@ -341,6 +353,7 @@ pub struct CaseReport {
 
 /// One row of the index.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct IndexRow {
     /// Report id.
     pub id: String,
@@ -360,6 +373,7 @@ pub struct IndexRow {
 
 /// The best series as the index shows it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct IndexBest {
     /// Estimator.
     pub estimator: Estimator,
@@ -382,6 +396,7 @@ pub struct IndexBest {
 
 /// The index of a report folder.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Index {
     /// [`FORMAT`].
     pub format: String,

@@ -28,6 +28,7 @@ use std::path::{Path, PathBuf};
 
 /// Shard K of N (K counts from 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Shard {
     /// K.
     pub index: u32,
@@ -192,6 +193,7 @@ pub fn shard_from_env(env: &BTreeMap<String, String>) -> Result<Shard, InputErro
 
 /// One batch's accumulator and compute time.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BatchRecord {
     /// Batch index b.
     pub batch: u64,
@@ -233,6 +235,7 @@ impl BatchRecord {
 
 /// A shard's part of one point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShardPoint {
     /// N.
     pub samples: u64,
@@ -244,6 +247,7 @@ pub struct ShardPoint {
 
 /// A shard's part of one series.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShardSeries {
     /// Estimator.
     pub estimator: Estimator,
@@ -259,6 +263,7 @@ pub struct ShardSeries {
 
 /// A shard's part of one case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShardCase {
     /// Report id.
     pub id: String,
@@ -270,6 +275,7 @@ pub struct ShardCase {
 
 /// The partial result of one shard.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShardPartial {
     /// [`FORMAT`].
     pub format: String,
@@ -293,7 +299,61 @@ pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(&file, "-", e))?;
     check_header(&file, &text, Kind::Shard)?;
-    parse_json(&file, &text)
+    let partial: ShardPartial = parse_json(&file, &text)?;
+    check_batches(&file, &partial)?;
+    Ok(partial)
+}
+
+/// Every batch record of a partial is one that a run can write: its index below
+/// [`BATCHES`], its finite and non-finite samples adding up to the point's batch size
+/// N/B, a finite mean, a finite Σ(x − mean)² ≥ 0 and finite compute seconds ≥ 0. The
+/// schema cannot say these; without them a batch of `count` 0 or a negative `m2` merged
+/// into a different estimate or a missing standard error without a word.
+fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
+    for (ci, c) in p.cases.iter().enumerate() {
+        for (si, s) in c.series.iter().enumerate() {
+            for (pi, pt) in s.points.iter().enumerate() {
+                let at = format!("cases[{ci}].series[{si}].points[{pi}]");
+                if !pt.samples.is_power_of_two() || pt.samples < BATCHES {
+                    return Err(InputError::new(
+                        file,
+                        format!("{at}.samples"),
+                        format!(
+                            "{} is not a power of two of at least {BATCHES} samples",
+                            pt.samples
+                        ),
+                    ));
+                }
+                let size = pt.samples / BATCHES;
+                for (bi, b) in pt.batches.iter().enumerate() {
+                    let field = |name: &str| format!("{at}.batches[{bi}].{name}");
+                    let problem = if b.batch >= BATCHES {
+                        Some(("batch", format!("{} is not below {BATCHES}", b.batch)))
+                    } else if b.count.checked_add(b.non_finite) != Some(size) {
+                        Some((
+                            "count",
+                            format!(
+                                "{} finite and {} non-finite samples, but a batch of {} samples holds {size}",
+                                b.count, b.non_finite, pt.samples
+                            ),
+                        ))
+                    } else if !b.mean.is_finite() {
+                        Some(("mean", format!("{} is not finite", b.mean)))
+                    } else if !(b.m2 >= 0.0 && b.m2.is_finite()) {
+                        Some(("m2", format!("{} is not a finite sum of squares ≥ 0", b.m2)))
+                    } else if !(b.seconds >= 0.0 && b.seconds.is_finite()) {
+                        Some(("seconds", format!("{} is not a finite time ≥ 0", b.seconds)))
+                    } else {
+                        None
+                    };
+                    if let Some((name, reason)) = problem {
+                        return Err(InputError::new(file, field(name), reason));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Whether a file name is a shard partial's.
@@ -593,6 +653,49 @@ mod tests {
             .iter()
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect()
+    }
+
+    /// The corpus's valid partial passes; each field a run cannot write is named, at its
+    /// limits: a batch count one off either way, m2 just below 0 or not finite, a
+    /// negative or infinite time, a non-finite mean, a batch index of 128, N not a
+    /// power of two or below 128.
+    #[test]
+    fn batch_records_a_run_cannot_write_are_named() {
+        let text = std::fs::read_to_string("tests/corpus/assets/shard-0-of-1.json").unwrap();
+        let valid: ShardPartial = parse_json("p.json", &text).unwrap();
+        assert!(check_batches("p.json", &valid).is_ok());
+        let at = "cases[0].series[0].points[0]";
+        type Edit = fn(&mut ShardPoint);
+        let cases: [(Edit, &str); 13] = [
+            (|p| p.batches[3].count += 1, "batches[3].count"),
+            (|p| p.batches[3].count -= 1, "batches[3].count"),
+            (|p| p.batches[3].non_finite = u64::MAX, "batches[3].count"),
+            (|p| p.batches[3].m2 = -1e-300, "batches[3].m2"),
+            (|p| p.batches[3].m2 = f64::INFINITY, "batches[3].m2"),
+            (|p| p.batches[3].m2 = f64::NAN, "batches[3].m2"),
+            (|p| p.batches[3].mean = f64::NAN, "batches[3].mean"),
+            (|p| p.batches[3].seconds = -1e-9, "batches[3].seconds"),
+            (
+                |p| p.batches[3].seconds = f64::INFINITY,
+                "batches[3].seconds",
+            ),
+            (|p| p.batches[3].batch = BATCHES, "batches[3].batch"),
+            (|p| p.samples = 384, "samples"),
+            (|p| p.samples = 64, "samples"),
+            (|p| p.samples *= 2, "batches[0].count"),
+        ];
+        for (edit, field) in cases {
+            let mut p = valid.clone();
+            edit(&mut p.cases[0].series[0].points[0]);
+            let e = check_batches("p.json", &p).unwrap_err();
+            assert_eq!(e.field, format!("{at}.{field}"), "{e}");
+        }
+        // Every value at its limit that a run can write passes: no samples finite, m2
+        // and seconds 0, the last batch index.
+        let mut p = valid.clone();
+        let b = &mut p.cases[0].series[0].points[0].batches[3];
+        (b.non_finite, b.count, b.m2, b.seconds, b.batch) = (b.count, 0, 0.0, 0.0, BATCHES - 1);
+        assert!(check_batches("p.json", &p).is_ok());
     }
 
     #[test]

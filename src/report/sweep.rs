@@ -392,11 +392,18 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
 
 /// Every case × estimator × sampler series the options ask for, none computed yet.
 fn plan_cases(opts: &Options, settings: &Settings) -> Result<Vec<CaseState>, Error> {
-    let samplers = if opts.samplers.is_empty() {
-        SamplerKind::ALL.to_vec()
+    // A sampler asked for twice is one series (the same seed would run it twice and
+    // compare it with itself as its own runner-up).
+    let mut samplers: Vec<SamplerKind> = vec![];
+    for &s in if opts.samplers.is_empty() {
+        &SamplerKind::ALL[..]
     } else {
-        opts.samplers.clone()
-    };
+        &opts.samplers[..]
+    } {
+        if !samplers.contains(&s) {
+            samplers.push(s);
+        }
+    }
     let mut cases: Vec<CaseState> = vec![];
     for (id, case) in load_cases(&opts.paths)? {
         let info = CaseInfo {

@@ -403,7 +403,8 @@ pub enum PrimDensity {
 impl PrimDensity {
     /// The density in solid angle of the point `q` (normal `n`, either orientation) seen
     /// from `p`, given d = q − p and its length `dist` = |d|: per unit area times
-    /// r²/|cos θl| (`None` where the point is seen edge-on or coincides with `p`). The
+    /// r²/|cos θl| (`None` where the point is seen edge-on or coincides with `p`, or where
+    /// the density overflows `f32` from finite factors: see the code). The
     /// cosine is formed as `d.normalize_or_zero()` would form it, from the caller's
     /// length, so that the square root is taken once.
     #[inline]
@@ -420,9 +421,19 @@ impl PrimDensity {
                 };
                 // Not `!(cos > 0)`: a NaN density is returned as it is (never masked).
                 if cos <= 0.0 || r2 <= 0.0 {
+                    return None;
+                }
+                let w = pdf * r2 / cos;
+                // Finite factors whose product overflows: the point subtends less than
+                // 1/f32::MAX sr per unit of its density (a receiver 10¹⁸ away from a unit
+                // light, seen nearly edge-on), so the sample's contribution f·L·|cos θ|/w
+                // is below L/f32::MAX per unit f (under 3·10⁻³⁹ for L = 1, past the
+                // smallest normal f32): no sample, where ∞ would make it NaN. An infinite
+                // or NaN factor still comes through (never masked).
+                if w == f32::INFINITY && pdf.is_finite() && r2.is_finite() {
                     None
                 } else {
-                    Some(pdf * r2 / cos)
+                    Some(w)
                 }
             }
         }
@@ -863,6 +874,32 @@ mod tests {
                 Some(3.0)
             );
         }
+    }
+
+    /// A density that overflows from finite factors (a point 10¹⁸ away seen at a cosine
+    /// of 10⁻²⁵) is no sample; at the largest finite density it is still one; an
+    /// infinite or NaN factor comes through as it is.
+    #[test]
+    fn an_overflowing_density_is_no_sample() {
+        let n = Vec3::Z;
+        let far = Vec3::new(1e18, 0.0, 1e-7);
+        assert_eq!(
+            PrimDensity::Area(1.0).solid_angle(far, far.length(), n),
+            None
+        );
+        // r²/cos = 10³⁸/0.5, below f32::MAX: still a sample.
+        let d = Vec3::new(0.0, 8.660254e18, 5e18);
+        let w = PrimDensity::Area(1.0)
+            .solid_angle(d, d.length(), n)
+            .unwrap();
+        assert!(w.is_finite() && w > 1e38, "{w}");
+        let near = Vec3::new(0.0, 0.0, 1.0);
+        let inf = PrimDensity::Area(f32::INFINITY).solid_angle(near, 1.0, n);
+        assert_eq!(inf, Some(f32::INFINITY));
+        let nan = PrimDensity::Area(f32::NAN).solid_angle(near, 1.0, n);
+        assert!(nan.is_some_and(f32::is_nan));
+        let nan_far = PrimDensity::Area(f32::NAN).solid_angle(far, far.length(), n);
+        assert!(nan_far.is_some_and(f32::is_nan));
     }
 
     #[test]

@@ -88,6 +88,17 @@ pub enum Geometric {
 }
 
 impl Estimator {
+    /// Every estimator, in the order of the enum (and of the command line's list).
+    pub const ALL: [Estimator; 7] = [
+        Estimator::Light,
+        Estimator::Bsdf,
+        Estimator::Mis,
+        Estimator::MisBalance,
+        Estimator::Uniform,
+        Estimator::Cosine,
+        Estimator::Area,
+    ];
+
     /// Lower-case name.
     pub fn name(&self) -> &'static str {
         match self {
@@ -210,15 +221,7 @@ mod tests {
         }
     }
 
-    const ALL: [Estimator; 7] = [
-        Estimator::Light,
-        Estimator::Bsdf,
-        Estimator::Mis,
-        Estimator::MisBalance,
-        Estimator::Uniform,
-        Estimator::Cosine,
-        Estimator::Area,
-    ];
+    const ALL: [Estimator; 7] = Estimator::ALL;
 
     #[test]
     fn names_split_into_strategies_and_geometric_choices() {

@@ -576,6 +576,11 @@ sweep("samples", DISK, "samples", "samples", ALL2)
 case("estimators_empty", "baseline", DISK, [("estimators", [])], 2, "estimators")
 case("estimator_unknown", "baseline", DISK, [("estimators", ["magic"])], 2, "estimators")
 case("estimator_wrong_measure", "baseline", DISK, [("estimators", ["area"])], 2, "estimators[0]")
+# Listed twice: one series run twice with one seed, counted twice by the Šidák correction.
+case("estimators_twice", "wrong", DISK, [("estimators", ["light", "mis", "light"])], 2, "estimators[2]",
+     "`light` is listed twice")
+case("samplers_twice", "wrong", dict(DISK, samplers=["sobol", "sobol"]), [], 2, "samplers[1]",
+     "`sobol` is listed twice")
 case("unknown_field", "baseline", DISK, [("colour", 1)], 2, "colour")
 # A text that ends, or breaks, before a key is read: the file as a whole is at fault, so
 # the message leaves the field out (`FILE: REASON`; it once read `FILE: ?: REASON`); a
@@ -589,6 +594,14 @@ case("truncated_after_comma", "unclear", DISK, [], 2, None, "truncated_after_com
      raw='{"name": "a", ', absent=NO_FIELD)
 case("missing_comma", "unclear", DISK, [], 2, None, "missing_comma.json: expected `,` or `}`",
      raw='{"name": "a" "teaches": "t"}', absent=NO_FIELD)
+# Text after the document: the file is not one JSON value, and what follows the first
+# value was once ignored (exit 0). The file as a whole is at fault.
+case("trailing_object", "wrong", DISK, [], 2, None, "trailing_object.json: trailing characters",
+     raw=json.dumps(DISK) + '\n{"samples": 1}', absent=NO_FIELD)
+case("trailing_garbage", "wrong", DISK, [], 2, None, "trailing_garbage.json: trailing characters",
+     raw=json.dumps(DISK) + " xyz", absent=NO_FIELD)
+case("trailing_braces", "wrong", DISK, [], 2, None, "trailing_braces.json: trailing characters",
+     raw=json.dumps(DISK) + "}}}", absent=NO_FIELD)
 case("truncated_nested", "baseline", DISK, [], 2, "truncated_nested.json: scene.shapes[0].geometry: EOF",
      raw='{"scene": {"shapes": [{"geometry": ', absent="?")
 case("not_an_object", "baseline", DISK, [], 2, "invalid type", raw='[1, 2, 3]')
@@ -596,6 +609,30 @@ case("deep_nesting", "baseline", DISK, [], 2, "deep_nesting.json", raw="[" * 100
 case("valid_disk", "baseline", DISK, [], "valid")
 case("valid_spectral", "baseline", SPECTRAL, [], "valid")
 case("valid_pulse", "baseline", PULSE, [], "valid")
+# Valid extremes whose light density overflows f32 (found by fuzz_cases with a
+# non-finite counter): every sample was NaN (exit 1, estimate 0). The emitter subtends
+# less than 1/f32::MAX sr per unit density there, so no sample: a finite estimate of 0
+# with no non-finite sample (hostile.rs checks both for every valid estimate).
+def light_far(name, shapes, at, normal):
+    case(name, "wrong", dict(DISK, scene={"shapes": shapes}, estimators=["light", "mis"],
+                             measure={"irradiance": {"at": at, "normal": normal}}), [], "valid")
+ANNULUS = {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 1,
+                        "inner_radius": 0.99}, "emission": {"radiance": 1}}
+light_far("far_receiver_annulus", [ANNULUS], [1e18, 0, 0], [0, 0, 1])
+light_far("far_tiny_sphere", [{"geometry": {"type": "sphere", "center": [0.5, 0.3, 1e18], "radius": 1e-15},
+                               "emission": {"radiance": 1}}], [0, 0, 0], [0, 0, 1])
+light_far("far_small_sphere", [{"geometry": {"type": "sphere", "center": [0.5, 0.3, 9e15], "radius": 1e-8},
+                                "emission": {"radiance": 1}}], [0, 0, 0], [0, 0, 1])
+light_far("sliver_triangle_far_vertex",
+          [{"geometry": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [1e18, 1, 0]]},
+            "emission": {"radiance": 1, "two_sided": True}}],
+          [1.0, 1.0, 1e-7], [-0.7071067811865476, -0.7071067811865476, 0])
+case("huge_receiver_disk", "wrong",
+     dict(DISK, estimators=["light", "mis"], measure={"flux": {"shape": 1, "view_factor": True}},
+          scene={"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 1},
+                             "emission": {"radiance": 1}},
+                            {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                          "radius": 9007199254740993}}]}), [], "valid")
 # A histogram of at most 1024 bins (1025 edges): 1024 runs, 1025 is refused.
 EDGES = lambda n: [i * 1e-10 for i in range(n + 1)]
 case("bins_1024", "baseline", PULSE, [("time.bin", DELETE), ("time.bins", EDGES(1024))], "valid")
@@ -710,7 +747,8 @@ entry("estimate_big_file", "hang", ["estimate", "{big}"], 2, "limit")
 entry("estimate_folder", "baseline", ["estimate", "{empty_dir}"], 2, "folder")
 entry("estimate_fifo", "hang", ["estimate", "{fifo}"], 2, "regular file")
 entry("judge_render_fifo", "hang", ["judge", "{corpus}/cases/verify_valid.json", "{fifo}"], 2, "regular file")
-entry("estimate_estimator_unknown", "baseline", ["estimate", V, "--estimator", "magic"], 2, "--estimator")
+entry("estimate_estimator_unknown", "baseline", ["estimate", V, "--estimator", "magic"], 2, "--estimator",
+      "light, bsdf, mis, mis_balance, uniform, cosine, area")
 entry("estimate_estimator_wrong", "baseline", ["estimate", V, "--estimator", "area", "--samples", "4096"], 2, "--estimator")
 entry("estimate_sampler_unknown", "baseline", ["estimate", V, "--sampler", "halton"], 2, "--sampler")
 entry("estimate_valid_sobol", "baseline", ["estimate", V, "--sampler", "sobol", "--samples", "256"], "valid")
@@ -804,6 +842,23 @@ merge_case("merge_wrong_format", "baseline", lambda d: d.update(format="other/1"
 merge_case("merge_valid", "baseline", lambda d: None, "valid")
 merge_case("merge_seconds_e308", "hang",
            lambda d: d["cases"][0]["series"][0]["points"][0]["batches"][0].update(seconds=1e308), "valid")
+# Batch records no run writes (the schema cannot say these): they once merged silently,
+# a zero count into a different estimate, a negative m2 into a missing standard error.
+B0 = lambda d: d["cases"][0]["series"][0]["points"][0]["batches"][0]
+BF = "cases[0].series[0].points[0].batches[0]."
+merge_case("merge_batch_count_zero", "wrong", lambda d: B0(d).update(count=0), 2, BF + "count")
+merge_case("merge_batch_count_more", "wrong", lambda d: B0(d).update(count=B0(d)["count"] + 1), 2, BF + "count")
+merge_case("merge_batch_m2_negative", "wrong", lambda d: B0(d).update(m2=-5), 2, BF + "m2")
+merge_case("merge_batch_index_128", "wrong", lambda d: B0(d).update(batch=128), 2, BF + "batch")
+merge_case("merge_batch_seconds_negative", "wrong", lambda d: B0(d).update(seconds=-1), 2, BF + "seconds")
+merge_case("merge_point_samples_odd", "wrong",
+           lambda d: d["cases"][0]["series"][0]["points"][0].update(samples=777), 2,
+           "cases[0].series[0].points[0].samples")
+merge_case("merge_unknown_field", "wrong", lambda d: B0(d).update(extra=1), 2, BF + "extra")
+merge_case("merge_unknown_top_field", "wrong", lambda d: d.update(colour=1), 2, "colour")
+write("merge/merge_trailing/shard-0-of-1.json", json.dumps(partial) + '{"x": 1}')
+entry("merge_trailing", "wrong", ["merge", "{corpus}/merge/merge_trailing", "--out", "{tmp}/rep"], 2, None,
+      "shard-0-of-1.json: trailing characters")
 entry("merge_dev_zero", "hang", ["merge", "{corpus}/merge/devzero", "--out", "{tmp}/rep"], 2, "no shard partial")
 entry("merge_nothing", "baseline", ["merge", "{empty_dir}", "--out", "{tmp}/rep"], 2, "shard")
 
