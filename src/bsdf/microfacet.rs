@@ -107,9 +107,10 @@ impl Microfacet {
         let a2 = a * a;
         match self.distribution {
             Distribution::Ggx => {
+                // Finite for every unit m at α ≥ MIN_ALPHA (den ≥ α²: D ≤ 1/(πα²) ≈ 3.2·10⁷);
+                // a NaN component of m gives NaN, passed on (never masked).
                 let den = m.x * m.x + m.y * m.y + a2 * m.z * m.z;
-                let v = a2 / (PI * den * den);
-                if v.is_finite() { v } else { 0.0 }
+                a2 / (PI * den * den)
             }
             Distribution::Beckmann => {
                 let e = tan2_theta(m) / a2;
@@ -179,8 +180,9 @@ impl Microfacet {
         if !(w.z > 0.0) || !(c > 0.0) {
             return 0.0;
         }
-        let v = self.g1(w) * c * self.d(m) / w.z;
-        if v.is_finite() { v } else { 0.0 }
+        // Finite: G1(ω)·c·D(m) ≤ 3.2·10⁷ overflows only for cos θ < 10⁻³¹, where Λ's
+        // tan²θ is already +∞ and G1 = 0. A NaN is passed on (never masked).
+        self.g1(w) * c * self.d(m) / w.z
     }
 
     /// Density of [`Microfacet::sample_m`] (solid angle of m): D_ω(m) for both families.
