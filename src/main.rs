@@ -39,7 +39,7 @@ enum Command {
         /// Case files or folders.
         paths: Vec<PathBuf>,
         /// Base seed.
-        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
+        #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
         /// Worker threads, 1 to 8 × the logical cores (default: all cores).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
@@ -72,7 +72,7 @@ enum Command {
         #[arg(long, allow_negative_numbers = true, value_parser = parse_samples)]
         samples: Option<u64>,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
+        #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
         /// Worker threads, 1 to 8 × the logical cores (default: all cores).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
@@ -95,7 +95,7 @@ enum Command {
         #[arg(long, default_value_t = 1_000_000, allow_negative_numbers = true, value_parser = parse_chi2_samples)]
         samples: u64,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
+        #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
         /// Folder for the tables (also of a failing test's dump), relative to the current one.
         #[arg(long, default_value = "target/chi2")]
@@ -120,7 +120,7 @@ enum Command {
         #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES, allow_negative_numbers = true, value_parser = parse_samples)]
         min_samples: u64,
         /// Base seed.
-        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
+        #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
         /// Worker threads, 1 to 8 × the logical cores (default: all cores).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
@@ -159,7 +159,7 @@ enum Command {
         #[arg(short, long, default_value = "out.exr")]
         output: PathBuf,
         /// Seed.
-        #[arg(long, default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
+        #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
         seed: u64,
         /// Worker threads, 1 to 8 × the logical cores (default: all cores).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_threads)]
@@ -168,7 +168,7 @@ enum Command {
         /// unlimited, with Russian roulette).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_max_depth)]
         max_depth: Option<u32>,
-        /// Multiply the image by 2^STOPS before writing, -64 to 64 (default 0).
+        /// Multiply the image by 2^STOPS before writing, -64 to 64.
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
         exposure: f32,
     },
@@ -524,6 +524,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             exposure,
         } => {
             lightproof::render::check_output_name(&output)?;
+            IoError::check_output_file(&output)?;
             let t0 = std::time::Instant::now();
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
             let seconds = t0.elapsed().as_secs_f64();
@@ -592,6 +593,9 @@ fn verify(
     no_chi2: bool,
     verbose: bool,
 ) -> Result<(), Failure> {
+    for out in json.iter().chain(&html) {
+        IoError::check_output_file(out)?;
+    }
     let whole = paths.is_empty();
     let paths = if whole {
         vec![default_catalog()]

@@ -26,10 +26,10 @@ pub const MIN_RELATIVE_BANDWIDTH: f64 = 1e-4;
 pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
     Ok(match &desc.measure {
         MeasureDesc::SolidAngle { from, .. } | MeasureDesc::ProjectedSolidAngle { from, .. } => {
-            check_point(f, "measure.from", *from)?
+            check_point(f, &desc.measure.field("from"), *from)?
         }
         MeasureDesc::Irradiance { at, .. } | MeasureDesc::Radiance { at, .. } => {
-            check_point(f, "measure.at", *at)?
+            check_point(f, &desc.measure.field("at"), *at)?
         }
         // The receiver's own point: precision is best where the flux arrives.
         MeasureDesc::Flux { shape, .. } => desc.scene.shape_point(*shape),
@@ -63,28 +63,30 @@ fn shape_index(f: &str, scene: &Scene, field: &str, i: usize) -> Result<usize, I
 fn emitter_index(
     f: &str,
     scene: &Scene,
+    measure: &MeasureDesc,
     shape: Option<usize>,
     emitter: Option<usize>,
 ) -> Result<usize, InputError> {
+    let field = |name: &str| measure.field(name);
     let n_area = scene.shapes.iter().filter(|s| s.emitter.is_some()).count();
     let idx = match (shape, emitter) {
-        (Some(s), None) => scene.shapes[shape_index(f, scene, "measure.shape", s)?]
+        (Some(s), None) => scene.shapes[shape_index(f, scene, &field("shape"), s)?]
             .emitter
             .ok_or_else(|| {
-                InputError::new(f, "measure.shape", format!("shape {s} does not emit"))
+                InputError::new(f, field("shape"), format!("shape {s} does not emit"))
             })?,
         (None, Some(e)) if e < scene.emitters.len() - n_area => n_area + e,
         (None, Some(e)) => {
             return Err(InputError::new(
                 f,
-                "measure.emitter",
+                field("emitter"),
                 format!("emitter {e} does not exist"),
             ));
         }
         _ => {
             return Err(InputError::new(
                 f,
-                "measure",
+                format!("measure.{}", measure.key()),
                 "give exactly one of `shape` or `emitter`",
             ));
         }
@@ -92,7 +94,7 @@ fn emitter_index(
     if scene.emitters[idx].kind.is_infinite() {
         return Err(InputError::new(
             f,
-            "measure",
+            format!("measure.{}", measure.key()),
             "power and intensity are not defined for emitters at infinity",
         ));
     }
@@ -189,28 +191,29 @@ pub fn measure(
     origin: DVec3,
 ) -> Result<Measure, InputError> {
     let rebased = |p: DVec3| (p - origin).as_vec3();
-    let shape_index = |field: &str, i: usize| shape_index(f, scene, field, i);
+    let field = |name: &str| measure.field(name);
+    let shape_index = |i: usize| shape_index(f, scene, &field("shape"), i);
     Ok(match measure {
         MeasureDesc::SolidAngle { from, shape } => Measure::SolidAngle {
-            from: rebased(check_point(f, "measure.from", *from)?),
-            shape: shape_index("measure.shape", *shape)?,
+            from: rebased(check_point(f, &field("from"), *from)?),
+            shape: shape_index(*shape)?,
         },
         MeasureDesc::ProjectedSolidAngle {
             from,
             normal,
             shape,
         } => Measure::ProjectedSolidAngle {
-            from: rebased(check_point(f, "measure.from", *from)?),
-            normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
-            shape: shape_index("measure.shape", *shape)?,
+            from: rebased(check_point(f, &field("from"), *from)?),
+            normal: check_direction(f, &field("normal"), *normal)?.as_vec3(),
+            shape: shape_index(*shape)?,
         },
         MeasureDesc::Irradiance { at, normal } => Measure::Irradiance {
-            at: rebased(check_point(f, "measure.at", *at)?),
-            normal: check_direction(f, "measure.normal", *normal)?.as_vec3(),
+            at: rebased(check_point(f, &field("at"), *at)?),
+            normal: check_direction(f, &field("normal"), *normal)?.as_vec3(),
         },
         MeasureDesc::Radiance { at, direction } => Measure::Radiance {
-            at: rebased(check_point(f, "measure.at", *at)?),
-            direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
+            at: rebased(check_point(f, &field("at"), *at)?),
+            direction: check_direction(f, &field("direction"), *direction)?.as_vec3(),
         },
         MeasureDesc::Albedo {
             bsdf,
@@ -248,19 +251,19 @@ pub fn measure(
             integral,
         } => microfacet_measure(f, *distribution, *alpha, *theta_degrees, *integral)?,
         MeasureDesc::Power { shape, emitter } => Measure::Power {
-            emitter: emitter_index(f, scene, *shape, *emitter)?,
+            emitter: emitter_index(f, scene, measure, *shape, *emitter)?,
         },
         MeasureDesc::Intensity {
             shape,
             emitter,
             direction,
         } => Measure::Intensity {
-            emitter: emitter_index(f, scene, *shape, *emitter)?,
-            direction: check_direction(f, "measure.direction", *direction)?.as_vec3(),
+            emitter: emitter_index(f, scene, measure, *shape, *emitter)?,
+            direction: check_direction(f, &field("direction"), *direction)?.as_vec3(),
         },
         MeasureDesc::Flux { shape, view_factor } => flux(f, scene, *shape, *view_factor)?,
         MeasureDesc::MeanPathLength { shape, segments } => Measure::MeanPathLength {
-            shape: shape_index("measure.shape", *shape)?,
+            shape: shape_index(*shape)?,
             segments: {
                 if !(1..=1 << 16).contains(segments) {
                     return Err(InputError::new(
@@ -861,7 +864,7 @@ mod tests {
             json!([]),
         ))
         .unwrap_err();
-        assert_eq!(e.field, "measure.shape");
+        assert_eq!(e.field, "measure.solid_angle.shape");
         assert!(e.reason.contains("the scene has 2 shapes"), "{e}");
     }
 
@@ -881,22 +884,25 @@ mod tests {
         assert_eq!(emitter(json!({"power": {"emitter": 1}}), two), 2);
         assert_eq!(
             field(json!({"power": {"emitter": 1}}), point.clone()),
-            "measure.emitter"
+            "measure.power.emitter"
         );
         assert_eq!(
             field(json!({"power": {"shape": 1}}), point.clone()),
-            "measure.shape"
+            "measure.power.shape"
         );
         assert_eq!(
             field(json!({"power": {"shape": 2}}), point.clone()),
-            "measure.shape"
+            "measure.power.shape"
         );
         assert_eq!(
             field(json!({"power": {"shape": 0, "emitter": 0}}), point),
-            "measure"
+            "measure.power"
         );
         let sun = json!([{"type": "directional", "direction": [0, 0, -1], "irradiance": 1}]);
-        assert_eq!(field(json!({"power": {"emitter": 0}}), sun), "measure");
+        assert_eq!(
+            field(json!({"power": {"emitter": 0}}), sun),
+            "measure.power"
+        );
     }
 
     #[test]

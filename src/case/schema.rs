@@ -111,6 +111,30 @@ pub enum MeasureDesc {
     },
 }
 
+impl MeasureDesc {
+    /// The key the measurement stands under in a case file (`measure.irradiance`), the
+    /// first segment of its fields' paths in error messages.
+    pub fn key(&self) -> &'static str {
+        match self {
+            MeasureDesc::SolidAngle { .. } => "solid_angle",
+            MeasureDesc::ProjectedSolidAngle { .. } => "projected_solid_angle",
+            MeasureDesc::Irradiance { .. } => "irradiance",
+            MeasureDesc::Radiance { .. } => "radiance",
+            MeasureDesc::Albedo { .. } => "albedo",
+            MeasureDesc::Microfacet { .. } => "microfacet",
+            MeasureDesc::Power { .. } => "power",
+            MeasureDesc::Intensity { .. } => "intensity",
+            MeasureDesc::MeanPathLength { .. } => "mean_path_length",
+            MeasureDesc::Flux { .. } => "flux",
+        }
+    }
+
+    /// The path of one of its fields in a case file: `measure.irradiance.normal`.
+    pub fn field(&self, name: &str) -> String {
+        format!("measure.{}.{name}", self.key())
+    }
+}
+
 fn default_segments() -> u32 {
     8
 }

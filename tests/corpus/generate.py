@@ -420,15 +420,15 @@ sweep("bin", PULSE, "time.bin", "time.bin", SIGNED, vec=(0, PULSE["time"]["bin"]
 sweep("bins", PULSE, "time.bins", "time.bins", SIGNED, vec=(0, [0, 4e-9, 5e-9]), edits=[("time.bin", DELETE)])
 
 # ---------------------------------------------------------------- measure
-sweep("measure_at", DISK, "measure.irradiance.at", "measure.at", COORD, vec=(0, [0, 0, 0]),
+sweep("measure_at", DISK, "measure.irradiance.at", "measure.irradiance.at", COORD, vec=(0, [0, 0, 0]),
       fields={"str": "measure.irradiance.at"})
-case("measure_normal_tiny", "unclear", DISK, [("measure.irradiance.normal", [0, 0, 1e-320])], 2, "measure.normal",
+case("measure_normal_tiny", "unclear", DISK, [("measure.irradiance.normal", [0, 0, 1e-320])], 2, "measure.irradiance.normal",
      "too small to normalise")
-sweep("measure_normal", DISK, "measure.irradiance.normal", "measure.normal", DIRZ, vec=(2, [0, 0, 1]),
+sweep("measure_normal", DISK, "measure.irradiance.normal", "measure.irradiance.normal", DIRZ, vec=(2, [0, 0, 1]),
       fields={"str": "measure.irradiance.normal"})
-sweep("radiance_at", SPECTRAL, "measure.radiance.at", "measure.at", COORD, vec=(2, [0, 0, 0]),
+sweep("radiance_at", SPECTRAL, "measure.radiance.at", "measure.radiance.at", COORD, vec=(2, [0, 0, 0]),
       fields={"str": "measure.radiance.at"})
-sweep("radiance_direction", SPECTRAL, "measure.radiance.direction", "measure.direction", DIRZ, vec=(2, [0, 0, 1]),
+sweep("radiance_direction", SPECTRAL, "measure.radiance.direction", "measure.radiance.direction", DIRZ, vec=(2, [0, 0, 1]),
       fields={"str": "measure.radiance.direction"})
 # The other measurements' fields: a viewpoint, a normal or direction, a shape or emitter index.
 TRI = {"geometry": {"type": "triangle", "vertices": [[0.3, -0.4, 1.2], [1.5, 0.2, 1], [-0.2, 0.9, 1.6]]}}
@@ -439,17 +439,17 @@ INTENSITY = {"name": "intensity", "teaches": "Lambert's cosine law",
              "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1},
                                    "emission": {"radiance": 1}}]},
              "measure": {"intensity": {"shape": 0, "direction": [0, 0, 1]}}, "estimators": ["area"]}
-sweep("solid_angle_from", SOLID, "measure.solid_angle.from", "measure.from", COORD, vec=(0, [0, 0, 0]),
+sweep("solid_angle_from", SOLID, "measure.solid_angle.from", "measure.solid_angle.from", COORD, vec=(0, [0, 0, 0]),
       fields={"str": "measure.solid_angle.from"})
 sweep("solid_angle_shape", SOLID, "measure.solid_angle.shape", "measure.solid_angle.shape",
       outcomes(2, zero="valid"))
-sweep("psa_from", PSA, "measure.projected_solid_angle.from", "measure.from", COORD, vec=(1, [0, 0, 0]),
+sweep("psa_from", PSA, "measure.projected_solid_angle.from", "measure.projected_solid_angle.from", COORD, vec=(1, [0, 0, 0]),
       fields={"str": "measure.projected_solid_angle.from"})
-sweep("psa_normal", PSA, "measure.projected_solid_angle.normal", "measure.normal", DIRZ, vec=(2, [0, 0, 1]),
+sweep("psa_normal", PSA, "measure.projected_solid_angle.normal", "measure.projected_solid_angle.normal", DIRZ, vec=(2, [0, 0, 1]),
       fields={"str": "measure.projected_solid_angle.normal"})
 sweep("psa_shape", PSA, "measure.projected_solid_angle.shape", "measure.projected_solid_angle.shape",
       outcomes(2, zero="valid"))
-sweep("intensity_direction", INTENSITY, "measure.intensity.direction", "measure.direction", DIRZ,
+sweep("intensity_direction", INTENSITY, "measure.intensity.direction", "measure.intensity.direction", DIRZ,
       vec=(2, [0, 0, 1]), fields={"str": "measure.intensity.direction"})
 sweep("intensity_shape", INTENSITY, "measure.intensity.shape", "measure.intensity.shape", outcomes(2, zero="valid"))
 sweep("albedo_theta", ALBEDO, "measure.albedo.theta_degrees", "measure.albedo.theta_degrees", NONNEG)
@@ -538,7 +538,7 @@ sweep("chord_shape", CHORD, "measure.mean_path_length.shape", "measure.mean_path
       outcomes(2, zero="valid"))
 case("segments_huge", "hang", CHORD, [("measure.mean_path_length.segments", 4294967295)], 2,
      "measure.mean_path_length.segments")
-case("measure_shape_missing", "baseline", CHORD, [("measure.mean_path_length.shape", 7)], 2, "measure.shape")
+case("measure_shape_missing", "baseline", CHORD, [("measure.mean_path_length.shape", 7)], 2, "measure.mean_path_length.shape")
 sweep("power_shape", POWER, "measure.power.shape", "measure.power.shape", outcomes(2, zero="valid"))
 case("power_ok", "baseline", POWER, [], "valid")
 case("measure_unknown", "baseline", DISK, [("measure", {"glow": {}})], 2, "measure")
@@ -928,6 +928,14 @@ entry("render_output_below_file", "unclear", ["render", "{corpus}/cases/render_v
 entry("report_out_is_file_before_sampling", "hang", ["report", R, "--min-samples", "1099511627776",
                                                      "--max-samples", "1099511627776", "--out", "{file}"], 3,
       contains=NOT_FOLDER)
+# render and verify check their output files before the work too (a render of 2^20 spp
+# into /proc, which takes no file, once ran to its end before exit 3).
+entry("render_out_proc_before_rendering", "hang", ["render", "{corpus}/cases/render_valid.json", "--spp", "1048576",
+                                                   "-o", "/proc/o.exr"], 3, contains="takes no new file")
+entry("verify_json_is_folder", "unclear", ["verify", J, "--samples", "4096", "--no-chi2", "--json", "{tmp}"], 3,
+      contains="is a folder, not a file")
+entry("verify_html_proc", "unclear", ["verify", J, "--samples", "4096", "--no-chi2", "--html", "/proc/v.html"], 3,
+      contains="takes no new file")
 entry("chi2_out_is_file_before_sampling", "hang", ["chi2", L, "--samples", "4294967296", "--out", "{file}"], 3,
       contains=NOT_FOLDER)
 # A symbolic link whose target does not exist, as the output folder or on the way to a

@@ -307,13 +307,16 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
         .unwrap();
     let t0 = Instant::now();
     let file = reports.join("disk_on_axis.json");
-    while !file.exists() && t0.elapsed() < Duration::from_secs(60) {
+    // A guard against a sweep that never writes, not a speed limit (the first report
+    // comes within a second on an idle core).
+    while !file.exists() && t0.elapsed() < Duration::from_secs(600) {
         std::thread::sleep(Duration::from_millis(20));
     }
+    // Let it run on a little, so that the kill can land in the middle of a write.
     std::thread::sleep(Duration::from_millis(1500));
     child.kill().unwrap();
     child.wait().unwrap();
-    assert!(file.exists(), "no report written within a minute");
+    assert!(file.exists(), "no report written in ten minutes");
     assert!(validate_dir(&reports) >= 1);
     let killed = read(&file);
     let done: usize = killed["series"]
@@ -548,9 +551,7 @@ fn the_budget_cuts_cleanly() {
     let mut o = options(vec![disk_case()], &out, 1 << 30);
     o.budget = Some(0.3);
     o.samplers = vec![SamplerKind::Independent];
-    let t0 = Instant::now();
     let s = sweep(&o);
-    assert!(t0.elapsed() < Duration::from_secs(20));
     assert!(s.budget_cut);
     let r = &s.reports[0];
     assert!(r.run.budget_cut);
@@ -558,6 +559,12 @@ fn the_budget_cuts_cleanly() {
         r.series
             .iter()
             .all(|x| x.status == lightproof::report::Status::BudgetCut && !x.points.is_empty())
+    );
+    // What the budget cut, by count rather than by a clock: no series reached 2³⁰.
+    assert!(
+        r.series
+            .iter()
+            .all(|x| x.points.iter().all(|p| p.samples < 1 << 30))
     );
     // Not reached targets are extrapolated from the fit, and say so.
     let last = r.series[0].time_to.last().unwrap();
