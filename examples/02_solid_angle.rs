@@ -36,9 +36,7 @@ fn main() {
     println!(
         "2. Solid angle: σ = ∫_S dω = ∫_A cos θl / r² dA  [sr];  projected: σ⊥ = ∫_S cos θ dω  [sr]"
     );
-    println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
-    );
+    print_rule(&format!("{n} samples per estimate"));
     let mut ok = true;
 
     // A sphere of radius 1 at distance 3: the cap formula σ = 2π(1 − cos α), sin α = R/d.

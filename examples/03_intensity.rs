@@ -41,9 +41,7 @@ fn main() {
     println!(
         "3. Intensity I = dΦ/dω [W/sr]:  point light Φ = 4π I;  Lambertian emitter I(θ) = L A cos θ, Φ = π L A"
     );
-    println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
-    );
+    print_rule(&format!("{n} samples per estimate"));
     let mut ok = true;
 
     // An isotropic point light of intensity 2 W/sr: its intensity and power.

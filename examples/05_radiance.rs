@@ -51,9 +51,7 @@ fn main() {
     println!(
         "5. Radiance L = d²Φ / (dA cos θ dω) [W/(m²·sr)] is constant along a ray: E = L σ⊥ falls with distance, L does not"
     );
-    println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
-    );
+    print_rule(&format!("{n} samples per estimate"));
     let mut ok = true;
 
     let le = 3.0;

@@ -24,7 +24,6 @@ use lightproof::case::seed_for;
 use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
-use lightproof::verdict::judge;
 use plotters::prelude::*;
 
 /// A case file: the radiance inside a closed emitting diffuse sphere.
@@ -47,9 +46,7 @@ fn main() {
     println!(
         "7. Rendering equation Lo = Le + ∫ f Li cos θi dωi [W/(m²·sr)];  white furnace: L_k = Le (1 − ρ^(k+1)) / (1 − ρ) → Le / (1 − ρ)"
     );
-    println!(
-        "   {n} samples per estimate; a check passes when |z| = |estimate − exact| / std error ≤ 3.89\n   (an estimate without variance passes when |estimate − exact| ≤ 7.6e-6·|exact|, the f32 error bound)\n"
-    );
+    print_rule(&format!("{n} samples per estimate"));
     show_case_file("07_furnace.json", FURNACE_CASE);
     let case = load(serde_json::from_str(FURNACE_CASE).unwrap());
     let (le, rho) = (1.0f64, 0.8f64);
@@ -71,7 +68,7 @@ fn main() {
         };
         let e = case.estimate_with(&plan, Estimator::Mis, &spec);
         let exact = le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho);
-        let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
+        let v = judge_estimate(&e, exact);
         ok &= report(
             &format!("k = {k:<2} bounces: Le (1 − ρ^{}) / (1 − ρ)", k + 1),
             &v,
@@ -89,7 +86,7 @@ fn main() {
             seed,
         },
     );
-    let v = judge(&e, SamplerKind::Independent, exact, ALPHA, 1);
+    let v = judge_estimate(&e, exact);
     ok &= report("unbounded (Russian roulette): Le / (1 − ρ)", &v);
 
     match plot(&points, le / (1.0 - rho), le, rho, v.estimate) {

@@ -4,26 +4,48 @@
 
 use lightproof::case::{Case, CaseDesc, seed_for};
 use lightproof::sampling::SamplerKind;
-use lightproof::stats::{Verdict, VerdictClass};
+use lightproof::stats::{Accumulator, MeanTest, Verdict, VerdictClass, exact_relative_tolerance};
 use lightproof::transport::Estimator;
+use lightproof::transport::engine::Estimate;
+use lightproof::verdict::DETECTABLE_BOUND;
 use plotters::coord::Shift;
 use plotters::prelude::{ChartBuilder, DrawingArea, IntoDrawingArea, SVGBackend, WHITE};
 use std::error::Error;
 use std::path::{Path, PathBuf};
 
-/// The sample count: the first command-line argument, or `default`.
+/// The sample count: the first command-line argument, or `default`; at least 256.
 pub fn samples(default: u64) -> u64 {
-    match std::env::args().nth(1) {
-        None => default,
-        Some(a) => match a.replace('_', "").parse::<u64>() {
-            Ok(n) if n >= 256 => n,
-            _ => {
-                eprintln!(
-                    "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ 256], got `{a}`"
-                );
-                std::process::exit(2)
-            }
-        },
+    samples_at_least(default, 256, "")
+}
+
+/// The sample count: the first command-line argument, or `default`; a count below
+/// `min` is refused with exit status 2 and `why` (what goes wrong below it), never
+/// run into a verdict that would blame the estimates.
+pub fn samples_at_least(default: u64, min: u64, why: &str) -> u64 {
+    let arg = std::env::args().nth(1);
+    match parse_count(arg.as_deref(), default, min) {
+        Ok(n) => n,
+        Err(msg) => {
+            eprintln!("{msg}{why}");
+            std::process::exit(2)
+        }
+    }
+}
+
+/// The count `arg` asks for (`default` without one): an integer (`_` allowed) of at
+/// least `min`, or the message saying why not.
+pub fn parse_count(arg: Option<&str>, default: u64, min: u64) -> Result<u64, String> {
+    let Some(a) = arg else {
+        return Ok(default);
+    };
+    match a.replace('_', "").parse::<u64>() {
+        Ok(n) if n >= min => Ok(n),
+        Ok(n) => Err(format!(
+            "count too small: {n} < {min}, the least this example runs (usage: cargo run --release --example <NAME> -- [SAMPLES ≥ {min}])"
+        )),
+        Err(_) => Err(format!(
+            "usage: cargo run --release --example <NAME> -- [SAMPLES ≥ {min}], got `{a}`"
+        )),
     }
 }
 
@@ -99,30 +121,144 @@ pub fn num(x: f64) -> String {
     }
 }
 
-/// Print one verdict line; returns whether it passed.
+/// The z a statistical verdict was decided by. The engine computes in f32, so a test
+/// allows for rounding: only the error beyond τ = γₙ·|exact| (≈ 7.6e-6·|exact|,
+/// `lightproof::stats::exact_relative_tolerance`) is tested (`src/stats/hypothesis.rs`,
+/// "Rounding allowance"), while `Verdict::z` is the plain (estimate − exact)/std error.
+/// This is the tested one, from public API: τ is `MeanTest::rounding_allowance` (the
+/// examples never set a term scale, so τ = γₙ·|exact|); two-sided it is
+/// sign(d)·(|d| − τ)⁺/s, for a one-sided bound (d − τ)/s, with d = estimate − exact.
+/// The verdict passes exactly when it is within `Verdict::critical`
+/// (`tests/proof/examples.rs` holds that).
+pub fn tested_z(v: &Verdict, one_sided: bool) -> f64 {
+    let d = v.estimate - v.reference;
+    let tau = MeanTest::new(ALPHA, 1).rounding_allowance(v.reference);
+    let excess = if one_sided {
+        d - tau
+    } else {
+        match (d.abs() - tau).max(0.0) {
+            0.0 => 0.0,
+            e => e.copysign(d),
+        }
+    };
+    let s = v.std_error;
+    if s > 0.0 && s.is_finite() {
+        excess / s
+    } else if excess == 0.0 || (one_sided && excess < 0.0) {
+        0.0
+    } else {
+        f64::INFINITY.copysign(excess)
+    }
+}
+
+/// The critical |z| of one two-sided check at level [`ALPHA`] (3.89) and the f32
+/// allowance γₙ relative to |exact| (7.6e-6), as the tests compute them.
+pub fn rule_numbers() -> (f64, f64) {
+    let critical = MeanTest::new(ALPHA, 1)
+        .judge_parts(0.0, 1.0, 0.0, None, 0, 2)
+        .critical;
+    (critical, exact_relative_tolerance())
+}
+
+/// Print the rule every check follows, under an example's title; `count` says how
+/// many samples (or photons) an estimate draws.
+pub fn print_rule(count: &str) {
+    let (critical, gamma) = rule_numbers();
+    println!(
+        "   {count}; a check passes when |z| ≤ {critical:.2} (α = {ALPHA:e} each), z = (estimate − exact) / std error\n   \
+         counting only the error beyond the f32 rounding allowance τ = {gamma:.1e}·|exact| (the z printed is this tested one);\n   \
+         a bound's check is one-sided; an estimate without variance passes when |estimate − exact| ≤ τ (the f32 bound);\n   \
+         `sees` is the smallest relative bias a check detects (99% power), and a pass that cannot see {:.1}% says PASS (weak: …)\n",
+        100.0 * DETECTABLE_BOUND
+    );
+}
+
+/// A relative size as a percentage with about two significant digits.
+pub fn percent(x: f64) -> String {
+    let p = 100.0 * x.abs();
+    if !p.is_finite() {
+        "∞".into()
+    } else if p >= 10.0 {
+        format!("{p:.0}%")
+    } else if p >= 1.0 {
+        format!("{p:.1}%")
+    } else if p >= 0.1 {
+        format!("{p:.2}%")
+    } else if p >= 0.01 {
+        format!("{p:.3}%")
+    } else {
+        format!("{p:.0e}%")
+    }
+}
+
+/// Print one verdict line against an exact value; returns whether it passed.
 /// An estimate without variance (a delta light, cosine-sampled Lambertian) is judged
 /// exactly, within the f32 error bound, and says so instead of "± 0".
 pub fn report(what: &str, v: &Verdict) -> bool {
+    print_verdict(what, v, false)
+}
+
+/// Print one verdict line of a one-sided check "estimate ≤ bound"
+/// ([`judge_bound`]); returns whether it passed.
+pub fn report_bound(what: &str, v: &Verdict) -> bool {
+    print_verdict(what, v, true)
+}
+
+fn print_verdict(what: &str, v: &Verdict, one_sided: bool) -> bool {
+    let (critical, _) = rule_numbers();
+    let z = tested_z(v, one_sided);
     let (spread, score) = match v.class {
-        VerdictClass::Statistical => (
-            format!("± {:<11}", num(v.std_error)),
-            format!("z {:+6.2}", v.z),
-        ),
+        VerdictClass::Statistical => {
+            let sym = if v.dof.is_some() { "t" } else { "z" };
+            let limit = if one_sided {
+                format!(" ({sym} ≤ {:.2})", v.critical)
+            } else if (v.critical - critical).abs() > 0.005 {
+                format!(" (|{sym}| ≤ {:.2})", v.critical)
+            } else {
+                String::new()
+            };
+            (
+                format!("± {:<11}", num(v.std_error)),
+                format!("{sym} {z:+6.2}{limit}"),
+            )
+        }
         VerdictClass::Exact => (
             format!("{:<13}", "(no variance)"),
             format!("{:>8}", "f32 bound"),
         ),
     };
     println!(
-        "  {what:<50} {:>12} {spread} exact {:>12}  {score}  verdict {}",
+        "  {what:<50} {:>12} {spread} {} {:>12}  {score}  sees {:>6}  verdict {}",
         num(v.estimate),
+        if one_sided { "bound" } else { "exact" },
         num(v.reference),
+        if v.reference == 0.0 {
+            num(v.detectable_bias)
+        } else {
+            percent(v.detectable_relative_bias)
+        },
         match (v.passed, v.weak) {
             (true, false) => "PASS",
             (true, true) => "PASS (weak: it cannot see a 0.5% bias at this count)",
             (false, _) => "FAIL",
         }
     );
+    // Where the allowance decided the verdict, say so.
+    let beyond = |x: f64| {
+        if one_sided {
+            x > v.critical
+        } else {
+            x.abs() > v.critical
+        }
+    };
+    if v.class == VerdictClass::Statistical && beyond(v.z) && !beyond(z) && v.z.is_finite() {
+        println!(
+            "      (the plain (estimate − exact) / std error is {:+.2}, beyond {:.2}: the error within τ = {} is f32 rounding, not tested)",
+            v.z,
+            v.critical,
+            num(MeanTest::new(ALPHA, 1).rounding_allowance(v.reference))
+        );
+    }
     if let Some(r) = &v.reason {
         println!("      ({r})");
     }
@@ -142,14 +278,44 @@ pub fn finish(ok: bool) {
 /// Significance of each example check (α = 1e-4, critical |z| = 3.89).
 pub const ALPHA: f64 = 1e-4;
 
-/// Run one estimator of a case with independent samples (seed derived from `seed_base`
-/// and the case) and judge it against `exact`; a pass that cannot see a 0.5% bias is
-/// marked weak (an example's count is the reader's choice, outside the proof).
-pub fn judged(case: &Case, est: Estimator, n: u64, seed_base: u64, exact: f64) -> Verdict {
-    let seed = seed_for(seed_base, &case.desc.name, est, SamplerKind::Independent);
-    let mut v = case
-        .run(est, SamplerKind::Independent, n, seed)
-        .verdict_against(exact, ALPHA, 1);
+/// Every example check passes through here: a pass that cannot see a 0.5% bias
+/// (`lightproof::verdict::DETECTABLE_BOUND`, at 99% power) is marked weak
+/// (`Verdict::require_power(false)`: an example's count is the reader's choice, outside
+/// the proof's conditions, so such a pass is kept and marked rather than failed).
+pub fn powered(mut v: Verdict) -> Verdict {
     v.require_power(false);
     v
+}
+
+/// Judge an estimate drawn with independent samples against `exact` ([`powered`]).
+pub fn judge_estimate(e: &Estimate, exact: f64) -> Verdict {
+    powered(lightproof::verdict::judge(
+        e,
+        SamplerKind::Independent,
+        exact,
+        ALPHA,
+        1,
+    ))
+}
+
+/// Judge a mean and its standard error, from `count` samples, against `exact`
+/// ([`powered`]).
+pub fn judge_mean(estimate: f64, std_error: f64, exact: f64, count: u64) -> Verdict {
+    powered(MeanTest::new(ALPHA, 1).judge_parts(estimate, std_error, exact, None, 0, count))
+}
+
+/// One-sided check that an accumulator's mean is not above `bound` ([`powered`];
+/// print it with [`report_bound`]).
+pub fn judge_bound(acc: &Accumulator, bound: f64) -> Verdict {
+    powered(MeanTest::new(ALPHA, 1).judge_at_most(acc, bound))
+}
+
+/// Run one estimator of a case with independent samples (seed derived from `seed_base`
+/// and the case) and judge it against `exact` ([`powered`]).
+pub fn judged(case: &Case, est: Estimator, n: u64, seed_base: u64, exact: f64) -> Verdict {
+    let seed = seed_for(seed_base, &case.desc.name, est, SamplerKind::Independent);
+    powered(
+        case.run(est, SamplerKind::Independent, n, seed)
+            .verdict_against(exact, ALPHA, 1),
+    )
 }

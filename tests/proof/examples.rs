@@ -9,6 +9,10 @@
 
 use std::process::Command;
 
+/// The examples' shared helpers, to test what they print against what they test.
+#[path = "../../examples/common/mod.rs"]
+mod example_common;
+
 const EXAMPLES: [&str; 8] = [
     "01_phase_space",
     "02_solid_angle",
@@ -112,6 +116,34 @@ fn every_example_runs_and_passes() {
         "no example marked an estimate without variance"
     );
     assert!(!printed.iter().any(|p| p.contains("± 0.000000 ")));
+    for (name, p) in EXAMPLES.iter().zip(&printed) {
+        printed_checks_agree(name, p);
+    }
+    // Every check goes through common::powered: the examples that judge estimates
+    // themselves (01, 06, 07, 08) mark weak passes too, at 20 000 samples plenty.
+    for (name, p) in EXAMPLES.iter().zip(&printed) {
+        if ["01", "06", "07", "08"].iter().any(|k| name.starts_with(k)) {
+            assert!(
+                p.contains("PASS (weak: "),
+                "example {name} marked no weak pass at 20 000 samples:\n{p}"
+            );
+        }
+    }
+    // 06 checks the microfacet albedos two-sided against lightproof_analytic (1 − ln 2 at
+    // normal incidence for the white GGX mirror), and the ≤ 1 rows are bounds.
+    let bsdf = &printed[5];
+    assert!(
+        bsdf.contains("albedo a(θo = 0°) = 1 − ln 2 [bsdf]")
+            && bsdf.contains("= a_CT [bsdf]")
+            && bsdf.contains("= a_white [bsdf]"),
+        "{bsdf}"
+    );
+    for line in bsdf.lines().filter(|l| l.contains("≤ 1 [")) {
+        assert!(
+            line.contains(" bound ") && !line.contains(" exact "),
+            "{line}"
+        );
+    }
     // The case files they save pass `lightproof verify` as README.md says to run it: at
     // the files' own counts every verdict passes and sees a 0.5 % bias (none weak).
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
@@ -141,6 +173,129 @@ fn every_example_runs_and_passes() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
+}
+
+/// Every verdict line an example printed shows the z that decided it: a PASS has |z|
+/// within the critical value (3.89, or the one the line names: a one-sided bound's
+/// `(z ≤ 3.72)`, a t test's), a FAIL beyond it, and each line says what bias it sees.
+fn printed_checks_agree(name: &str, printed: &str) {
+    let (critical, _) = example_common::rule_numbers();
+    let verdict_lines = printed
+        .lines()
+        .filter(|l| l.contains("  verdict ") && (l.contains(" exact ") || l.contains(" bound ")));
+    for line in verdict_lines {
+        assert!(line.contains(" sees "), "{name}: {line}");
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let Some(i) = words.iter().rposition(|w| *w == "z" || *w == "t") else {
+            assert!(line.contains("f32 bound"), "{name}: no z in {line}");
+            continue;
+        };
+        let z: f64 = words[i + 1]
+            .parse()
+            .unwrap_or_else(|_| panic!("{name}: {line}"));
+        let limit = match words.get(i + 2) {
+            Some(w) if w.starts_with('(') => words[i + 4].trim_end_matches(')').parse().unwrap(),
+            _ => critical,
+        };
+        let one_sided = words.get(i + 2).is_some_and(|w| !w.starts_with("(|"))
+            && words.get(i + 2).is_some_and(|w| w.starts_with('('));
+        let within = if one_sided {
+            z <= limit
+        } else {
+            z.abs() <= limit
+        };
+        assert_eq!(
+            within,
+            line.contains("verdict PASS"),
+            "{name}: the printed z {z} and the verdict disagree (limit {limit}): {line}"
+        );
+    }
+}
+
+/// The z the examples print is the one the test decided by: the error beyond the f32
+/// rounding allowance, in standard errors (the plain z of 4.13 that example 02 printed
+/// beside a PASS was within the allowance).
+#[test]
+fn examples_print_the_tested_z() {
+    use example_common::{powered, tested_z};
+    use lightproof::stats::{MeanTest, exact_relative_tolerance};
+    let g = exact_relative_tolerance();
+    let t = MeanTest::new(example_common::ALPHA, 1);
+    // 02's small square: 9.99975e-5 ± 1.54e-12, off by 6.4e-12 (z 4.13), τ = 7.6e-10.
+    let mu = 9.99975e-5;
+    let v = t.judge_parts(mu + 4.13 * 1.54365e-12, 1.54365e-12, mu, None, 0, 1 << 20);
+    assert!(v.passed && v.z > 4.0 && tested_z(&v, false) == 0.0, "{v:?}");
+    for (off, se) in [
+        (0.0f64, 1e-3),
+        (3.0, 1e-3),
+        (3.95, 1e-3),
+        (-3.95, 1e-3),
+        (10.0, 1e-9),
+        (-100.0, 1e-9),
+        (1.0, 1e-7),
+    ] {
+        for mu in [1.0, 2.5, 1e-4] {
+            let est = mu + off * se + off.signum() * 0.5 * g * mu;
+            let v = t.judge_parts(est, se, mu, None, 0, 1000);
+            let z = tested_z(&v, false);
+            assert_eq!(v.passed, z.abs() <= v.critical, "{v:?} z {z}");
+            // Its p value is that of the tested z.
+            let p = 2.0 * normal_tail(z.abs());
+            assert!(
+                (v.p_value - p.min(1.0)).abs() <= 1e-6 * p.max(1e-300) + 1e-12,
+                "{v:?} {p}"
+            );
+            // One-sided bounds.
+            let mut acc = lightproof::stats::Accumulator::new();
+            for i in 0..1000 {
+                acc.push(est + se * 31.6 * if i % 2 == 0 { 1.0 } else { -1.0 });
+            }
+            let b = t.judge_at_most(&acc, mu);
+            if b.class == lightproof::stats::VerdictClass::Statistical {
+                assert_eq!(b.passed, tested_z(&b, true) <= b.critical, "{b:?}");
+            }
+        }
+    }
+    // A pass that cannot see 0.5% is marked weak by the one helper.
+    let wide = powered(t.judge_parts(1.0, 0.01, 1.0, None, 0, 1000));
+    assert!(wide.passed && wide.weak);
+    let narrow = powered(t.judge_parts(1.0, 1e-4, 1.0, None, 0, 1000));
+    assert!(narrow.passed && !narrow.weak);
+}
+
+/// The upper tail of the standard normal, Φ̄(z) = erfc(z/√2)/2.
+fn normal_tail(z: f64) -> f64 {
+    0.5 * lightproof_analytic::microfacet::erfc(z / std::f64::consts::SQRT_2)
+}
+
+/// Example 01 needs a time window longer than the flight to its detector: a count too
+/// small is refused as such (exit 2), not judged as a disagreement.
+#[test]
+fn examples_refuse_a_count_below_their_minimum() {
+    let out = cargo("run")
+        .args(["--example", "01_phase_space", "--", "256"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("count too small: 256 < 4096") && !stdout.contains("verdict"),
+        "{stdout}{stderr}"
+    );
+    use example_common::parse_count;
+    assert_eq!(parse_count(None, 7, 4096), Ok(7));
+    assert_eq!(parse_count(Some("4_096"), 7, 4096), Ok(4096));
+    assert!(
+        parse_count(Some("4095"), 7, 4096)
+            .unwrap_err()
+            .starts_with("count too small")
+    );
+    assert!(
+        parse_count(Some("many"), 7, 256)
+            .unwrap_err()
+            .starts_with("usage")
+    );
 }
 
 #[test]
