@@ -13,6 +13,17 @@
 /// **Derivation.** Continuity of the tangential E and H fields at the interface for the
 /// s and p polarisations; unpolarised light averages the two intensities.
 ///
+/// **Near-matched indices** (|η − 1| < 1/2) the same r_s, r_p are evaluated without
+/// cancellation: with d = (η − 1)(η + 1), η² cos²θₜ = η² − sin²θᵢ = d + cos²θᵢ, and
+/// cos θᵢ − η cos θₜ = (cos²θᵢ − η² cos²θₜ)/(cos θᵢ + η cos θₜ) = −d/(cos θᵢ + η cos θₜ),
+/// η cos θᵢ − cos θₜ = (η² cos²θᵢ − cos²θₜ)/(η cos θᵢ + cos θₜ)
+/// = d((η² + 1) cos²θᵢ − 1)/(η² (η cos θᵢ + cos θₜ)): so r_s = −d/(cos θᵢ + η cos θₜ)²,
+/// r_p = d((η² + 1) cos²θᵢ − 1)/(η (η cos θᵢ + cos θₜ))². The direct form loses
+/// 1 − sin²θₜ to rounding (its relative error ~1e-16/(η² − 1 + cos²θᵢ), 5e-10 at
+/// η = 1 + 10⁻⁷, cos θᵢ → 0), and with it the relative accuracy of a tiny F, which an
+/// adaptive quadrature of F then cannot reach (the rough dielectric's albedo took
+/// minutes). Elsewhere the direct form is kept (d overflows for η > 10¹⁵⁴).
+///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.2; pbrt 4th ed. §9.3.
 pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
     let (cos_i, eta) = if cos_theta < 0.0 {
@@ -25,10 +36,50 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
+    if (eta - 1.0).abs() < 0.5 {
+        let d = (eta - 1.0) * (eta + 1.0);
+        let c2 = cos_i * cos_i;
+        let e_cos_t = (d + c2).max(0.0).sqrt();
+        let cos_t = e_cos_t / eta;
+        let s = cos_i + e_cos_t;
+        let rs = -d / (s * s);
+        let p = eta * (eta * cos_i + cos_t);
+        let rp = d * ((eta * eta + 1.0) * c2 - 1.0) / (p * p);
+        return 0.5 * (rs * rs + rp * rp);
+    }
     let cos_t = (1.0 - sin2_t).sqrt();
     let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     0.5 * (rs * rs + rp * rp)
+}
+
+/// 1 − [`dielectric`]: the unpolarised transmittance of a smooth dielectric interface
+/// (0 under total internal reflection), without the cancellation of 1 − F where F → 1
+/// (near the critical angle and at grazing incidence).
+///
+/// **Formula.** 1 − r_s² = 4 cos θᵢ η cos θₜ/(cos θᵢ + η cos θₜ)²,
+/// 1 − r_p² = 4 η cos θᵢ cos θₜ/(η cos θᵢ + cos θₜ)², T = (1 − r_s² + 1 − r_p²)/2, with
+/// η cos θₜ = √((η − 1)(η + 1) + cos²θᵢ).
+///
+/// **Derivation.** (x + y)² − (x − y)² = 4xy applied to [`dielectric`]'s r_s and r_p.
+///
+/// **Source.** Born & Wolf, *Principles of Optics*, §1.5.3 (the transmissivity).
+pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
+    let (cos_i, eta) = if cos_theta < 0.0 {
+        (-cos_theta, 1.0 / eta)
+    } else {
+        (cos_theta, eta)
+    };
+    let cos_i = cos_i.min(1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 0.0;
+    }
+    let e_cos_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i).max(0.0).sqrt();
+    let cos_t = e_cos_t / eta;
+    let s = cos_i + e_cos_t;
+    let p = eta * cos_i + cos_t;
+    2.0 * cos_i * (e_cos_t / (s * s) + eta * cos_t / (p * p))
 }
 
 /// A complex number, just enough for the conductor Fresnel equations.
@@ -96,6 +147,24 @@ pub fn conductor(cos_theta: f64, eta: f64, k: f64) -> f64 {
     let sin2_i = (1.0 - cos_i) * (1.0 + cos_i);
     let eta_c = Complex::new(eta, k);
     let ci = Complex::new(cos_i, 0.0);
+    if (eta - 1.0).hypot(k) < 0.5 {
+        // Near a matched index, [`dielectric`]'s cancellation-free form in complex
+        // arithmetic: d = (η̃ − 1)(η̃ + 1), cos²θt = (d + cos²θi)/η̃²,
+        // r_s = −d/(cos θi + η̃ cos θt)², r_p = d((η̃² + 1) cos²θi − 1)/(η̃ (η̃ cos θi + cos θt))².
+        // The direct form's cos θi − η̃ cos θt cancels to ~|η̃ − 1|: at η = 1, κ = 10⁻¹²
+        // F ~ 10⁻²⁵ came out with ~10⁻⁴ relative noise (a rough conductor's albedo
+        // quadrature then ran for minutes).
+        let one = Complex::new(1.0, 0.0);
+        let d = eta_c.sub(one).mul(eta_c.add(one));
+        let c2 = Complex::new(cos_i * cos_i, 0.0);
+        let cos_t = d.add(c2).div(eta_c).div(eta_c).sqrt();
+        let s = ci.add(eta_c.mul(cos_t));
+        let rs = Complex::new(-d.re, -d.im).div(s.mul(s));
+        let p = eta_c.mul(eta_c.mul(ci).add(cos_t));
+        let e2 = eta_c.mul(eta_c);
+        let rp = d.mul(e2.add(one).mul(c2).sub(one)).div(p.mul(p));
+        return 0.5 * (rs.norm2() + rp.norm2());
+    }
     // sin²θt = sin²θi/η², divided twice: η² overflows for |η| > 10¹⁵⁴.
     let sin2_t = Complex::new(sin2_i, 0.0).div(eta_c).div(eta_c);
     let cos_t = Complex::new(1.0, 0.0).sub(sin2_t).sqrt();

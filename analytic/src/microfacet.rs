@@ -53,7 +53,7 @@
 //! quadrature of f cos θi over ωi, which shares only D and Λ with it.
 
 use crate::fresnel;
-use crate::quadrature::{adaptive, adaptive_2d};
+use crate::quadrature::{adaptive, adaptive_2d, adaptive_2d_abs, adaptive_abs};
 use std::f64::consts::PI;
 
 /// A microfacet normal distribution.
@@ -282,8 +282,10 @@ fn mirror_albedo(
     };
     // p(s) ds dφ/(2π) = dx dφ/(2π); symmetric in φ, so twice the half range over 2π.
     const TOL: f64 = 1e-9;
+    // The absolute floor ([`ABS_TOL`]) on the integral before the division by π.
+    let abs = ABS_TOL * PI;
     let Some(kink) = kink else {
-        return adaptive_2d(g, 0.0, 1.0, |_| 0.0, phi_max, TOL) / PI;
+        return adaptive_2d_abs(g, 0.0, 1.0, |_| 0.0, phi_max, TOL, abs) / PI;
     };
     // ⟨ωo, h⟩ = sin θo sin θh cos φ + cos θo cos θh = kink at φ_k; split there if
     // 0 < φ_k < φ_max (the inner tolerance as `adaptive_2d`'s, on each piece).
@@ -296,15 +298,16 @@ fn mirror_albedo(
         } else {
             0.0
         };
-        let piece = |a: f64, b: f64| adaptive(|phi| g(x, phi), a, b, 0.1 * TOL);
+        let piece = |a: f64, b: f64| adaptive_abs(|phi| g(x, phi), a, b, 0.1 * TOL, 0.05 * abs);
         if pk > 0.0 && pk < hi {
             // On [0, φ_k] ⟨ωo, h⟩ > kink, where F − F(kink) ~ √(φ_k − φ): φ = φ_k(1 − u²),
             // dφ = 2φ_k u du, makes it smooth in u.
-            adaptive(
+            adaptive_abs(
                 |u| g(x, pk * (1.0 - u * u)) * 2.0 * pk * u,
                 0.0,
                 1.0,
                 0.1 * TOL,
+                0.05 * abs,
             ) + piece(pk, hi)
         } else {
             piece(0.0, hi)
@@ -327,8 +330,17 @@ fn mirror_albedo(
     .collect();
     cuts.extend([0.0, 1.0]);
     cuts.sort_by(f64::total_cmp);
-    piecewise(inner, &cuts, TOL) / PI
+    piecewise(inner, &cuts, TOL, abs) / PI
 }
+
+/// The absolute floor, in albedo units, under the relative tolerances of the albedo
+/// quadratures ([`mirror_albedo`], [`dielectric_transmission_albedo`]): a part far below
+/// it (a reflection F ~ 10⁻¹⁵ at η = 1 + 10⁻⁷, a transmission through the far tail of D
+/// beyond total internal reflection, a conductor at η = 1, κ = 10⁻¹²) is not chased to a
+/// relative accuracy that its integrand's rounding noise makes unattainable, where the
+/// nested rule ran to its evaluation caps for minutes. So the albedos are accurate to
+/// about 1e-8 relative *or* 1e-14 absolute, whichever is larger.
+const ABS_TOL: f64 = 1e-14;
 
 /// The azimuth range [0, φ_max] of the half vectors h = (sin θh cos φ, ·, cos θh) (φ from
 /// ωo's azimuth) whose ⟨ωo, h⟩ − cos θo cos θh = sin θo sin θh cos φ exceeds `need`:
@@ -346,7 +358,9 @@ fn azimuth_limit(need: f64, den: f64) -> f64 {
 /// first pass at 1e-4. A piece holding 1e-8 of the whole (the far tail of a slope
 /// distribution, squeezed against x = 1) then costs what 1e-4 costs, not the
 /// millions of evaluations that its own relative tolerance of 1e-9 would take.
-fn piecewise(f: impl Fn(f64) -> f64, cuts: &[f64], rel_tol: f64) -> f64 {
+///
+/// `abs_tol` is an absolute floor on the whole, shared equally by the pieces.
+fn piecewise(f: impl Fn(f64) -> f64, cuts: &[f64], rel_tol: f64, abs_tol: f64) -> f64 {
     const ROUGH: f64 = 1e-4;
     let rough: Vec<f64> = cuts
         .windows(2)
@@ -361,7 +375,7 @@ fn piecewise(f: impl Fn(f64) -> f64, cuts: &[f64], rel_tol: f64) -> f64 {
             } else {
                 ROUGH
             };
-            adaptive(&f, w[0], w[1], tol)
+            adaptive_abs(&f, w[0], w[1], tol, abs_tol / (cuts.len() - 1) as f64)
         })
         .sum()
 }
@@ -494,12 +508,12 @@ pub fn dielectric_transmission_albedo(
         if ci >= 0.0 {
             return 0.0;
         }
-        let t = 1.0 - fresnel::dielectric(oh, etap);
+        let t = fresnel::dielectric_transmittance(oh, etap);
         t * oh * g2_of(masking, lo, lambda(dist, alpha, -ci)) / (co * h[2] * etap * etap)
             * 2.0
             * (1.0 - y)
     };
-    adaptive_2d(g, 0.0, 1.0, |_| 0.0, phi_max, 1e-9) / PI
+    adaptive_2d_abs(g, 0.0, 1.0, |_| 0.0, phi_max, 1e-9, ABS_TOL * PI) / PI
 }
 
 /// Directional albedo ρ(ωo) = ∫_{S²} f(ωo, ωi) |cos θi| dωi of the rough dielectric of

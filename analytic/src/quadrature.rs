@@ -13,8 +13,21 @@
 //! the closed-form tests then ask for agreement ~1e-9 or better, leaving a margin of
 //! several orders of magnitude over the quadrature's own error estimate.
 
+use std::cell::Cell;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
+
+thread_local! {
+    static EVALUATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// The number of integrand evaluations made by [`GaussLegendre::integrate`] (and so by
+/// [`adaptive`] and [`adaptive_2d`]) on the calling thread so far: the tests bound the
+/// cost of a quadrature by the difference of two readings, which, unlike a clock, does
+/// not depend on the machine or its load.
+pub fn evaluations() -> u64 {
+    EVALUATIONS.with(Cell::get)
+}
 
 /// An n-point Gauss–Legendre rule on [-1, 1].
 #[derive(Debug, Clone)]
@@ -72,6 +85,7 @@ impl GaussLegendre {
         for (x, w) in self.nodes.iter().zip(&self.weights) {
             s += w * f(m + h * x);
         }
+        EVALUATIONS.with(|c| c.set(c.get() + self.nodes.len() as u64));
         s * h
     }
 }
@@ -108,7 +122,21 @@ const MAX_DEPTH: u32 = 48;
 /// caller's finiteness check reports it, instead of bisecting to the evaluation cap,
 /// which a nested rule ([`adaptive_2d`]) multiplies into hours (a rough-conductor albedo
 /// with η = 10³⁰⁸ took over ten minutes before it failed).
-pub fn adaptive(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> f64 {
+pub fn adaptive(f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> f64 {
+    adaptive_abs(f, a, b, rel_tol, 0.0)
+}
+
+/// [`adaptive`] to the looser of the relative tolerance `rel_tol` and the *absolute*
+/// tolerance `abs_tol`: for a part of a larger sum known to be small beside it, whose own
+/// relative accuracy matters little and may be unattainable (a tiny integrand whose
+/// rounding noise is a large fraction of it). `abs_tol` = 0 is [`adaptive`] exactly.
+pub fn adaptive_abs(
+    mut f: impl FnMut(f64) -> f64,
+    a: f64,
+    b: f64,
+    rel_tol: f64,
+    abs_tol: f64,
+) -> f64 {
     if a == b {
         return 0.0;
     }
@@ -123,7 +151,7 @@ pub fn adaptive(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> 
     if !scale.is_finite() {
         return coarse.iter().sum();
     }
-    let tol = (rel_tol * scale).max(1e-300);
+    let tol = (rel_tol * scale).max(abs_tol).max(1e-300);
     let mut evals = 0usize;
     (0..PIECES)
         .map(|i| {
@@ -186,18 +214,39 @@ fn recurse(
 /// ∫_a^b ∫_{lo(x)}^{hi(x)} f(x, y) dy dx, nested [`adaptive`] with relative tolerance
 /// `rel_tol` on both levels.
 pub fn adaptive_2d(
-    mut f: impl FnMut(f64, f64) -> f64,
+    f: impl FnMut(f64, f64) -> f64,
     a: f64,
     b: f64,
     lo: impl Fn(f64) -> f64,
     hi: impl Fn(f64) -> f64,
     rel_tol: f64,
 ) -> f64 {
-    adaptive(
-        |x| adaptive(|y| f(x, y), lo(x), hi(x), rel_tol * 0.1),
+    adaptive_2d_abs(f, a, b, lo, hi, rel_tol, 0.0)
+}
+
+/// [`adaptive_2d`] with an absolute floor `abs_tol` on the whole integral
+/// ([`adaptive_abs`]); each inner integral gets 0.1·`abs_tol`/|b − a|, so that the inner
+/// errors integrate to at most a tenth of it. `abs_tol` = 0 is [`adaptive_2d`] exactly.
+pub fn adaptive_2d_abs(
+    mut f: impl FnMut(f64, f64) -> f64,
+    a: f64,
+    b: f64,
+    lo: impl Fn(f64) -> f64,
+    hi: impl Fn(f64) -> f64,
+    rel_tol: f64,
+    abs_tol: f64,
+) -> f64 {
+    let inner_abs = if a == b {
+        0.0
+    } else {
+        0.1 * abs_tol / (b - a).abs()
+    };
+    adaptive_abs(
+        |x| adaptive_abs(|y| f(x, y), lo(x), hi(x), rel_tol * 0.1, inner_abs),
         a,
         b,
         rel_tol,
+        abs_tol,
     )
 }
 
