@@ -546,13 +546,23 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "view_factor_parallel_rectangles",
         ["width", "length", "separation"],
-        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11)",
+        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11); separation at most 10⁴ × min(width, length), beyond which the formula's cancellation leaves fewer than ~7 digits",
         |p| {
-            Ok(view_factor::parallel_rectangles(
+            let (a, b, c) = (
                 p.positive("width")?,
                 p.positive("length")?,
                 p.positive("separation")?,
-            ))
+            );
+            if c > view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b) {
+                return Err(p.domain(format!(
+                    "separation {c} exceeds {:e} × min(width, length) = {:e}: Howell's C-11 \
+                     formula loses ~2 log₁₀(separation/min(width, length)) digits to \
+                     cancellation (a 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10)",
+                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO,
+                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b)
+                )));
+            }
+            Ok(view_factor::parallel_rectangles(a, b, c))
         }
     ),
     entry!(
@@ -1253,6 +1263,39 @@ mod tests {
         );
         let v = evaluate("disk_irradiance_on_axis", &m).unwrap();
         assert!((v - PI / 5.0).abs() < 1e-15);
+    }
+
+    /// Thin strips and distant plates beyond 10⁴ × min(width, length) are refused (a
+    /// 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10); coaxial disks at extreme ratios
+    /// evaluate.
+    #[test]
+    fn view_factor_domains() {
+        let e = evaluate(
+            "view_factor_parallel_rectangles",
+            &obj(json!({"width": 1e-9, "length": 1, "separation": 1})),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
+        let v = evaluate(
+            "view_factor_parallel_rectangles",
+            &obj(json!({"width": 1e-4, "length": 1, "separation": 1})),
+        )
+        .unwrap();
+        assert!((v / 2.499_999_992_423_709e-5 - 1.0).abs() < 1e-7, "{v}");
+        for (r1, h, want) in [(1e-80, 1.0, 0.5), (1.0, 1e-160, 1.0)] {
+            let v = evaluate(
+                "view_factor_disk_to_coaxial_disk",
+                &obj(json!({"radius1": r1, "radius2": 1, "height": h})),
+            )
+            .unwrap();
+            assert!((v - want).abs() < 1e-15, "{r1} {h}: {v}");
+        }
+        let v = evaluate(
+            "view_factor_element_to_coaxial_disk",
+            &obj(json!({"radius": 1e200, "height": 1e200})),
+        )
+        .unwrap();
+        assert_eq!(v, 0.5);
     }
 
     #[test]
