@@ -100,8 +100,8 @@ pub fn moving_point_light_average(
 ///
 /// **Formula.** Ē = (1/(t₁ − t₀)) ∫ E_sphere(t) dt, with E_sphere the closed-form
 /// irradiance of a sphere ([`crate::irradiance::sphere`]: L times the projected solid
-/// angle of its cap, horizon-clipped), integrated over time by adaptive Gauss–Kronrod
-/// quadrature (E is smooth in t).
+/// angle of its cap, horizon-clipped), integrated over time by adaptive bisection of a
+/// 12-point Gauss–Legendre rule ([`crate::quadrature::adaptive`]; E is smooth in t).
 ///
 /// **Source.** Derived here from the static sphere irradiance (Snyder 1996; pbrt 4th ed.
 /// §12.2) and the definition of a shutter average.
