@@ -1067,13 +1067,15 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "cauchy_index",
         ["a", "b", "wavelength_um"],
-        "refractive index (1) by Cauchy's formula a + b/λ² (λ in µm, b in µm²)",
+        "refractive index (1) by Cauchy's formula a + b/λ² (λ in µm, b in µm²); an index ≤ 0 is refused",
         |p| {
-            Ok(spectrum::cauchy(
-                p.num("a")?,
-                p.num("b")?,
-                p.positive("wavelength_um")?,
-            ))
+            let n = spectrum::cauchy(p.num("a")?, p.num("b")?, p.positive("wavelength_um")?);
+            if n <= 0.0 {
+                return Err(p.domain(format!(
+                    "a + b/λ² = {n} is not a refractive index (must be > 0)"
+                )));
+            }
+            Ok(n)
         }
     ),
     entry!(
@@ -1388,6 +1390,38 @@ mod tests {
         let f = partial_shapes::port_fraction_of_cap(179.99999999f64.to_radians());
         let v = v.unwrap();
         assert!((v * f - 1.0).abs() < 1e-12, "{v} vs 1/{f}");
+    }
+
+    /// Finite true values at extreme scales come out finite (they were "non-finite
+    /// result" errors), and a Cauchy index ≤ 0 is refused (a = −5 returned −5).
+    #[test]
+    fn extreme_scales_and_cauchy_domain() {
+        let v = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": 1e200, "height": 1e200, "radiance": 1})),
+        )
+        .unwrap();
+        assert!((v - PI / 2.0).abs() < 1e-15, "{v}");
+        let v = evaluate(
+            "pulsed_disk_on_axis",
+            &obj(json!({"radius": 1, "height": 1e-200, "radiance": 1, "t1": 0, "t2": 1, "speed": 1})),
+        )
+        .unwrap();
+        assert!((v - PI).abs() < 1e-15, "{v}");
+        // An interior bin: π h²(1/r₁² − 1/r₂²) with r = c t.
+        let v = evaluate(
+            "pulsed_disk_on_axis",
+            &obj(json!({"radius": 2, "height": 1, "radiance": 1, "t1": 1.5, "t2": 2, "speed": 1})),
+        )
+        .unwrap();
+        let want = PI * (1.0 / 2.25 - 0.25);
+        assert!((v / want - 1.0).abs() < 1e-15, "{v} vs {want}");
+        let e = evaluate(
+            "cauchy_index",
+            &obj(json!({"a": -5, "b": 0, "wavelength_um": 0.5})),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
     }
 
     #[test]

@@ -30,8 +30,10 @@ pub fn pulsed_disk_on_axis(
     let rmax = height.hypot(radius);
     let r1 = (speed * t1).clamp(height, rmax);
     let r2 = (speed * t2).clamp(height, rmax);
-    // h²(1/r₁² − 1/r₂²) = h²(r₂ − r₁)(r₂ + r₁)/(r₁² r₂²).
-    PI * radiance * height * height * (r2 - r1) * (r2 + r1) / (r1 * r1 * r2 * r2)
+    // h²(1/r₁² − 1/r₂²) = (q₁ − q₂)(q₁ + q₂) with q = h/r ≤ 1 and
+    // q₁ − q₂ = q₁ (r₂ − r₁)/r₂: no h² or r² to underflow (h = 10⁻²⁰⁰ gave 0/0).
+    let (q1, q2) = (height / r1, height / r2);
+    PI * radiance * q1 * ((r2 - r1) / r2) * (q1 + q2)
 }
 
 /// Vacuum speed of light, re-exported for the pulsed-disk form.
