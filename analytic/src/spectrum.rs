@@ -254,7 +254,10 @@ mod tests {
             let d = |p: i32| z1.powi(p) - z2.powi(p);
             let series = k * (d(3) / 3.0 - d(4) / 8.0 + d(5) / 60.0 - d(7) / 5040.0);
             let got = band_fraction(l1, l2, t);
-            assert!(rel(got, series) < 1e-12, "[{l1}, {l2}] m at {t} K: {got} vs {series}");
+            assert!(
+                rel(got, series) < 1e-12,
+                "[{l1}, {l2}] m at {t} K: {got} vs {series}"
+            );
         }
         // Across ζ = 1 and on the Wien side the direct difference is kept.
         let l1 = c2() / (1.5 * 1000.0);
