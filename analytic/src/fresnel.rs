@@ -22,10 +22,13 @@
 /// 1 − sin²θₜ to rounding (its relative error ~1e-16/(η² − 1 + cos²θᵢ), 5e-10 at
 /// η = 1 + 10⁻⁷, cos θᵢ → 0), and with it the relative accuracy of a tiny F, which an
 /// adaptive quadrature of F then cannot reach (the rough dielectric's albedo took
-/// minutes). Elsewhere the direct form is kept (d overflows for η > 10¹⁵⁴).
+/// minutes). From inside (η → 1/η) d = −(η − 1)(η + 1)/η², from the given η. Elsewhere
+/// the direct form is kept (d overflows for η > 10¹⁵⁴). The tests check 1e-12 relative
+/// against 50-digit references at η = 1 + 10⁻⁷.
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.2; pbrt 4th ed. §9.3.
 pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
+    let d = index_excess(cos_theta, eta);
     let (cos_i, eta) = if cos_theta < 0.0 {
         (-cos_theta, 1.0 / eta)
     } else {
@@ -37,7 +40,6 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
         return 1.0;
     }
     if (eta - 1.0).abs() < 0.5 {
-        let d = (eta - 1.0) * (eta + 1.0);
         let c2 = cos_i * cos_i;
         let e_cos_t = (d + c2).max(0.0).sqrt();
         let cos_t = e_cos_t / eta;
@@ -65,6 +67,7 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.3 (the transmissivity).
 pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
+    let d = index_excess(cos_theta, eta);
     let (cos_i, eta) = if cos_theta < 0.0 {
         (-cos_theta, 1.0 / eta)
     } else {
@@ -75,11 +78,20 @@ pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 0.0;
     }
-    let e_cos_t = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i).max(0.0).sqrt();
+    let e_cos_t = (d + cos_i * cos_i).max(0.0).sqrt();
     let cos_t = e_cos_t / eta;
     let s = cos_i + e_cos_t;
     let p = eta * cos_i + cos_t;
     2.0 * cos_i * (e_cos_t / (s * s) + eta * cos_t / (p * p))
+}
+
+/// η′² − 1 for the relative index η′ seen from the side of `cos_theta` (η, or 1/η when
+/// negative), as (η − 1)(η + 1), or −(η − 1)(η + 1)/η² from inside: from η itself, so
+/// that 1/η's rounding (relative 1e-16, but 1e-9 of 1/η − 1 at η = 1 + 10⁻⁷) is not
+/// magnified.
+fn index_excess(cos_theta: f64, eta: f64) -> f64 {
+    let d = (eta - 1.0) * (eta + 1.0);
+    if cos_theta < 0.0 { -(d / eta) / eta } else { d }
 }
 
 /// A complex number, just enough for the conductor Fresnel equations.
@@ -409,5 +421,47 @@ mod tests {
         // Known value: F̄(1.5) ≈ 0.0918 (e.g. tables of hemispherical reflectance).
         assert!((dielectric_average(1.5) - 0.091_777_959_342_351_21).abs() < 1e-15);
         assert_eq!(dielectric_average(1.0), 0.0);
+    }
+
+    /// Near matched indices the cancellation-free forms keep F's relative accuracy where
+    /// the direct form lost it (1 − sin²θₜ rounded), and the transmittance 1 − F near the
+    /// critical angle: against Born & Wolf's expressions in 50-digit arithmetic (mpmath).
+    #[test]
+    fn near_matched_indices_keep_relative_accuracy() {
+        let e = 1.000_000_1;
+        for (c, want) in [
+            (1e-3, 2.074_693_373_084_809_376e-3),
+            (0.5, 2.499_997_952_920_768_543_3e-14),
+            (1.0, 2.499_999_752_919_354_197_1e-15),
+            (-0.5, 2.500_001_552_920_234_850_5e-14),
+        ] {
+            let f = dielectric(c, e);
+            assert!(rel(f, want) < 1e-12, "F({c}; {e}) = {f} vs {want}");
+        }
+        // 1 − F from inside, just above the critical cosine 4.4721356e-4 (η′ = 1/e).
+        for (c, eta, want) in [
+            (-4.5e-4, e, 0.360_001_750_066_390_560_02),
+            (-4.4722e-4, e, 0.021_234_263_924_314_119_721),
+            (-1e-3, e, 0.996_894_386_577_955_762_5),
+        ] {
+            let t = dielectric_transmittance(c, eta);
+            assert!(rel(t, want) < 1e-11, "T({c}; {eta}) = {t} vs {want}");
+        }
+        assert_eq!(dielectric_transmittance(-0.4e-3, e), 0.0);
+        for (c, eta) in [(0.3, 1.5), (0.9, 2.4), (-0.9, 1.33), (0.7, 0.8)] {
+            let t = dielectric_transmittance(c, eta);
+            assert!((t - (1.0 - dielectric(c, eta))).abs() < 1e-15, "{c} {eta}");
+        }
+        // The conductor at 1 + 10⁻¹² i (F ~ 10⁻²⁵) and two other indices within 1/2 of 1.
+        for (c, eta, k, want) in [
+            (1e-3, 1.0, 1e-12, 2.499_995_000_001_249_698_8e-13),
+            (0.5, 1.0, 1e-12, 2.499_999_999_999_999_899_4e-24),
+            (1.0, 1.0, 1e-12, 2.499_999_999_999_999_899_4e-25),
+            (0.5, 0.9, 0.1, 0.083_392_729_924_655_190_497),
+            (0.3, 0.7, 1e-3, 0.996_782_894_421_151_158_79),
+        ] {
+            let f = conductor(c, eta, k);
+            assert!(rel(f, want) < 1e-12, "F({c}; {eta} + {k}i) = {f} vs {want}");
+        }
     }
 }
