@@ -427,6 +427,8 @@ mod tests {
     /// the direct form lost it (1 − sin²θₜ rounded), and the transmittance 1 − F near the
     /// critical angle: against Born & Wolf's expressions in 50-digit arithmetic (mpmath).
     #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
     fn near_matched_indices_keep_relative_accuracy() {
         let e = 1.000_000_1;
         for (c, want) in [
