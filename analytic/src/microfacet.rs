@@ -239,6 +239,12 @@ pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta:
 /// adaptive rule apply unchanged. F ≡ 1 is [`white_albedo`]; a conductor passes
 /// `|c| fresnel::conductor(c, η, k)` (the catalog's `microfacet_conductor_albedo`).
 ///
+/// **Cost.** As [`white_albedo`] for a smooth F. The slowest case measured: a conductor
+/// of index 1 + 10⁻¹² i (F ≈ 1 only for ⟨ωo, h⟩ ≲ 10⁻⁶, a narrow ridge in the azimuth)
+/// seen 10⁻¹² from grazing, GGX α = 10⁻⁴, height-correlated: 1.4·10⁸ evaluations
+/// (10–16 s; over 200 s before the conductor Fresnel's cancellation-free form);
+/// uncorrelated masking there: 10⁶.
+///
 /// **Source.** Walter, Marschner, Li & Torrance 2007, "Microfacet Models for Refraction
 /// through Rough Surfaces", EGSR, eqs. 14 and 20; Heitz 2014 for Λ and G2 (module doc).
 pub fn albedo_with_fresnel(
@@ -339,13 +345,13 @@ fn mirror_albedo(
 }
 
 /// The absolute floor, in albedo units, under the relative tolerances of the albedo
-/// quadratures ([`mirror_albedo`], [`dielectric_transmission_albedo`]): a part far below
+/// quadratures ([`albedo_with_fresnel`], [`dielectric_transmission_albedo`]): a part far below
 /// it (a reflection F ~ 10⁻¹⁵ at η = 1 + 10⁻⁷, a transmission through the far tail of D
 /// beyond total internal reflection, a conductor at η = 1, κ = 10⁻¹²) is not chased to a
 /// relative accuracy that its integrand's rounding noise makes unattainable, where the
 /// nested rule ran to its evaluation caps for minutes. So the albedos are accurate to
 /// about 1e-8 relative *or* 1e-14 absolute, whichever is larger.
-const ABS_TOL: f64 = 1e-14;
+pub const ABS_TOL: f64 = 1e-14;
 
 /// The azimuth range [0, φ_max] of the half vectors h = (sin θh cos φ, ·, cos θh) (φ from
 /// ωo's azimuth) whose ⟨ωo, h⟩ − cos θo cos θh = sin θo sin θh cos φ exceeds `need`:
