@@ -260,6 +260,43 @@ fn check_planar(p: &Params<'_>, name: &'static str, v: &[Vec3]) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a point in the plane of the planar polygon `v` and inside it or on its
+/// boundary (within 1e-12 of the polygon's size from the plane): the solid angle jumps
+/// there between 2π (just off the plane) and 0 (the plane itself), and the forms
+/// disagreed (the polygon gave 0, the triangle and rectangle 2π). Inside is a winding
+/// angle Σ atan2(n·(a × b), a·b) over the edges (a, b from the point to their ends) of
+/// magnitude ≥ π/2 (2π inside, π on an edge, 0 outside).
+fn check_off_polygon(p: &Params<'_>, x: Vec3, v: &[Vec3]) -> Result<()> {
+    let o = v[0];
+    let mut nrm = Vec3::default();
+    for i in 0..v.len() {
+        nrm = nrm + (v[i] - o).cross(v[(i + 1) % v.len()] - o);
+    }
+    let Some(n) = nrm.normalized() else {
+        return Ok(());
+    };
+    let size = v.iter().map(|&y| (y - o).length()).fold(0.0, f64::max);
+    if n.dot(x - o).abs() > 1e-12 * size {
+        return Ok(());
+    }
+    let mut winding = 0.0;
+    for i in 0..v.len() {
+        let (a, b) = (v[i] - x, v[(i + 1) % v.len()] - x);
+        if a.length() == 0.0 {
+            winding = PI;
+            break;
+        }
+        winding += n.dot(a.cross(b)).atan2(a.dot(b));
+    }
+    if winding.abs() >= 0.5 * PI {
+        return Err(p.domain(
+            "the point lies on the emitter (in its plane, inside it or on its boundary), \
+             where the solid angle jumps between 2π and 0",
+        ));
+    }
+    Ok(())
+}
+
 struct Entry {
     info: ClosedFormInfo,
     eval: fn(&Params<'_>) -> Result<f64>,
@@ -305,7 +342,8 @@ fn cap_angle(p: &Params<'_>, name: &'static str, closed_ok: bool) -> Result<f64>
 }
 
 /// Le, ρ and the port fraction f = cos²(θmax/2) of an integrating sphere whose wall is a
-/// cap; ρ(1 − f) < 1 always holds since f > 0.
+/// cap; f > 0, so the balance's denominator (1 − ρ) + ρ f is positive (evaluated in that
+/// form: 1 − ρ(1 − f) rounds to 0 at ρ = 1 and θmax within 10⁻⁸ degrees of 180).
 fn integrating_sphere_cap(p: &Params<'_>) -> Result<(f64, f64, f64)> {
     let le = p.non_negative("emitted_radiance")?;
     let rho = p.range("albedo", 0.0, 1.0, false)?;
@@ -369,6 +407,7 @@ static ENTRIES: &[Entry] = &[
                 ));
             }
             check_planar(p, "vertices", &v)?;
+            check_off_polygon(p, x, &v)?;
             Ok(solid_angle::triangle(x, v[0], v[1], v[2]))
         }
     ),
@@ -379,6 +418,7 @@ static ENTRIES: &[Entry] = &[
         |p| {
             let (x, v) = (p.point("point")?, p.points("vertices", 3)?);
             check_planar(p, "vertices", &v)?;
+            check_off_polygon(p, x, &v)?;
             Ok(solid_angle::polygon(x, &v))
         }
     ),
@@ -399,6 +439,7 @@ static ENTRIES: &[Entry] = &[
             {
                 return Err(p.domain("edge_u and edge_v must be non-zero and perpendicular"));
             }
+            check_off_polygon(p, x, &[c, c + u, c + u + v, c + v])?;
             Ok(solid_angle::rectangle(x, c, u, v))
         }
     ),
@@ -546,13 +587,23 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "view_factor_parallel_rectangles",
         ["width", "length", "separation"],
-        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11)",
+        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11); separation at most 10⁴ × min(width, length), beyond which the formula's cancellation leaves fewer than ~7 digits",
         |p| {
-            Ok(view_factor::parallel_rectangles(
+            let (a, b, c) = (
                 p.positive("width")?,
                 p.positive("length")?,
                 p.positive("separation")?,
-            ))
+            );
+            if c > view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b) {
+                return Err(p.domain(format!(
+                    "separation {c} exceeds {:e} × min(width, length) = {:e}: Howell's C-11 \
+                     formula loses ~2 log₁₀(separation/min(width, length)) digits to \
+                     cancellation (a 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10)",
+                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO,
+                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b)
+                )));
+            }
+            Ok(view_factor::parallel_rectangles(a, b, c))
         }
     ),
     entry!(
@@ -866,7 +917,10 @@ static ENTRIES: &[Entry] = &[
             // The validated range: beyond it the Fresnel kink from the denser side
             // (√(1 − 1/η²) > 0.995) squeezes the split pieces against normal incidence and
             // the quadrature's cost grows without bound (η = 30 from inside: over 20 s;
-            // fuzzing found 10¹² taking minutes), where η ≤ 10 takes at most 3 s.
+            // fuzzing found 10¹² taking minutes), where η ≤ 10 takes at most a few
+            // seconds. Near η = 1 (1 + 10⁻⁷, 1.01, grazing) the tests bound it at 10⁸
+            // integrand evaluations (7.2·10⁷ at most, 2–5 s; it took minutes before the
+            // cancellation-free Fresnel forms and the quadrature's absolute floor).
             let eta = p.range("eta", 0.1, 10.0, false)?;
             Ok(microfacet::dielectric_albedo(d, m, a, c, eta))
         }
@@ -1016,13 +1070,15 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "cauchy_index",
         ["a", "b", "wavelength_um"],
-        "refractive index (1) by Cauchy's formula a + b/λ² (λ in µm, b in µm²)",
+        "refractive index (1) by Cauchy's formula a + b/λ² (λ in µm, b in µm²); an index ≤ 0 is refused",
         |p| {
-            Ok(spectrum::cauchy(
-                p.num("a")?,
-                p.num("b")?,
-                p.positive("wavelength_um")?,
-            ))
+            let n = spectrum::cauchy(p.num("a")?, p.num("b")?, p.positive("wavelength_um")?);
+            if n <= 0.0 {
+                return Err(p.domain(format!(
+                    "a + b/λ² = {n} is not a refractive index (must be > 0)"
+                )));
+            }
+            Ok(n)
         }
     ),
     entry!(
@@ -1253,6 +1309,129 @@ mod tests {
         );
         let v = evaluate("disk_irradiance_on_axis", &m).unwrap();
         assert!((v - PI / 5.0).abs() < 1e-15);
+    }
+
+    /// Thin strips and distant plates beyond 10⁴ × min(width, length) are refused (a
+    /// 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10); coaxial disks at extreme ratios
+    /// evaluate.
+    #[test]
+    fn view_factor_domains() {
+        let e = evaluate(
+            "view_factor_parallel_rectangles",
+            &obj(json!({"width": 1e-9, "length": 1, "separation": 1})),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
+        let v = evaluate(
+            "view_factor_parallel_rectangles",
+            &obj(json!({"width": 1e-4, "length": 1, "separation": 1})),
+        )
+        .unwrap();
+        assert!((v / 2.499_999_992_423_709e-5 - 1.0).abs() < 1e-7, "{v}");
+        for (r1, h, want) in [(1e-80, 1.0, 0.5), (1.0, 1e-160, 1.0)] {
+            let v = evaluate(
+                "view_factor_disk_to_coaxial_disk",
+                &obj(json!({"radius1": r1, "radius2": 1, "height": h})),
+            )
+            .unwrap();
+            assert!((v - want).abs() < 1e-15, "{r1} {h}: {v}");
+        }
+        let v = evaluate(
+            "view_factor_element_to_coaxial_disk",
+            &obj(json!({"radius": 1e200, "height": 1e200})),
+        )
+        .unwrap();
+        assert_eq!(v, 0.5);
+    }
+
+    /// A point in the emitter's plane: refused inside and on the boundary for all three
+    /// polygon forms (they gave 0 and 2π), evaluated (0) outside; the sphere seen from
+    /// 10²⁰⁰ away with R = 10¹⁹⁹ subtends 2π(1 − √0.99) ≈ 0.0315 (was 0); the
+    /// integrating sphere at ρ = 1 and a port within 10⁻⁸ degrees of the whole sphere
+    /// is finite (was ∞).
+    #[test]
+    fn solid_angle_and_furnace_edges() {
+        let quad = json!([[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0]]);
+        for (pt, inside) in [
+            (json!([1, 1, 0]), true),
+            (json!([2, 1, 0]), true),
+            (json!([0, 0, 0]), true),
+            (json!([3, 1, 0]), false),
+        ] {
+            let cases = [
+                (
+                    "solid_angle_polygon",
+                    json!({"point": pt, "vertices": quad}),
+                ),
+                (
+                    "solid_angle_triangle",
+                    json!({"point": pt, "vertices": [[0, 0, 0], [2, 0, 0], [2, 2, 0]]}),
+                ),
+                (
+                    "solid_angle_rectangle",
+                    json!({"point": pt, "corner": [0, 0, 0], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0]}),
+                ),
+            ];
+            for (name, params) in cases {
+                let r = evaluate(name, &obj(params));
+                if inside {
+                    let e = r.unwrap_err();
+                    assert!(matches!(e, CatalogError::Domain { .. }), "{name} {pt}: {e}");
+                } else {
+                    assert_eq!(r.unwrap(), 0.0, "{name} {pt}");
+                }
+            }
+        }
+        let v = evaluate(
+            "solid_angle_sphere",
+            &obj(json!({"point": [0, 0, 0], "center": [1e200, 0, 0], "radius": 1e199})),
+        )
+        .unwrap();
+        let want = 2.0 * PI * (1.0 - 0.99f64.sqrt());
+        assert!((v / want - 1.0).abs() < 1e-14, "{v} vs {want}");
+        let v = evaluate(
+            "furnace_integrating_sphere_cap",
+            &obj(
+                json!({"emitted_radiance": 1, "albedo": 1, "wall_theta_max_degrees": 179.99999999}),
+            ),
+        );
+        let f = partial_shapes::port_fraction_of_cap(179.99999999f64.to_radians());
+        let v = v.unwrap();
+        assert!((v * f - 1.0).abs() < 1e-12, "{v} vs 1/{f}");
+    }
+
+    /// Finite true values at extreme scales come out finite (they were "non-finite
+    /// result" errors), and a Cauchy index ≤ 0 is refused (a = −5 returned −5).
+    #[test]
+    fn extreme_scales_and_cauchy_domain() {
+        let v = evaluate(
+            "disk_irradiance_on_axis",
+            &obj(json!({"radius": 1e200, "height": 1e200, "radiance": 1})),
+        )
+        .unwrap();
+        assert!((v - PI / 2.0).abs() < 1e-15, "{v}");
+        let v = evaluate(
+            "pulsed_disk_on_axis",
+            &obj(
+                json!({"radius": 1, "height": 1e-200, "radiance": 1, "t1": 0, "t2": 1, "speed": 1}),
+            ),
+        )
+        .unwrap();
+        assert!((v - PI).abs() < 1e-15, "{v}");
+        // An interior bin: π h²(1/r₁² − 1/r₂²) with r = c t.
+        let v = evaluate(
+            "pulsed_disk_on_axis",
+            &obj(json!({"radius": 2, "height": 1, "radiance": 1, "t1": 1.5, "t2": 2, "speed": 1})),
+        )
+        .unwrap();
+        let want = PI * (1.0 / 2.25 - 0.25);
+        assert!((v / want - 1.0).abs() < 1e-15, "{v} vs {want}");
+        let e = evaluate(
+            "cauchy_index",
+            &obj(json!({"a": -5, "b": 0, "wavelength_um": 0.5})),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
     }
 
     #[test]

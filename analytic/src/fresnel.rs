@@ -13,8 +13,22 @@
 /// **Derivation.** Continuity of the tangential E and H fields at the interface for the
 /// s and p polarisations; unpolarised light averages the two intensities.
 ///
+/// **Near-matched indices** (|η − 1| < 1/2) the same r_s, r_p are evaluated without
+/// cancellation: with d = (η − 1)(η + 1), η² cos²θₜ = η² − sin²θᵢ = d + cos²θᵢ, and
+/// cos θᵢ − η cos θₜ = (cos²θᵢ − η² cos²θₜ)/(cos θᵢ + η cos θₜ) = −d/(cos θᵢ + η cos θₜ),
+/// η cos θᵢ − cos θₜ = (η² cos²θᵢ − cos²θₜ)/(η cos θᵢ + cos θₜ)
+/// = d((η² + 1) cos²θᵢ − 1)/(η² (η cos θᵢ + cos θₜ)): so r_s = −d/(cos θᵢ + η cos θₜ)²,
+/// r_p = d((η² + 1) cos²θᵢ − 1)/(η (η cos θᵢ + cos θₜ))². The direct form loses
+/// 1 − sin²θₜ to rounding (its relative error ~1e-16/(η² − 1 + cos²θᵢ), 5e-10 at
+/// η = 1 + 10⁻⁷, cos θᵢ → 0), and with it the relative accuracy of a tiny F, which an
+/// adaptive quadrature of F then cannot reach (the rough dielectric's albedo took
+/// minutes). From inside (η → 1/η) d = −(η − 1)(η + 1)/η², from the given η. Elsewhere
+/// the direct form is kept (d overflows for η > 10¹⁵⁴). The tests check 1e-12 relative
+/// against 50-digit references at η = 1 + 10⁻⁷.
+///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.2; pbrt 4th ed. §9.3.
 pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
+    let d = index_excess(cos_theta, eta);
     let (cos_i, eta) = if cos_theta < 0.0 {
         (-cos_theta, 1.0 / eta)
     } else {
@@ -25,10 +39,59 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
+    if (eta - 1.0).abs() < 0.5 {
+        let c2 = cos_i * cos_i;
+        let e_cos_t = (d + c2).max(0.0).sqrt();
+        let cos_t = e_cos_t / eta;
+        let s = cos_i + e_cos_t;
+        let rs = -d / (s * s);
+        let p = eta * (eta * cos_i + cos_t);
+        let rp = d * ((eta * eta + 1.0) * c2 - 1.0) / (p * p);
+        return 0.5 * (rs * rs + rp * rp);
+    }
     let cos_t = (1.0 - sin2_t).sqrt();
     let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     0.5 * (rs * rs + rp * rp)
+}
+
+/// 1 − [`dielectric`]: the unpolarised transmittance of a smooth dielectric interface
+/// (0 under total internal reflection), without the cancellation of 1 − F where F → 1
+/// (near the critical angle and at grazing incidence).
+///
+/// **Formula.** 1 − r_s² = 4 cos θᵢ η cos θₜ/(cos θᵢ + η cos θₜ)²,
+/// 1 − r_p² = 4 η cos θᵢ cos θₜ/(η cos θᵢ + cos θₜ)², T = (1 − r_s² + 1 − r_p²)/2, with
+/// η cos θₜ = √((η − 1)(η + 1) + cos²θᵢ).
+///
+/// **Derivation.** (x + y)² − (x − y)² = 4xy applied to [`dielectric`]'s r_s and r_p.
+///
+/// **Source.** Born & Wolf, *Principles of Optics*, §1.5.3 (the transmissivity).
+pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
+    let d = index_excess(cos_theta, eta);
+    let (cos_i, eta) = if cos_theta < 0.0 {
+        (-cos_theta, 1.0 / eta)
+    } else {
+        (cos_theta, eta)
+    };
+    let cos_i = cos_i.min(1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 0.0;
+    }
+    let e_cos_t = (d + cos_i * cos_i).max(0.0).sqrt();
+    let cos_t = e_cos_t / eta;
+    let s = cos_i + e_cos_t;
+    let p = eta * cos_i + cos_t;
+    2.0 * cos_i * (e_cos_t / (s * s) + eta * cos_t / (p * p))
+}
+
+/// η′² − 1 for the relative index η′ seen from the side of `cos_theta` (η, or 1/η when
+/// negative), as (η − 1)(η + 1), or −(η − 1)(η + 1)/η² from inside: from η itself, so
+/// that 1/η's rounding (relative 1e-16, but 1e-9 of 1/η − 1 at η = 1 + 10⁻⁷) is not
+/// magnified.
+fn index_excess(cos_theta: f64, eta: f64) -> f64 {
+    let d = (eta - 1.0) * (eta + 1.0);
+    if cos_theta < 0.0 { -(d / eta) / eta } else { d }
 }
 
 /// A complex number, just enough for the conductor Fresnel equations.
@@ -96,6 +159,24 @@ pub fn conductor(cos_theta: f64, eta: f64, k: f64) -> f64 {
     let sin2_i = (1.0 - cos_i) * (1.0 + cos_i);
     let eta_c = Complex::new(eta, k);
     let ci = Complex::new(cos_i, 0.0);
+    if (eta - 1.0).hypot(k) < 0.5 {
+        // Near a matched index, [`dielectric`]'s cancellation-free form in complex
+        // arithmetic: d = (η̃ − 1)(η̃ + 1), cos²θt = (d + cos²θi)/η̃²,
+        // r_s = −d/(cos θi + η̃ cos θt)², r_p = d((η̃² + 1) cos²θi − 1)/(η̃ (η̃ cos θi + cos θt))².
+        // The direct form's cos θi − η̃ cos θt cancels to ~|η̃ − 1|: at η = 1, κ = 10⁻¹²
+        // F ~ 10⁻²⁵ came out with ~10⁻⁴ relative noise (a rough conductor's albedo
+        // quadrature then ran for minutes).
+        let one = Complex::new(1.0, 0.0);
+        let d = eta_c.sub(one).mul(eta_c.add(one));
+        let c2 = Complex::new(cos_i * cos_i, 0.0);
+        let cos_t = d.add(c2).div(eta_c).div(eta_c).sqrt();
+        let s = ci.add(eta_c.mul(cos_t));
+        let rs = Complex::new(-d.re, -d.im).div(s.mul(s));
+        let p = eta_c.mul(eta_c.mul(ci).add(cos_t));
+        let e2 = eta_c.mul(eta_c);
+        let rp = d.mul(e2.add(one).mul(c2).sub(one)).div(p.mul(p));
+        return 0.5 * (rs.norm2() + rp.norm2());
+    }
     // sin²θt = sin²θi/η², divided twice: η² overflows for |η| > 10¹⁵⁴.
     let sin2_t = Complex::new(sin2_i, 0.0).div(eta_c).div(eta_c);
     let cos_t = Complex::new(1.0, 0.0).sub(sin2_t).sqrt();
@@ -340,5 +421,49 @@ mod tests {
         // Known value: F̄(1.5) ≈ 0.0918 (e.g. tables of hemispherical reflectance).
         assert!((dielectric_average(1.5) - 0.091_777_959_342_351_21).abs() < 1e-15);
         assert_eq!(dielectric_average(1.0), 0.0);
+    }
+
+    /// Near matched indices the cancellation-free forms keep F's relative accuracy where
+    /// the direct form lost it (1 − sin²θₜ rounded), and the transmittance 1 − F near the
+    /// critical angle: against Born & Wolf's expressions in 50-digit arithmetic (mpmath).
+    #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
+    fn near_matched_indices_keep_relative_accuracy() {
+        let e = 1.000_000_1;
+        for (c, want) in [
+            (1e-3, 2.074_693_373_084_809_376e-3),
+            (0.5, 2.499_997_952_920_768_543_3e-14),
+            (1.0, 2.499_999_752_919_354_197_1e-15),
+            (-0.5, 2.500_001_552_920_234_850_5e-14),
+        ] {
+            let f = dielectric(c, e);
+            assert!(rel(f, want) < 1e-12, "F({c}; {e}) = {f} vs {want}");
+        }
+        // 1 − F from inside, just above the critical cosine 4.4721356e-4 (η′ = 1/e).
+        for (c, eta, want) in [
+            (-4.5e-4, e, 0.360_001_750_066_390_560_02),
+            (-4.4722e-4, e, 0.021_234_263_924_314_119_721),
+            (-1e-3, e, 0.996_894_386_577_955_762_5),
+        ] {
+            let t = dielectric_transmittance(c, eta);
+            assert!(rel(t, want) < 1e-11, "T({c}; {eta}) = {t} vs {want}");
+        }
+        assert_eq!(dielectric_transmittance(-0.4e-3, e), 0.0);
+        for (c, eta) in [(0.3, 1.5), (0.9, 2.4), (-0.9, 1.33), (0.7, 0.8)] {
+            let t = dielectric_transmittance(c, eta);
+            assert!((t - (1.0 - dielectric(c, eta))).abs() < 1e-15, "{c} {eta}");
+        }
+        // The conductor at 1 + 10⁻¹² i (F ~ 10⁻²⁵) and two other indices within 1/2 of 1.
+        for (c, eta, k, want) in [
+            (1e-3, 1.0, 1e-12, 2.499_995_000_001_249_698_8e-13),
+            (0.5, 1.0, 1e-12, 2.499_999_999_999_999_899_4e-24),
+            (1.0, 1.0, 1e-12, 2.499_999_999_999_999_899_4e-25),
+            (0.5, 0.9, 0.1, 0.083_392_729_924_655_190_497),
+            (0.3, 0.7, 1e-3, 0.996_782_894_421_151_158_79),
+        ] {
+            let f = conductor(c, eta, k);
+            assert!(rel(f, want) < 1e-12, "F({c}; {eta} + {k}i) = {f} vs {want}");
+        }
     }
 }

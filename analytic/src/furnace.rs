@@ -37,8 +37,11 @@ pub fn convex_object(albedo: f64, environment_radiance: f64) -> f64 {
 ///
 /// **Source.** Goebel, "Generalized integrating-sphere theory", Appl. Opt. 6(1), 1967;
 /// Siegel & Howell, ch. 6.
+///
+/// The denominator is evaluated as (1 − ρ) + ρ f, equal to 1 − ρ(1 − f) but without
+/// rounding 1 − f to 1: at ρ = 1 and a port of f ~ 10⁻²¹ the direct form gave 1/0 = ∞.
 pub fn integrating_sphere(emitted_radiance: f64, albedo: f64, port_fraction: f64) -> f64 {
-    emitted_radiance / (1.0 - albedo * (1.0 - port_fraction))
+    emitted_radiance / ((1.0 - albedo) + albedo * port_fraction)
 }
 
 #[cfg(test)]

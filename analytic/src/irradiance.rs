@@ -81,7 +81,9 @@ fn clip_to_half_space(poly: &[Vec3], n: Vec3) -> Vec<Vec3> {
 /// **Source.** Howell's catalog, case B-13 family (element to coaxial parallel disk,
 /// F = R²/(R²+h²)); pbrt 4th ed. §4.2 (irradiance from a disk).
 pub fn disk_on_axis(radius: f64, height: f64, radiance: f64) -> f64 {
-    PI * radiance * radius * radius / (radius * radius + height * height)
+    // π L/(1 + (h/R)²): no R² to overflow (R = h = 10²⁰⁰ gave NaN for π L/2).
+    let q = height / radius;
+    PI * radiance / (1.0 + q * q)
 }
 
 /// Irradiance from a uniform disk of radius `r` at a receiver parallel to the disk, at

@@ -37,8 +37,10 @@ pub fn sphere(distance: f64, radius: f64) -> f64 {
     if distance <= radius {
         return 4.0 * PI;
     }
+    // cos α = √((1 − s)(1 + s)), s = R/d = sin α: no d² to overflow (a centre 10²⁰⁰ away
+    // with R = 10¹⁹⁹ gave 0 for 0.0315).
     let s = radius / distance;
-    let cos_a = ((distance - radius) * (distance + radius)).sqrt() / distance;
+    let cos_a = ((1.0 - s) * (1.0 + s)).sqrt();
     2.0 * PI * s * s / (1.0 + cos_a)
 }
 

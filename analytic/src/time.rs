@@ -30,8 +30,10 @@ pub fn pulsed_disk_on_axis(
     let rmax = height.hypot(radius);
     let r1 = (speed * t1).clamp(height, rmax);
     let r2 = (speed * t2).clamp(height, rmax);
-    // h²(1/r₁² − 1/r₂²) = h²(r₂ − r₁)(r₂ + r₁)/(r₁² r₂²).
-    PI * radiance * height * height * (r2 - r1) * (r2 + r1) / (r1 * r1 * r2 * r2)
+    // h²(1/r₁² − 1/r₂²) = (q₁ − q₂)(q₁ + q₂) with q = h/r ≤ 1 and
+    // q₁ − q₂ = q₁ (r₂ − r₁)/r₂: no h² or r² to underflow (h = 10⁻²⁰⁰ gave 0/0).
+    let (q1, q2) = (height / r1, height / r2);
+    PI * radiance * q1 * ((r2 - r1) / r2) * (q1 + q2)
 }
 
 /// Vacuum speed of light, re-exported for the pulsed-disk form.
@@ -100,8 +102,8 @@ pub fn moving_point_light_average(
 ///
 /// **Formula.** Ē = (1/(t₁ − t₀)) ∫ E_sphere(t) dt, with E_sphere the closed-form
 /// irradiance of a sphere ([`crate::irradiance::sphere`]: L times the projected solid
-/// angle of its cap, horizon-clipped), integrated over time by adaptive Gauss–Kronrod
-/// quadrature (E is smooth in t).
+/// angle of its cap, horizon-clipped), integrated over time by adaptive bisection of a
+/// 12-point Gauss–Legendre rule ([`crate::quadrature::adaptive`]; E is smooth in t).
 ///
 /// **Source.** Derived here from the static sphere irradiance (Snyder 1996; pbrt 4th ed.
 /// §12.2) and the definition of a shutter average.

@@ -15,14 +15,21 @@ use std::f64::consts::PI;
 /// **Source.** Howell, *A Catalog of Radiation Heat Transfer Configuration Factors*,
 /// section B (plane element to parallel coaxial disk); Siegel & Howell App. C.
 pub fn element_to_coaxial_disk(radius: f64, height: f64) -> f64 {
-    radius * radius / (radius * radius + height * height)
+    // 1/(1 + (h/r)²): no r² to overflow (R = h = 10²⁰⁰ gave NaN); (h/r)² = ∞ gives 0.
+    let q = height / radius;
+    1.0 / (1.0 + q * q)
 }
 
 /// Disk of radius r₁ to a parallel coaxial disk of radius r₂ at distance h.
 ///
 /// **Formula.** With R₁ = r₁/h, R₂ = r₂/h, X = 1 + (1 + R₂²)/R₁²:
 /// F₁₂ = ½ [X − √(X² − 4 (R₂/R₁)²)], evaluated as 2(R₂/R₁)² / (X + √(X² − 4(R₂/R₁)²))
-/// (no cancellation for small or distant disks).
+/// (no cancellation for small or distant disks). Multiplied through by r₁² and with
+/// every length divided by m = max(r₁, r₂, h) (a = r₁/m, b = r₂/m, c = h/m ≤ 1):
+/// F₁₂ = 2b²/(S + √(S² − 4a²b²)), S = a² + b² + c², and
+/// S² − 4a²b² = ((a − b)² + c²)((a + b)² + c²), so the root is
+/// hypot(a − b, c)·hypot(a + b, c): X² is never formed (it overflowed at r₁/h = 10⁻⁸⁰,
+/// giving 0 for 0.5) and nothing cancels (h = 10⁻¹⁶⁰ gave NaN for ≈ 1).
 ///
 /// **Derivation.** Average over disk 1 of the offset element-to-disk factor
 /// ([`crate::irradiance::disk_parallel_offset`]):
@@ -31,10 +38,10 @@ pub fn element_to_coaxial_disk(radius: f64, height: f64) -> f64 {
 /// **Source.** Howell's catalog, case C-41 (parallel coaxial disks of unequal radii);
 /// Siegel & Howell App. C.
 pub fn disk_to_coaxial_disk(r1: f64, r2: f64, height: f64) -> f64 {
-    let (big_r1, big_r2) = (r1 / height, r2 / height);
-    let ratio2 = (big_r2 / big_r1) * (big_r2 / big_r1);
-    let x = 1.0 + (1.0 + big_r2 * big_r2) / (big_r1 * big_r1);
-    2.0 * ratio2 / (x + (x * x - 4.0 * ratio2).sqrt())
+    let m = r1.max(r2).max(height);
+    let (a, b, c) = (r1 / m, r2 / m, height / m);
+    let s = a * a + b * b + c * c;
+    2.0 * b * b / (s + (a - b).hypot(c) * (a + b).hypot(c))
 }
 
 /// Identical, parallel, directly opposed rectangles a × b at separation c.
@@ -47,7 +54,12 @@ pub fn disk_to_coaxial_disk(r1: f64, r2: f64, height: f64) -> f64 {
 /// contour form) over the emitting rectangle; the four-fold integral is elementary.
 ///
 /// **Source.** Howell's catalog, case C-11; Siegel & Howell App. C.
-/// Loses ~2 log₁₀(c/√(ab)) digits to cancellation for widely separated plates.
+///
+/// **Accuracy.** The braces hold O(1) terms that cancel to F·πXY/2 ~ X²Y² (distant
+/// plates) or ~X (a strip, X ≪ 1 ≤ Y): about 2 log₁₀(c/min(a, b)) digits are lost, the
+/// relative error growing like 10⁻¹⁶ (c/min(a, b))² (a = 10⁻⁹, b = c = 1 gives 0 for
+/// 2.5e-10). The catalog refuses c > [`PARALLEL_RECTANGLES_MAX_RATIO`]·min(a, b); the
+/// tests check 1e-7 relative at that limit against 60-digit references.
 pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
     let (x, y) = (a / c, b / c);
     let (x2, y2) = (x * x, y * y);
@@ -60,6 +72,10 @@ pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
         - y * y.atan();
     2.0 * t / (PI * x * y)
 }
+
+/// The largest separation/min(width, length) the catalog evaluates
+/// [`parallel_rectangles`] at (its doc: the error grows like 10⁻¹⁶ times its square).
+pub const PARALLEL_RECTANGLES_MAX_RATIO: f64 = 1e4;
 
 /// Perpendicular rectangles sharing an edge of length l: from A₁ = l × w to A₂ = l × h.
 ///
@@ -140,6 +156,50 @@ mod tests {
 
     fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / b.abs().max(1e-300)
+    }
+
+    /// Extreme aspect ratios: r₁/h = 10⁻¹⁰⁰ is the element-to-disk limit r₂²/(r₂² + h²);
+    /// h/r = 10⁻¹⁰⁰ the touching limit min(1, (r₂/r₁)²); r₁/h = 10¹⁰⁰ with r₂ = h the
+    /// reciprocal (r₂/r₁)² F₂₁, F₂₁ → 1. X² overflowed at the first (0 for 0.5) and
+    /// cancelled to NaN at h = 10⁻¹⁶⁰.
+    #[test]
+    fn coaxial_disks_at_extreme_ratios() {
+        for (r1, r2, h, want) in [
+            (1e-100, 1.0, 1.0, 0.5),
+            (1e-80, 1.0, 1.0, 0.5),
+            (1e-100, 2.0, 1.0, 0.8),
+            (1.0, 1.0, 1e-100, 1.0),
+            (1.0, 1.0, 1e-160, 1.0),
+            (1.0, 0.5, 1e-100, 0.25),
+            (0.5, 1.0, 1e-100, 1.0),
+            (1e100, 1.0, 1.0, 1e-200),
+            (1e200, 1e200, 1e200, 0.5 * (3.0 - 5f64.sqrt())),
+        ] {
+            let f = disk_to_coaxial_disk(r1, r2, h);
+            assert!(rel(f, want) < 1e-14, "r1 {r1} r2 {r2} h {h}: {f} vs {want}");
+        }
+        // R = h = 10²⁰⁰ and beyond: 1/2, no overflow.
+        assert_eq!(element_to_coaxial_disk(1e200, 1e200), 0.5);
+        assert_eq!(element_to_coaxial_disk(1e-200, 1e200), 0.0);
+        assert!(rel(element_to_coaxial_disk(3.0, 4.0), 9.0 / 25.0) < 1e-15);
+    }
+
+    /// At the catalog's limit c = 10⁴·min(a, b), against Howell's C-11 evaluated with
+    /// 60 significant digits (mpmath): a strip, two small squares, distant plates.
+    #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
+    fn parallel_rectangles_at_the_ratio_limit() {
+        for (a, b, c, want) in [
+            (1e-4, 1.0, 1.0, 2.499_999_992_423_708_969_2e-5),
+            (1e-3, 1e-3, 10.0, 3.183_098_840_617_247_949_4e-9),
+            (1.0, 1.0, 1e4, 3.183_098_840_617_247_816_8e-9),
+            (0.5, 2.0, 3000.0, 3.536_775_956_438_555_716_5e-8),
+        ] {
+            assert!(c <= PARALLEL_RECTANGLES_MAX_RATIO * f64::min(a, b));
+            let f = parallel_rectangles(a, b, c);
+            assert!(rel(f, want) < 1e-7, "{a} × {b} at {c}: {f} vs {want}");
+        }
     }
 
     #[test]
