@@ -511,6 +511,9 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         Command::Merge { inputs, out } => {
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
+            for n in &summary.notes {
+                eprintln!("note: {n}");
+            }
             print_summary(&out, &summary);
             Ok(())
         }

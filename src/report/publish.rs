@@ -4,7 +4,7 @@
 
 use super::store::{plot_file, report_file, write_bytes, write_json};
 use super::{CaseReport, Index};
-use crate::error::Error;
+use crate::error::{Error, IoError};
 use std::path::{Path, PathBuf};
 
 /// What a run (or a merge) wrote.
@@ -27,7 +27,12 @@ pub struct Summary {
 }
 
 /// Write the final case reports with their plots, then the index.
+///
+/// A case with nothing to plot (an error of zero at every point: an exact case) gets
+/// `plot: null`, a note saying why, and no SVG: one an earlier run left is removed, so
+/// that no picture contradicts its report.
 pub fn publish(out: &Path, reports: &mut [CaseReport]) -> Result<Summary, Error> {
+    let mut notes = vec![];
     for r in reports.iter_mut() {
         let svg = plot_file(&r.id);
         r.plot = match super::plot::svg(r) {
@@ -35,7 +40,14 @@ pub fn publish(out: &Path, reports: &mut [CaseReport]) -> Result<Summary, Error>
                 write_bytes(&out.join(&svg), text.as_bytes())?;
                 Some(svg)
             }
-            Err(_) => None,
+            Err(why) => {
+                let stale = out.join(&svg);
+                if stale.symlink_metadata().is_ok() {
+                    std::fs::remove_file(&stale).map_err(|e| IoError::write(&stale, e))?;
+                }
+                notes.push(format!("{}: no plot ({why})", r.id));
+                None
+            }
         };
         write_json(&out.join(report_file(&r.id)), r, true)?;
     }
@@ -47,6 +59,6 @@ pub fn publish(out: &Path, reports: &mut [CaseReport]) -> Result<Summary, Error>
         computed: 0,
         resumed: 0,
         budget_cut: reports.iter().any(|r| r.run.budget_cut),
-        notes: vec![],
+        notes,
     })
 }

@@ -386,7 +386,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     summary.computed = run.points_computed;
     summary.resumed = resumed;
     summary.budget_cut = run.budget_cut;
-    summary.notes = notes;
+    summary.notes.splice(0..0, notes);
     Ok(summary)
 }
 

@@ -732,3 +732,36 @@ fn the_revision_marks_an_uncommitted_build() {
         );
     }
 }
+
+/// A case with nothing to plot (an exact one: zero error at every point) gets `plot:
+/// null`, a note saying why, and no SVG, even where an earlier run left one; a sampler
+/// asked for twice is one series.
+#[test]
+fn an_exact_case_has_no_plot_and_no_stale_one() {
+    let out = tmp("noplot");
+    std::fs::create_dir_all(&out).unwrap();
+    let stale = out.join("disk_behind.svg");
+    std::fs::write(&stale, "<svg>an earlier run's</svg>").unwrap();
+    let mut o = options(
+        vec![root().join("analytic/cases/intensity/disk_behind.json")],
+        &out,
+        1024,
+    );
+    o.samplers = vec![SamplerKind::Sobol, SamplerKind::Sobol];
+    let s = sweep(&o);
+    assert!(
+        !stale.exists(),
+        "the stale plot is left beside a report without one"
+    );
+    assert_eq!(s.reports[0].plot, None);
+    assert_eq!(s.reports[0].series.len(), 1, "one series per sampler");
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.starts_with("disk_behind: no plot (")),
+        "{:?}",
+        s.notes
+    );
+    assert!(validate_dir(&out) >= 2);
+    let _ = std::fs::remove_dir_all(out);
+}
