@@ -380,7 +380,7 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
         return r
             .fail(|| format!("pdf ≤ 0, weight < 0 or eta ≤ 0 in {s:?} for wo = {wo}, u = {u}"));
     }
-    if (wi.length() - 1.0).abs() > 1e-3 {
+    if !((wi.length() - 1.0).abs() <= 1e-3) {
         return r.fail(|| format!("|wi| = {} in {s:?} for wo = {wo}", wi.length()));
     }
     let reflected = wi.z * wo.z > 0.0;

@@ -226,7 +226,7 @@ fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
         if !(s.weight >= 0.0 && s.pdf > 0.0 && s.eta > 0.0) {
             return Err(format!("negative weight or non-positive pdf {s:?}"));
         }
-        if (s.wi.length() - 1.0).abs() > 2e-3 {
+        if !((s.wi.length() - 1.0).abs() <= 2e-3) {
             return Err(format!("|wi| = {} in {s:?}", s.wi.length()));
         }
         let energy = s.weight * s.eta * s.eta;
@@ -242,7 +242,7 @@ fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
             Bsdf::OrenNayar(_) | Bsdf::OrenNayarClassic(_) | Bsdf::Plastic(_) => None,
         };
         if let Some(bound) = bound
-            && energy > bound * (1.0 + 1e-5) + 1e-6
+            && !(energy <= bound * (1.0 + 1e-5) + 1e-6)
         {
             return Err(format!("energy weight {energy} > {bound} in {s:?}"));
         }
