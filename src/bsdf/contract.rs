@@ -325,9 +325,8 @@ pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u6
             r
         })
         .reduce(CheckReport::default, CheckReport::merge);
-    let vacuous = (r.compared == 0 && r.delta == 0 && r.unresolved == 0).then(|| {
-        format!("`sample` returned no usable sample at wo = {wo}")
-    });
+    let vacuous = (r.compared == 0 && r.delta == 0 && r.unresolved == 0)
+        .then(|| format!("`sample` returned no usable sample at wo = {wo}"));
     r.finish(vacuous)
 }
 
@@ -853,7 +852,10 @@ mod tests {
     fn a_model_that_never_samples_fails_consistency() {
         let wo = direction(0.7, 0.3);
         let r = check_consistency(&NeverSamples, wo, 1000, 1);
-        assert!(!r.passed && r.vacuous && r.compared == 0 && r.delta == 0, "{r:?}");
+        assert!(
+            !r.passed && r.vacuous && r.compared == 0 && r.delta == 0,
+            "{r:?}"
+        );
         let why = r.first_failure.clone().unwrap_or_default();
         assert!(why.contains("nothing compared in 1000 trials"), "{why}");
         // Documented black, the same report passes; nothing else is forgiven.
@@ -890,8 +892,10 @@ mod tests {
 
     #[test]
     fn accept_black_keeps_other_violations() {
-        let mut r = CheckReport::default();
-        r.trials = 3;
+        let mut r = CheckReport {
+            trials: 3,
+            ..Default::default()
+        };
         r.fail(|| "a real violation".into());
         let r = r.finish(Some("no sample".into()));
         assert_eq!(r.failures, 2);

@@ -197,9 +197,17 @@ fn estimators_agree_with_each_other() {
     assert_eq!(pairs.len(), AGREEMENTS);
     for (x, y, what) in pairs {
         let (v, det) = same_mean(x, y);
-        println!("{what}: z = {:+.2}, detectable relative difference {:.3}%", v.z, 100.0 * det);
+        println!(
+            "{what}: z = {:+.2}, detectable relative difference {:.3}%",
+            v.z,
+            100.0 * det
+        );
         assert!(v.passed, "{what}: {v:?}");
-        assert!(det <= AGREEMENT_POWER, "{what}: detectable {:.3}%", 100.0 * det);
+        assert!(
+            det <= AGREEMENT_POWER,
+            "{what}: detectable {:.3}%",
+            100.0 * det
+        );
     }
 }
 
