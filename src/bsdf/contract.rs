@@ -200,6 +200,13 @@ pub struct CheckReport {
     pub worst: f64,
     /// The first violation, described.
     pub first_failure: Option<String>,
+    /// Whether the check had nothing to compare: no sample at all ([`check_consistency`]:
+    /// `sample` returned `None` on every draw), or f = 0 on both sides of every pair
+    /// ([`check_reciprocity`], for a model with a non-delta lobe). A check that compared
+    /// nothing proves nothing, so this is a failure unless the model is documented
+    /// black ([`CheckReport::accept_black`]).
+    #[serde(default)]
+    pub vacuous: bool,
     /// Whether no violation was found.
     pub passed: bool,
 }
@@ -223,7 +230,17 @@ impl CheckReport {
         }
         self
     }
-    fn finish(mut self) -> CheckReport {
+    /// Close the report; `vacuous` says what was found when nothing was compared (see
+    /// [`CheckReport::vacuous`]), `None` if comparing nothing is right for this model.
+    fn finish(mut self, vacuous: Option<String>) -> CheckReport {
+        if let Some(why) = vacuous {
+            self.vacuous = true;
+            self.failures += 1;
+            self.first_failure.get_or_insert(format!(
+                "nothing compared in {} trials: {why}; a check without a comparison proves nothing (for a model that scatters no light, say so with `accept_black`)",
+                self.trials
+            ));
+        }
         if self.unresolved as f64 > MAX_UNRESOLVED * self.compared.max(1) as f64 {
             self.failures += 1;
             let msg = format!(
@@ -233,6 +250,21 @@ impl CheckReport {
             self.first_failure.get_or_insert(msg);
         }
         self.passed = self.failures == 0;
+        self
+    }
+
+    /// For a model documented black (it scatters no light: `ModelFacts::is_black`; or
+    /// whose non-delta lobes are, such as a plastic of albedo 0 under its delta coat, for
+    /// [`check_reciprocity`]), a check that compared nothing is right: drop that one
+    /// failure. Every other violation stands.
+    pub fn accept_black(mut self) -> CheckReport {
+        if self.vacuous {
+            self.failures -= 1;
+            if self.failures == 0 {
+                self.first_failure = None;
+            }
+            self.passed = self.failures == 0;
+        }
         self
     }
 }
@@ -272,11 +304,14 @@ fn sensitivity(w: Vec3, ulps: f32, f: impl Fn(Vec3) -> f64) -> f64 {
 ///   [`MAX_UNRESOLVED`] of the samples;
 /// - for delta samples, pdf ≤ 1 (a discrete lobe probability), the direction is the
 ///   mirror image or Snell's refraction of ωo ([`delta_direction_error`]), and a model
-///   whose flags have no DIFFUSE or GLOSSY lobe gives eval = pdf = 0 along it.
+///   whose flags have no DIFFUSE or GLOSSY lobe gives eval = pdf = 0 along it;
+/// - at least one sample was checked: a model whose `sample` returns `None` on every
+///   draw fails ([`CheckReport::vacuous`]; [`CheckReport::accept_black`] for a model
+///   that scatters nothing).
 pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u64) -> CheckReport {
     let sampler = Sampler::independent(seed);
     const BLOCK: u64 = 4096;
-    (0..samples.div_ceil(BLOCK))
+    let r = (0..samples.div_ceil(BLOCK))
         .into_par_iter()
         .map(|b| {
             let mut r = CheckReport::default();
@@ -289,8 +324,10 @@ pub fn check_consistency(model: &dyn BsdfModel, wo: Vec3, samples: u64, seed: u6
             }
             r
         })
-        .reduce(CheckReport::default, CheckReport::merge)
-        .finish()
+        .reduce(CheckReport::default, CheckReport::merge);
+    let vacuous = (r.compared == 0 && r.delta == 0 && r.unresolved == 0)
+        .then(|| format!("`sample` returned no usable sample at wo = {wo}"));
+    r.finish(vacuous)
 }
 
 /// Where a delta sample's direction breaks the law of its lobe, the violation: a delta
@@ -342,7 +379,7 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
         return r
             .fail(|| format!("pdf ≤ 0, weight < 0 or eta ≤ 0 in {s:?} for wo = {wo}, u = {u}"));
     }
-    if (wi.length() - 1.0).abs() > 1e-3 {
+    if !((wi.length() - 1.0).abs() <= 1e-3) {
         return r.fail(|| format!("|wi| = {} in {s:?} for wo = {wo}", wi.length()));
     }
     let reflected = wi.z * wo.z > 0.0;
@@ -427,9 +464,9 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
             .max(2.0 * sensitivity(wi, ROUNDING_ULPS, weight_at));
     }
     r.worst = r.worst.max(e_pdf / tol_pdf).max(e_w / tol_w);
-    if e_pdf > tol_pdf {
+    if !(e_pdf <= tol_pdf) {
         r.fail(|| format!("sample pdf {} ≠ pdf(wo, wi) {pdf} (rel. {e_pdf:.2e} > {tol_pdf:.2e}) at wo = {wo}, wi = {wi}", s.pdf));
-    } else if e_w > tol_w {
+    } else if !(e_w <= tol_w) {
         r.fail(|| {
             format!(
                 "sample weight {} ≠ eval·|cos|/pdf = {expected_weight} (rel. {e_w:.2e} > {tol_w:.2e}) at wo = {wo}, wi = {wi}",
@@ -449,7 +486,10 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
 /// are independent uniform directions; in the other half ωi is drawn from the model
 /// itself, so that sharp lobes are probed where f is large. Tolerance: [`REL_TOL`]
 /// relative (the two evaluations see the same exact directions, so only arithmetic
-/// rounding separates them).
+/// rounding separates them). A model with a non-delta lobe whose f is 0 on both sides
+/// of every pair fails ([`CheckReport::vacuous`]; [`CheckReport::accept_black`] for a
+/// model that scatters nothing); a model of delta lobes only has f ≡ 0 by the contract
+/// (checked by [`check_consistency`]) and passes with nothing compared.
 pub fn check_reciprocity(
     model: &dyn BsdfModel,
     eta_inside: f32,
@@ -465,7 +505,7 @@ pub fn check_reciprocity(
         }
     };
     const BLOCK: u64 = 4096;
-    (0..pairs.div_ceil(BLOCK))
+    let r = (0..pairs.div_ceil(BLOCK))
         .into_par_iter()
         .map(|b| {
             let mut r = CheckReport::default();
@@ -494,7 +534,7 @@ pub fn check_reciprocity(
                 r.compared += 1;
                 let e = rel_err(a, b);
                 r.worst = r.worst.max(e / REL_TOL);
-                if e > REL_TOL {
+                if !(e <= REL_TOL) {
                     r.fail(|| {
                         format!("f(wi→wo)/η_o² = {a} but f(wo→wi)/η_i² = {b} (rel. {e:.2e}) at wo = {wo}, wi = {wi}")
                     });
@@ -502,8 +542,17 @@ pub fn check_reciprocity(
             }
             r
         })
-        .reduce(CheckReport::default, CheckReport::merge)
-        .finish()
+        .reduce(CheckReport::default, CheckReport::merge);
+    let has_density = model
+        .flags()
+        .intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY);
+    let vacuous = (r.compared == 0 && has_density).then(|| {
+        format!(
+            "f = 0 both ways at every pair, for a model with lobes {:?}",
+            model.flags()
+        )
+    });
+    r.finish(vacuous)
 }
 
 // ---------------------------------------------------------------------------------
@@ -756,4 +805,102 @@ pub fn chi2_microfacet(
         |u| Some(sample(wo, Vec2::new(u.x, u.y))),
         |m| pdf(wo, m) as f64,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::{Bsdf, Conductor, Lambertian, LobeFlags};
+
+    /// A diffuse model whose `sample` never returns a sample.
+    struct NeverSamples;
+
+    impl BsdfModel for NeverSamples {
+        fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+            if wo.z * wi.z > 0.0 { 0.2 } else { 0.0 }
+        }
+        fn sample(&self, _wo: Vec3, _u: Vec3) -> Option<BsdfSample> {
+            None
+        }
+        fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+            0.0
+        }
+        fn flags(&self) -> LobeFlags {
+            LobeFlags::REFLECTION | LobeFlags::DIFFUSE
+        }
+    }
+
+    /// A "glossy" model whose f is 0 everywhere (a black Lambertian claiming a lobe).
+    struct ZeroEverywhere;
+
+    impl BsdfModel for ZeroEverywhere {
+        fn eval(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+            0.0
+        }
+        fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+            Bsdf::Lambertian(Lambertian::new(0.0)).sample(wo, u)
+        }
+        fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+            Bsdf::Lambertian(Lambertian::new(0.0)).pdf(wo, wi)
+        }
+        fn flags(&self) -> LobeFlags {
+            LobeFlags::REFLECTION | LobeFlags::GLOSSY
+        }
+    }
+
+    #[test]
+    fn a_model_that_never_samples_fails_consistency() {
+        let wo = direction(0.7, 0.3);
+        let r = check_consistency(&NeverSamples, wo, 1000, 1);
+        assert!(
+            !r.passed && r.vacuous && r.compared == 0 && r.delta == 0,
+            "{r:?}"
+        );
+        let why = r.first_failure.clone().unwrap_or_default();
+        assert!(why.contains("nothing compared in 1000 trials"), "{why}");
+        // Documented black, the same report passes; nothing else is forgiven.
+        assert!(r.accept_black().passed);
+        // A sound model compares its samples and passes.
+        let lamb = Bsdf::Lambertian(Lambertian::new(0.5));
+        let r = check_consistency(&lamb, wo, 1000, 1);
+        assert!(r.passed && !r.vacuous && r.compared == 1000, "{r:?}");
+        // A delta-only model checks its delta samples structurally: not vacuous.
+        let mirror = Bsdf::Conductor(Conductor::new(0.2, 3.9));
+        let r = check_consistency(&mirror, wo, 1000, 1);
+        assert!(r.passed && !r.vacuous && r.delta == 1000, "{r:?}");
+    }
+
+    #[test]
+    fn a_model_with_f_zero_everywhere_fails_reciprocity() {
+        let r = check_reciprocity(&ZeroEverywhere, 1.0, 2000, 2);
+        assert!(!r.passed && r.vacuous && r.compared == 0, "{r:?}");
+        assert!(
+            r.first_failure
+                .as_deref()
+                .unwrap_or("")
+                .contains("f = 0 both ways at every pair"),
+            "{r:?}"
+        );
+        assert!(r.accept_black().passed);
+        let r = check_reciprocity(&NeverSamples, 1.0, 2000, 2);
+        assert!(r.passed && r.compared > 0, "{r:?}");
+        // Delta lobes only: f ≡ 0 is the contract, nothing to compare is right.
+        let mirror = Bsdf::Conductor(Conductor::new(0.2, 3.9));
+        let r = check_reciprocity(&mirror, 1.0, 2000, 2);
+        assert!(r.passed && !r.vacuous && r.compared == 0, "{r:?}");
+    }
+
+    #[test]
+    fn accept_black_keeps_other_violations() {
+        let mut r = CheckReport {
+            trials: 3,
+            ..Default::default()
+        };
+        r.fail(|| "a real violation".into());
+        let r = r.finish(Some("no sample".into()));
+        assert_eq!(r.failures, 2);
+        let r = r.accept_black();
+        assert!(!r.passed && r.failures == 1, "{r:?}");
+        assert_eq!(r.first_failure.as_deref(), Some("a real violation"));
+    }
 }

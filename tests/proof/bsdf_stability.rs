@@ -4,6 +4,16 @@
 //! F G2/G1 ≤ 1; dielectric energy weight weight·η′² ≤ 1; Lambertian = ρ), including at
 //! grazing angles, α → 1e-4, η → 1, across the total-internal-reflection boundary and
 //! for directions that are not quite unit length, zero, or exactly in the tangent plane.
+//!
+//! "Every BSDF" is the enum's own list: [`variant_names`] reads the variants from the
+//! `Bsdf` type's serde derive, and the strategy ([`arb_variant`]) and the degenerate
+//! models ([`degenerate_models`]) are exhaustive matches on `Bsdf` (no `_` arm), so a new
+//! variant does not compile here until it has both, and [`every_variant_is_covered`]
+//! fails if a variant is missing from either.
+
+// `!(err <= tol)` fails on NaN where `err > tol` would pass it: the negated
+// comparisons are the point (as in the library, `src/lib.rs`).
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::common;
 
@@ -48,49 +58,124 @@ fn arb_eta() -> impl Strategy<Value = f32> {
     ]
 }
 
-fn arb_bsdf() -> impl Strategy<Value = Bsdf> {
-    prop_oneof![
-        (0.0f32..=1.0).prop_map(|r| Bsdf::Lambertian(Lambertian::new(r))),
-        (0.0f32..=1.0, 0.0f32..=1.0).prop_map(|(r, s)| Bsdf::OrenNayar(OrenNayar::new(r, s))),
-        (
-            log_range(1e-3, 100.0),
-            prop_oneof![Just(0.0f32), log_range(1e-3, 100.0)]
+/// The names of every `Bsdf` variant, from the enum itself: serde's derive lists them
+/// all in its "unknown variant" error (`expected one of `lambertian`, ...`).
+fn variant_names() -> Vec<String> {
+    let e = serde_json::from_str::<Bsdf>(r#"{"type": "no such model"}"#)
+        .expect_err("not a model")
+        .to_string();
+    let list = e
+        .split("expected one of")
+        .nth(1)
+        .unwrap_or_else(|| panic!("serde's message changed: {e}"));
+    let names: Vec<String> = list
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect();
+    assert!(names.len() >= 8, "{e}");
+    names
+}
+
+/// One model of each variant, by its JSON name (a name not listed here fails
+/// [`every_variant_is_covered`]: add the new variant).
+fn representative(name: &str) -> Option<Bsdf> {
+    Some(match name {
+        "lambertian" => Bsdf::Lambertian(Lambertian::new(0.5)),
+        "oren_nayar" => Bsdf::OrenNayar(OrenNayar::new(0.5, 0.5)),
+        "oren_nayar_classic" => Bsdf::OrenNayarClassic(OrenNayarClassic::new(0.5, 0.5)),
+        "conductor" => Bsdf::Conductor(Conductor::new(0.2, 3.9)),
+        "dielectric" => Bsdf::Dielectric(Dielectric::new(1.5)),
+        "rough_conductor" => Bsdf::RoughConductor(RoughConductor::new(0.3, 0.2, 3.9)),
+        "rough_dielectric" => Bsdf::RoughDielectric(RoughDielectric::new(0.3, 1.5)),
+        "plastic" => Bsdf::Plastic(Plastic::new(0.5, 1.5)),
+        _ => return None,
+    })
+}
+
+/// A model of every variant of the enum.
+fn every_variant() -> Vec<Bsdf> {
+    variant_names()
+        .iter()
+        .map(|n| representative(n).unwrap_or_else(|| panic!("no representative of `{n}`")))
+        .collect()
+}
+
+/// The parameter strategy of a variant (`kind`'s parameters are ignored): an
+/// exhaustive match, so a new variant needs its strategy to compile.
+fn arb_variant(kind: &Bsdf) -> BoxedStrategy<Bsdf> {
+    match kind {
+        Bsdf::Lambertian(_) => (0.0f32..=1.0)
+            .prop_map(|r| Bsdf::Lambertian(Lambertian::new(r)))
+            .boxed(),
+        Bsdf::OrenNayar(_) => (0.0f32..=1.0, 0.0f32..=1.0)
+            .prop_map(|(r, s)| Bsdf::OrenNayar(OrenNayar::new(r, s)))
+            .boxed(),
+        // σ over its whole range [0, π/2] radians, the ends often.
+        Bsdf::OrenNayarClassic(_) => (
+            0.0f32..=1.0,
+            prop_oneof![
+                1 => Just(0.0f32),
+                1 => Just(std::f32::consts::FRAC_PI_2),
+                4 => 0.0f32..=std::f32::consts::FRAC_PI_2,
+            ],
         )
-            .prop_map(|(e, k)| Bsdf::Conductor(Conductor::new(e, k))),
-        arb_eta().prop_map(|e| Bsdf::Dielectric(Dielectric::new(e))),
-        (
+            .prop_map(|(r, s)| Bsdf::OrenNayarClassic(OrenNayarClassic::new(r, s)))
+            .boxed(),
+        Bsdf::Conductor(_) => (
+            log_range(1e-3, 100.0),
+            prop_oneof![Just(0.0f32), log_range(1e-3, 100.0)],
+        )
+            .prop_map(|(e, k)| Bsdf::Conductor(Conductor::new(e, k)))
+            .boxed(),
+        Bsdf::Dielectric(_) => arb_eta()
+            .prop_map(|e| Bsdf::Dielectric(Dielectric::new(e)))
+            .boxed(),
+        Bsdf::RoughConductor(_) => (
             log_range(1e-4, 1.0),
             log_range(1e-3, 100.0),
             prop_oneof![Just(0.0f32), log_range(1e-3, 100.0)],
-            arb_distribution()
+            arb_distribution(),
         )
-            .prop_map(|(a, e, k, (d, m))| Bsdf::RoughConductor(RoughConductor {
-                alpha: a,
-                // k > 50 (6% of draws) stands for F ≡ 1 (`fresnel: none`), which has no index.
-                eta: (k <= 50.0).then_some(e),
-                k: (k <= 50.0).then_some(k),
-                fresnel: if k <= 50.0 {
-                    FresnelMode::Conductor
-                } else {
-                    FresnelMode::None
-                },
-                distribution: d,
-                masking: m
-            })),
-        (log_range(1e-4, 1.0), arb_eta(), arb_distribution()).prop_map(|(a, e, (d, m))| {
-            Bsdf::RoughDielectric(RoughDielectric {
-                alpha: a,
-                eta: e,
-                distribution: d,
-                masking: m,
+            .prop_map(|(a, e, k, (d, m))| {
+                Bsdf::RoughConductor(RoughConductor {
+                    alpha: a,
+                    // k > 50 (6% of draws) stands for F ≡ 1 (`fresnel: none`), which has no index.
+                    eta: (k <= 50.0).then_some(e),
+                    k: (k <= 50.0).then_some(k),
+                    fresnel: if k <= 50.0 {
+                        FresnelMode::Conductor
+                    } else {
+                        FresnelMode::None
+                    },
+                    distribution: d,
+                    masking: m,
+                })
             })
-        }),
-        (
+            .boxed(),
+        Bsdf::RoughDielectric(_) => (log_range(1e-4, 1.0), arb_eta(), arb_distribution())
+            .prop_map(|(a, e, (d, m))| {
+                Bsdf::RoughDielectric(RoughDielectric {
+                    alpha: a,
+                    eta: e,
+                    distribution: d,
+                    masking: m,
+                })
+            })
+            .boxed(),
+        Bsdf::Plastic(_) => (
             0.0f32..=1.0,
-            prop_oneof![Just(1.0f32), log_range(1.0, 10.0)]
+            prop_oneof![Just(1.0f32), log_range(1.0, 10.0)],
         )
-            .prop_map(|(r, e)| Bsdf::Plastic(Plastic::new(r, e))),
-    ]
+            .prop_map(|(r, e)| Bsdf::Plastic(Plastic::new(r, e)))
+            .boxed(),
+    }
+}
+
+/// Every variant, equally often.
+fn arb_bsdf() -> impl Strategy<Value = Bsdf> {
+    proptest::strategy::Union::new(every_variant().iter().map(arb_variant).collect::<Vec<_>>())
 }
 
 /// Directions: uniform, grazing (|z| down to 1e-30 and exactly 0), poles, and lengths
@@ -145,7 +230,7 @@ fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
         if !(s.weight >= 0.0 && s.pdf > 0.0 && s.eta > 0.0) {
             return Err(format!("negative weight or non-positive pdf {s:?}"));
         }
-        if (s.wi.length() - 1.0).abs() > 2e-3 {
+        if !((s.wi.length() - 1.0).abs() <= 2e-3) {
             return Err(format!("|wi| = {} in {s:?}", s.wi.length()));
         }
         let energy = s.weight * s.eta * s.eta;
@@ -155,10 +240,13 @@ fn check(b: &Bsdf, wo: Vec3, wi: Vec3, u: Vec3) -> Result<(), String> {
             | Bsdf::RoughConductor(_)
             | Bsdf::Dielectric(_)
             | Bsdf::RoughDielectric(_) => Some(1.0),
-            _ => None,
+            // Oren–Nayar's weights exceed ρ by design (ρ(A + B·tan θo)-like terms, and the
+            // classic form is not energy conserving); a plastic's base weight exceeds 1
+            // (`bsdf_contract::energy_bound`): no per-sample bound to check.
+            Bsdf::OrenNayar(_) | Bsdf::OrenNayarClassic(_) | Bsdf::Plastic(_) => None,
         };
         if let Some(bound) = bound
-            && energy > bound * (1.0 + 1e-5) + 1e-6
+            && !(energy <= bound * (1.0 + 1e-5) + 1e-6)
         {
             return Err(format!("energy weight {energy} > {bound} in {s:?}"));
         }
@@ -213,51 +301,7 @@ fn degenerate_directions_exhaustively() {
         Vec3::splat(ONE_MINUS_EPSILON),
         Vec3::new(0.0, ONE_MINUS_EPSILON, 0.5),
     ];
-    let mut models = Vec::new();
-    for alpha in [1e-4, 1e-2, 1.0] {
-        for dist in [Distribution::Ggx, Distribution::Beckmann] {
-            for eta in [1.0, 1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
-                models.push(Bsdf::RoughDielectric(RoughDielectric {
-                    alpha,
-                    eta,
-                    distribution: dist,
-                    masking: Masking::HeightCorrelated,
-                }));
-            }
-            models.push(Bsdf::RoughConductor(RoughConductor {
-                alpha,
-                eta: Some(1.0),
-                k: Some(0.0),
-                fresnel: FresnelMode::Conductor,
-                distribution: dist,
-                masking: Masking::Uncorrelated,
-            }));
-            models.push(Bsdf::RoughConductor(RoughConductor {
-                alpha,
-                eta: Some(0.2),
-                k: Some(3.9),
-                fresnel: FresnelMode::Conductor,
-                distribution: dist,
-                masking: Masking::HeightCorrelated,
-            }));
-            models.push(Bsdf::RoughConductor(RoughConductor {
-                distribution: dist,
-                ..RoughConductor::white(alpha)
-            }));
-        }
-    }
-    for eta in [1.0, 1.0001, 1.5, 0.01, 100.0] {
-        models.push(Bsdf::Dielectric(Dielectric::new(eta)));
-    }
-    models.extend([
-        Bsdf::Conductor(Conductor::new(1.0, 0.0)),
-        Bsdf::Conductor(Conductor::new(0.001, 100.0)),
-        Bsdf::Lambertian(Lambertian::new(1.0)),
-        Bsdf::OrenNayar(OrenNayar::new(1.0, 1.0)),
-        Bsdf::Plastic(Plastic::new(1.0, 1.0)),
-        Bsdf::Plastic(Plastic::new(0.0, 1.0)),
-        Bsdf::Plastic(Plastic::new(1.0, 10.0)),
-    ]);
+    let models: Vec<Bsdf> = every_variant().iter().flat_map(degenerate_models).collect();
     for b in &models {
         for wo in dirs {
             for wi in dirs {
@@ -272,4 +316,128 @@ fn degenerate_directions_exhaustively() {
             }
         }
     }
+}
+
+/// The hard parameter settings of a variant (`kind`'s parameters are ignored): an
+/// exhaustive match, so a new variant needs its settings to compile.
+fn degenerate_models(kind: &Bsdf) -> Vec<Bsdf> {
+    let mut models = Vec::new();
+    let alphas = [1e-4, 1e-2, 1.0];
+    let dists = [Distribution::Ggx, Distribution::Beckmann];
+    match kind {
+        Bsdf::RoughDielectric(_) => {
+            for alpha in alphas {
+                for dist in dists {
+                    for eta in [1.0, 1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
+                        models.push(Bsdf::RoughDielectric(RoughDielectric {
+                            alpha,
+                            eta,
+                            distribution: dist,
+                            masking: Masking::HeightCorrelated,
+                        }));
+                    }
+                }
+            }
+        }
+        Bsdf::RoughConductor(_) => {
+            for alpha in alphas {
+                for dist in dists {
+                    models.push(Bsdf::RoughConductor(RoughConductor {
+                        alpha,
+                        eta: Some(1.0),
+                        k: Some(0.0),
+                        fresnel: FresnelMode::Conductor,
+                        distribution: dist,
+                        masking: Masking::Uncorrelated,
+                    }));
+                    models.push(Bsdf::RoughConductor(RoughConductor {
+                        alpha,
+                        eta: Some(0.2),
+                        k: Some(3.9),
+                        fresnel: FresnelMode::Conductor,
+                        distribution: dist,
+                        masking: Masking::HeightCorrelated,
+                    }));
+                    models.push(Bsdf::RoughConductor(RoughConductor {
+                        distribution: dist,
+                        ..RoughConductor::white(alpha)
+                    }));
+                }
+            }
+        }
+        Bsdf::Dielectric(_) => {
+            for eta in [1.0, 1.0001, 1.5, 0.01, 100.0] {
+                models.push(Bsdf::Dielectric(Dielectric::new(eta)));
+            }
+        }
+        Bsdf::Conductor(_) => models.extend([
+            Bsdf::Conductor(Conductor::new(1.0, 0.0)),
+            Bsdf::Conductor(Conductor::new(0.001, 100.0)),
+        ]),
+        Bsdf::Lambertian(_) => models.extend([
+            Bsdf::Lambertian(Lambertian::new(1.0)),
+            Bsdf::Lambertian(Lambertian::new(0.0)),
+        ]),
+        Bsdf::OrenNayar(_) => models.extend([
+            Bsdf::OrenNayar(OrenNayar::new(1.0, 1.0)),
+            Bsdf::OrenNayar(OrenNayar::new(1.0, 0.0)),
+        ]),
+        Bsdf::OrenNayarClassic(_) => models.extend([
+            Bsdf::OrenNayarClassic(OrenNayarClassic::new(1.0, std::f32::consts::FRAC_PI_2)),
+            Bsdf::OrenNayarClassic(OrenNayarClassic::new(1.0, 0.1)),
+            Bsdf::OrenNayarClassic(OrenNayarClassic::new(0.0, 0.0)),
+        ]),
+        Bsdf::Plastic(_) => models.extend([
+            Bsdf::Plastic(Plastic::new(1.0, 1.0)),
+            Bsdf::Plastic(Plastic::new(0.0, 1.0)),
+            Bsdf::Plastic(Plastic::new(1.0, 10.0)),
+        ]),
+    }
+    models
+}
+
+/// The strategy and the degenerate list cover every variant of `Bsdf` (serde's list of
+/// the enum's variants), and nothing else.
+#[test]
+fn every_variant_is_covered() {
+    use proptest::strategy::ValueTree;
+    use std::collections::BTreeSet;
+    let names: BTreeSet<String> = variant_names().into_iter().collect();
+    let missing: Vec<&String> = names
+        .iter()
+        .filter(|n| representative(n).is_none())
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "no representative (nor strategy, nor degenerate models) for {missing:?}"
+    );
+    for b in every_variant() {
+        assert!(
+            names.contains(b.name()),
+            "{} is not a variant name",
+            b.name()
+        );
+        for m in degenerate_models(&b) {
+            assert_eq!(
+                m.name(),
+                b.name(),
+                "degenerate_models({}) gives {m:?}",
+                b.name()
+            );
+            m.validate().unwrap_or_else(|e| panic!("{m:?}: {e}"));
+        }
+        assert!(
+            !degenerate_models(&b).is_empty(),
+            "no degenerate {}",
+            b.name()
+        );
+    }
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = arb_bsdf();
+    let mut seen = BTreeSet::new();
+    for _ in 0..2000 {
+        let b = strategy.new_tree(&mut runner).unwrap().current();
+        seen.insert(b.name().to_string());
+    }
+    assert_eq!(seen, names, "the strategy draws these variants");
 }

@@ -112,6 +112,11 @@ fn catalog_matches_closed_forms() {
         }
         outcomes.extend(mine);
     }
+    // A filter that matches no case file (a typo) would otherwise pass on no verdict.
+    assert!(
+        !outcomes.is_empty(),
+        "LIGHTPROOF_CATALOG_FILTER = {filter:?} matches no case file under analytic/cases (a substring of the file path, e.g. `spectral/`): no verdict, nothing proven"
+    );
     // The family: every statistical verdict of the run. A filtered run cannot know the
     // whole catalog's count, so it uses every estimator × sampler of the catalog (an
     // upper bound: conservative).

@@ -352,9 +352,10 @@ fn planck_integrates_to_stefan_boltzmann() {
             "T {t}"
         );
         assert!((blackbody_total_radiance(t as f64) / exact - 1.0).abs() < 1e-15);
-        worst = worst.max(rel(wide)).max(rel(all));
+        worst = worse(worse(worst, rel(wide)), rel(all));
     }
     println!("Stefan–Boltzmann: worst relative error {worst:.2e}");
+    assert!(worst < 1e-12, "{worst}");
 }
 
 #[test]
@@ -401,7 +402,7 @@ fn planck_matches_the_oracle_and_quadrature() {
             });
             let rel_oracle = (ours / exact - 1.0).abs();
             let rel_quad = (ours / quad - 1.0).abs();
-            worst = worst.max(rel_oracle);
+            worst = worse(worst, rel_oracle);
             assert!(
                 rel_oracle < 1e-9,
                 "T {t} [{a}, {b}]: {ours} vs oracle {exact}"
@@ -420,6 +421,7 @@ fn planck_matches_the_oracle_and_quadrature() {
         }
     }
     println!("band radiance vs oracle: worst relative difference {worst:.2e}");
+    assert!(worst < 1e-9, "{worst}");
     // The scale multiplies.
     let s = Spectrum::Blackbody {
         temperature: 4000.0,
@@ -511,7 +513,7 @@ fn dispersion_matches_the_oracle_and_the_data_sheet() {
     let mut worst: f64 = 0.0;
     for l in grid() {
         let exact = oracle::sellmeier(&oracle::BK7_B, &oracle::BK7_C, l as f64 * 1e-3);
-        worst = worst.max((n.eval(l) as f64 - exact).abs());
+        worst = worse(worst, (n.eval(l) as f64 - exact).abs());
     }
     let (nd, nf, nc) = (n.eval(587.5618), n.eval(486.1327), n.eval(656.2725));
     let abbe = (nd - 1.0) / (nf - nc);
@@ -548,6 +550,21 @@ const CIE_Y_5NM: [f64; 81] = [
     0.000249, 0.000172, 0.000120, 0.000085, 0.000060, 0.000042, 0.000030, 0.000021, 0.000015,
 ];
 
+/// The larger of a running worst error and a new one, NaN-sticky: `f64::max` drops a
+/// NaN (`0.0.max(NaN) = 0.0`), so a NaN error would vanish from a `worst.max(e)` and
+/// pass the bound checked on it; here a NaN becomes the worst and stays so, and every
+/// `worst < tol` after it fails.
+fn worse(worst: f64, e: f64) -> f64 {
+    if e.is_nan() || e > worst { e } else { worst }
+}
+
+#[test]
+fn worse_keeps_a_nan() {
+    assert!(worse(worse(0.0, f64::NAN), 1.0).is_nan());
+    assert!(worse(f64::NAN, 0.5).is_nan());
+    assert_eq!(worse(worse(0.0, 2.0), 1.0), 2.0);
+}
+
 #[test]
 fn photopic_fit_against_the_cie_table() {
     let y555 = photopic(555.0);
@@ -555,8 +572,13 @@ fn photopic_fit_against_the_cie_table() {
     for (k, &y) in CIE_Y_5NM.iter().enumerate() {
         let l = 380.0 + 5.0 * k as f32;
         let d = (photopic(l) as f64 - y).abs();
-        if d > worst.0 {
+        // NaN-failing: a NaN (or ∞) difference becomes the worst and stays so, and the
+        // bound `worst.0 < 0.008` below fails on it.
+        if d.is_nan() || d > worst.0 {
             worst = (d, l);
+        }
+        if worst.0.is_nan() {
+            break;
         }
     }
     let fit = Response::Photopic.integral(VISIBLE);
@@ -705,15 +727,59 @@ fn malformed_data_is_rejected_with_a_reason() {
 
 // ---------------------------------------------------------------- robustness
 
+/// Wavelengths: hostile values, any f32, a wide range, and round wavelengths (every
+/// integer and half-integer nm of 0–2000 nm, where tables have their nodes: a
+/// continuous range almost never draws one; [`responses_are_sound_at_every_round_wavelength`]
+/// sweeps them all deterministically).
 fn arb_lambda() -> impl Strategy<Value = f32> {
     prop_oneof![
         2 => prop::sample::select(vec![
             0.0f32, -0.0, -1.0, -550.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e9,
             f32::MIN_POSITIVE, 1e-45, f32::MAX, f32::MIN, 360.0, 830.0, 555.0, 1e-3,
+            400.0, 500.0, 600.0, 700.0, 780.0,
         ]),
         2 => any::<f32>(),
         3 => 1.0f32..1e5,
+        2 => (0u32..=4000).prop_map(|k| k as f32 * 0.5),
     ]
+}
+
+/// Every response (flat, photopic, sampled tables and a blackbody) and the photopic fit
+/// itself is finite and non-negative at every integer and half-integer wavelength of
+/// 0–2000 nm, and so is its integral over each 1 nm band: the round wavelengths (the CIE
+/// tables' nodes, 600 nm among them) a random f32 strategy almost never draws.
+#[test]
+fn responses_are_sound_at_every_round_wavelength() {
+    let responses = [
+        Response::Flat,
+        Response::Photopic,
+        Response::Sampled(blackbody(5000.0)),
+        Response::Sampled(zero_region_table()),
+        Response::Sampled(Spectrum::sampled(
+            (0..81).map(|k| 380.0 + 5.0 * k as f32).collect(),
+            CIE_Y_5NM.iter().map(|&y| y as f32).collect(),
+        )),
+    ];
+    let mut bad = Vec::new();
+    for k in 0..=4000u32 {
+        let l = k as f32 * 0.5;
+        if !ok32(photopic(l)) {
+            bad.push(format!("photopic({l}) = {}", photopic(l)));
+        }
+        for r in &responses {
+            let v = r.eval(l);
+            if !ok32(v) {
+                bad.push(format!("{r:?} at {l} nm: {v}"));
+            }
+            if k % 2 == 0 && k > 0 {
+                let i = r.integral(Band::new(l - 1.0, l));
+                if !ok64(i) {
+                    bad.push(format!("{r:?} over [{}, {l}] nm: {i}", l - 1.0));
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad[..bad.len().min(20)].join("\n"));
 }
 
 fn arb_temperature() -> impl Strategy<Value = f32> {
