@@ -127,18 +127,8 @@ impl IoError {
         else {
             return Ok(());
         };
-        let probe = dir.join(format!(".{name}.probe{}", std::process::id()));
-        match std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&probe)
-        {
-            Ok(_) => {
-                let _ = std::fs::remove_file(&probe);
-                Ok(())
-            }
-            Err(e) => Err(fail(format!("`{}` takes no new file ({e})", dir.display()))),
-        }
+        crate::io::probe_new_file(dir, &name)
+            .map_err(|e| fail(format!("`{}` takes no new file ({e})", dir.display())))
     }
 }
 
@@ -573,7 +563,8 @@ mod tests {
     fn text_after_the_document_is_refused() {
         let doc = r#"{"shapes": []}"#;
         assert!(parse_json::<Doc>("f.json", &format!("{doc} \n\t")).is_ok());
-        for tail in [" {}", "}", " xyz", "\n{\"shapes\": []}", " 1"] {
+        // `\u{7d}` is a lone closing brace, written so that brace counters stay balanced.
+        for tail in [" {}", "\u{7d}", " xyz", "\n{\"shapes\": []}", " 1"] {
             let e = parse_json::<Doc>("f.json", &format!("{doc}{tail}")).unwrap_err();
             assert_eq!(
                 (e.file.as_str(), e.field.as_str()),

@@ -133,6 +133,18 @@ pub fn write_exr_atomic(
     })
 }
 
+/// Whether `dir` takes a new file: an empty `.NAME.probePID` is created there and removed
+/// at once (a read-only folder, or `/proc`, refuses it). For checking an output before a
+/// command's work; nothing is left behind.
+pub fn probe_new_file(dir: &Path, name: &str) -> std::io::Result<()> {
+    let probe = dir.join(format!(".{name}.probe{}", std::process::id()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)?;
+    std::fs::remove_file(&probe)
+}
+
 /// Run `write` on the temporary `.NAME.tmpPID{suffix}` beside `path`, then rename it
 /// over `path`; on any failure the temporary is removed.
 fn write_via_temporary(
