@@ -78,7 +78,8 @@ pub struct Microfacet {
 fn tan2_theta(w: Vec3) -> f32 {
     let s2 = w.x * w.x + w.y * w.y;
     let c2 = w.z * w.z;
-    if c2 > 0.0 { s2 / c2 } else { f32::INFINITY }
+    // `== 0`, not `!(> 0)`: a NaN direction passes on as NaN (never masked).
+    if c2 == 0.0 { f32::INFINITY } else { s2 / c2 }
 }
 
 impl Microfacet {
@@ -100,7 +101,8 @@ impl Microfacet {
     /// D(m) for a unit microfacet normal (0 below the horizon).
     #[inline]
     pub fn d(&self, m: Vec3) -> f32 {
-        if !(m.z > 0.0) {
+        // `<=`, not `!(>)`: a NaN m passes on as NaN (never masked).
+        if m.z <= 0.0 {
             return 0.0;
         }
         let a = self.alpha;
@@ -114,7 +116,8 @@ impl Microfacet {
             }
             Distribution::Beckmann => {
                 let e = tan2_theta(m) / a2;
-                if !(e < 80.0) {
+                // `>=`, not `!(<)`: a NaN m passes on as NaN (never masked).
+                if e >= 80.0 {
                     return 0.0;
                 }
                 let c2 = m.z * m.z;
@@ -126,14 +129,15 @@ impl Microfacet {
     /// Smith's Λ(ω) (symmetric in the sign of ω.z); +∞ at exactly grazing ω.
     #[inline]
     pub fn lambda(&self, w: Vec3) -> f32 {
+        // `== ∞`, not `!is_finite`, here and below: a NaN direction passes on as NaN.
         let t2 = tan2_theta(w);
-        if !t2.is_finite() {
+        if t2 == f32::INFINITY {
             return f32::INFINITY;
         }
         match self.distribution {
             Distribution::Ggx => {
                 let x = self.alpha * self.alpha * t2;
-                if !x.is_finite() {
+                if x == f32::INFINITY {
                     return f32::INFINITY;
                 }
                 x / (2.0 * (1.0 + (1.0 + x).sqrt()))
@@ -151,7 +155,8 @@ impl Microfacet {
                 let l = 0.5
                     * ((-a * a).exp() / (a * std::f64::consts::PI.sqrt())
                         - statrs::function::erf::erfc(a));
-                l.max(0.0) as f32
+                // Not `max`, which would turn a NaN into 0.
+                (if l < 0.0 { 0.0 } else { l }) as f32
             }
         }
     }
@@ -177,7 +182,8 @@ impl Microfacet {
     pub fn d_visible(&self, w: Vec3, m: Vec3) -> f32 {
         // ⟨ω, m⟩ in f64: at grazing ω it is a sum of nearly cancelling products.
         let c = w.as_dvec3().dot(m.as_dvec3()) as f32;
-        if !(w.z > 0.0) || !(c > 0.0) {
+        // `<=`, not `!(>)`: a NaN ω or m passes on as NaN (never masked).
+        if w.z <= 0.0 || c <= 0.0 {
             return 0.0;
         }
         // Finite: G1(ω)·c·D(m) ≤ 3.2·10⁷ overflows only for cos θ < 10⁻³¹, where Λ's
@@ -327,6 +333,38 @@ mod tests {
                         assert!(m.is_finite() && m.z >= 0.0, "{dist:?} {alpha} {w} {u} {m}");
                     }
                 }
+            }
+        }
+    }
+
+    /// D and D_ω at the edges of their domain: D = 0 for m at or below the horizon, D_ω =
+    /// 0 for an exactly grazing ω (where G1 = 0 and cos θ = 0 would make 0/0) and for m
+    /// facing away from ω; a NaN m passes on as NaN (never zeroed).
+    #[test]
+    fn densities_at_their_domain_edges() {
+        for dist in [Distribution::Ggx, Distribution::Beckmann] {
+            for alpha in [1e-4, 0.3, 1.0] {
+                let mf = Microfacet::new(dist, alpha, Masking::HeightCorrelated);
+                assert_eq!(mf.d(Vec3::X), 0.0);
+                assert_eq!(mf.d(-Vec3::Z), 0.0);
+                assert_eq!(mf.d_visible(Vec3::X, Vec3::Z), 0.0, "{dist:?} {alpha}");
+                assert_eq!(mf.d_visible(Vec3::new(0.6, 0.0, 0.0), Vec3::X), 0.0);
+                let w = Vec3::new(0.6, 0.0, 0.8);
+                assert_eq!(mf.d_visible(w, Vec3::new(-0.8, 0.0, 0.6)), 0.0);
+                assert!(mf.d_visible(w, Vec3::Z) > 0.0);
+                let nan = Vec3::new(f32::NAN, 0.0, 1.0);
+                assert!(mf.d(nan).is_nan(), "{dist:?} {alpha}");
+                assert!(mf.d(Vec3::new(0.0, 0.0, f32::NAN)).is_nan());
+                assert!(
+                    mf.d_visible(Vec3::new(0.0, 0.0, f32::NAN), Vec3::Z)
+                        .is_nan()
+                );
+                assert!(mf.lambda(Vec3::new(0.0, f32::NAN, 1.0)).is_nan());
+                assert!(mf.g1(Vec3::new(0.0, 0.0, f32::NAN)).is_nan());
+                assert!(
+                    mf.d_visible(Vec3::Z, Vec3::new(0.0, f32::NAN, 1.0))
+                        .is_nan()
+                );
             }
         }
     }

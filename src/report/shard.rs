@@ -304,8 +304,8 @@ pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
     Ok(partial)
 }
 
-/// Every batch record of a partial is one that a run can write: its index below
-/// [`BATCHES`], its finite and non-finite samples adding up to the point's batch size
+/// Every point and batch record of a partial is one that a run can write: N a power of
+/// two from 256 to 2⁴⁰, a batch index below [`BATCHES`], its finite and non-finite samples adding up to the point's batch size
 /// N/B, a finite mean, a finite Σ(x − mean)² ≥ 0 and finite compute seconds ≥ 0. The
 /// schema cannot say these; without them a batch of `count` 0 or a negative `m2` merged
 /// into a different estimate or a missing standard error without a word.
@@ -314,12 +314,13 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
         for (si, s) in c.series.iter().enumerate() {
             for (pi, pt) in s.points.iter().enumerate() {
                 let at = format!("cases[{ci}].series[{si}].points[{pi}]");
-                if !pt.samples.is_power_of_two() || pt.samples < BATCHES {
+                let (lo, hi) = (crate::case::MIN_SAMPLES, crate::case::MAX_SAMPLES);
+                if !(pt.samples.is_power_of_two() && (lo..=hi).contains(&pt.samples)) {
                     return Err(InputError::new(
                         file,
                         format!("{at}.samples"),
                         format!(
-                            "{} is not a power of two of at least {BATCHES} samples",
+                            "{} is not a power of two from {lo} to 2^40 = {hi}",
                             pt.samples
                         ),
                     ));
@@ -666,7 +667,7 @@ mod tests {
         assert!(check_batches("p.json", &valid).is_ok());
         let at = "cases[0].series[0].points[0]";
         type Edit = fn(&mut ShardPoint);
-        let cases: [(Edit, &str); 13] = [
+        let cases: [(Edit, &str); 14] = [
             (|p| p.batches[3].count += 1, "batches[3].count"),
             (|p| p.batches[3].count -= 1, "batches[3].count"),
             (|p| p.batches[3].non_finite = u64::MAX, "batches[3].count"),
@@ -681,7 +682,8 @@ mod tests {
             ),
             (|p| p.batches[3].batch = BATCHES, "batches[3].batch"),
             (|p| p.samples = 384, "samples"),
-            (|p| p.samples = 64, "samples"),
+            (|p| p.samples = 128, "samples"),
+            (|p| p.samples = 1 << 41, "samples"),
             (|p| p.samples *= 2, "batches[0].count"),
         ];
         for (edit, field) in cases {
@@ -695,6 +697,13 @@ mod tests {
         let mut p = valid.clone();
         let b = &mut p.cases[0].series[0].points[0].batches[3];
         (b.non_finite, b.count, b.m2, b.seconds, b.batch) = (b.count, 0, 0.0, 0.0, BATCHES - 1);
+        assert!(check_batches("p.json", &p).is_ok());
+        // The largest point, 2⁴⁰ samples in batches of 2³³.
+        let pt = &mut p.cases[0].series[0].points[0];
+        pt.samples = 1 << 40;
+        for b in &mut pt.batches {
+            (b.count, b.non_finite) = (1 << 33, 0);
+        }
         assert!(check_batches("p.json", &p).is_ok());
     }
 
