@@ -28,17 +28,15 @@
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.2; pbrt 4th ed. §9.3.
 pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
-    let d = index_excess(cos_theta, eta);
-    let (cos_i, eta) = if cos_theta < 0.0 {
-        (-cos_theta, 1.0 / eta)
-    } else {
-        (cos_theta, eta)
-    };
-    let cos_i = cos_i.min(1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
+    let Some(Incidence {
+        d,
+        cos_i,
+        eta,
+        sin2_t,
+    }) = Incidence::refracted(cos_theta, eta)
+    else {
         return 1.0;
-    }
+    };
     if (eta - 1.0).abs() < 0.5 {
         let c2 = cos_i * cos_i;
         let e_cos_t = (d + c2).max(0.0).sqrt();
@@ -67,22 +65,49 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.3 (the transmissivity).
 pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
-    let d = index_excess(cos_theta, eta);
-    let (cos_i, eta) = if cos_theta < 0.0 {
-        (-cos_theta, 1.0 / eta)
-    } else {
-        (cos_theta, eta)
-    };
-    let cos_i = cos_i.min(1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
+    let Some(Incidence { d, cos_i, eta, .. }) = Incidence::refracted(cos_theta, eta) else {
         return 0.0;
-    }
+    };
     let e_cos_t = (d + cos_i * cos_i).max(0.0).sqrt();
     let cos_t = e_cos_t / eta;
     let s = cos_i + e_cos_t;
     let p = eta * cos_i + cos_t;
     2.0 * cos_i * (e_cos_t / (s * s) + eta * cos_t / (p * p))
+}
+
+/// The incidence both dielectric forms start from: d = η′² − 1 ([`index_excess`]),
+/// |cos θᵢ| (at most 1), the relative index η′ on the side of `cos_theta` (η, or 1/η
+/// when negative) and sin²θₜ = (1 − cos²θᵢ)/η′².
+struct Incidence {
+    d: f64,
+    cos_i: f64,
+    eta: f64,
+    sin2_t: f64,
+}
+
+impl Incidence {
+    /// `None` under total internal reflection, sin²θₜ = (1 − cos²θᵢ)/η′² ≥ 1.
+    fn refracted(cos_theta: f64, eta: f64) -> Option<Self> {
+        let d = index_excess(cos_theta, eta);
+        let (cos_i, eta) = if cos_theta < 0.0 {
+            (-cos_theta, 1.0 / eta)
+        } else {
+            (cos_theta, eta)
+        };
+        let cos_i = cos_i.min(1.0);
+        let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+        // `>=`: a NaN passes on to the formulas (never masked as total reflection).
+        if sin2_t >= 1.0 {
+            None
+        } else {
+            Some(Incidence {
+                d,
+                cos_i,
+                eta,
+                sin2_t,
+            })
+        }
+    }
 }
 
 /// η′² − 1 for the relative index η′ seen from the side of `cos_theta` (η, or 1/η when

@@ -701,26 +701,21 @@ mod tests {
         let e = check_estimators("c.json", &two, &m).unwrap_err();
         assert_eq!(e.field, "estimators[1]");
         // Listed twice: the second is at fault, for estimators and samplers alike.
-        let e = check_estimators(
-            "c.json",
-            &desc(json!({ "estimators": ["cosine", "uniform", "cosine"] })),
-            &m,
-        )
-        .unwrap_err();
-        assert_eq!(
-            (e.field.as_str(), e.reason.as_str()),
-            ("estimators[2]", "`cosine` is listed twice")
-        );
-        let e = check_estimators(
-            "c.json",
-            &desc(json!({ "samplers": ["sobol", "independent", "sobol"] })),
-            &m,
-        )
-        .unwrap_err();
-        assert_eq!(
-            (e.field.as_str(), e.reason.as_str()),
-            ("samplers[2]", "`sobol` is listed twice")
-        );
+        for (extra, field, reason) in [
+            (
+                json!({ "estimators": ["cosine", "uniform", "cosine"] }),
+                "estimators[2]",
+                "`cosine` is listed twice",
+            ),
+            (
+                json!({ "samplers": ["sobol", "independent", "sobol"] }),
+                "samplers[2]",
+                "`sobol` is listed twice",
+            ),
+        ] {
+            let e = check_estimators("c.json", &desc(extra), &m).unwrap_err();
+            assert_eq!((e.field.as_str(), e.reason.as_str()), (field, reason));
+        }
         assert!(
             check_estimators(
                 "c.json",

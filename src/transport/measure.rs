@@ -621,15 +621,7 @@ mod tests {
                 factor: 1.0,
             },
         ];
-        let all = [
-            Estimator::Light,
-            Estimator::Bsdf,
-            Estimator::Mis,
-            Estimator::MisBalance,
-            Estimator::Uniform,
-            Estimator::Cosine,
-            Estimator::Area,
-        ];
+        let all = Estimator::ALL;
         let sampler = Sampler::new(SamplerKind::Independent, 7, 1);
         for m in &measures {
             for est in all {

@@ -67,26 +67,11 @@ fn spec(samples: u64, salt: u64) -> RunSpec {
     }
 }
 
-/// Two-sample z test of equal means at the family's per-test level: the difference
-/// x̄_a − x̄_b against 0 with standard error √(s_a² + s_b²), through
-/// `MeanTest::judge_parts`. Its null hypothesis allows the f32 rounding of both estimates,
-/// |μ_a − μ_b| ≤ τ = γ₁₂₈·(|x̄_a| + |x̄_b|) (`MeanTest::rounding_allowance`, ≈ 7.6e-6
-/// relative to each: the module notes of `lightproof::stats::hypothesis`), instead of a
-/// hand floor on the standard error. Returns the verdict and its detectable relative
-/// difference, τ + (z₁₋α₁/₂ + z₀.₉₉)·SE over the mean of the two (99% power).
+/// [`common::same_mean`] at this module's family: the verdict and its detectable
+/// relative difference (99% power).
 fn same_mean(a: &Estimate, b: &Estimate) -> (Verdict, f64) {
-    let (ma, mb) = (&a.batches.total, &b.batches.total);
-    let se = (ma.std_error().powi(2) + mb.std_error().powi(2)).sqrt();
-    let test = MeanTest::new(ALPHA, FAMILY).with_term_scale(ma.mean.abs() + mb.mean.abs());
-    let v = test.judge_parts(
-        ma.mean - mb.mean,
-        se,
-        0.0,
-        None,
-        ma.non_finite + mb.non_finite,
-        ma.count.min(mb.count),
-    );
-    let rel = v.detectable_bias / (0.5 * (ma.mean + mb.mean)).abs();
+    let v = common::same_mean(a, b, ALPHA, FAMILY);
+    let rel = v.detectable_relative_bias;
     (v, rel)
 }
 

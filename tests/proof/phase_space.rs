@@ -66,26 +66,10 @@ fn crit() -> f64 {
     Normal::standard().inverse_cdf(1.0 - sidak_alpha(ALPHA, FAMILY) / 2.0)
 }
 
-/// Two-sample z test of equal means at the family's per-test level: x̄_a − x̄_b against 0
-/// with standard error √(s_a² + s_b²) (`MeanTest::judge_parts`). Its null hypothesis
-/// allows the f32 rounding of both estimates, |μ_a − μ_b| ≤ τ = γ₁₂₈·(|x̄_a| + |x̄_b|)
-/// (`MeanTest::rounding_allowance`, the module notes of `lightproof::stats::hypothesis`),
-/// in place of a hand floor on the standard error. Returns the verdict and its
-/// detectable relative difference (τ + (z₁₋α₁/₂ + z₀.₉₉)·SE over the mean of the two),
-/// which must be at most `power` (or the verdict fails as too weak).
+/// [`common::same_mean`] at this module's family, whose detectable relative difference
+/// (99% power) must be at most `power` (or the verdict fails as too weak).
 fn same_mean(a: &Estimate, b: &Estimate, power: f64) -> Verdict {
-    let (ma, mb) = (&a.batches.total, &b.batches.total);
-    let se = (ma.std_error().powi(2) + mb.std_error().powi(2)).sqrt();
-    let test = MeanTest::new(ALPHA, FAMILY).with_term_scale(ma.mean.abs() + mb.mean.abs());
-    let mut v = test.judge_parts(
-        ma.mean - mb.mean,
-        se,
-        0.0,
-        None,
-        ma.non_finite + mb.non_finite,
-        ma.count.min(mb.count),
-    );
-    v.detectable_relative_bias = v.detectable_bias / (0.5 * (ma.mean + mb.mean)).abs();
+    let mut v = common::same_mean(a, b, ALPHA, FAMILY);
     if v.passed && !(v.detectable_relative_bias <= power) {
         v.passed = false;
         v.reason = Some(format!(
