@@ -360,6 +360,12 @@ mod tests {
                         .is_nan()
                 );
                 assert!(mf.lambda(Vec3::new(0.0, f32::NAN, 1.0)).is_nan());
+                if dist == Distribution::Beckmann {
+                    // a = 1/(α tan θ) just past 6: Λ < 1e-17 is returned as 0 exactly (the
+                    // formula would give ~1e-19 there).
+                    let w = Vec3::new(1.0 / (6.01 * mf.alpha), 0.0, 1.0).normalize();
+                    assert_eq!(mf.lambda(w), 0.0, "{alpha}");
+                }
                 assert!(mf.g1(Vec3::new(0.0, 0.0, f32::NAN)).is_nan());
                 assert!(
                     mf.d_visible(Vec3::Z, Vec3::new(0.0, f32::NAN, 1.0))
