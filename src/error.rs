@@ -91,49 +91,10 @@ impl IoError {
             None => Ok(()),
         }
     }
-
-    /// An output file `out` that cannot be written: a folder above it that cannot be one
-    /// ([`IoError::check_output_folder`]), `out` itself an existing folder, or a folder
-    /// that refuses a new file (read-only, `/proc`), found by creating and removing an
-    /// empty `.NAME.probePID` in the nearest existing folder on the way. Checked before a
-    /// command's work (a render, a whole `verify`), so that it does not end in an
-    /// unwritable output.
-    pub fn check_output_file(out: &std::path::Path) -> Result<(), IoError> {
-        let fail = |why: String| IoError {
-            path: out.display().to_string(),
-            reason: format!("cannot write: {why}"),
-        };
-        if let Some(why) = not_a_folder(out) {
-            return Err(fail(why));
-        }
-        if out.is_dir() {
-            return Err(fail(format!("`{}` is a folder, not a file", out.display())));
-        }
-        let name = out
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let Some(dir) = out
-            .ancestors()
-            .skip(1)
-            .map(|a| {
-                if a.as_os_str().is_empty() {
-                    std::path::Path::new(".")
-                } else {
-                    a
-                }
-            })
-            .find(|a| a.is_dir())
-        else {
-            return Ok(());
-        };
-        crate::io::probe_new_file(dir, &name)
-            .map_err(|e| fail(format!("`{}` takes no new file ({e})", dir.display())))
-    }
 }
 
 /// Why the first folder above `path` that cannot be one cannot (see [`cannot_be_a_folder`]).
-fn not_a_folder(path: &std::path::Path) -> Option<String> {
+pub(crate) fn not_a_folder(path: &std::path::Path) -> Option<String> {
     path.ancestors().skip(1).find_map(cannot_be_a_folder)
 }
 
@@ -807,47 +768,6 @@ mod tests {
         assert!(IoError::check_output_folder(&dir).is_ok());
         assert!(IoError::check_output_folder(&dir.join("new/deeper")).is_ok());
         assert!(IoError::check_output_folder(std::path::Path::new("relative-out")).is_ok());
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    /// An output file checked up front: a file above it, a folder in its place and a
-    /// folder that takes no file are named; a new file in a new folder, a file that
-    /// exists and a bare name pass, and the probe leaves nothing behind.
-    #[test]
-    fn an_output_file_that_cannot_be_written_is_named() {
-        let dir = std::env::temp_dir().join(format!("lightproof-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let file = dir.join("afile");
-        std::fs::write(&file, b"x").unwrap();
-        let reason = |p: &std::path::Path| IoError::check_output_file(p).unwrap_err().reason;
-        assert_eq!(
-            reason(&file.join("x.exr")),
-            format!("cannot write: `{}` is a file, not a folder", file.display())
-        );
-        assert_eq!(
-            reason(&dir),
-            format!("cannot write: `{}` is a folder, not a file", dir.display())
-        );
-        if std::path::Path::new("/proc/self").exists() {
-            assert!(
-                reason(std::path::Path::new("/proc/x.exr")).contains("`/proc` takes no new file")
-            );
-        }
-        for ok in [
-            dir.join("new/deeper/x.json"),
-            file.clone(),
-            dir.join("y.exr"),
-        ] {
-            assert!(IoError::check_output_file(&ok).is_ok(), "{}", ok.display());
-        }
-        assert!(IoError::check_output_file(std::path::Path::new("bare-name.json")).is_ok());
-        let left: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .flatten()
-            .map(|e| e.file_name())
-            .collect();
-        assert_eq!(left, vec![std::ffi::OsString::from("afile")]);
-        assert!(!dir.join("new").exists(), "the check creates no folder");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -527,7 +527,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             exposure,
         } => {
             lightproof::render::check_output_name(&output)?;
-            IoError::check_output_file(&output)?;
+            lightproof::io::check_output_file(&output)?;
             let t0 = std::time::Instant::now();
             let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
             let seconds = t0.elapsed().as_secs_f64();
@@ -597,7 +597,7 @@ fn verify(
     verbose: bool,
 ) -> Result<(), Failure> {
     for out in json.iter().chain(&html) {
-        IoError::check_output_file(out)?;
+        lightproof::io::check_output_file(out)?;
     }
     let whole = paths.is_empty();
     let paths = if whole {
