@@ -543,6 +543,20 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
 }
 
 impl EmitterKind {
+    /// Its largest strength in its own unit: the radiance of an area light, a constant
+    /// sky or a map's brightest pixel, the intensity of a point or spot light, the
+    /// irradiance of a directional one (what a spectrum or a photon count multiplies).
+    pub fn peak_strength(&self) -> f32 {
+        match self {
+            EmitterKind::Area { radiance, .. } | EmitterKind::Constant { radiance } => *radiance,
+            EmitterKind::Point { intensity, .. } | EmitterKind::Spot { intensity, .. } => {
+                *intensity
+            }
+            EmitterKind::Directional { irradiance, .. } => *irradiance,
+            EmitterKind::Map(m) => m.radiance.iter().fold(0.0, |a, &b| a.max(b)),
+        }
+    }
+
     /// Whether the emitter is a Dirac delta in position or direction.
     pub fn is_delta(&self) -> bool {
         matches!(

@@ -630,6 +630,16 @@ light_far("sliver_triangle_far_vertex",
           [{"geometry": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [1e18, 1, 0]]},
             "emission": {"radiance": 1, "two_sided": True}}],
           [1.0, 1.0, 1e-7], [-0.7071067811865476, -0.7071067811865476, 0])
+# Counting photons over [10 nm, 1 cm] multiplies a strength by up to λ/(hc) = 5e22 per
+# joule and the band width: at radiance 1e18 every sample was +inf (found by fuzz_cases at
+# seed 5); the bound refuses it, naming spectral.photons, and 1e6 runs.
+PHOTONS = {"name": "photons", "teaches": "N = int B lambda/(hc) dlambda",
+           "scene": {"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 4},
+                                 "emission": {"radiance": 1e18, "spectrum": {"blackbody": {"temperature": 2000}}}}]},
+           "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+           "spectral": {"band": [10, 1e7], "photons": True, "sampling": "emitter"}, "estimators": ["mis"]}
+case("photons_overflow", "wrong", PHOTONS, [], 2, "spectral.photons", "overflows f32")
+case("photons_within_f32", "wrong", PHOTONS, [("scene.shapes.0.emission.radiance", 1e6)], "valid")
 case("huge_receiver_disk", "wrong",
      dict(DISK, estimators=["light", "mis"], measure={"flux": {"shape": 1, "view_factor": True}},
           scene={"shapes": [{"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1], "radius": 1},

@@ -135,6 +135,9 @@ fn wavelength(
             .map_err(|r| err("spectral.response", r.to_string()))?;
     }
     let varies = spectral_scene.then(|| varies.join(" and "));
+    if sd.photons {
+        check_photon_scale(f, scene, sd)?;
+    }
     match (sd.band, sd.wavelength) {
         (Some(_), Some(_)) | (None, None) => Err(err(
             "spectral",
@@ -159,6 +162,44 @@ fn wavelength(
             Ok(band(scene, sd, a, b, varies))
         }
     }
+}
+
+/// Counting photons multiplies each emitter's strength by its spectrum and by λ/(hc)
+/// photons per joule (5·10²² at λ = 1 cm), and a wavelength drawn uniformly over a band
+/// by the band's width (the inverse of its density): the largest such product,
+/// max_e(strength·spectrum) × λ₂/(hc) × max(1, λ₂ − λ₁ nm), must fit f32, or a sample
+/// overflows to +∞ (an emitter of radiance 10¹⁸ counted over [10 nm, 1 cm] did). A
+/// bound, so a case just below it can still be refused; the field named is
+/// `spectral.photons`.
+fn check_photon_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), InputError> {
+    let (lo, hi) = match (sd.band, sd.wavelength) {
+        (Some([a, b]), None) => (a, b),
+        (None, Some(l)) => (l, l),
+        // Refused with its own message below.
+        _ => return Ok(()),
+    };
+    if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+        return Ok(());
+    }
+    let band = Band {
+        min: lo as f32,
+        max: hi as f32,
+    };
+    let peak = scene
+        .emitters
+        .iter()
+        .map(|e| {
+            let spectrum = e.props.spectrum.as_ref().map_or(1.0, |s| s.max_in(band));
+            e.kind.peak_strength() as f64 * spectrum as f64
+        })
+        .fold(0.0f64, f64::max);
+    let bound = peak / photon_energy(hi) * (hi - lo).max(1.0);
+    crate::error::check_derived(
+        f,
+        "spectral.photons",
+        bound,
+        "the largest photon count of a sample, strength × spectrum × λ₂/(hc) × band width,",
+    )
 }
 
 /// 1, or 1/(hc/λ) when counting photons.
