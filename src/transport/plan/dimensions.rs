@@ -502,3 +502,52 @@ fn time_dims(
     };
     Ok((pruned, full, decision))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load::SceneDesc;
+    use glam::DVec3;
+    use serde_json::json;
+
+    fn scene(emitter: serde_json::Value) -> Scene {
+        let d: SceneDesc = serde_json::from_value(json!({ "emitters": [emitter] })).unwrap();
+        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
+            .unwrap()
+    }
+
+    fn spectral(v: serde_json::Value) -> SpectralDesc {
+        serde_json::from_value(v).unwrap()
+    }
+
+    /// The photon-count bound: strength × λ₂/(hc) × band width against f32::MAX, on
+    /// either side of it, for a band and for one wavelength, with the strength of each
+    /// kind of emitter; a band it does not judge (refused elsewhere) passes here.
+    #[test]
+    fn the_photon_count_of_a_sample_fits_f32() {
+        let photons = |band: [f64; 2]| spectral(json!({ "band": band, "photons": true }));
+        // λ₂/(hc) at 1 cm is 5.03e22 per joule; over a band of 1e7 nm a strength s gives
+        // s·5.03e29, so 6.7e8 fits and 6.8e8 overflows.
+        let e = |s: f64| json!({ "type": "point", "position": [0, 0, 1], "intensity": s });
+        let band = photons([1.0, 1e7 + 1.0]);
+        assert!(check_photon_scale("c.json", &scene(e(6.7e8)), &band).is_ok());
+        let err = check_photon_scale("c.json", &scene(e(6.8e8)), &band).unwrap_err();
+        assert_eq!(err.field, "spectral.photons");
+        // One wavelength: no band width; at 1 cm a strength of 6.7e15 fits, 6.8e15 not.
+        let one = spectral(json!({ "wavelength": 1e7, "photons": true }));
+        assert!(check_photon_scale("c.json", &scene(e(6.7e15)), &one).is_ok());
+        assert!(check_photon_scale("c.json", &scene(e(6.8e15)), &one).is_err());
+        // A band narrower than 1 nm counts as 1 nm, not as its own width.
+        let narrow = photons([1e7, 1e7 + 0.5]);
+        assert!(check_photon_scale("c.json", &scene(e(6.8e15)), &narrow).is_err());
+        // Each kind's strength: irradiance of a directional light, radiance of a sky.
+        let sun = json!({ "type": "directional", "direction": [0, 0, -1], "irradiance": 6.8e15 });
+        assert!(check_photon_scale("c.json", &scene(sun), &one).is_err());
+        let sky = json!({ "type": "constant", "radiance": 6.8e15 });
+        assert!(check_photon_scale("c.json", &scene(sky), &one).is_err());
+        let sky = json!({ "type": "constant", "radiance": 6.7e15 });
+        assert!(check_photon_scale("c.json", &scene(sky), &one).is_ok());
+        // Not counting photons is another measurement; a band refused elsewhere passes.
+        assert!(check_photon_scale("c.json", &scene(e(1e30)), &photons([5.0, 1.0])).is_ok());
+    }
+}
