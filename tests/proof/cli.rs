@@ -852,12 +852,16 @@ fn verify_is_the_same_whatever_the_c_librarys_cpu_path() {
 /// angles), so its samples agree and the estimate is π, not the reference's 3.140965. The
 /// message names the sample count, the unseen mass (7.3e-4) and the remedy; at the case's
 /// own sample count the ring is reached and the verdict is statistical (the catalog).
+/// The seed is pinned, not `LIGHTPROOF_SEED`'s: the message is what is tested, and it
+/// needs a seed whose 4096 samples all miss the ring, which happens once in 20 seeds
+/// (the default is one; at seed 1 a sample reaches it and the verdict is a statistical
+/// pass).
 #[test]
 fn an_estimate_without_variance_that_misses_says_why() {
     let stdout = fails_on_catalog_case(
         "verify",
         "irradiance/sphere_near_surface_on_axis_gap_1e-4.json",
-        &["--samples", "4096"],
+        &["--samples", "4096", "--seed", "1152112"],
     );
     for want in [
         "bsdf/sobol",
