@@ -547,7 +547,21 @@ mod tests {
         assert!(check_photon_scale("c.json", &scene(sky), &one).is_err());
         let sky = json!({ "type": "constant", "radiance": 6.7e15 });
         assert!(check_photon_scale("c.json", &scene(sky), &one).is_ok());
-        // Not counting photons is another measurement; a band refused elsewhere passes.
-        assert!(check_photon_scale("c.json", &scene(e(1e30)), &photons([5.0, 1.0])).is_ok());
+        // The band's width, not its ratio: [10⁶, 10⁷] nm is 9·10⁶ nm wide, so the limit is
+        // 3.4e38/(5.03e22 · 9e6) = 7.5e8.
+        let wide = photons([1e6, 1e7]);
+        assert!(check_photon_scale("c.json", &scene(e(7.4e8)), &wide).is_ok());
+        assert!(check_photon_scale("c.json", &scene(e(7.6e8)), &wide).is_err());
+        // A spectrum multiplies the strength: peak 4 moves the one-wavelength limit to 1.69e15.
+        let shaped = |s: f64| {
+            json!({ "type": "constant", "radiance": s,
+                    "spectrum": { "sampled": { "wavelengths": [1, 2e7], "values": [4, 4] } } })
+        };
+        assert!(check_photon_scale("c.json", &scene(shaped(1.6e15)), &one).is_ok());
+        assert!(check_photon_scale("c.json", &scene(shaped(1.75e15)), &one).is_err());
+        // A band refused elsewhere (λ₁ ≤ 0, λ₂ < λ₁) passes here.
+        for bad in [[5.0, 1.0], [0.0, 1e7]] {
+            assert!(check_photon_scale("c.json", &scene(e(1e30)), &photons(bad)).is_ok());
+        }
     }
 }
