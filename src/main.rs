@@ -511,9 +511,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         Command::Merge { inputs, out } => {
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
-            for n in &summary.notes {
-                eprintln!("note: {n}");
-            }
+            print_notes(&summary);
             print_summary(&out, &summary);
             Ok(())
         }
@@ -876,9 +874,7 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
         bar.set_message(p.current.to_string());
     })?;
     bar.finish_and_clear();
-    for n in &summary.notes {
-        eprintln!("note: {n}");
-    }
+    print_notes(&summary);
     if let Some(p) = &summary.partial {
         println!(
             "wrote {} ({} points computed, {} resumed{})",
@@ -895,6 +891,13 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
     }
     print_summary(&opts.out, &summary);
     Ok(())
+}
+
+/// A sweep's or a merge's notes (a report started afresh, a case with no plot), on stderr.
+fn print_notes(summary: &lightproof::report::sweep::Summary) {
+    for n in &summary.notes {
+        eprintln!("note: {n}");
+    }
 }
 
 fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) {

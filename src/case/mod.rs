@@ -221,3 +221,32 @@ pub fn seed_for(base: u64, case: &str, est: Estimator, sampler: SamplerKind) -> 
 pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
     crate::io::collect_files(paths, true, |q| q.extension().is_some_and(|x| x == "json"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A measurement's name is said twice, by the case file's key (`MeasureDesc::key`,
+    /// which error paths use) and by the built measurement (`Measure::name`, which
+    /// reports use): over the catalog, both agree with the key serde reads, for every
+    /// kind of measurement.
+    #[test]
+    fn a_measurements_key_and_name_agree() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases");
+        let mut kinds = std::collections::BTreeSet::new();
+        for file in collect_cases(&[root]).unwrap() {
+            let case = Case::load(&file).unwrap();
+            let key = case.desc.measure.key();
+            let tagged = serde_json::to_value(&case.desc.measure).unwrap();
+            let serde_key = tagged.as_object().and_then(|o| o.keys().next()).unwrap();
+            assert_eq!(
+                (key, key),
+                (serde_key.as_str(), case.measure.name()),
+                "{}",
+                file.display()
+            );
+            kinds.insert(key);
+        }
+        assert_eq!(kinds.len(), 10, "the catalog measures {kinds:?}");
+    }
+}
