@@ -848,6 +848,31 @@ mod tests {
         }
     }
 
+    /// At most [`MAX_UNRESOLVED`] of the compared samples may be unresolved: 1 in 1000
+    /// passes, 2 fail (one failure added, the message says why).
+    #[test]
+    fn unresolved_samples_are_limited() {
+        let report = |unresolved| {
+            CheckReport {
+                compared: 1000,
+                unresolved,
+                ..CheckReport::default()
+            }
+            .finish(None)
+        };
+        assert!(report(1).passed && report(1).failures == 0);
+        let r = report(2);
+        assert!(!r.passed && r.failures == 1, "{r:?}");
+    }
+
+    /// Many blocks of draws: every draw is examined once (the blocks tile 0..n).
+    #[test]
+    fn every_draw_is_examined_once() {
+        let lamb = Bsdf::Lambertian(Lambertian::new(0.5));
+        let r = check_consistency(&lamb, direction(0.7, 0.3), 10_000, 3);
+        assert_eq!((r.trials, r.compared), (10_000, 10_000), "{r:?}");
+    }
+
     #[test]
     fn a_model_that_never_samples_fails_consistency() {
         let wo = direction(0.7, 0.3);
