@@ -810,7 +810,7 @@ pub fn chi2_microfacet(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::{Bsdf, Conductor, Lambertian, LobeFlags};
+    use crate::bsdf::{Bsdf, Conductor, Lambertian, LobeFlags, RoughDielectric};
 
     /// A diffuse model whose `sample` never returns a sample.
     struct NeverSamples;
@@ -871,6 +871,45 @@ mod tests {
         let lamb = Bsdf::Lambertian(Lambertian::new(0.5));
         let r = check_consistency(&lamb, direction(0.7, 0.3), 10_000, 3);
         assert_eq!((r.trials, r.compared), (10_000, 10_000), "{r:?}");
+    }
+
+    /// A diffuse-like model that is not reciprocal: f grows with cos θo only.
+    struct OneWay;
+
+    impl BsdfModel for OneWay {
+        fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+            if wo.z * wi.z > 0.0 {
+                0.1 * (1.0 + wo.z.abs())
+            } else {
+                0.0
+            }
+        }
+        fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+            Bsdf::Lambertian(Lambertian::new(0.5)).sample(wo, u)
+        }
+        fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+            Bsdf::Lambertian(Lambertian::new(0.5)).pdf(wo, wi)
+        }
+        fn flags(&self) -> LobeFlags {
+            LobeFlags::REFLECTION | LobeFlags::DIFFUSE
+        }
+    }
+
+    /// Reciprocity over many blocks: every pair is drawn once, the model's own samples
+    /// are compared too (not only the uniform half), a non-reciprocal model fails, and a
+    /// rough dielectric passes with its η² rule only when told its inside index.
+    #[test]
+    fn reciprocity_sees_every_pair_and_the_eta_rule() {
+        let lamb = Bsdf::Lambertian(Lambertian::new(0.5));
+        let r = check_reciprocity(&lamb, 1.0, 10_000, 4);
+        // Uniform pairs in the same hemisphere (about half of the 5000) and every
+        // sampled pair (5000): well above 5000.
+        assert!(r.passed && r.trials == 10_000 && r.compared > 7000, "{r:?}");
+        assert!(!check_reciprocity(&OneWay, 1.0, 2000, 4).passed);
+        let glass = Bsdf::RoughDielectric(RoughDielectric::new(0.3, 1.5));
+        assert!(check_reciprocity(&glass, 1.5, 4000, 5).passed);
+        let r = check_reciprocity(&glass, 1.0, 4000, 5);
+        assert!(!r.passed && r.compared > 0, "{r:?}");
     }
 
     #[test]
