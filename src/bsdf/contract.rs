@@ -895,6 +895,30 @@ mod tests {
         }
     }
 
+    /// A model whose f is negative where θo is steeper than θi (reciprocal in magnitude).
+    struct Negative;
+
+    impl BsdfModel for Negative {
+        fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+            if wo.z * wi.z <= 0.0 {
+                0.0
+            } else if wo.z.abs() > wi.z.abs() {
+                -0.1
+            } else {
+                0.1
+            }
+        }
+        fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+            OneWay.sample(wo, u)
+        }
+        fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+            OneWay.pdf(wo, wi)
+        }
+        fn flags(&self) -> LobeFlags {
+            OneWay.flags()
+        }
+    }
+
     /// Reciprocity over many blocks: every pair is drawn once, the model's own samples
     /// are compared too (not only the uniform half), a non-reciprocal model fails, and a
     /// rough dielectric passes with its η² rule only when told its inside index.
@@ -905,7 +929,16 @@ mod tests {
         // Uniform pairs in the same hemisphere (about half of the 5000) and every
         // sampled pair (5000): well above 5000.
         assert!(r.passed && r.trials == 10_000 && r.compared > 7000, "{r:?}");
-        assert!(!check_reciprocity(&OneWay, 1.0, 2000, 4).passed);
+        let r = check_reciprocity(&OneWay, 1.0, 2000, 4);
+        // worst is the largest relative error over REL_TOL: far beyond 1 here.
+        assert!(!r.passed && r.worst > 100.0, "{r:?}");
+        // A negative value is named as such, whichever side it is on.
+        let r = check_reciprocity(&Negative, 1.0, 2000, 4);
+        let why = r.first_failure.clone().unwrap_or_default();
+        assert!(
+            !r.passed && why.contains("not finite and non-negative"),
+            "{r:?}"
+        );
         let glass = Bsdf::RoughDielectric(RoughDielectric::new(0.3, 1.5));
         assert!(check_reciprocity(&glass, 1.5, 4000, 5).passed);
         let r = check_reciprocity(&glass, 1.0, 4000, 5);
