@@ -895,6 +895,33 @@ mod tests {
         }
     }
 
+    /// A reciprocal Lambertian reflection plus a transmission that exists one way only
+    /// (from the upper hemisphere into the lower): f = 0 in one direction of each such
+    /// pair and not in the other, which only a check comparing pairs with one zero side
+    /// sees (the reflection pairs alone pass).
+    struct OneSidedTransmission;
+
+    impl BsdfModel for OneSidedTransmission {
+        fn eval(&self, wo: Vec3, wi: Vec3) -> f32 {
+            if wo.z * wi.z > 0.0 {
+                0.5 / std::f32::consts::PI
+            } else if wo.z > 0.0 {
+                0.05
+            } else {
+                0.0
+            }
+        }
+        fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+            OneWay.sample(wo, u)
+        }
+        fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+            OneWay.pdf(wo, wi)
+        }
+        fn flags(&self) -> LobeFlags {
+            LobeFlags::REFLECTION | LobeFlags::TRANSMISSION | LobeFlags::DIFFUSE
+        }
+    }
+
     /// A model whose f is negative where θo is steeper than θi (reciprocal in magnitude).
     struct Negative;
 
@@ -939,6 +966,10 @@ mod tests {
             !r.passed && why.contains("not finite and non-negative"),
             "{r:?}"
         );
+        // f > 0 one way and 0 the other is a failure, not a pair to skip.
+        let r = check_reciprocity(&OneSidedTransmission, 1.0, 2000, 4);
+        let why = r.first_failure.clone().unwrap_or_default();
+        assert!(!r.passed && !r.vacuous && why.contains("rel."), "{r:?}");
         let glass = Bsdf::RoughDielectric(RoughDielectric::new(0.3, 1.5));
         assert!(check_reciprocity(&glass, 1.5, 4000, 5).passed);
         let r = check_reciprocity(&glass, 1.0, 4000, 5);
