@@ -1432,6 +1432,27 @@ mod tests {
         )
         .unwrap_err();
         assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
+        // Huge and tiny indices: F̄ → 1 (η = 10^±80 were non-finite results).
+        for (form, eta) in [
+            ("fresnel_dielectric_average", 1e80),
+            ("fresnel_dielectric_average", 1e-80),
+            ("fresnel_dielectric_average", 1e300),
+            ("fresnel_dielectric_average_inside", 1e80),
+        ] {
+            let v = evaluate(form, &obj(json!({ "eta": eta }))).unwrap();
+            assert!(v > 0.999_999 && v <= 1.0, "{form} at {eta}: {v}");
+        }
+        // Planck's law far outside the visible: 0 where the true value underflows
+        // (λ = 10⁻⁷⁰ was a non-finite result), 4.78·10⁻²⁹¹ at λ = 10⁷⁰ (was 0).
+        let planck = |l: f64| {
+            evaluate(
+                "planck_radiance",
+                &obj(json!({"wavelength": l, "temperature": 5778})),
+            )
+            .unwrap()
+        };
+        assert_eq!(planck(1e-70), 0.0);
+        assert!((planck(1e70) / 4.783_122_666_281_616_552e-291 - 1.0).abs() < 2e-13);
     }
 
     #[test]

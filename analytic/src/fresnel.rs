@@ -257,7 +257,9 @@ const SERIES: [f64; 28] = [
 ///     − 2η³(η²+2η−1)/((η²+1)(η⁴−1)) + 8η⁴(η⁴+1)/((η²+1)(η⁴−1)²) ln η.
 /// The terms without ln((η−1)/(η+1)) cancel catastrophically as η → 1 (each ~1/(η−1)²
 /// while F̄ ≈ (η−1)/3); for |η − 1| < 0.1 they are summed as their Taylor series in
-/// η − 1 (28 terms, coefficients derived symbolically, truncation < 1e-28).
+/// η − 1 (28 terms, coefficients derived symbolically, truncation < 1e-28). For
+/// η ≥ [`LARGE_ETA`] the formula's terms cancel towards 1 and its powers η⁴ and (η⁴−1)²
+/// overflow (η = 10⁸⁰ gave NaN); there F̄ = 1 − [`transmitted_average_large`].
 ///
 /// **Derivation.** Substituting the s and p reflectances and integrating each rational
 /// function of μ and √(η²−1+μ²) in closed form (partial fractions, then t = √(η²−1+μ²)).
@@ -272,6 +274,9 @@ pub fn dielectric_average(eta: f64) -> f64 {
     if eta < 1.0 {
         return dielectric_average_inside(1.0 / eta);
     }
+    if eta >= LARGE_ETA {
+        return 1.0 - transmitted_average_large(eta);
+    }
     let n = eta;
     let (n2, n4) = (n * n, n * n * n * n);
     let log_part =
@@ -285,6 +290,30 @@ pub fn dielectric_average(eta: f64) -> f64 {
             + 8.0 * n4 * (n4 + 1.0) / ((n2 + 1.0) * (n4 - 1.0) * (n4 - 1.0)) * n.ln()
     };
     rest + log_part
+}
+
+/// Where [`dielectric_average`] switches to its expansion in 1/η.
+const LARGE_ETA: f64 = 1e4;
+
+/// 1 − F̄(η) for large η: the asymptotic expansion of [`dielectric_average`] in x = 1/η,
+/// with L = ln η,
+///
+///   1 − F̄ = 16x/3 − 2x²(4L − 1) − 32x³/3 − (2/3)x⁴(11 − 12L) + 496x⁵/15 + O(x⁶ L).
+///
+/// **Derivation.** The series of the closed form at x = 0 (computer algebra: sympy's
+/// `series` of the formula with η = 1/x; the first neglected term is −32x⁶ ln x). At
+/// η = 10⁴ the truncation is 5.5·10⁻¹⁹ of 1 − F̄ (against the closed form in 60-digit
+/// arithmetic, mpmath), below the closed form's own cancellation there (~10⁻¹² of
+/// 1 − F̄ in `f64`); from η ≈ 5·10³⁸ the terms beyond the first underflow harmlessly.
+/// An infinite η (the reciprocal of an index below 1/f64::MAX) transmits nothing.
+fn transmitted_average_large(eta: f64) -> f64 {
+    if eta == f64::INFINITY {
+        return 0.0;
+    }
+    let (x, l) = (1.0 / eta, eta.ln());
+    x * (16.0 / 3.0
+        - x * (2.0 * (4.0 * l - 1.0)
+            + x * (32.0 / 3.0 + x * (2.0 / 3.0 * (11.0 - 12.0 * l) - x * (496.0 / 15.0)))))
 }
 
 /// Hemispherical average of the dielectric reflectance for light *inside* a medium of
@@ -446,6 +475,52 @@ mod tests {
         // Known value: F̄(1.5) ≈ 0.0918 (e.g. tables of hemispherical reflectance).
         assert!((dielectric_average(1.5) - 0.091_777_959_342_351_21).abs() < 1e-15);
         assert_eq!(dielectric_average(1.0), 0.0);
+    }
+
+    /// Large indices take the expansion in 1/η: against the closed form in 60-digit
+    /// arithmetic (mpmath, `F(mpf(n))` of the formula in the doc, which a quadrature of
+    /// 2∫F μ dμ matches to 25 digits at η = 10⁴), on both sides of the switch, and finite
+    /// up to f64::MAX (η = 10⁸⁰ gave NaN: η⁴ and (η⁴ − 1)² overflowed).
+    #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
+    fn large_indices_take_the_expansion() {
+        for (eta, one_minus) in [
+            (1e4, 5.326_164_954_435_438_413_9e-4),
+            (3.7e5, 1.441_367_978_990_670_735_5e-5),
+            (1e9, 5.333_333_169_547_206_627_1e-9),
+            (1e20, 5.333_333_333_333_333_329_7e-20),
+        ] {
+            assert!(
+                rel(transmitted_average_large(eta), one_minus) < 1e-15,
+                "{eta}"
+            );
+            // F̄ itself to an ulp of 1.
+            let f = dielectric_average(eta);
+            assert!((f - (1.0 - one_minus)).abs() <= f64::EPSILON, "{eta}: {f}");
+        }
+        // Just below the switch the closed form, just above it the series: they agree.
+        let (below, above) = (
+            dielectric_average(1e4f64.next_down()),
+            dielectric_average(1e4),
+        );
+        assert!(rel(below, above) < 1e-15, "{below} {above}");
+        // Inside, 1 − (1 − F̄)/η²: 0.999 473 671 259 191 217 22 at η = 20 (closed form).
+        assert!(
+            rel(
+                dielectric_average_inside(20.0),
+                0.999_473_671_259_191_217_22
+            ) < 1e-15
+        );
+        for eta in [1e80, 1e200, f64::MAX, f64::INFINITY] {
+            for v in [
+                dielectric_average(eta),
+                dielectric_average(1.0 / eta),
+                dielectric_average_inside(eta),
+            ] {
+                assert!(v.is_finite() && v <= 1.0 && v > 0.999_999, "η = {eta}: {v}");
+            }
+        }
     }
 
     /// Near matched indices the cancellation-free forms keep F's relative accuracy where

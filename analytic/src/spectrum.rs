@@ -22,9 +22,31 @@ fn c2() -> f64 {
 /// times the mode density and photon energy, converted from frequency to wavelength.
 ///
 /// **Source.** M. Planck, 1901; Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1.
+///
+/// **Extreme arguments.** Where λ⁵ leaves the normal range or ζ = hc/(λ k_B T) lies
+/// beyond [10⁻⁸, 700] (λ = 10⁻⁷⁰ gave ∞/∞ = NaN; λ = 10⁷⁰ gave 0 for 4.8·10⁻²⁹¹), B_λ
+/// is formed as exp(ln 2hc² − 5 ln λ + g) with g = −ln(e^ζ − 1) from logarithms that
+/// cannot overflow: g = −ζ above 700 (the neglected ln(1 − e^{−ζ}) is below 10⁻³⁰⁴),
+/// g = −ln ζ − ζ/2 below 10⁻⁸ (Rayleigh–Jeans; the next term ζ²/24 is below 10⁻¹⁷),
+/// with ln ζ = ln c₂ − ln λ − ln T, and −ln(expm1 ζ) between. Its relative error is
+/// about |ln B_λ|·2⁻⁵³, below 2·10⁻¹³ wherever B_λ is a normal `f64`.
 pub fn planck(wavelength: f64, temperature: f64) -> f64 {
     let l = wavelength;
-    2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT / l.powi(5) / (c2() / (l * temperature)).exp_m1()
+    let a = 2.0 * PLANCK * SPEED_OF_LIGHT * SPEED_OF_LIGHT;
+    let l5 = l.powi(5);
+    let z = c2() / l / temperature;
+    if l5.is_normal() && (1e-8..=700.0).contains(&z) {
+        return a / l5 / z.exp_m1();
+    }
+    let g = if z > 700.0 {
+        -z
+    } else if z < 1e-8 {
+        let ln_z = c2().ln() - l.ln() - temperature.ln();
+        -ln_z - z / 2.0
+    } else {
+        -z.exp_m1().ln()
+    };
+    (a.ln() - 5.0 * l.ln() + g).exp()
 }
 
 /// Total (all-wavelength) radiance of a blackbody (W·sr⁻¹·m⁻²).
@@ -229,6 +251,42 @@ mod tests {
             l2.ln(),
             1e-14,
         )
+    }
+
+    /// Extreme wavelengths and temperatures: finite, and right where the value is a normal
+    /// `f64` (λ = 10⁻⁷⁰ gave NaN, λ = 10⁷⁰ gave 0). References from mpmath at 50 digits:
+    /// `2*h*c**2/l**5/mp.expm1(h*c/(l*k*T))` with the exact SI constants.
+    #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
+    fn planck_at_extreme_arguments() {
+        for (l, t, want) in [
+            (1e70, 5778.0, 4.783_122_666_281_616_552e-291),
+            (1e100, 1e300, 8.278_163_146_904_84e-115),
+            (1e60, 1.0, 8.278_163_146_904_84e-255),
+            (5e-7, 5778.0, 2.637_566_986_661_479_715_4e13),
+        ] {
+            let got = planck(l, t);
+            assert!(rel(got, want) < 2e-13, "λ = {l}, T = {t}: {got} vs {want}");
+        }
+        // True values far below the smallest f64: 0, not NaN.
+        for (l, t) in [
+            (1e-70, 5778.0),
+            (1e70, 1e-300),
+            (1e-6, 1e-300),
+            (1e-200, 1e-200),
+        ] {
+            assert_eq!(planck(l, t), 0.0, "λ = {l}, T = {t}");
+        }
+        // Never NaN: +∞ only where the true value exceeds f64::MAX (λ = 10⁻³⁰⁰ at
+        // T = 10³⁰⁰: ζ = 0.0144, B_λ ≈ 10¹⁴⁸⁵), which the catalog refuses as non-finite.
+        assert_eq!(planck(1e-300, 1e300), f64::INFINITY);
+        for l in [1e-300, 1e-100, 1e-30, 1e-9, 1e-3, 1e10, 1e100, 1e300] {
+            for t in [1e-300, 1e-10, 1.0, 5778.0, 1e10, 1e300] {
+                let v = planck(l, t);
+                assert!(v >= 0.0, "λ = {l}, T = {t}: {v}");
+            }
+        }
     }
 
     #[test]
