@@ -499,6 +499,13 @@ mod tests {
             let f = dielectric_average(eta);
             assert!((f - (1.0 - one_minus)).abs() <= f64::EPSILON, "{eta}: {f}");
         }
+        // Every term counts: at η = 10³ (below the switch, where the truncation is
+        // 4·10⁻¹⁴ of 1 − F̄) the x⁵ term is 6·10⁻¹² of it.
+        let at_1e3 = transmitted_average_large(1e3);
+        assert!(
+            rel(at_1e3, 5.280_060_672_396_367_375_1e-3) < 1e-13,
+            "{at_1e3}"
+        );
         // Just below the switch the closed form, just above it the series: they agree.
         let (below, above) = (
             dielectric_average(1e4f64.next_down()),
