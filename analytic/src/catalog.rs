@@ -587,23 +587,13 @@ static ENTRIES: &[Entry] = &[
     entry!(
         "view_factor_parallel_rectangles",
         ["width", "length", "separation"],
-        "view factor (1) between identical directly opposed parallel width × length rectangles (Howell C-11); separation at most 10⁴ × min(width, length), beyond which the formula's cancellation leaves fewer than ~7 digits",
+        "view factor (1) between identical directly opposed parallel width × length rectangles at distance separation (Howell C-11)",
         |p| {
-            let (a, b, c) = (
+            Ok(view_factor::parallel_rectangles(
                 p.positive("width")?,
                 p.positive("length")?,
                 p.positive("separation")?,
-            );
-            if c > view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b) {
-                return Err(p.domain(format!(
-                    "separation {c} exceeds {:e} × min(width, length) = {:e}: Howell's C-11 \
-                     formula loses ~2 log₁₀(separation/min(width, length)) digits to \
-                     cancellation (a 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10)",
-                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO,
-                    view_factor::PARALLEL_RECTANGLES_MAX_RATIO * a.min(b)
-                )));
-            }
-            Ok(view_factor::parallel_rectangles(a, b, c))
+            ))
         }
     ),
     entry!(
@@ -1311,23 +1301,60 @@ mod tests {
         assert!((v - PI / 5.0).abs() < 1e-15);
     }
 
-    /// Thin strips and distant plates beyond 10⁴ × min(width, length) are refused (a
-    /// 1e-9 × 1 strip 1 apart gave 0 for 2.5e-10); coaxial disks at extreme ratios
-    /// evaluate.
+    /// Thin strips, distant and touching plates evaluate at any ratio (a 1e-9 × 1 strip
+    /// 1 apart, once 0 for 2.5e-10, was refused beyond 10⁴ × min(width, length)), as do
+    /// perpendicular rectangles with a side 10⁻²⁰⁰ or 10²⁰⁰ of the others (once a
+    /// non-finite result) and coaxial disks at extreme ratios. References: mpmath at 50+
+    /// digits of Howell's C-11 and C-14 as written (the commands in view_factor.rs's
+    /// `*_at_extreme_ratios` tests).
     #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
     fn view_factor_domains() {
-        let e = evaluate(
-            "view_factor_parallel_rectangles",
-            &obj(json!({"width": 1e-9, "length": 1, "separation": 1})),
-        )
-        .unwrap_err();
-        assert!(matches!(e, CatalogError::Domain { .. }), "{e}");
-        let v = evaluate(
-            "view_factor_parallel_rectangles",
-            &obj(json!({"width": 1e-4, "length": 1, "separation": 1})),
-        )
-        .unwrap();
-        assert!((v / 2.499_999_992_423_709e-5 - 1.0).abs() < 1e-7, "{v}");
+        for (a, b, c, want) in [
+            (1e-9, 1.0, 1.0, 2.5000000000000001549e-10),
+            (1e-4, 1.0, 1.0, 2.4999999924237089692e-5),
+            (1.0, 1.0, 1e150, 3.1830988618379068374e-301),
+            (1e-200, 1e200, 1.0, 4.9999999999999999105e-201),
+            (1.0, 2.0, 1e-300, 1.0),
+            (1e-300, 1e-300, 1e-300, 0.19982489569838738304),
+        ] {
+            let v = evaluate(
+                "view_factor_parallel_rectangles",
+                &obj(json!({"width": a, "length": b, "separation": c})),
+            )
+            .unwrap();
+            assert!((v / want - 1.0).abs() < 1e-13, "{a} {b} {c}: {v}");
+        }
+        for (l, w, h, want) in [
+            (1.0, 1e-200, 1.0, 0.5),
+            (1.0, 1.0, 1e-200, 4.9999999999999999105e-201),
+            (1e-200, 1.0, 1.0, 7.3477133402542452880e-199),
+            (1e200, 1.0, 1.0, 0.29289321881345247560),
+            (1.0, 1e-300, 1e300, 0.5),
+            (1e300, 1e-300, 3e-300, 0.41886116991581033825),
+            (3.3e-300, 3.7e9, 3.3e10, 1.0122482188820601821e-307),
+        ] {
+            let v = evaluate(
+                "view_factor_perpendicular_rectangles",
+                &obj(json!({"common_edge": l, "width": w, "height": h})),
+            )
+            .unwrap();
+            assert!((v / want - 1.0).abs() < 1e-13, "{l} {w} {h}: {v}");
+        }
+        // A true value below the f64 range is 0, not a non-finite-result error.
+        for (name, params) in [
+            (
+                "view_factor_parallel_rectangles",
+                json!({"width": 1e-300, "length": 1e300, "separation": 1e300}),
+            ),
+            (
+                "view_factor_perpendicular_rectangles",
+                json!({"common_edge": 1, "width": 1e300, "height": 1e-300}),
+            ),
+        ] {
+            assert_eq!(evaluate(name, &obj(params)).unwrap(), 0.0, "{name}");
+        }
         for (r1, h, want) in [(1e-80, 1.0, 0.5), (1.0, 1e-160, 1.0)] {
             let v = evaluate(
                 "view_factor_disk_to_coaxial_disk",

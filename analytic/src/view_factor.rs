@@ -44,6 +44,17 @@ pub fn disk_to_coaxial_disk(r1: f64, r2: f64, height: f64) -> f64 {
     2.0 * b * b / (s + (a - b).hypot(c) * (a + b).hypot(c))
 }
 
+/// ln(1 + x)/x, 1 at x = 0 (x > −1): the logarithms below multiplied out of their
+/// arguments, so that no argument's underflow loses a leading term.
+fn ln_1p_over(x: f64) -> f64 {
+    if x == 0.0 { 1.0 } else { x.ln_1p() / x }
+}
+
+/// atan(x)/x, 1 at x = 0.
+fn atan_over(x: f64) -> f64 {
+    if x == 0.0 { 1.0 } else { x.atan() / x }
+}
+
 /// Identical, parallel, directly opposed rectangles a × b at separation c.
 ///
 /// **Formula.** With X = a/c, Y = b/c:
@@ -55,27 +66,76 @@ pub fn disk_to_coaxial_disk(r1: f64, r2: f64, height: f64) -> f64 {
 ///
 /// **Source.** Howell's catalog, case C-11; Siegel & Howell App. C.
 ///
-/// **Accuracy.** The braces hold O(1) terms that cancel to F·πXY/2 ~ X²Y² (distant
-/// plates) or ~X (a strip, X ≪ 1 ≤ Y): about 2 log₁₀(c/min(a, b)) digits are lost, the
-/// relative error growing like 10⁻¹⁶ (c/min(a, b))² (a = 10⁻⁹, b = c = 1 gives 0 for
-/// 2.5e-10). The catalog refuses c > [`PARALLEL_RECTANGLES_MAX_RATIO`]·min(a, b); the
-/// tests check 1e-7 relative at that limit against 60-digit references.
+/// **Evaluation (an exact rearrangement, no cancellation).** Evaluated as written, the
+/// braces hold O(1) terms that cancel to F·πXY/2 ~ X²Y² (distant plates) or ~X (a
+/// strip, X ≪ 1 ≤ Y): about 2 log₁₀(c/min(a, b)) digits were lost (a = 10⁻⁹,
+/// b = c = 1 gave 0 for 2.5e-10). Grouped instead as
+/// ```text
+/// braces = ½ ln(1 + X²Y²/(1+X²+Y²)) + P(X, Y) + P(Y, X),
+/// P(x, y) = x [σ atan(x/σ) − atan x],  σ = √(1+y²),
+/// ```
+/// three terms that are each ≥ 0 (σ atan(x/σ) grows with σ, its σ-derivative being
+/// atan t − t/(1+t²) > 0 at t = x/σ), so none cancels another. Inside P, with
+/// δ = σ − 1 = y²/(σ+1) and atan(x/σ) − atan x = −atan(xδ/(σ + x²)) (both arguments
+/// ≥ 0), σ atan(x/σ) − atan x = δ atan(x/σ) − atan(xδ/(σ + x²)): the two terms agree to
+/// a relative O(x²) only for small x, where each is ≈ x²δ ≈ x²y²/2 and the logarithm
+/// ≈ X²Y²/2 already dominates the braces (and for small x and large y P is O(x²) while
+/// the braces are ≥ P(y, x) ~ x²y), so the error stays a few ulps of F. Divided through
+/// by XY (no X²Y² to underflow, no X² to overflow):
+/// ```text
+/// πF/2 = ½ r ln(1 + z)/z + Q(X, Y) + Q(Y, X),   r = XY/(1+X²+Y²), z = rXY,
+/// Q(x, y) = P(x, y)/(xy) = e [atan(x/σ) − m atan(g)/g],
+///   e = y/(σ+1), m = x/(σ + x²), g = xδ/(σ + x²) = y e m.
+/// ```
+/// The limits where a ratio leaves f64: X = a/c = ∞ (so Y = ∞ too) is F = 1 to
+/// O(1/X) = O(10⁻³⁰⁸); Y = ∞ with X finite is the expression's Y → ∞ limit (the
+/// infinitely long plates' F = √(1 + 1/X²) − 1/X = X/(√(1+X²) + 1)), to O(1/Y); X = 0
+/// means F < X < 2.3·10⁻³⁰⁸ (the three terms above are below X/4, X/2 and πX/4),
+/// returned as 0. Against mpmath at 60+ digits of the formula as written (working
+/// precision raised by 2 log₁₀ of every ratio, for its cancellation), over a grid of
+/// a, b, c ∈ 10⁻³⁰⁰..10³⁰⁰ in every combination, 4000 log-uniform random points and all
+/// combinations of subnormal, ordinary and near-f64::MAX lengths, the worst error was
+/// 4.8·10⁻¹⁵ relative (1.7·10⁻¹⁵ of 2.2·10⁻³⁰⁸ absolute where F is subnormal).
 pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
     let (x, y) = (a / c, b / c);
-    let (x2, y2) = (x * x, y * y);
-    let sx = (1.0 + x2).sqrt();
-    let sy = (1.0 + y2).sqrt();
-    let t = 0.5 * ((1.0 + x2).ln() + (1.0 + y2).ln() - (1.0 + x2 + y2).ln())
-        + x * sy * (x / sy).atan()
-        + y * sx * (y / sx).atan()
-        - x * x.atan()
-        - y * y.atan();
-    2.0 * t / (PI * x * y)
+    let (x, y) = if x <= y { (x, y) } else { (y, x) };
+    if x.is_infinite() {
+        return 1.0;
+    }
+    if y.is_infinite() {
+        return x / (1f64.hypot(x) + 1.0);
+    }
+    if x == 0.0 {
+        return 0.0;
+    }
+    // Q(u, v) = P(u, v)/(uv) above.
+    let q = |u: f64, v: f64| {
+        let sigma = 1f64.hypot(v);
+        let e = v / (sigma + 1.0);
+        let m = if u <= 1.0 {
+            u / (sigma + u * u)
+        } else {
+            1.0 / (sigma / u + u)
+        };
+        e * ((u / sigma).atan() - m * atan_over(v * e * m))
+    };
+    // r = XY/(1 + X² + Y²) with X ≤ Y, no square overflowing.
+    let r = if y <= 1.0 {
+        x * y / (1.0 + x * x + y * y)
+    } else {
+        let t = x / y;
+        t / (1.0 / y / y + 1.0 + t * t)
+    };
+    let z = r * x * y;
+    let log = if z.is_finite() {
+        r * ln_1p_over(z)
+    } else {
+        // z > 1.8·10³⁰⁸: ln(1 + z) = ln z to a relative 10⁻³⁰⁸.
+        (x.ln() + y.ln() + r.ln()) / x / y
+    };
+    // F < 1, but for c ≪ a, b the sum rounds to 1 + 2⁻⁵² at times.
+    (2.0 / PI * (0.5 * log + q(x, y) + q(y, x))).min(1.0)
 }
-
-/// The largest separation/min(width, length) the catalog evaluates
-/// [`parallel_rectangles`] at (its doc: the error grows like 10⁻¹⁶ times its square).
-pub const PARALLEL_RECTANGLES_MAX_RATIO: f64 = 1e4;
 
 /// Perpendicular rectangles sharing an edge of length l: from A₁ = l × w to A₂ = l × h.
 ///
@@ -83,24 +143,111 @@ pub const PARALLEL_RECTANGLES_MAX_RATIO: f64 = 1e4;
 /// ```text
 /// F₁₂ = 1/(πW) { W atan(1/W) + H atan(1/H) − √(H²+W²) atan(1/√(H²+W²))
 ///   + ¼ ln( (1+W²)(1+H²)/(1+W²+H²) · [W²(1+W²+H²)/((1+W²)(W²+H²))]^{W²}
-///                                 · [H²(1+H²+W²)/((1+H²)(H²+W²))]^{H²} ) },
+///                                 · [H²(1+H²+W²)/((1+H²)(H²+W²))]^{H²} ) }.
 /// ```
-/// the logarithm expanded into a sum of logarithms (no overflow of the powers).
 ///
 /// **Derivation.** Contour-integral (Stokes) reduction of the double area integral; the
 /// resulting line integrals along the edges are elementary.
 ///
 /// **Source.** Howell's catalog, case C-14; Siegel & Howell App. C.
+///
+/// **Evaluation (an exact rearrangement, no cancellation).** Evaluated as written, the
+/// braces N = πW F₁₂, which are O(W) for a narrow emitter (F₁₂ → ½ as W → 0), are formed
+/// from O(1) terms, losing log₁₀(1/W) digits, and W² or H² under/overflowed (ln 0 = −∞
+/// times 0 gave NaN at a side ratio of 10⁻²⁰⁰). Collecting the logarithms, with
+/// a = W², b = H²:
+/// ```text
+/// N = Λ(a) + Λ(b) − Λ(a+b),
+/// Λ(t) = √t atan(1/√t) + ¼[(1−t) ln(1+t) + t ln t] = √t atan(1/√t) + ¼ ln(1+t) − ¼ t ln(1+1/t),
+/// ```
+/// Λ(0) = 0 and Λ''(t) = −atan(1/√t)/(4t^{3/2}) < 0 (sympy), so
+/// N = ¼∫₀^a∫₀^b atan(1/√(u+v)) (u+v)^{−3/2} du dv > 0, symmetric in W and H
+/// (reciprocity). With p = min(W, H), q = max(W, H), ρ = p/q, s = √(p²+q²) = q√(1+ρ²):
+/// N = Λ(p²) − Δ, Δ = Λ(s²) − Λ(q²) ≤ Λ(p²) (concavity), and Δ splits, with
+/// d = s − q = p²/(s+q) and atan(1/s) − atan(1/q) = −atan(d/(1+qs)), into
+/// ```text
+/// Δ = [d atan(1/s) − q atan(d/(1+qs))] + ¼ ln(1 + p²/(1+q²))
+///     − ¼ [p² ln(1 + 1/s²) + q² ln(1 − p²/((1+q²)s²))],
+/// ```
+/// where Δ and each of its five terms stay below N/√2 (mpmath over p, q ∈ 10⁻¹⁵..10¹⁵;
+/// the bound is approached as p = q → 0, where N → (π/2)(2 − √2)p and Δ → (π/2)(√2 − 1)p),
+/// so Λ(p²) ≤ (1 + 1/√2) N: nothing cancels by more than that factor. Everything
+/// is divided by p before it is formed (N/p, with d/p = ρ/(1 + √(1+ρ²)) and each square
+/// scaled so that none overflows and an underflowing one only drops a term below an ulp
+/// of the result), and F₁₂ = (N/p)(p/W)/π.
+///
+/// For p > 10⁸ (a regime that takes in every p or q overflowing f64: l = 3.3·10⁻³⁰⁰,
+/// w = 3.7·10⁹, h = 3.3·10¹⁰ is F₁₂ = 1.01·10⁻³⁰⁷) the asymptotic form is used: Λ(t) = ¾ + ¼ ln t + R(t) (sympy:
+/// R = 1/(24t) − 1/(120t²) + …) with R'' = [1/√t − atan(1/√t)]/(4t^{3/2}) ∈ [0, 1/(12t³)]
+/// and R(∞) = R'(∞) = 0, so 0 ≤ R(t) ≤ 1/(24t), and
+/// N = ¾ + ½ ln p − ¼ ln(1 + ρ²) + E, |E| ≤ 1/(12p²) ≤ 10⁻¹⁷ (relative ≤ 10⁻¹⁸, N ≥ 9.7).
+/// ln p is taken as ln(min(w, h)) − ln l when p overflows (then ln p ≥ 709 and each
+/// logarithm is at most 745 in size, so that difference loses about a factor 2).
+///
+/// Against mpmath at 60+ digits of the formula as written (working precision raised by
+/// 2 log₁₀ of every ratio, for its cancellation), over a grid of l, w, h ∈
+/// 10⁻³⁰⁰..10³⁰⁰ in every combination, 4000 log-uniform random points and all
+/// combinations of subnormal, ordinary and near-f64::MAX lengths, the worst error was
+/// 5.2·10⁻¹⁵ relative (1.9·10⁻¹⁵ of 2.2·10⁻³⁰⁸ absolute where F₁₂ is subnormal).
 pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> f64 {
-    let (hh, ww) = (h / l, w / l);
-    let (h2, w2) = (hh * hh, ww * ww);
-    let s = (h2 + w2).sqrt();
-    let ln = |v: f64| v.ln();
-    let log_term = ln(1.0 + w2) + ln(1.0 + h2) - ln(1.0 + w2 + h2)
-        + w2 * (ln(w2) + ln(1.0 + w2 + h2) - ln(1.0 + w2) - ln(w2 + h2))
-        + h2 * (ln(h2) + ln(1.0 + h2 + w2) - ln(1.0 + h2) - ln(h2 + w2));
-    (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan() - s * (1.0 / s).atan() + 0.25 * log_term)
-        / (PI * ww)
+    let (p_len, q_len) = (w.min(h), w.max(h));
+    let rho = p_len / q_len;
+    let (p, q) = (p_len / l, q_len / l);
+    if p > 1e8 {
+        let ln_p = if p.is_finite() {
+            p.ln()
+        } else {
+            p_len.ln() - l.ln()
+        };
+        let n = 0.75 + 0.5 * ln_p - 0.25 * (rho * rho).ln_1p();
+        // F₁₂ = N/(πW): as (N/p)(p/W)/π while p is finite (N/p ≥ 5·10⁻³⁰⁸ is normal), else
+        // as N (l/w)/π with l/w scaled by 2⁶⁰⁰ (exact; l < 1 here), so that a subnormal
+        // l/w does not drop bits of a normal F₁₂ (up to 6·10⁻³⁰⁷ at p = ∞).
+        return if p.is_finite() {
+            let n_p = n / p;
+            if w <= h { n_p / PI } else { n_p * rho / PI }
+        } else {
+            let scale = 2f64.powi(600);
+            n * (l * scale / w) / PI / scale
+        };
+    }
+    // Λ(p²)/p, the p → 0 limit π/2 reached continuously (p ln p = 0 at p = 0).
+    let lambda = if p < 1.0 {
+        let p_ln_p = if p == 0.0 { 0.0 } else { p * p.ln() };
+        (1.0 / p).atan() + 0.25 * p * ln_1p_over(p * p) + 0.5 * p_ln_p - 0.25 * p * (p * p).ln_1p()
+    } else {
+        let ip = 1.0 / p;
+        ip.atan() + 0.25 * ip * (2.0 * p.ln() + (ip * ip).ln_1p()) - 0.25 * ip * ln_1p_over(ip * ip)
+    };
+    // N/p; Δ/p = t1 + t2 − t3 − t4 in the order of the doc's terms.
+    let n = if q.is_infinite() {
+        lambda // Δ ≤ p²/(4q²) → 0 (Λ'(t) ≤ 1/(4t) for large t)
+    } else {
+        let root = 1f64.hypot(rho);
+        let s = q * root;
+        let d_p = rho / (1.0 + root);
+        let inv_q = 1.0 / q; // ∞ at q = 0: the terms below reach their limits
+        let q_iq = q + inv_q; // (1 + q²)/q
+        let t1 = d_p * ((1.0 / s).atan() - atan_over(p * d_p / (1.0 + q * s)) / (s + inv_q));
+        let x2 = p * rho / q_iq; // p²/(1 + q²)
+        let t2 = 0.25 * ln_1p_over(x2) * rho / q_iq;
+        let t3 = if s < 1.0 {
+            let p_ln_s = if p == 0.0 { 0.0 } else { p * s.ln() };
+            0.25 * (p * (s * s).ln_1p() - 2.0 * p_ln_s)
+        } else {
+            let is = 1.0 / s;
+            0.25 * (rho / root) * is * ln_1p_over(is * is)
+        };
+        let inv_1q2 = if q <= 1.0 {
+            1.0 / (1.0 + q * q)
+        } else {
+            inv_q * inv_q / (1.0 + inv_q * inv_q)
+        };
+        let y = rho * rho / (1.0 + rho * rho) * inv_1q2; // p²/((1+q²)s²)
+        let t4 = -0.25 * ln_1p_over(-y) * (rho / q_iq) / (1.0 + rho * rho);
+        lambda - t1 - t2 + t3 + t4
+    };
+    if w <= h { n / PI } else { n * rho / PI }
 }
 
 /// Differential element to a sphere of radius R whose centre is at distance d, the
@@ -184,21 +331,154 @@ mod tests {
         assert!(rel(element_to_coaxial_disk(3.0, 4.0), 9.0 / 25.0) < 1e-15);
     }
 
-    /// At the catalog's limit c = 10⁴·min(a, b), against Howell's C-11 evaluated with
-    /// 60 significant digits (mpmath): a strip, two small squares, distant plates.
+    /// Checks `f` against mpmath references; a reference below the normal range
+    /// (2.2·10⁻³⁰⁸) is met to that absolute error.
+    fn check_references(name: &str, f: fn(f64, f64, f64) -> f64, cases: &[(f64, f64, f64, f64)]) {
+        for &(x, y, z, want) in cases {
+            let got = f(x, y, z);
+            let err = if want.abs() < f64::MIN_POSITIVE {
+                (got - want).abs() / f64::MIN_POSITIVE
+            } else {
+                rel(got, want)
+            };
+            assert!(
+                err < 1e-13,
+                "{name}({x:e}, {y:e}, {z:e}) = {got:e}, mpmath {want:e}"
+            );
+        }
+    }
+
+    /// C-11 at extreme ratios: thin strips, distant and touching plates, every length at
+    /// 10⁻³⁰⁰..10³⁰⁰ and subnormal, where Howell's expression as written lost
+    /// 2 log₁₀(c/min(a, b)) digits (a = 10⁻⁹, b = c = 1 gave 0) or overflowed. The
+    /// references are Howell's expression as written, evaluated by mpmath with
+    /// mp.dps = 80 + 2 max|log₁₀ X|, |log₁₀ Y| + 2|log₁₀ X| + 2|log₁₀ Y| (at least 50
+    /// digits survive its cancellation), X = a/c, Y = b/c exact from the f64 inputs:
+    /// `python3 -c 'from mpmath import *; mp.dps=<as above>; a,b,c=mpf(A),mpf(B),mpf(C);
+    /// X,Y=a/c,b/c; sx,sy=sqrt(1+X*X),sqrt(1+Y*Y); print(nstr(2/(pi*X*Y)*(log((1+X*X)*
+    /// (1+Y*Y)/(1+X*X+Y*Y))/2+X*sy*atan(X/sy)+Y*sx*atan(Y/sx)-X*atan(X)-Y*atan(Y)),20))'`.
+    /// Measured worst error over a 10⁻³⁰⁰..10³⁰⁰ grid: 4.8·10⁻¹⁵ relative.
     #[test]
     // References printed to 20 significant digits by mpmath; kept verbatim.
     #[allow(clippy::excessive_precision)]
-    fn parallel_rectangles_at_the_ratio_limit() {
-        for (a, b, c, want) in [
-            (1e-4, 1.0, 1.0, 2.499_999_992_423_708_969_2e-5),
-            (1e-3, 1e-3, 10.0, 3.183_098_840_617_247_949_4e-9),
-            (1.0, 1.0, 1e4, 3.183_098_840_617_247_816_8e-9),
-            (0.5, 2.0, 3000.0, 3.536_775_956_438_555_716_5e-8),
+    fn parallel_rectangles_at_extreme_ratios() {
+        check_references(
+            "parallel_rectangles",
+            parallel_rectangles,
+            &[
+                (1e-9, 1.0, 1.0, 2.5000000000000001549e-10),
+                (1e-4, 1.0, 1.0, 2.4999999924237089692e-5),
+                (1e-3, 1e-3, 10.0, 3.1830988406172479494e-9),
+                (1.0, 1.0, 1e4, 3.1830988406172478168e-9),
+                (0.5, 2.0, 3000.0, 3.5367759564385557165e-8),
+                (1.0, 1.0, 1e150, 3.1830988618379068374e-301),
+                (1e-150, 1e-150, 1.0, 3.1830988618379067555e-301),
+                (1e-200, 1.0, 1.0, 2.4999999999999999553e-201),
+                (1e-200, 1e200, 1.0, 4.9999999999999999105e-201),
+                (1.0, 2.0, 1e-300, 1.0),
+                (1e300, 1e-300, 1.0, 5.0000000000000001253e-301),
+                (3.0, 7.0, 1e-200, 1.0),
+                (1e-300, 1e-300, 1e-300, 0.19982489569838738304),
+                (1e-300, 1e300, 1e300, 2.4999999999999999314e-601),
+                (1e300, 1e300, 1e-300, 1.0),
+                (1.7e308, 1.0, 1e-300, 1.0),
+                (2.5e-7, 4e5, 0.3, 4.1666646772291546046e-7),
+                (5e-324, 5e-324, 5e-324, 0.19982489569838738304),
+            ],
+        );
+    }
+
+    /// C-14 at extreme ratios: a side of 10⁻²⁰⁰ or 10²⁰⁰ relative to the others
+    /// (W² or H² under/overflowed, 0·ln 0 = NaN), narrow emitters (W → 0: F₁₂ → ½,
+    /// formerly O(1) terms cancelling to O(W)), both plates narrow (l → ∞: the
+    /// infinitely long plates' ½(1 + H/W − √(1 + H²/W²)) = ½(4 − √10) for H = 3W, also
+    /// with W and H underflowing to 0), both wide (ratios overflowing), and both sides of
+    /// the asymptotic regime's switch at min(w, h)/l = 10⁸. The references are Howell's
+    /// expression as written, evaluated by mpmath with
+    /// mp.dps = 2(80 + 2 max|log₁₀ W|, |log₁₀ H|, |log₁₀ (w/h)|):
+    /// `python3 -c 'from mpmath import *; mp.dps=<as above>; l,w,h=mpf(L),mpf(W),mpf(H);
+    /// W,H=w/l,h/l; a,b=W*W,H*H; s=sqrt(a+b); g=log((1+a)*(1+b)/(1+a+b))+a*log(a*(1+a+b)/
+    /// ((1+a)*(a+b)))+b*log(b*(1+a+b)/((1+b)*(a+b))); print(nstr((W*atan(1/W)+H*atan(1/H)
+    /// -s*atan(1/s)+g/4)/(pi*W),20))'`.
+    /// Measured worst error over a 10⁻³⁰⁰..10³⁰⁰ grid: 5.2·10⁻¹⁵ relative.
+    #[test]
+    // References printed to 20 significant digits by mpmath; kept verbatim.
+    #[allow(clippy::excessive_precision)]
+    fn perpendicular_rectangles_at_extreme_ratios() {
+        check_references(
+            "perpendicular_rectangles",
+            perpendicular_rectangles,
+            &[
+                (1.0, 1e-200, 1.0, 0.5),
+                (1.0, 1.0, 1e-200, 4.9999999999999999105e-201),
+                (1e-200, 1.0, 1.0, 7.3477133402542452880e-199),
+                (1e200, 1.0, 1.0, 0.29289321881345247560),
+                (1.0, 1e-300, 1e300, 0.5),
+                (1.0, 1e300, 1e-300, 4.9999999999999998628e-601),
+                (3.3e-300, 3.7e9, 3.3e10, 1.0122482188820601821e-307),
+                (1e-100, 1.0, 3.0, 3.6877128035172403735e-99),
+                (1e-5, 1.0, 1.0, 2.0159125118002390462e-5),
+                (1e-8, 1.0, 2.0, 3.1527176105501857910e-8),
+                (9.999e-9, 1.0, 2.0, 3.1524182534876388751e-8),
+                (1e150, 1e-150, 3e-150, 0.41886116991581033748),
+                (1e300, 1e-300, 3e-300, 0.41886116991581033825),
+                (1.0, 1e-10, 1e-2, 0.49999999719886827854),
+                (1.0, 1e-2, 1e-10, 4.9999999719886828635e-9),
+                (2.0, 1.0, 0.01, 0.0049346840641041705796),
+                (1.0, 1.0, 1.0, 0.20004377607540315424),
+            ],
+        );
+    }
+
+    /// Reciprocity A₁F₁₂ = A₂F₂₁ for C-14 (w F(l, w, h) = h F(l, h, w)), and finite
+    /// values in [0, 1] for both rectangle cases over every combination of extreme and
+    /// ordinary lengths, subnormal and f64::MAX included.
+    #[test]
+    fn rectangles_reciprocity_and_range_at_extremes() {
+        let lengths = [
+            5e-324,
+            1e-310,
+            f64::MIN_POSITIVE,
+            1e-200,
+            1e-9,
+            0.3,
+            1.0,
+            7.0,
+            1e12,
+            1e200,
+            f64::MAX,
+        ];
+        for &l in &lengths {
+            for &w in &lengths {
+                for &h in &lengths {
+                    let (f12, f21) = (
+                        perpendicular_rectangles(l, w, h),
+                        perpendicular_rectangles(l, h, w),
+                    );
+                    let par = parallel_rectangles(l, w, h);
+                    for f in [f12, f21, par] {
+                        assert!((0.0..=1.0).contains(&f), "{l:e} {w:e} {h:e}: {f}");
+                    }
+                    // Reciprocity where both factors are normal numbers.
+                    let (lhs, rhs) = (w / h * f12, f21);
+                    if f12 >= 1e-300 && f21 >= 1e-300 && lhs.is_finite() {
+                        assert!(rel(lhs, rhs) < 1e-14, "{l:e} {w:e} {h:e}: {lhs} vs {rhs}");
+                    }
+                }
+            }
+        }
+        // Reciprocity at ordinary and moderately extreme shapes, to rounding.
+        for (l, w, h) in [
+            (1.0, 0.3, 2.0),
+            (1.0, 1e-7, 1e3),
+            (1e-6, 1.0, 5.0),
+            (1e6, 1.0, 1e-3),
         ] {
-            assert!(c <= PARALLEL_RECTANGLES_MAX_RATIO * f64::min(a, b));
-            let f = parallel_rectangles(a, b, c);
-            assert!(rel(f, want) < 1e-7, "{a} × {b} at {c}: {f} vs {want}");
+            let (f12, f21) = (
+                perpendicular_rectangles(l, w, h),
+                perpendicular_rectangles(l, h, w),
+            );
+            assert!(rel(w * f12, h * f21) < 1e-14, "{l} {w} {h}");
         }
     }
 
