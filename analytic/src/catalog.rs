@@ -886,9 +886,7 @@ static ENTRIES: &[Entry] = &[
                 // would chase the rounding noise of F to its evaluation cap.
                 return Ok(0.0);
             }
-            Ok(microfacet::albedo_with_fresnel(d, m, a, c, |x| {
-                fresnel::conductor(x, eta, k)
-            }))
+            Ok(microfacet::conductor_albedo(d, m, a, c, eta, k))
         }
     ),
     entry!(

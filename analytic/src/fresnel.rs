@@ -179,7 +179,12 @@ impl Complex {
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §14.2 (metal optics); pbrt 4th ed.
 /// §9.3.6 (`FrComplex`).
+///
+/// A subnormal κ is taken as 0: F moves by O(√κ) < 1.5·10⁻¹⁵⁴ (at the critical angle of
+/// η < 1, O(κ) elsewhere), far below an ulp, while subnormal arithmetic made a rough
+/// conductor's albedo quadrature 7× slower (κ = 5·10⁻³²⁴: 3.4 s against 0.5 s).
 pub fn conductor(cos_theta: f64, eta: f64, k: f64) -> f64 {
+    let k = if k.abs() < f64::MIN_POSITIVE { 0.0 } else { k };
     let cos_i = cos_theta.clamp(0.0, 1.0);
     let sin2_i = (1.0 - cos_i) * (1.0 + cos_i);
     let eta_c = Complex::new(eta, k);
