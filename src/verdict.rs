@@ -10,7 +10,9 @@
 //! the same `std_error` with or without one.
 //!
 //! **Classes.** An estimate whose samples agree to f32 rounding is *exact*
-//! ([`crate::stats::is_exact`]): it is compared within the stated f32 error bound and
+//! ([`crate::stats::is_exact`]), and so is one judged by batch means whose batch means
+//! are all equal (a σ̂ of 0 is no statistic): it is compared within the stated f32
+//! error bound and
 //! is not a member of the Šidák family. Every other estimate is *statistical*: a z (or
 //! t) test at the family's per-test level, reporting the bias it detects with 99% power.
 
@@ -50,8 +52,17 @@ impl ErrorBar {
             };
         }
         let plain = total.std_error();
-        let batch = est.batches.std_error();
+        let means = est.batches.of_means();
+        let batch = means.std_error();
         if sampler != SamplerKind::Independent || batch > 1.5 * plain {
+            // Identical batch means (a quasi-random sampler that stratifies the integrand
+            // exactly) leave no variance to test either: σ̂ = 0 is no statistic.
+            if means.count > 1 && means.non_finite == 0 && batch == 0.0 {
+                return ErrorBar {
+                    std_error: None,
+                    dof: None,
+                };
+            }
             ErrorBar {
                 std_error: Some(batch),
                 dof: Some(est.batches.dof()),
@@ -486,6 +497,32 @@ mod tests {
         let v = judge(&flat, SamplerKind::Stratified, 2.5, 1e-4, 10);
         assert!(v.passed && v.class == VerdictClass::Exact);
         assert!(!judge(&flat, SamplerKind::Stratified, 2.6, 1e-4, 10).passed);
+    }
+
+    /// A quasi-random sampler can stratify a step integrand exactly: every batch of
+    /// [0, 1, 0, 1] has the mean ½ to the bit, so the batch-means standard error is 0
+    /// though the samples vary. That estimate has no variance to test: it is exact (judged
+    /// within the f32 bound, outside the Šidák family), not a z test with σ̂ = 0.
+    #[test]
+    fn batch_means_without_variance_are_exact() {
+        let e = estimate((0..16).map(|_| batch(&[0.0, 1.0, 0.0, 1.0])).collect());
+        assert!(!is_exact(&e.batches.total));
+        assert_eq!(e.batches.std_error(), 0.0);
+        let bar = ErrorBar::of(&e, SamplerKind::Sobol);
+        assert!(bar.exact() && bar.dof.is_none(), "{bar:?}");
+        let v = judge(&e, SamplerKind::Sobol, 0.5, 1e-4, 10);
+        assert!(v.passed && v.class == VerdictClass::Exact, "{v:?}");
+        let off = judge(&e, SamplerKind::Sobol, 0.5 * (1.0 + 1e-3), 1e-4, 10);
+        assert!(!off.passed && off.class == VerdictClass::Exact, "{off:?}");
+        // Batch means that differ beyond rounding keep the t test.
+        let mut varied: Vec<_> = (0..16).map(|_| batch(&[0.0, 1.0, 0.0, 1.0])).collect();
+        varied[3] = batch(&[0.0, 1.0, 1.0, 1.0]);
+        let e = estimate(varied);
+        let bar = ErrorBar::of(&e, SamplerKind::Sobol);
+        assert_eq!(
+            (bar.std_error, bar.dof),
+            (Some(e.batches.std_error()), Some(15))
+        );
     }
 
     #[test]

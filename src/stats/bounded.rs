@@ -33,6 +33,7 @@
 //! passes the smallest and largest sample seen: one sample outside fails the verdict
 //! (the model broke the bound the test relies on).
 
+use crate::stats::hypothesis::non_finite_moments;
 use crate::stats::{Accumulator, MeanTest, Verdict, is_exact_at};
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -196,6 +197,8 @@ impl MeanTest {
             Some("fewer than two finite samples".into())
         } else if !reference.is_finite() {
             Some("reference is not finite".into())
+        } else if let Some(why) = non_finite_moments(acc.mean, s) {
+            Some(why)
         } else if p_value < alpha || excess > h {
             Some(format!(
                 "mean {:.6} is {:.3e} from {reference}, beyond the empirical Bernstein bound {h:.3e} (p = {p_value:.2e} < α = {alpha:.2e})",
@@ -363,5 +366,23 @@ mod tests {
             "{}",
             v.detectable_relative_bias
         );
+    }
+
+    /// Finite samples whose mean overflowed to NaN in a range as wide as f64 allows: the
+    /// Bernstein statistic of a NaN excess reads as no excess, which must not pass.
+    #[test]
+    fn a_non_finite_mean_of_finite_samples_fails() {
+        let t = MeanTest::new(1e-4, 1);
+        let acc = acc_of([1e308, -1e308, 1e308]);
+        assert!(acc.mean.is_nan() && acc.non_finite == 0);
+        let wide = Range {
+            lo: -f64::MAX,
+            hi: f64::MAX,
+            min: -1e308,
+            max: 1e308,
+        };
+        let v = t.judge_bounded(&acc, wide, 1.0);
+        assert!(!v.passed, "{v:?}");
+        assert!(!t.judge_bounded_at_most(&acc, wide, 1.0).passed);
     }
 }
