@@ -491,9 +491,14 @@ impl Chi2Test {
         let p_value = ChiSquared::new(dof as f64)
             .map(|d| d.sf(statistic))
             .unwrap_or(0.0);
-        if p_value < self.alpha {
+        // Two random tests share the outcome's level α: the statistic and, for a sampler
+        // that can fail a draw, the normalisation's z. Each runs at the Šidák level
+        // 1 − (1 − α)^{1/2} ≈ α/2, so that a correct sampler fails the outcome with
+        // probability at most α (each at α had let it fail up to 2α).
+        let alpha_each = crate::stats::hypothesis::sidak_alpha(self.alpha, 2);
+        if p_value < alpha_each {
             reasons.push(format!(
-                "chi-square statistic {statistic:.1} with {dof} dof has p = {p_value:.3e} < α = {:.3e}",
+                "chi-square statistic {statistic:.1} with {dof} dof has p = {p_value:.3e} < α = {alpha_each:.3e} (the outcome's {:.3e} shared with the normalisation)",
                 self.alpha
             ));
         }
@@ -502,7 +507,7 @@ impl Chi2Test {
         let f = success_fraction;
         let binom_var = (f * (1.0 - f)).max(1.0 / n) / n;
         let normalisation_z = (pdf_integral - f) / (binom_var + quad_err * quad_err).sqrt();
-        let crit = Normal::standard().inverse_cdf(1.0 - self.alpha / 2.0);
+        let crit = Normal::standard().inverse_cdf(1.0 - alpha_each / 2.0);
         if normalisation_z.abs() > crit {
             reasons.push(format!(
                 "pdf integrates to {pdf_integral:.6} but {:.6} of draws succeeded (z = {normalisation_z:.1})",
@@ -1122,17 +1127,29 @@ mod tests {
                 .contains("pdf integrates to 1.000000 but 0.968750 of draws succeeded"),
             "{o:?}"
         );
-        // Six lost draws: z = 2.45, inside the two-sided critical value 2.576 of α = 0.01
-        // (a one-sided or doubled α, 2.33 or 2.05, would fail it).
+        // The outcome's α = 0.01 is shared by its two tests, each at 1 − 0.99^{1/2}
+        // (two-sided critical value 2.807): seven lost draws, z = 2.645, pass (they failed
+        // when each test had all of α, critical value 2.576, letting a correct sampler
+        // fail up to 2α); nine, z = 3.0, fail (a one-sided or doubled α would be lower).
+        for (lost, z, passes) in [(7u64, 2.645, true), (9, 3.0, false)] {
+            let (t, mut tables) = perfect_tables();
+            tables.quadrature_error = vec![1e-7; 32];
+            tables.observed[0] = 1000 - lost;
+            tables.successes = 32_000 - lost;
+            let o = t.judge("lost", &tables);
+            assert!(
+                (o.normalisation_z - z).abs() < 0.01 && o.passed == passes,
+                "{lost}: {o:?}"
+            );
+        }
+        // The same sharing for the statistic: ±41, Σ = 53.8 on 31 dof, p = 0.0068, passes at
+        // α = 0.01 (it failed when the statistic had all of α).
         let (t, mut tables) = perfect_tables();
-        tables.quadrature_error = vec![1e-7; 32];
-        tables.observed[0] = 994;
-        tables.successes = 31_994;
-        let o = t.judge("six lost", &tables);
-        assert!(
-            (2.44..2.46).contains(&o.normalisation_z) && o.passed,
-            "{o:?}"
-        );
+        tables.observed = (0..32)
+            .map(|i| if i % 2 == 0 { 1041 } else { 959 })
+            .collect();
+        let o = t.judge("p between α/2 and α", &tables);
+        assert!((0.005..0.01).contains(&o.p_value) && o.passed, "{o:?}");
         // A sample outside the domain fails whatever else holds.
         let (t, mut tables) = perfect_tables();
         tables.outside = 1;
