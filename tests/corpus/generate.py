@@ -726,6 +726,25 @@ case("flux_estimator_area", "baseline", FLUX, [("estimators", ["area"])], 2, "es
 case("flux_valid", "baseline", FLUX, [], "valid")
 case("flux_without_view_factor_valid", "baseline", FLUX, [("measure.flux.view_factor", False)], "valid")
 
+# Closed forms at extreme parameters (session 38): a finite reference wherever the true
+# value is finite. Before, perpendicular rectangles with a side of 5e-324 or 1e308 and the
+# Fresnel average at eta = 1e-39 or 1e39 were "non-finite result" errors, Planck's law at
+# 1e-39 m NaN, and parallel rectangles beyond 1e4 × the shorter side refused.
+PAR_REF = dict(FLUX, reference={"closed_form": "view_factor_parallel_rectangles", "width": 1, "length": 1,
+                                "separation": 1})
+sweep("parallel_reference_separation", PAR_REF, "reference.separation", "reference",
+      outcomes("valid", m1=2, zero=2, str=2))
+PERP_REF = dict(FLUX, reference={"closed_form": "view_factor_perpendicular_rectangles", "common_edge": 1,
+                                 "width": 1, "height": 1})
+sweep("perpendicular_reference_width", PERP_REF, "reference.width", "reference",
+      outcomes("valid", m1=2, zero=2, str=2))
+FRESNEL_REF = dict(ALBEDO, reference={"closed_form": "fresnel_dielectric_average", "eta": 1.5})
+sweep("fresnel_average_reference_eta", FRESNEL_REF, "reference.eta", "reference",
+      outcomes("valid", m1=2, zero=2, str=2))
+PLANCK_REF = dict(ALBEDO, reference={"closed_form": "planck_radiance", "wavelength": 5e-7, "temperature": 5778})
+sweep("planck_reference_wavelength", PLANCK_REF, "reference.wavelength", "reference",
+      outcomes("valid", m1=2, zero=2, str=2))
+
 # ---------------------------------------------------------------- verify
 case("verify_f32_radiance", "f32", DISK, [("scene.shapes.0.emission.radiance", 1e39)], 2,
      "scene.shapes[0].emission.radiance", cmd="verify")
