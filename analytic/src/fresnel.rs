@@ -201,7 +201,8 @@ pub fn conductor(cos_theta: f64, eta: f64, k: f64) -> f64 {
         let c2 = Complex::new(cos_i * cos_i, 0.0);
         let cos_t = d.add(c2).div(eta_c).div(eta_c).sqrt();
         let s = ci.add(eta_c.mul(cos_t));
-        let rs = Complex::new(-d.re, -d.im).div(s.mul(s));
+        // |r_s| only: F reads |r_s|², so its sign (−d/s²) is dropped.
+        let rs = d.div(s.mul(s));
         let p = eta_c.mul(eta_c.mul(ci).add(cos_t));
         let e2 = eta_c.mul(eta_c);
         let rp = d.mul(e2.add(one).mul(c2).sub(one)).div(p.mul(p));
