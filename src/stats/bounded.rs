@@ -260,6 +260,12 @@ mod tests {
         let outside = t.judge_bounded(&acc, unit(&acc), acc.mean - 1.01 * h - tau);
         assert!(inside.passed, "{inside:?}");
         assert!(!outside.passed, "{outside:?}");
+        // Its own reason, not the z test's it is built on.
+        let why = outside.reason.clone().unwrap_or_default();
+        assert!(
+            why.contains("beyond the empirical Bernstein bound"),
+            "{why}"
+        );
         // At excess h the p value is the level itself.
         let at = t.judge_bounded(
             &acc,
@@ -285,6 +291,11 @@ mod tests {
             (t.bounded_detectable_bias(20_000, acc.variance(), 1.0, acc.mean, true) - det).abs()
                 < 1e-9,
             "the planning formula is the verdict's"
+        );
+        // Relative to the reference, from the Bernstein bias (not the z test's).
+        assert!(
+            (v.detectable_relative_bias - v.detectable_bias / acc.mean).abs() < 1e-15,
+            "{v:?}"
         );
         // The rare-loss weight at 20 000 samples sees a bias of 0.3%.
         assert!(
