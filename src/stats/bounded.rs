@@ -199,7 +199,8 @@ impl MeanTest {
             Some("reference is not finite".into())
         } else if let Some(why) = non_finite_moments(acc.mean, s) {
             Some(why)
-        } else if p_value < alpha || excess > h {
+        } else if excess > h {
+            // (p < α is the same event: the p value is α exactly at an excess of h.)
             Some(format!(
                 "mean {:.6} is {:.3e} from {reference}, beyond the empirical Bernstein bound {h:.3e} (p = {p_value:.2e} < α = {alpha:.2e})",
                 acc.mean,
@@ -260,6 +261,10 @@ mod tests {
         let outside = t.judge_bounded(&acc, unit(&acc), acc.mean - 1.01 * h - tau);
         assert!(inside.passed, "{inside:?}");
         assert!(!outside.passed, "{outside:?}");
+        // Two samples are enough to judge (the bound is then wide: h ≈ 25 for [0, 1]).
+        let two = acc_of([0.4, 0.6]);
+        let v2 = t.judge_bounded(&two, unit(&two), 0.5);
+        assert!(v2.passed, "{v2:?}");
         // Its own reason, not the z test's it is built on.
         let why = outside.reason.clone().unwrap_or_default();
         assert!(
