@@ -50,6 +50,11 @@ fn ln_1p_over(x: f64) -> f64 {
     if x == 0.0 { 1.0 } else { x.ln_1p() / x }
 }
 
+/// x ln y, 0 at x = 0 (its limit where y → 0 with x: p ln p and p ln s below).
+fn times_ln(x: f64, y: f64) -> f64 {
+    if x == 0.0 { 0.0 } else { x * y.ln() }
+}
+
 /// atan(x)/x, 1 at x = 0.
 fn atan_over(x: f64) -> f64 {
     if x == 0.0 { 1.0 } else { x.atan() / x }
@@ -212,8 +217,8 @@ pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> f64 {
     }
     // Λ(p²)/p, the p → 0 limit π/2 reached continuously (p ln p = 0 at p = 0).
     let lambda = if p < 1.0 {
-        let p_ln_p = if p == 0.0 { 0.0 } else { p * p.ln() };
-        (1.0 / p).atan() + 0.25 * p * ln_1p_over(p * p) + 0.5 * p_ln_p - 0.25 * p * (p * p).ln_1p()
+        (1.0 / p).atan() + 0.25 * p * ln_1p_over(p * p) + 0.5 * times_ln(p, p)
+            - 0.25 * p * (p * p).ln_1p()
     } else {
         let ip = 1.0 / p;
         ip.atan() + 0.25 * ip * (2.0 * p.ln() + (ip * ip).ln_1p()) - 0.25 * ip * ln_1p_over(ip * ip)
@@ -231,8 +236,7 @@ pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> f64 {
         let x2 = p * rho / q_iq; // p²/(1 + q²)
         let t2 = 0.25 * ln_1p_over(x2) * rho / q_iq;
         let t3 = if s < 1.0 {
-            let p_ln_s = if p == 0.0 { 0.0 } else { p * s.ln() };
-            0.25 * (p * (s * s).ln_1p() - 2.0 * p_ln_s)
+            0.25 * (p * (s * s).ln_1p() - 2.0 * times_ln(p, s))
         } else {
             let is = 1.0 / s;
             0.25 * (rho / root) * is * ln_1p_over(is * is)
