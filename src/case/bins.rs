@@ -15,9 +15,11 @@
 use super::{Case, seed_for};
 use crate::error::InputError;
 use crate::sampling::SamplerKind;
+use crate::scene::Scene;
 use crate::transport::Estimator;
 use crate::verdict::Outcome;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Most bins of a histogram.
 pub const MAX_BINS: usize = 1024;
@@ -88,11 +90,18 @@ pub fn with_bin(desc: &super::CaseDesc, a: f64, b: f64) -> super::CaseDesc {
     d
 }
 
-/// Build the case of every bin of `edges`.
-pub fn build(desc: &super::CaseDesc, path: &Path, edges: &[f64]) -> Result<Vec<Case>, InputError> {
+/// Build the case of every bin of `edges`, all on `scene` (the whole span's, built from
+/// the same description: a bin changes what is measured, not the scene), so that up to
+/// [`MAX_BINS`] bins hold one copy of its meshes and maps, not one each.
+pub fn build(
+    desc: &super::CaseDesc,
+    path: &Path,
+    edges: &[f64],
+    scene: &Arc<Scene>,
+) -> Result<Vec<Case>, InputError> {
     edges
         .windows(2)
-        .map(|w| Case::from_desc(with_bin(desc, w[0], w[1]), path))
+        .map(|w| Case::with_scene(with_bin(desc, w[0], w[1]), path, Some(scene)))
         .collect()
 }
 
@@ -160,6 +169,11 @@ mod tests {
         assert!(o.windows(2).all(|p| p[0].seed != p[1].seed));
         assert_eq!(o[1].bin, Some([e[1], e[2]]));
         assert!(o[1].bin_suffix().contains("ns"));
+        // One scene for the case and every bin (up to 1024 of them), not a copy each,
+        // and the same one a bin would build on its own (the bin changes no origin).
+        assert!(c.bins.iter().all(|b| Arc::ptr_eq(&b.scene, &c.scene)));
+        let alone = Case::from_desc(with_bin(&desc, e[1], e[2]), &path).unwrap();
+        assert_eq!(alone.scene.prims(), c.bins[1].scene.prims());
     }
 
     #[test]

@@ -35,6 +35,7 @@ use crate::transport::measure::Measure;
 use crate::transport::plan::{Plan, Plans};
 use crate::verdict::Outcome;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub use crate::transport::engine::BATCHES;
 pub use schema::{CameraDesc, CaseDesc, MeasureDesc, SpectralDesc, TimeDesc, WavelengthSampling};
@@ -54,8 +55,9 @@ pub struct Case {
     pub file: PathBuf,
     /// Its description.
     pub desc: CaseDesc,
-    /// The built scene.
-    pub scene: Scene,
+    /// The built scene (one for a case and all its time bins: they differ only in
+    /// the time window they measure).
+    pub scene: Arc<Scene>,
     /// The measurement in engine coordinates.
     pub measure: Measure,
     /// The reference value, if any.
@@ -81,17 +83,35 @@ impl Case {
 
     /// Validate a parsed description (`path` names it and anchors relative paths).
     pub fn from_desc(desc: CaseDesc, path: &Path) -> Result<Case, InputError> {
-        let file = path.display().to_string();
-        let f = file.as_str();
-        if let Some(e) = bins::edges(f, &desc)? {
-            let mut whole = Case::from_desc(bins::with_bin(&desc, e[0], e[e.len() - 1]), path)?;
-            whole.bins = bins::build(&desc, path, &e)?;
+        let f = path.display().to_string();
+        if let Some(e) = bins::edges(&f, &desc)? {
+            let mut whole =
+                Case::with_scene(bins::with_bin(&desc, e[0], e[e.len() - 1]), path, None)?;
+            whole.bins = bins::build(&desc, path, &e, &whole.scene)?;
             whole.desc = desc;
             return Ok(whole);
         }
+        Case::with_scene(desc, path, None)
+    }
+
+    /// [`Case::from_desc`] of a description without `time.bins`, on `scene` if given
+    /// (built from the same `desc.scene` and origin: a time bin's), else on the scene
+    /// built from `desc`.
+    pub(crate) fn with_scene(
+        desc: CaseDesc,
+        path: &Path,
+        scene: Option<&Arc<Scene>>,
+    ) -> Result<Case, InputError> {
+        let file = path.display().to_string();
+        let f = file.as_str();
         let origin = build::origin(f, &desc)?;
-        let base = path.parent().unwrap_or(Path::new("."));
-        let scene = desc.scene.build(f, "scene", base, origin)?;
+        let scene = match scene {
+            Some(s) => Arc::clone(s),
+            None => {
+                let base = path.parent().unwrap_or(Path::new("."));
+                Arc::new(desc.scene.build(f, "scene", base, origin)?)
+            }
+        };
         let measure = build::measure(f, &desc.measure, &scene, origin)?;
         build::check_estimators(f, &desc, &measure)?;
         build::check_samples(f, &desc)?;

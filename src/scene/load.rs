@@ -324,6 +324,34 @@ fn length_in_range(file: &str, field: &str, v: f64, scale: f64) -> Result<f64, I
     }
 }
 
+/// A shape's `transform`, x ↦ R(s x) + t (scale s, then rotation R, then translation
+/// t), applied in `f64`.
+#[derive(Clone, Copy, Debug)]
+struct Placement {
+    scale: f64,
+    rot: DQuat,
+    tr: DVec3,
+}
+
+impl Placement {
+    /// Where point `p` lands in world coordinates.
+    fn point(&self, p: DVec3) -> DVec3 {
+        self.vector(p) + self.tr
+    }
+
+    /// A displacement (an edge, a vertex relative to the translation): R(s v), never
+    /// translated, so that it keeps its digits however far the shape is moved.
+    fn vector(&self, v: DVec3) -> DVec3 {
+        self.rot * (v * self.scale)
+    }
+
+    /// A unit direction (a normal, an axis): R d, renormalised. The uniform scale
+    /// cannot turn it, and leaving it out keeps a tiny scale from underflowing it.
+    fn direction(&self, d: DVec3) -> DVec3 {
+        (self.rot * d).normalize()
+    }
+}
+
 /// Everything needed to turn the f64 description into f32 geometry.
 struct Builder<'a> {
     file: &'a str,
@@ -516,14 +544,12 @@ impl SceneDesc {
 }
 
 impl Builder<'_> {
-    fn transform(
-        &self,
-        t: Option<&TransformDesc>,
-        f: &str,
-    ) -> Result<impl Fn(DVec3) -> DVec3 + use<>, InputError> {
-        let mut scale = 1.0;
-        let mut rot = DQuat::IDENTITY;
-        let mut tr = DVec3::ZERO;
+    fn transform(&self, t: Option<&TransformDesc>, f: &str) -> Result<Placement, InputError> {
+        let mut pl = Placement {
+            scale: 1.0,
+            rot: DQuat::IDENTITY,
+            tr: DVec3::ZERO,
+        };
         if let Some(t) = t {
             if let Some(s) = t.scale {
                 check_number(
@@ -533,7 +559,7 @@ impl Builder<'_> {
                     |x| x > 0.0,
                     "a positive scale",
                 )?;
-                scale = s;
+                pl.scale = s;
             }
             if let Some(r) = &t.rotate {
                 let axis =
@@ -545,13 +571,23 @@ impl Builder<'_> {
                     |_| true,
                     "finite",
                 )?;
-                rot = DQuat::from_axis_angle(axis, r.degrees.to_radians());
+                pl.rot = DQuat::from_axis_angle(axis, r.degrees.to_radians());
             }
             if let Some(t) = t.translate {
-                tr = check_point(self.file, &format!("{f}.transform.translate"), t)?;
+                pl.tr = check_point(self.file, &format!("{f}.transform.translate"), t)?;
             }
         }
-        Ok(move |p: DVec3| rot * (p * scale) + tr)
+        Ok(pl)
+    }
+
+    /// Point `p` of a shape (field `field`) placed by `pl`, checked to lie within
+    /// [`MAX_COORDINATE`] of the world's origin, and returned rebased on the scene's
+    /// origin: R(s p) + (t − origin), so that a shape translated far from the world's
+    /// origin keeps the digits of its own coordinates where the scene is measured
+    /// (R(s p) + t would round them to the ulp of t first).
+    fn place(&self, field: &str, pl: &Placement, p: DVec3) -> Result<DVec3, InputError> {
+        placed(self.file, field, pl.point(p))?;
+        Ok(pl.vector(p) + (pl.tr - self.origin))
     }
 
     /// A sphere's cap: (axis as placed, cos θmax, 1 − cos θmax), or `None` for the
@@ -559,10 +595,9 @@ impl Builder<'_> {
     fn cap(
         &self,
         gf: &str,
-        c: DVec3,
         theta_max: Option<f64>,
         axis: Option<[f64; 3]>,
-        xf: &impl Fn(DVec3) -> DVec3,
+        pl: &Placement,
     ) -> Result<Option<(Vec3, f32, f32)>, InputError> {
         let file = self.file;
         let a = match axis {
@@ -595,7 +630,7 @@ impl Builder<'_> {
                 format!("{t:e} degrees is too small: the cap's area underflows f32"),
             ));
         }
-        let axis2 = (xf(c + a) - xf(c)).normalize();
+        let axis2 = pl.direction(a);
         Ok(Some((
             axis2.as_vec3(),
             (1.0 - one_minus_cos) as f32,
@@ -610,9 +645,9 @@ impl Builder<'_> {
         f: &str,
         prims: &mut Vec<Primitive>,
     ) -> Result<ShapeKind, InputError> {
-        let xf = self.transform(t, f)?;
+        let pl = self.transform(t, f)?;
         let file = self.file;
-        let scale = t.and_then(|t| t.scale).unwrap_or(1.0);
+        let scale = pl.scale;
         let gf = format!("{f}.geometry");
         match g {
             GeometryDesc::Sphere {
@@ -630,10 +665,10 @@ impl Builder<'_> {
                     "a positive radius",
                 )?;
                 let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
-                let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
-                if let Some(cap) = self.cap(&gf, c, *theta_max, *axis, &xf)? {
+                let c2 = self.place(&format!("{gf}.center"), &pl, c)?;
+                if let Some(cap) = self.cap(&gf, *theta_max, *axis, &pl)? {
                     prims.push(Primitive::SphericalCap {
-                        center: self.to_f32(c2),
+                        center: c2.as_vec3(),
                         radius: r as f32,
                         axis: cap.0,
                         cos_max: cap.1,
@@ -643,7 +678,7 @@ impl Builder<'_> {
                     return Ok(ShapeKind::Mesh);
                 }
                 prims.push(Primitive::Sphere {
-                    center: self.to_f32(c2),
+                    center: c2.as_vec3(),
                     radius: r as f32,
                 });
                 Ok(ShapeKind::Sphere)
@@ -663,15 +698,15 @@ impl Builder<'_> {
                         "is degenerate: edge_u and edge_v are parallel or zero",
                     ));
                 }
-                let (c2, u2, v2) = (
-                    placed(file, &format!("{gf}.corner"), xf(c))?,
-                    placed(file, &format!("{gf}.edge_u"), xf(c + u))?,
-                    placed(file, &format!("{gf}.edge_v"), xf(c + v))?,
-                );
+                // The far corners only need to be in range: the edges are placed as
+                // displacements, R(s u), never as differences of placed points.
+                let c2 = self.place(&format!("{gf}.corner"), &pl, c)?;
+                placed(file, &format!("{gf}.edge_u"), pl.point(c + u))?;
+                placed(file, &format!("{gf}.edge_v"), pl.point(c + v))?;
                 prims.push(Primitive::Rectangle {
-                    corner: self.to_f32(c2),
-                    u: (u2 - c2).as_vec3(),
-                    v: (v2 - c2).as_vec3(),
+                    corner: c2.as_vec3(),
+                    u: pl.vector(u).as_vec3(),
+                    v: pl.vector(v).as_vec3(),
                 });
                 Ok(ShapeKind::Planar)
             }
@@ -691,8 +726,8 @@ impl Builder<'_> {
                     "a positive radius",
                 )?;
                 let r = length_in_range(file, &format!("{gf}.radius"), *radius, scale)?;
-                let c2 = placed(file, &format!("{gf}.center"), xf(c))?;
-                let n2 = (xf(c + n) - c2).normalize();
+                let c2 = self.place(&format!("{gf}.center"), &pl, c)?;
+                let n2 = pl.direction(n);
                 let inner = match *inner_radius {
                     None => 0.0,
                     Some(ri) => {
@@ -709,7 +744,7 @@ impl Builder<'_> {
                 };
                 if inner > 0.0 && inner < r as f32 {
                     prims.push(Primitive::Annulus {
-                        center: self.to_f32(c2),
+                        center: c2.as_vec3(),
                         normal: n2.as_vec3(),
                         inner,
                         radius: r as f32,
@@ -727,7 +762,7 @@ impl Builder<'_> {
                     ));
                 }
                 prims.push(Primitive::Disk {
-                    center: self.to_f32(c2),
+                    center: c2.as_vec3(),
                     normal: n2.as_vec3(),
                     radius: r as f32,
                 });
@@ -737,7 +772,9 @@ impl Builder<'_> {
                 let mut p = [Vec3::ZERO; 3];
                 for (k, v) in vertices.iter().enumerate() {
                     let field = format!("{gf}.vertices[{k}]");
-                    p[k] = self.to_f32(placed(file, &field, xf(check_point(file, &field, *v)?))?);
+                    p[k] = self
+                        .place(&field, &pl, check_point(file, &field, *v)?)?
+                        .as_vec3();
                 }
                 if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
                     return Err(InputError::new(
@@ -755,7 +792,7 @@ impl Builder<'_> {
                     .enumerate()
                     .map(|(k, v)| {
                         let field = format!("{gf}.vertices[{k}]");
-                        placed(file, &field, xf(check_point(file, &field, *v)?))
+                        self.place(&field, &pl, check_point(file, &field, *v)?)
                     })
                     .collect::<Result<_, _>>()?;
                 self.mesh(&vs, indices, &gf, prims)
@@ -788,7 +825,7 @@ impl Builder<'_> {
                     for c in m.mesh.positions.chunks(3) {
                         let p = [c[0] as f64, c[1] as f64, c[2] as f64];
                         let field = format!("{gf}.path");
-                        all.push(placed(file, &field, xf(check_point(file, &field, p)?))?);
+                        all.push(self.place(&field, &pl, check_point(file, &field, p)?)?);
                     }
                     for t in m.mesh.indices.chunks(3) {
                         idx.push([base + t[0], base + t[1], base + t[2]]);
@@ -799,6 +836,8 @@ impl Builder<'_> {
         }
     }
 
+    /// A mesh of the placed vertices `vs` (rebased on the scene's origin, see
+    /// [`Builder::place`]) and their triangles.
     fn mesh(
         &self,
         vs: &[DVec3],
@@ -831,7 +870,7 @@ impl Builder<'_> {
                     )
                 })?;
                 pd[j] = *v;
-                p[j] = self.to_f32(*v);
+                p[j] = v.as_vec3();
             }
             let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
             // The f32 cross product must not vanish (its length may: its square
@@ -1175,4 +1214,77 @@ pub fn read_exr_grey(path: &Path) -> Result<(usize, usize, Vec<f32>), String> {
         ));
     }
     Ok((w, h, data))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// Every kind of shape, with a transform of rotation and scale and, if `far`, a
+    /// translation to (10¹⁷, −10¹⁷, 10¹⁷), where f64 coordinates are 16 apart.
+    fn shapes(far: bool) -> SceneDesc {
+        let mut t = json!({ "rotate": { "axis": [1, 2, 3], "degrees": 37 }, "scale": 0.75 });
+        if far {
+            t["translate"] = json!([1e17, -1e17, 1e17]);
+        }
+        let shape = |g: serde_json::Value| json!({ "geometry": g, "transform": t.clone() });
+        serde_json::from_value(json!({ "shapes": [
+            shape(json!({ "type": "sphere", "center": [0.25, -0.5, 1], "radius": 0.5,
+                          "theta_max": 60, "axis": [1, 1, 0] })),
+            shape(json!({ "type": "rectangle", "corner": [-0.5, -0.75, 1],
+                          "edge_u": [0, 1.5, 0], "edge_v": [1, 0, 0.25] })),
+            shape(json!({ "type": "disk", "center": [0.5, 0, -1], "normal": [0, 1, -1],
+                          "radius": 0.5, "inner_radius": 0.125 })),
+            shape(json!({ "type": "triangle",
+                          "vertices": [[0, 0, 2], [1, 0, 2], [0, 1, 2.5]] })),
+            shape(json!({ "type": "mesh", "vertices": [[0, 0, 3], [1, 0, 3], [0, 1, 3], [1, 1, 3.5]],
+                          "indices": [[0, 1, 2], [1, 3, 2]] })),
+        ]}))
+        .unwrap()
+    }
+
+    /// A shape translated far from the world's origin, rebased on a point there, is the
+    /// same `f32` geometry bit for bit as the untranslated shape rebased on the origin:
+    /// positions are placed as R(s p) + (t − origin) and edges, normals and axes as
+    /// displacements or directions, never as differences of rounded world points (which
+    /// turned a unit normal or edge 10¹⁷ from the origin into 0 or 16).
+    #[test]
+    fn placement_far_from_the_origin_keeps_every_digit() {
+        let far = shapes(true)
+            .build(
+                "t.json",
+                "scene",
+                Path::new("."),
+                DVec3::new(1e17, -1e17, 1e17),
+            )
+            .unwrap();
+        let near = shapes(false)
+            .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+            .unwrap();
+        assert_eq!(far.prims().len(), 6);
+        assert_eq!(far.prims(), near.prims());
+        // The rotation and scale are applied: the rectangle's edge u is R(0.75 u).
+        let rot = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 37f64.to_radians());
+        let u = (rot * DVec3::new(0.0, 1.125, 0.0)).as_vec3();
+        assert!(
+            far.prims()
+                .iter()
+                .any(|p| matches!(p, Primitive::Rectangle { u: pu, .. } if *pu == u))
+        );
+    }
+
+    /// A scale too small for a unit vector's length to be formed (10⁻³²⁰: its square
+    /// underflows) leaves normals and axes unit vectors: the scale cannot turn them.
+    #[test]
+    fn directions_ignore_the_scale() {
+        let pl = Placement {
+            scale: 1e-320,
+            rot: DQuat::from_axis_angle(DVec3::Y, 0.5),
+            tr: DVec3::ZERO,
+        };
+        let d = pl.direction(DVec3::new(0.0, 0.6, 0.8));
+        assert!((d.length() - 1.0).abs() < 1e-15, "{d}");
+        assert_eq!(pl.point(DVec3::ONE), pl.vector(DVec3::ONE));
+    }
 }

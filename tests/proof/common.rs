@@ -46,3 +46,10 @@ pub fn same_mean(
     v.detectable_relative_bias = v.detectable_bias / (0.5 * (ma.mean + mb.mean)).abs();
     v
 }
+
+/// The scene of a freshly loaded case, to corrupt on purpose (the tests that prove a
+/// non-finite or negative value is counted, never masked). A case holds its scene
+/// behind an `Arc` shared with its time bins; a case without bins is its sole owner.
+pub fn scene_mut(c: &mut lightproof::case::Case) -> &mut lightproof::scene::Scene {
+    std::sync::Arc::get_mut(&mut c.scene).expect("a case without time bins owns its scene")
+}

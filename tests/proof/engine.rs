@@ -400,7 +400,7 @@ fn assert_counted(c: &Case, est: Estimator, what: &str) {
 fn nan_emission_is_counted_on_every_strategy() {
     use lightproof::scene::emitter::EmitterKind;
     let mut c = lit_floor(IRRADIANCE);
-    let EmitterKind::Area { radiance, .. } = &mut c.scene.emitters[0].kind else {
+    let EmitterKind::Area { radiance, .. } = &mut common::scene_mut(&mut c).emitters[0].kind else {
         panic!("the disk is the first emitter")
     };
     *radiance = f32::NAN;
@@ -410,7 +410,7 @@ fn nan_emission_is_counted_on_every_strategy() {
     }
     // A negative radiance is as wrong as a NaN: counted, never silently dropped.
     let mut neg = lit_floor(IRRADIANCE);
-    if let EmitterKind::Area { radiance, .. } = &mut neg.scene.emitters[0].kind {
+    if let EmitterKind::Area { radiance, .. } = &mut common::scene_mut(&mut neg).emitters[0].kind {
         *radiance = -1.0;
     }
     assert_counted(&neg, Estimator::Light, "negative area radiance");
@@ -420,10 +420,10 @@ fn nan_emission_is_counted_on_every_strategy() {
 fn nan_light_density_is_counted() {
     let mut c = lit_floor(IRRADIANCE);
     // The shape's area enters the light-sampling density (choice of primitive by area).
-    c.scene.shapes[0].area = f32::NAN;
+    common::scene_mut(&mut c).shapes[0].area = f32::NAN;
     assert_counted(&c, Estimator::Light, "NaN light density");
     let mut inf = lit_floor(IRRADIANCE);
-    inf.scene.shapes[0].area = 0.0;
+    common::scene_mut(&mut inf).shapes[0].area = 0.0;
     assert_counted(&inf, Estimator::Light, "infinite light density");
 }
 
@@ -431,7 +431,7 @@ fn nan_light_density_is_counted() {
 fn nan_bsdf_is_counted_in_evaluation_and_sampling() {
     use lightproof::bsdf::{Bsdf, lambertian::Lambertian};
     let mut c = lit_floor(FLOOR_RADIANCE);
-    c.scene.materials[0].bsdf = Bsdf::Lambertian(Lambertian { albedo: f32::NAN });
+    common::scene_mut(&mut c).materials[0].bsdf = Bsdf::Lambertian(Lambertian { albedo: f32::NAN });
     // light: the BSDF value in next-event estimation; bsdf: the sampled weight.
     for est in [Estimator::Light, Estimator::Bsdf, Estimator::Mis] {
         assert_counted(&c, est, "NaN BSDF");
@@ -450,8 +450,10 @@ fn nan_environment_and_spectrum_are_counted() {
         "reference": { "closed_form": "constant_environment_irradiance", "radiance": 1 },
         "estimators": ["light", "bsdf", "mis"] }"#,
     );
-    if let Some(EmitterKind::Constant { radiance }) =
-        env.scene.emitters.last_mut().map(|e| &mut e.kind)
+    if let Some(EmitterKind::Constant { radiance }) = common::scene_mut(&mut env)
+        .emitters
+        .last_mut()
+        .map(|e| &mut e.kind)
     {
         *radiance = f32::NAN;
     } else {
@@ -473,7 +475,7 @@ fn nan_environment_and_spectrum_are_counted() {
         assert_counted(&c, est, "overflowing response");
     }
     let mut c = load();
-    c.scene.emitters[0].props.spectrum = Some(Spectrum::Constant(f32::MAX));
+    common::scene_mut(&mut c).emitters[0].props.spectrum = Some(Spectrum::Constant(f32::MAX));
     for &est in &c.desc.estimators.clone() {
         assert_counted(&c, est, "overflowing emission spectrum");
     }
@@ -483,7 +485,7 @@ fn nan_environment_and_spectrum_are_counted() {
 fn an_outcome_without_reference_fails_on_nan() {
     let mut c = lit_floor(IRRADIANCE);
     c.reference = None;
-    c.scene.shapes[0].area = f32::NAN;
+    common::scene_mut(&mut c).shapes[0].area = f32::NAN;
     let mut o = c.run(Estimator::Light, SamplerKind::Independent, 1 << 10, 0x7a7b);
     o.judge(ALPHA, 1);
     assert!(o.verdict.is_none() && o.non_finite > 0);

@@ -417,7 +417,7 @@ fn hard_spectral_inputs_stay_finite() {
     // non-finite) samples.
     let mut neg = blackbody_disk(5000.0, r#"{ "band": [400, 700] }"#);
     let lightproof::scene::emitter::EmitterKind::Area { radiance, .. } =
-        &mut neg.scene.emitters[0].kind
+        &mut common::scene_mut(&mut neg).emitters[0].kind
     else {
         panic!("the disk is the first emitter")
     };
