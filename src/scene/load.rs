@@ -1274,6 +1274,59 @@ mod tests {
         );
     }
 
+    /// A quad of an OBJ file is split into two triangles over its four corners (tobj's
+    /// `triangulate`), placed by the shape's transform like any vertex, and a point
+    /// placed out of range is refused whichever way its translation points.
+    #[test]
+    fn obj_quads_are_triangulated_and_placed() {
+        let dir = std::env::temp_dir().join(format!("lightproof-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("quad.obj"),
+            "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/4 2/3 3/2 4/1\n",
+        )
+        .unwrap();
+        let d: SceneDesc = serde_json::from_value(json!({ "shapes": [{
+            "geometry": { "type": "obj", "path": "quad.obj" },
+            "transform": { "translate": [1e17, 0, 0] }
+        }]}))
+        .unwrap();
+        let scene = d
+            .build("t.json", "scene", &dir, DVec3::new(1e17, 0.0, 0.0))
+            .unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let area: f32 = scene
+            .prims()
+            .iter()
+            .map(|p| match p {
+                Primitive::Triangle { p } => 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length(),
+                other => panic!("{other:?}"),
+            })
+            .sum();
+        assert_eq!((scene.prims().len(), area), (2, 2.0));
+        // Placed points are range-checked as R(s p) + t: 0.6e18 + 0.5e18 is out.
+        let far = |t: f64, x: f64| -> Result<Scene, InputError> {
+            serde_json::from_value::<SceneDesc>(json!({ "shapes": [{
+                "geometry": { "type": "triangle", "vertices": [[x, 0, 0], [x, 1, 0], [x, 0, 1]] },
+                "transform": { "translate": [t, 0, 0] }
+            }]}))
+            .unwrap()
+            .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+        };
+        assert!(far(6e17, 5e17).is_err());
+        assert!(far(6e17, -5e17).is_ok());
+        // A zero scale is refused, naming the field.
+        let e = serde_json::from_value::<SceneDesc>(json!({ "shapes": [{
+            "geometry": { "type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]] },
+            "transform": { "scale": 0 }
+        }]}))
+        .unwrap()
+        .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+        .map(|_| ())
+        .unwrap_err();
+        assert!(e.to_string().contains("transform.scale"), "{e}");
+    }
+
     /// A scale too small for a unit vector's length to be formed (10⁻³²⁰: its square
     /// underflows) leaves normals and axes unit vectors: the scale cannot turn them.
     #[test]
