@@ -6,8 +6,9 @@
 //!
 //! - **single scattering** needs an emitter and a surface with a material;
 //! - **multiple scattering** needs two scattering shapes, or one that can see itself:
-//!   a planar shape never sees itself, and a sphere only from inside (when the
-//!   measurement starts inside it, or its material transmits); a mesh may;
+//!   a planar shape never sees itself, and a sphere only from inside (when a path of the
+//!   measurement may start inside it or on its surface — any point of a flux receiver —
+//!   or its material transmits); a mesh may;
 //! - **occlusion** (shadow rays) needs a segment that can cross a surface other than its
 //!   end points: with no shapes, or one convex shape that is the only emitter (segments
 //!   between a point and a plane, between two points of a sphere from inside, or to the
@@ -74,16 +75,49 @@ pub struct Effects {
     pub max_bounces: Option<u32>,
 }
 
-/// Whether point `p` lies strictly inside the sphere primitive.
-fn inside(prim: &Primitive, p: glam::Vec3) -> bool {
+/// Whether the box [`lo`, `hi`] where transport starts (a point, or a flux receiver's
+/// bounds) reaches into the sphere primitive's closed ball, its surface included and
+/// widened by the `f32` rounding of the coordinates: a sphere can light itself as soon
+/// as a path may start inside it or on its inner wall, so only a start provably outside
+/// lets multiple scattering be pruned. The distance from the centre c to the box is
+/// d² = Σₖ max(loₖ − cₖ, 0, cₖ − hiₖ)², and the ball is widened by
+/// δ = 2⁻²⁰ (max|coordinate| + r), far above the few ulps by which the rounded centre,
+/// box and radius can misplace a surface point (a start that far outside only turns on
+/// bounces that cannot happen: the same expected value at a little more cost).
+fn reaches_into(prim: &Primitive, lo: glam::Vec3, hi: glam::Vec3) -> bool {
     match *prim {
-        Primitive::Sphere { center, radius } => (p - center).length_squared() < radius * radius,
+        Primitive::Sphere { center, radius } => {
+            let gap = (lo - center).max(center - hi).max(glam::Vec3::ZERO);
+            let scale = lo.abs().max(hi.abs()).max(center.abs()).max_element() + radius;
+            let reach = radius + scale * (1.0 / (1u32 << 20) as f32);
+            gap.length_squared() <= reach * reach
+        }
         // An open cap is a `Mesh`-kind shape, never treated as closed or convex.
         Primitive::Rectangle { .. }
         | Primitive::Disk { .. }
         | Primitive::Triangle { .. }
         | Primitive::SphericalCap { .. }
         | Primitive::Annulus { .. } => false,
+    }
+}
+
+/// The box where the measurement's paths start: its point, or for a flux the bounds of
+/// the whole receiver (any of its points may start a path, not only its anchor).
+fn start_region(scene: &Scene, measure: &Measure, origin: glam::Vec3) -> (glam::Vec3, glam::Vec3) {
+    match measure {
+        Measure::Flux { shape, .. } => scene.prims()[scene.shapes[*shape].prims.clone()]
+            .iter()
+            .map(|p| p.bounds())
+            .fold((origin, origin), |a, b| (a.0.min(b.0), a.1.max(b.1))),
+        Measure::Irradiance { .. }
+        | Measure::Radiance { .. }
+        | Measure::SolidAngle { .. }
+        | Measure::ProjectedSolidAngle { .. }
+        | Measure::Albedo { .. }
+        | Measure::Microfacet { .. }
+        | Measure::Power { .. }
+        | Measure::Intensity { .. }
+        | Measure::MeanPathLength { .. } => (origin, origin),
     }
 }
 
@@ -139,7 +173,8 @@ pub fn analyze(scene: &Scene, measure: &Measure, wavelength: Decision, time: Dec
             scene.emitters.len()
         ))
     };
-    let multiple = multiple_scattering(scene, &single, &scatterers, transmits, origin);
+    let start = start_region(scene, measure, origin);
+    let multiple = multiple_scattering(scene, &single, &scatterers, transmits, start);
     let max_bounces = if !single.simulated {
         Some(0)
     } else if !multiple.simulated {
@@ -210,14 +245,14 @@ fn scatterers(scene: &Scene) -> Vec<usize> {
 }
 
 /// Two or more scatterings need two scattering shapes, or one that can see itself: a
-/// planar shape never does, a sphere only from inside (the measurement starts inside
-/// it, it moves, or its material transmits); a mesh may.
+/// planar shape never does, a sphere only from inside (a path may start inside it or on
+/// its surface, it moves, or its material transmits); a mesh may.
 fn multiple_scattering(
     scene: &Scene,
     single: &Decision,
     scatterers: &[usize],
     transmits: bool,
-    origin: glam::Vec3,
+    (lo, hi): (glam::Vec3, glam::Vec3),
 ) -> Decision {
     let self_visible = |i: usize| {
         let s = &scene.shapes[i];
@@ -228,7 +263,9 @@ fn multiple_scattering(
             ShapeKind::Sphere => {
                 transmits
                     || s.velocity != glam::Vec3::ZERO
-                    || s.prims.clone().any(|p| inside(&scene.prims()[p], origin))
+                    || s.prims
+                        .clone()
+                        .any(|p| reaches_into(&scene.prims()[p], lo, hi))
             }
         }
     };
@@ -265,7 +302,7 @@ fn occlusion(scene: &Scene, measure: &Measure, origin: glam::Vec3, transmits: bo
         && !scene.shapes[0]
             .prims
             .clone()
-            .any(|p| inside(&scene.prims()[p], origin))
+            .any(|p| reaches_into(&scene.prims()[p], origin, origin))
     {
         no(
             "one convex reflector seen from outside and lit from infinity: its lit side faces the lights",
@@ -381,21 +418,24 @@ mod tests {
         }
     }
 
-    /// `inside` is strict and uses the sphere's own centre and radius: an off-centre
-    /// sphere of radius 2, probed inside, on its surface and just outside (distances
-    /// chosen so that r², 2r and r/r would disagree).
+    /// `reaches_into` includes the surface and uses the sphere's own centre and radius:
+    /// an off-centre sphere of radius 2, probed inside, on its surface (the wall of an
+    /// integrating sphere, where pruning to one bounce read 1.5π for a furnace's 2π) and
+    /// just outside (distances chosen so that r², 2r and r/r would disagree).
     #[test]
-    fn inside_is_strict_and_off_centre() {
+    fn reaches_into_includes_the_surface_and_is_off_centre() {
         let s = scene(json!({
             "materials": { "m": grey(0.5) },
             "shapes": [{ "geometry": { "type": "sphere", "center": [5, 0, 0], "radius": 2 }, "material": "m" }],
             "emitters": [point_light()]
         }));
         for (at, multiple) in [
-            (Vec3::new(6.5, 0.0, 0.0), true),   // 1.5² < 2², but 1.5² > 2/2
-            (Vec3::new(5.0, 0.0, 2.0), false),  // on the surface: not strictly inside
-            (Vec3::new(7.1, 0.0, 0.0), false),  // 2.1² > 2²
-            (Vec3::new(-6.5, 0.0, 0.0), false), // |p + c| would be small: must use p − c
+            (Vec3::new(6.5, 0.0, 0.0), true),      // 1.5² < 2², but 1.5² > 2/2
+            (Vec3::new(5.0, 0.0, 2.0), true),      // on the surface: a path starts on the wall
+            (Vec3::new(5.0, 0.0, 2.000005), true), // within the margin 2⁻²⁰·(5 + 2)
+            (Vec3::new(5.0, 0.0, 2.0001), false),  // beyond it
+            (Vec3::new(7.1, 0.0, 0.0), false),     // 2.1² > 2²
+            (Vec3::new(-6.5, 0.0, 0.0), false),    // |p + c| would be small: must use p − c
         ] {
             let e = analyze(&s, &irradiance_at(at));
             assert_eq!(e.multiple_scattering.simulated, multiple, "at {at}");
@@ -408,6 +448,33 @@ mod tests {
         }));
         let e = analyze(&unit, &irradiance_at(Vec3::new(5.0, 1.4, 0.0)));
         assert!(!e.multiple_scattering.simulated);
+    }
+
+    /// A flux receiver starts paths from every one of its points, not only from its
+    /// anchor (the centre of its bounds): a long strip through the wall of a furnace
+    /// sphere, its anchor outside, still lets the sphere light itself (pruned to one
+    /// bounce it read 25% low); the same strip wholly outside does not.
+    #[test]
+    fn a_flux_receiver_reaching_into_a_sphere_keeps_its_bounces() {
+        for (corner, multiple) in [(-0.5, true), (1.5, false)] {
+            let s = scene(json!({
+                "materials": { "m": grey(0.5) },
+                "shapes": [
+                    { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                      "material": "m", "flip_normals": true, "emission": { "radiance": 1 } },
+                    { "geometry": { "type": "rectangle", "corner": [corner, -0.001, 0],
+                                    "edge_u": [10, 0, 0], "edge_v": [0, 0.002, 0] } }
+                ]
+            }));
+            let flux = Measure::Flux {
+                shape: 1,
+                anchor: Vec3::new(corner as f32 + 5.0, 0.0, 0.0),
+                factor: 1.0,
+            };
+            let e = analyze(&s, &flux);
+            assert_eq!(e.multiple_scattering.simulated, multiple, "corner {corner}");
+            assert_eq!(e.max_bounces, if multiple { None } else { Some(1) });
+        }
     }
 
     /// Lobe flags of all scatterers are united: two conductors still have a delta lobe.
