@@ -195,10 +195,17 @@ impl<L: Lanes> Phase for PhaseSample<L> {
         let gate = match self.bin {
             None => 1.0,
             Some((t1, t2)) => match props.pulse {
-                // A Dirac pulse at t₀ arrives at t₀ + ℓ/c.
+                // A Dirac pulse at t₀ arrives at t₀ + ℓ/c, inside [t₁, t₂) when
+                // ℓ/c ∈ [t₁ − t₀, t₂ − t₀): compared as times since the pulse, so that
+                // a pulse far from t = 0 does not round ℓ/c onto t₀'s grid (2⁻³³ s, 3.5
+                // cm of light, at t₀ = 10⁶ s); t₁ − t₀ is exact for a bin near t₀.
                 Some(t0) => {
-                    let t = t0 + length as f64 / SPEED_OF_LIGHT;
-                    if t >= t1 && t < t2 { 1.0 } else { 0.0 }
+                    let dt = length as f64 / SPEED_OF_LIGHT;
+                    if dt >= t1 - t0 && dt < t2 - t0 {
+                        1.0
+                    } else {
+                        0.0
+                    }
                 }
                 // A steady emitter delivers its rate over the whole bin.
                 None => (t2 - t1) as f32,
