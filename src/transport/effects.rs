@@ -430,12 +430,13 @@ mod tests {
             "emitters": [point_light()]
         }));
         for (at, multiple) in [
-            (Vec3::new(6.5, 0.0, 0.0), true),      // 1.5² < 2², but 1.5² > 2/2
-            (Vec3::new(5.0, 0.0, 2.0), true),      // on the surface: a path starts on the wall
-            (Vec3::new(5.0, 0.0, 2.000005), true), // within the margin 2⁻²⁰·(5 + 2)
-            (Vec3::new(5.0, 0.0, 2.0001), false),  // beyond it
-            (Vec3::new(7.1, 0.0, 0.0), false),     // 2.1² > 2²
-            (Vec3::new(-6.5, 0.0, 0.0), false),    // |p + c| would be small: must use p − c
+            (Vec3::new(6.5, 0.0, 0.0), true),       // 1.5² < 2², but 1.5² > 2/2
+            (Vec3::new(5.0, 0.0, 2.0), true),       // on the surface: a path starts on the wall
+            (Vec3::new(5.0, 0.0, 2.000005), true),  // within the margin 2⁻²⁰·(5 + 2)
+            (Vec3::new(5.0, 0.0, 2.000008), false), // beyond it (2⁻²⁰·5·2 would take it)
+            (Vec3::new(5.0, 0.0, 2.0001), false),
+            (Vec3::new(7.1, 0.0, 0.0), false),  // 2.1² > 2²
+            (Vec3::new(-6.5, 0.0, 0.0), false), // |p + c| would be small: must use p − c
         ] {
             let e = analyze(&s, &irradiance_at(at));
             assert_eq!(e.multiple_scattering.simulated, multiple, "at {at}");
