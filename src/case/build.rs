@@ -826,6 +826,29 @@ mod tests {
         }))
     }
 
+    /// A time bin whose width is not a normal f32 (here 1e-45 s, subnormal, with normal
+    /// edges) is refused naming `time.bin` (a steady emitter weighs paths by the width
+    /// in f32); a width of f32::MIN_POSITIVE is accepted. Before the check,
+    /// [2e-38, 2.0000001e-38] gave an estimate weighted by a subnormal width.
+    #[test]
+    fn a_time_bin_narrower_than_a_normal_f32_is_refused() {
+        let case = |bin: [f64; 2]| {
+            let mut d = two_disks(
+                json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+                json!([]),
+            );
+            d.time = Some(serde_json::from_value(json!({ "bin": bin })).unwrap());
+            crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
+        };
+        for bin in [[2e-38, 2.0000001e-38], [1e-30, 1e-30 + 1e-39]] {
+            let err = case(bin).err().unwrap();
+            assert_eq!(err.field, "time.bin", "{bin:?}: {err}");
+        }
+        let min = f32::MIN_POSITIVE as f64;
+        assert!(case([2e-38, 2e-38 + min]).is_ok());
+        assert!(case([0.0, 1e-9]).is_ok());
+    }
+
     /// The measurement as the case builds it (origin, scene, then the measure step).
     fn built(d: &CaseDesc) -> Result<Measure, InputError> {
         let origin = origin("c.json", d)?;

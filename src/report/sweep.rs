@@ -205,13 +205,27 @@ pub fn run_point(
         .collect()
 }
 
-/// The description digest of a case.
+/// The digest of what a case computes: its description, then for each external file
+/// its scene reads (OBJ meshes, EXR maps: [`crate::scene::load::SceneDesc::external_files`],
+/// resolved against the case file's folder as the loader does) the path and the bytes
+/// (an unreadable file hashes as its path and a marker), so that editing a mesh or a
+/// map changes the digest and no earlier point is resumed.
 fn case_digest(case: &Case) -> String {
-    digest(
-        serde_json::to_string(&case.desc)
-            .unwrap_or_default()
-            .as_bytes(),
-    )
+    let mut bytes = serde_json::to_vec(&case.desc).unwrap_or_default();
+    let base = case.file.parent().unwrap_or(Path::new("."));
+    for path in case.desc.scene.external_files() {
+        bytes.push(0);
+        bytes.extend_from_slice(path.as_bytes());
+        bytes.push(0);
+        match std::fs::read(base.join(path)) {
+            Ok(data) => {
+                bytes.extend_from_slice(&(data.len() as u64).to_le_bytes());
+                bytes.extend_from_slice(&data);
+            }
+            Err(_) => bytes.extend_from_slice(b"unreadable"),
+        }
+    }
+    digest(&bytes)
 }
 
 /// Load the cases of the paths, with their report ids.
@@ -774,6 +788,39 @@ fn resume_partial(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Editing a mesh the case reads changes the case's digest (so its points are not
+    /// resumed: the resume check compares digests); an unchanged file keeps it, and a
+    /// case with no external file digests its description alone, as before. Before the
+    /// fix the digest hashed only the description and did not change.
+    #[test]
+    fn the_case_digest_covers_its_obj_file() {
+        let dir = std::env::temp_dir().join(format!("lightproof-digest-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let case = dir.join("c.json");
+        std::fs::write(
+            &case,
+            r#"{"name": "t", "teaches": "t",
+                "scene": {"shapes": [{"geometry": {"type": "obj", "path": "tri.obj"},
+                                      "emission": {"radiance": 1}}]},
+                "measure": {"power": {"shape": 0}}, "estimators": ["uniform"]}"#,
+        )
+        .unwrap();
+        let obj = |k: f64| format!("v 0 0 0\nv {k} 0 0\nv 0 {k} 0\nf 1 2 3\n");
+        std::fs::write(dir.join("tri.obj"), obj(1.0)).unwrap();
+        let first = case_digest(&Case::load(&case).unwrap());
+        assert_eq!(case_digest(&Case::load(&case).unwrap()), first);
+        std::fs::write(dir.join("tri.obj"), obj(2.0)).unwrap();
+        let loaded = Case::load(&case).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_ne!(case_digest(&loaded), first);
+        let c = Case::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases/power/disk.json"),
+        )
+        .unwrap();
+        let json = serde_json::to_string(&c.desc).unwrap();
+        assert_eq!(case_digest(&c), digest(json.as_bytes()));
+    }
 
     fn series(wall: &[(u32, f64)], pending: &[u32]) -> SeriesState {
         SeriesState {

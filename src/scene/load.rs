@@ -366,6 +366,28 @@ impl Builder<'_> {
 }
 
 impl SceneDesc {
+    /// The external files the scene reads, as written (relative to the scene file's
+    /// folder, where [`SceneDesc::build`] resolves them): each OBJ shape's and each
+    /// environment map's `path`, in the order of the description.
+    pub fn external_files(&self) -> Vec<&str> {
+        let shapes = self.shapes.iter().filter_map(|s| match &s.geometry {
+            GeometryDesc::Obj { path } => Some(path.as_str()),
+            GeometryDesc::Sphere { .. }
+            | GeometryDesc::Disk { .. }
+            | GeometryDesc::Rectangle { .. }
+            | GeometryDesc::Triangle { .. }
+            | GeometryDesc::Mesh { .. } => None,
+        });
+        let emitters = self.emitters.iter().filter_map(|e| match e {
+            EmitterDesc::Envmap { path, .. } => Some(path.as_str()),
+            EmitterDesc::Point { .. }
+            | EmitterDesc::Spot { .. }
+            | EmitterDesc::Directional { .. }
+            | EmitterDesc::Constant { .. } => None,
+        });
+        shapes.chain(emitters).collect()
+    }
+
     /// A coordinate of shape `i` (its centre, corner or first vertex), or
     /// [`SceneDesc::any_point`] when it has none.
     pub fn shape_point(&self, i: usize) -> DVec3 {

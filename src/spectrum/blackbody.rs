@@ -157,6 +157,64 @@ pub fn blackbody_band_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f6
     finite_f64(c * temperature.powi(4) * integral)
 }
 
+/// 2ζ(3) = ∫₀^∞ t²/(eᵗ − 1) dt (ζ(3) = 1.2020569031595942, Apéry's constant).
+const TWO_ZETA3: f64 = 2.0 * 1.202_056_903_159_594_2;
+
+/// t²/(eᵗ − 1), → t as t → 0.
+fn bose2(t: f64) -> f64 {
+    if t <= 0.0 { 0.0 } else { t * t / t.exp_m1() }
+}
+
+/// G(x) = ∫ₓ^∞ t²/(eᵗ − 1) dt, to about 1e-15 relative: as `tail`, the series
+/// G(x) = Σ_{n≥1} e^{−nx} (x²/n + 2x/n² + 2/n³) for x ≥ 2, else 2ζ(3) − ∫₀ˣ by 16-panel
+/// Gauss–Legendre (an integrand analytic within 2π of [0, 2]).
+fn photon_tail(x: f64) -> f64 {
+    if x.is_nan() || x >= 800.0 {
+        return 0.0;
+    }
+    if x >= 2.0 {
+        let mut s = 0.0;
+        for n in 1..=64 {
+            let nf = n as f64;
+            let term = (-nf * x).exp() / nf * (x * x + 2.0 * x / nf + 2.0 / (nf * nf));
+            s += term;
+            if term <= 1e-17 * s {
+                break;
+            }
+        }
+        s
+    } else if x > 0.0 {
+        TWO_ZETA3 - gauss_legendre(0.0, x, 16, bose2)
+    } else {
+        TWO_ZETA3
+    }
+}
+
+/// Blackbody photon radiance in the band [λ₁, λ₂] (nm), ∫ B_λ λ/(hc) dλ
+/// (photons·s⁻¹·m⁻²·sr⁻¹, λ in metres in λ/(hc)).
+///
+/// **Formula.** With x = hc/(λkT), B_λ λ/(hc) dλ = (2k³T³/(h³c²)) x²/(eˣ − 1) dx, so the
+/// band gives (2k³T³/(h³c²)) (G(x₂) − G(x₁)) (see `photon_tail`); a band narrower than
+/// Δx = 1 by 8-panel Gauss–Legendre in x. [0, ∞] gives 4ζ(3)k³T³/(h³c²). Degenerate input
+/// as [`blackbody_band_radiance`].
+///
+/// **Source.** Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1 (photon gas).
+pub fn blackbody_band_photon_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f64) -> f64 {
+    let l1 = lambda1_nm.max(0.0);
+    if !(lambda2_nm > l1 && temperature > 0.0 && temperature.is_finite()) {
+        return 0.0;
+    }
+    let x_of = |l: f64| C2_NM_K / l / temperature;
+    let (x1, x2) = (x_of(l1), x_of(lambda2_nm));
+    let c = 2.0 * BOLTZMANN.powi(3) / (PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
+    let integral = if x1.is_finite() && x1 - x2 <= 1.0 {
+        gauss_legendre(x2, x1, 8, bose2)
+    } else {
+        photon_tail(x2) - photon_tail(x1)
+    };
+    finite_f64(c * temperature.powi(3) * integral)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

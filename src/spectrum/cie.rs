@@ -78,6 +78,24 @@ impl Cmf {
             .map(|&(w, mu, s1, s2)| w * (side(a, b.min(mu), mu, s1) + side(a.max(mu), b, mu, s2)))
             .sum()
     }
+
+    /// ∫ λ·f(λ) dλ over [a, b] nm (nm²) of the fit, exactly: on each side of a lobe's
+    /// centre, with g = exp(−½((λ − μ)/σ)²), λ = μ + (λ − μ) and d(−σ²g)/dλ = (λ − μ)g,
+    /// ∫ λ g dλ = μ ∫ g dλ + σ² [g(lo) − g(hi)] (the erf part as in [`Cmf::integral`]).
+    pub fn moment(&self, a: f64, b: f64) -> f64 {
+        let side = |lo: f64, hi: f64, mu: f64, s: f64| {
+            if hi <= lo {
+                return 0.0;
+            }
+            let e = |x: f64| statrs::function::erf::erf((x - mu) / (s * 2f64.sqrt()));
+            let g = |x: f64| (-0.5 * ((x - mu) / s).powi(2)).exp();
+            mu * s * (std::f64::consts::PI / 2.0).sqrt() * (e(hi) - e(lo)) + s * s * (g(lo) - g(hi))
+        };
+        self.0
+            .iter()
+            .map(|&(w, mu, s1, s2)| w * (side(a, b.min(mu), mu, s1) + side(a.max(mu), b, mu, s2)))
+            .sum()
+    }
 }
 
 /// Chromaticity (x, y) to XYZ with Y = 1.

@@ -42,8 +42,8 @@ mod wavelength;
 
 pub use band::{Band, VISIBLE};
 pub use blackbody::{
-    WIEN_DISPLACEMENT, blackbody_band_radiance, blackbody_total_radiance, planck_radiance,
-    stefan_boltzmann, wien_peak,
+    WIEN_DISPLACEMENT, blackbody_band_photon_radiance, blackbody_band_radiance,
+    blackbody_total_radiance, planck_radiance, stefan_boltzmann, wien_peak,
 };
 pub use ior::{Ior, bk7};
 pub use photon::{BOLTZMANN, PLANCK, SPEED_OF_LIGHT, photon_energy};

@@ -75,6 +75,22 @@ impl Response {
         }
     }
 
+    /// ∫ R(λ) λ/(hc) dλ over the band (photons per joule, integrated over nm; λ/(hc) with
+    /// λ in metres), exact for every kind: (λ₂² − λ₁²)/2 for flat, the photopic fit's
+    /// first moment by erf and exp ([`super::cie::Cmf::moment`]), both times 10⁻⁹/(hc),
+    /// and [`Spectrum::photon_integral`]; 0 for an empty or malformed band.
+    pub fn photon_integral(&self, band: Band) -> f64 {
+        let Some((a, b)) = band.ends() else {
+            return 0.0;
+        };
+        let per_joule = super::spectrum::PER_JOULE_NM;
+        match self {
+            Response::Flat => finite_f64(0.5 * (b - a) * (b + a) * per_joule),
+            Response::Photopic => finite_f64(super::cie::Y.moment(a, b) * per_joule),
+            Response::Sampled(s) => s.photon_integral(band),
+        }
+    }
+
     /// Whether R = 1 everywhere (flat, or a constant spectrum of 1).
     pub fn is_flat(&self) -> bool {
         matches!(

@@ -1,12 +1,18 @@
 //! Spectral distributions S(λ): constant, tabulated, or a blackbody.
 
-use super::blackbody::{blackbody_band_radiance, planck_radiance, wien_peak};
+use super::blackbody::{
+    blackbody_band_photon_radiance, blackbody_band_radiance, planck_radiance, wien_peak,
+};
 use super::json::{NumberOrMap, kind_key, no_more_keys, number_or_map};
+use super::photon::{PLANCK, SPEED_OF_LIGHT};
 use super::table::{self, Outside, TableBody, TableRef};
 use super::{Band, finite_f32, finite_f64};
 use serde::de::{self, MapAccess};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// Photons per joule per nm of wavelength, 10⁻⁹/(hc): λ/(hc) = λ_nm · this.
+pub(crate) const PER_JOULE_NM: f64 = 1e-9 / (PLANCK * SPEED_OF_LIGHT);
 
 /// A spectral distribution S(λ) (an emitter's relative or absolute spectrum, a
 /// conductor's k(λ), a tabulated response).
@@ -139,6 +145,36 @@ impl Spectrum {
                     return 0.0;
                 }
                 blackbody_band_radiance(a, b, *temperature as f64) * *scale as f64
+            }
+        };
+        finite_f64(v)
+    }
+
+    /// ∫ S(λ) λ/(hc) dλ over the band (nm; λ/(hc) in photons per joule, λ in metres):
+    /// the photon count of the energy S, in `f64`; 0 for an empty or malformed band,
+    /// finite and non-negative always.
+    ///
+    /// **Exact** for all three kinds: c·(λ₂² − λ₁²)/2; Simpson's rule on each clipped
+    /// piece of the table (v·λ is quadratic there); s times the blackbody band photon
+    /// radiance by the series of [`super::blackbody_band_photon_radiance`]. The first
+    /// two are ∫ S λ dλ (nm²) times 10⁻⁹/(hc).
+    pub fn photon_integral(&self, band: Band) -> f64 {
+        let Some((a, b)) = band.ends() else {
+            return 0.0;
+        };
+        let v = match self {
+            Spectrum::Constant(c) => {
+                finite_f32(*c as f64) as f64 * 0.5 * (b - a) * (b + a) * PER_JOULE_NM
+            }
+            Spectrum::Sampled {
+                wavelengths,
+                values,
+            } => table::moment(wavelengths, values, a, b) * PER_JOULE_NM,
+            Spectrum::Blackbody { temperature, scale } => {
+                if !(*scale > 0.0) {
+                    return 0.0;
+                }
+                blackbody_band_photon_radiance(a, b, *temperature as f64) * *scale as f64
             }
         };
         finite_f64(v)

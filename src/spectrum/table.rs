@@ -64,6 +64,25 @@ pub(crate) fn integral(w: &[f32], v: &[f32], a: f64, b: f64) -> f64 {
     s
 }
 
+/// ∫ v(λ) λ dλ over [a, b] ∩ [λ₀, λₙ₋₁] (nm², zero outside the table), exact for the
+/// piecewise-linear function: v·λ is quadratic on each clipped interval [c, d], so
+/// Simpson's rule (d − c)/6 · (f(c) + 4f((c + d)/2) + f(d)), exact for cubics, is exact.
+pub(crate) fn moment(w: &[f32], v: &[f32], a: f64, b: f64) -> f64 {
+    let n = w.len().min(v.len());
+    let mut s = 0.0;
+    for i in 1..n {
+        let (l0, l1) = (w[i - 1] as f64, w[i] as f64);
+        let (c, d) = (l0.max(a), l1.min(b));
+        if !(d > c && l1 > l0) {
+            continue;
+        }
+        let (v0, v1) = (v[i - 1] as f64, v[i] as f64);
+        let f = |x: f64| (v0 + (x - l0) / (l1 - l0) * (v1 - v0)) * x;
+        s += (d - c) / 6.0 * (f(c) + 4.0 * f(0.5 * (c + d)) + f(d));
+    }
+    s
+}
+
 /// max v over [a, b] (zero outside the table): the larger of the interpolated ends and
 /// the entries inside, exact for a piecewise-linear function.
 pub(crate) fn max_in(w: &[f32], v: &[f32], a: f32, b: f32) -> f32 {

@@ -303,7 +303,10 @@ fn band_sampler(scene: &Scene, sd: &SpectralDesc, band: Band) -> WavelengthSampl
 }
 
 /// A band [a, b] (nm): sampled if the scene `varies`, else the grey estimate times the
-/// band integral ∫ R (λ/(hc)) dλ by 256-point Gauss–Legendre.
+/// band integral ∫ R dλ ([`Response::integral`]) or, counting photons, ∫ R λ/(hc) dλ
+/// ([`Response::photon_integral`]), both exact for every kind of response (closed forms,
+/// the table's pieces, the blackbody series to ~1e-14), however narrow R is against the
+/// band, over the f32 band the sampled path draws from.
 fn band(
     scene: &Scene,
     sd: &SpectralDesc,
@@ -345,9 +348,11 @@ fn band(
             decision(true, format!("{v} varies with wavelength: {how}")),
         ),
         None => {
-            let factor = crate::spectrum::gauss_legendre(a, b, 256, |l| {
-                sd.response.eval(l as f32) as f64 * photon_factor(sd, l)
-            });
+            let factor = if sd.photons {
+                sd.response.photon_integral(range)
+            } else {
+                sd.response.integral(range)
+            };
             (
                 None,
                 full,
@@ -393,6 +398,23 @@ fn time_dims(
         ));
     }
     let bin = interval("time.bin", td.bin)?;
+    // A steady emitter weighs a path by the bin's width (t₂ − t₁) as f32 (phase.rs): a
+    // width below f32::MIN_POSITIVE (subnormal or 0) or above f32::MAX would weigh it
+    // imprecisely or by 0 or ∞, so such a bin is refused.
+    if let Some((a, b)) = bin
+        && !((b - a) as f32).is_normal()
+    {
+        return Err(InputError::new(
+            f,
+            "time.bin",
+            format!(
+                "its width t₂ − t₁ = {:e} s is not a normal f32 (between {:e} and {:e} s), got [{a}, {b}]",
+                b - a,
+                f32::MIN_POSITIVE,
+                f32::MAX
+            ),
+        ));
+    }
     if bin.is_some() {
         if measure.origin().is_none()
             && !matches!(measure, Measure::Power { .. } | Measure::Intensity { .. })
@@ -563,5 +585,75 @@ mod tests {
         for bad in [[5.0, 1.0], [0.0, 1e7]] {
             assert!(check_photon_scale("c.json", &scene(e(1e30)), &photons(bad)).is_ok());
         }
+    }
+
+    /// A grey scene over a band is the grey estimate times ∫ R dλ (or ∫ R λ/(hc) dλ when
+    /// counting photons), whatever the band's width against the response's. References:
+    /// the triangle's area 0.8 nm and first moment 0.8 × 632.8 nm² (closed form), and
+    /// 4096-panel Gauss–Legendre over [200, 1000] nm of ȳ's f64 formula, outside of which
+    /// ȳ < 10⁻¹³.
+    /// Before the fix, 256 panels over the whole band gave 0 for ȳ over [10, 10⁷] nm and
+    /// −5 % for the triangle over [380, 780] nm.
+    #[test]
+    fn a_grey_band_factor_is_the_response_integral() {
+        let grey = scene(json!({ "type": "point", "position": [0, 0, 1], "intensity": 1 }));
+        let per_j = 1e-9 / (crate::spectrum::PLANCK * crate::spectrum::SPEED_OF_LIGHT);
+        let factor = |response: serde_json::Value, [a, b]: [f64; 2], photons: bool| {
+            let sd = spectral(json!({ "band": [a, b], "response": response, "photons": photons }));
+            band(&grey, &sd, a, b, None).2 as f64
+        };
+        let close = |got: f64, want: f64| {
+            assert!((got / want - 1.0).abs() < 1e-6, "{got} against {want}");
+        };
+        // ȳ in f64 from the fit's formula (Wyman, Sloan and Shirley 2013, eq. 2).
+        let g = |l: f64, mu: f64, s1: f64, s2: f64| {
+            let t = (l - mu) / if l < mu { s1 } else { s2 };
+            (-0.5 * t * t).exp()
+        };
+        let y = |l: f64| 0.821 * g(l, 568.8, 46.9, 40.5) + 0.286 * g(l, 530.9, 16.3, 31.1);
+        for [a, b] in [[10.0f64, 1e7], [100.0, 1e6], [360.0, 830.0]] {
+            let (lo, hi) = (a.max(200.0), b.min(1000.0));
+            let y0 = crate::spectrum::gauss_legendre(lo, hi, 4096, y);
+            let y1 = crate::spectrum::gauss_legendre(lo, hi, 4096, |l| y(l) * l * per_j);
+            close(factor(json!("photopic"), [a, b], false), y0);
+            close(factor(json!("photopic"), [a, b], true), y1);
+        }
+        let tri = json!({ "sampled": { "wavelengths": [632, 632.8, 633.6], "values": [0, 1, 0] } });
+        // f32 knots: 632.8 is 632.799987…, the triangle stays symmetric about it.
+        let mid = 632.8f32 as f64;
+        for band in [[380.0, 780.0], [10.0, 1e7]] {
+            close(
+                factor(tri.clone(), band, false),
+                0.8 * (633.6f32 as f64 - 632.0) / 1.6,
+            );
+            close(
+                factor(tri.clone(), band, true),
+                0.8 * (633.6f32 as f64 - 632.0) / 1.6 * mid * per_j,
+            );
+        }
+        // A 10 nm box over [300, 3000]: its trapezoids' area (≈ 10 nm).
+        let bx = json!({ "sampled": { "wavelengths": [550, 550.001, 560, 560.001], "values": [0, 1, 1, 0] } });
+        let k = [550.0f32, 550.001, 560.0, 560.001].map(f64::from);
+        let area = 0.5 * (k[1] - k[0]) + (k[2] - k[1]) + 0.5 * (k[3] - k[2]);
+        close(factor(bx.clone(), [300.0, 3000.0], false), area);
+        // Flat: b − a and (b² − a²)/2 per hc.
+        close(factor(json!("flat"), [10.0, 1e7], false), 1e7 - 10.0);
+        close(
+            factor(json!("flat"), [10.0, 1e7], true),
+            (1e14 - 100.0) / 2.0 * per_j,
+        );
+        // A blackbody response (3000 K, peak near 966 nm) over [0, 10⁷] nm: σT⁴/π and the
+        // photon radiance 4ζ(3)k³T³/(h³c²) (lightproof-analytic), less the tail beyond
+        // 10⁷ nm: x₂ = hc/(λkT) = 4.8·10⁻⁴, ∫₀^x₂ t²/(eᵗ − 1) dt ≈ x₂²/2 of 2ζ(3), 5·10⁻⁸.
+        let bb = json!({ "blackbody": { "temperature": 3000 } });
+        close(
+            factor(json!({ "sampled": bb }), [1.0, 1e7], false),
+            lightproof_analytic::spectrum::total_radiance(3000.0),
+        );
+        let photons_bb = lightproof_analytic::spectrum::photon_radiance(3000.0);
+        close(
+            factor(json!({ "sampled": bb }), [1.0, 1e7], true),
+            photons_bb,
+        );
     }
 }
