@@ -211,6 +211,47 @@ pub struct Manifest {
     pub conventions: Vec<String>,
 }
 
+/// The range of an export's `scale` (both exporting and judging hold it): a pixel of f32
+/// range (1.4·10⁻⁴⁵ ≤ |x| ≤ 3.4·10³⁸) divided by a scale in [10⁻¹⁰⁰, 10¹⁰⁰] lies within
+/// [10⁻¹⁴⁵, 3.4·10¹³⁸], whose squares (a variance's terms) stay finite and normal in f64.
+/// A scale of 0, 10⁻³²⁰ or +∞ once printed `± inf`; a negative one, a negative estimate.
+pub const SCALE_RANGE: (f64, f64) = (1e-100, 1e100);
+
+impl Manifest {
+    /// Every number of an `export.json` that `judge` uses is one an export writes: a
+    /// `scale` within [`SCALE_RANGE`], `width` and `height` at least 1 with at most
+    /// [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels, the most a render may have. The
+    /// schema cannot say these; without them a scale of 0 printed `± inf` and a width of
+    /// 0 blamed every render for its size.
+    pub fn check(&self, file: &str) -> Result<(), InputError> {
+        let (lo, hi) = SCALE_RANGE;
+        if !(lo..=hi).contains(&self.scale) {
+            return Err(InputError::new(
+                file,
+                "scale",
+                format!("must be a number from {lo:e} to {hi:e}, got {:e}", self.scale),
+            ));
+        }
+        let max = crate::scene::load::MAX_ENVMAP_PIXELS;
+        for (field, n) in [("width", self.width), ("height", self.height)] {
+            if n == 0 {
+                return Err(InputError::new(file, field, "must be at least 1 pixel, got 0"));
+            }
+        }
+        if self.width.checked_mul(self.height).is_none_or(|n| n > max) {
+            return Err(InputError::new(
+                file,
+                "width",
+                format!(
+                    "width × height = {} × {} is more than {max} pixels, the most a render may have",
+                    self.width, self.height
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A case a renderer cannot express: the reason.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Refusal(pub String);
@@ -364,9 +405,10 @@ fn flux(scene: &SceneDesc, shape: usize, view_factor: bool) -> Result<Probe, Ref
     } else {
         1.0 / a2
     };
-    if !(scale.is_finite() && scale > 0.0) {
+    let (lo, hi) = SCALE_RANGE;
+    if !(lo..=hi).contains(&scale) {
         return refuse(format!(
-            "{field}: the mean irradiance per unit of the reference ({scale:e}) is not finite"
+            "{field}: the mean irradiance per unit of the reference ({scale:e}) is not within [{lo:e}, {hi:e}]"
         ));
     }
     Ok(Probe::Flux {
