@@ -186,7 +186,13 @@ pub fn check_output_dir(out: &Path) -> Result<(), crate::error::IoError> {
     crate::error::IoError::check_output_folder(out)?;
     let Some(dir) = out
         .ancestors()
-        .map(|a| if a.as_os_str().is_empty() { Path::new(".") } else { a })
+        .map(|a| {
+            if a.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                a
+            }
+        })
         .find(|a| a.is_dir())
     else {
         return Ok(());

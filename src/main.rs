@@ -930,7 +930,11 @@ fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) -> Re
     use lightproof::report::index::{cells, row};
     outln!(
         "{:<44} {:<24} {:>28} {:>14} {:>10}",
-        "case", "best", "time to 0.1%", "slope", "runner-up"
+        "case",
+        "best",
+        "time to 0.1%",
+        "slope",
+        "runner-up"
     )?;
     for r in &summary.reports {
         let [best, time, slope, ratio] = cells(&row(r));

@@ -827,7 +827,10 @@ mod tests {
                 json!({"closed_form": "mean_chord_sphere", "radius": -1}),
                 "reference.radius",
             ),
-            (json!({"closed_form": "mean_chord_sphere"}), "reference.radius"),
+            (
+                json!({"closed_form": "mean_chord_sphere"}),
+                "reference.radius",
+            ),
             (
                 json!({"closed_form": "mean_chord_sphere", "radius": 1, "colour": 1}),
                 "reference.colour",
@@ -836,8 +839,10 @@ mod tests {
             assert_eq!(r(m).unwrap_err().field, field);
         }
         // Parameters valid one by one whose value is not finite: the reference as a whole.
-        let e = r(json!({"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2,
-                         "radiance": 1e308}))
+        let e = r(
+            json!({"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2,
+                         "radiance": 1e308}),
+        )
         .unwrap_err();
         assert_eq!(e.field, "reference", "{e}");
     }

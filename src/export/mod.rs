@@ -229,13 +229,20 @@ impl Manifest {
             return Err(InputError::new(
                 file,
                 "scale",
-                format!("must be a number from {lo:e} to {hi:e}, got {:e}", self.scale),
+                format!(
+                    "must be a number from {lo:e} to {hi:e}, got {:?}",
+                    self.scale
+                ),
             ));
         }
         let max = crate::scene::load::MAX_ENVMAP_PIXELS;
         for (field, n) in [("width", self.width), ("height", self.height)] {
             if n == 0 {
-                return Err(InputError::new(file, field, "must be at least 1 pixel, got 0"));
+                return Err(InputError::new(
+                    file,
+                    field,
+                    "must be at least 1 pixel, got 0",
+                ));
             }
         }
         if self.width.checked_mul(self.height).is_none_or(|n| n > max) {

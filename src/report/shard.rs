@@ -344,7 +344,10 @@ pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
 /// points 2⁶⁴ (a panic with overflow checks, no points without).
 fn check_settings(file: &str, s: &Settings) -> Result<(), InputError> {
     let (lo, hi) = (crate::case::MIN_SAMPLES, crate::case::MAX_SAMPLES);
-    for (name, n) in [("min_samples", s.min_samples), ("max_samples", s.max_samples)] {
+    for (name, n) in [
+        ("min_samples", s.min_samples),
+        ("max_samples", s.max_samples),
+    ] {
         if !(n.is_power_of_two() && (lo..=hi).contains(&n)) {
             return Err(InputError::new(
                 file,
@@ -367,7 +370,10 @@ fn check_settings(file: &str, s: &Settings) -> Result<(), InputError> {
         return Err(InputError::new(
             file,
             "settings.batches",
-            format!("every sweep has {BATCHES} batches per point, got {}", s.batches),
+            format!(
+                "every sweep has {BATCHES} batches per point, got {}",
+                s.batches
+            ),
         ));
     }
     Ok(())
@@ -422,7 +428,7 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
                         Some((
                             "mean",
                             format!(
-                                "{:e} is not a mean of f32 samples (|mean| ≤ {MAX_BATCH_MEAN:e})",
+                                "{:?} is not a mean of f32 samples (|mean| ≤ {MAX_BATCH_MEAN:e})",
                                 b.mean
                             ),
                         ))
@@ -430,7 +436,7 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
                         Some((
                             "m2",
                             format!(
-                                "{:e} is not a sum of squares from 0 to {:e}, the most {} f32 samples give",
+                                "{:?} is not a sum of squares from 0 to {:e}, the most {} f32 samples give",
                                 b.m2,
                                 max_m2(b.count),
                                 b.count
@@ -440,7 +446,7 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
                         Some((
                             "seconds",
                             format!(
-                                "{:e} is not a time from 0 to {MAX_BATCH_SECONDS:e} s",
+                                "{:?} is not a time from 0 to {MAX_BATCH_SECONDS:e} s",
                                 b.seconds
                             ),
                         ))
