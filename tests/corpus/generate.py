@@ -958,10 +958,14 @@ export_case("judge_export_width_zero", "wrong", {"width": 0}, 2, "width")
 export_case("judge_export_height_zero", "wrong", {"height": 0}, 2, "height")
 export_case("judge_export_pixels_over_limit", "wrong", {"width": 8192, "height": 8193}, 2, "width", "width × height")
 export_case("judge_export_width_huge", "wrong", {"width": 2**63, "height": 2}, 2, "width", "width × height")
-# The same check for a suite: its one case's export.json has a negative scale.
-write("export/judge_suite_scale_negative/suite.json", json.dumps({"renderer": "mitsuba", "cases": ["c"], "refused": []}))
-write("export/judge_suite_scale_negative/c/export.json", json.dumps(dict(MANIFEST, scale=-1), indent=1))
-write("export/judge_suite_scale_negative/c/case.json", VERIFY_VALID)
+# The same check for a suite (one case `c` with two renders, render_ok.exr's copies,
+# written below): valid, and with a negative scale.
+SUITES = {"judge_suite_valid": 1.0, "judge_suite_scale_negative": -1}
+for name, scale in SUITES.items():
+    write("export/%s/suite.json" % name, json.dumps({"renderer": "mitsuba", "cases": ["c"], "refused": []}))
+    write("export/%s/c/export.json" % name, json.dumps(dict(MANIFEST, scale=scale), indent=1))
+    write("export/%s/c/case.json" % name, VERIFY_VALID)
+entry("judge_suite_valid", "baseline", ["judge", "--suite", "{corpus}/export/judge_suite_valid"], "valid")
 entry("judge_suite_scale_negative", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_scale_negative"], 2,
       "scale", "c/export.json: scale: ")
 
@@ -1035,6 +1039,9 @@ entry("render_output_below_dangling_link", "unclear", ["render", "{corpus}/cases
 if __name__ == "__main__":
     ok = [(E_DISK,) * 3] * 8
     write("assets/render_ok.exr", exr(4, 2, ok))
+    for name in SUITES:
+        for k in range(2):
+            write("export/%s/c/renders/%03d.exr" % (name, k), exr(4, 2, ok))
     write("assets/render_negative_channel.exr", exr(4, 2, ok[:5] + [(-0.5, Y, Y)] + ok[6:]))
     write("assets/render_nan.exr", exr(4, 2, ok[:2] + [(float("nan"),) * 3] + ok[3:]))
     write("assets/render_small.exr", exr(2, 2, ok[:4]))
