@@ -992,6 +992,64 @@ mod tests {
         assert!(probe(&timed).unwrap_err().0.contains("time"));
     }
 
+    /// `export.json`'s numbers are checked at their limits: a scale at either end of
+    /// [`SCALE_RANGE`] and a render of 1 × 1 or of exactly the pixel limit pass; a scale
+    /// just outside, 0, negative or +∞, a width or height of 0 and one pixel more than
+    /// the limit (or a product that overflows) are named.
+    #[test]
+    fn a_manifest_the_judge_cannot_use_is_named() {
+        let ok = Manifest {
+            renderer: Target::Mitsuba,
+            source: "c.json".into(),
+            name: "c".into(),
+            case: "case.json".into(),
+            scene: "scene.xml".into(),
+            sensor: "irradiance".into(),
+            width: 4,
+            height: 2,
+            scale: 1.0,
+            conventions: vec![],
+        };
+        let max = crate::scene::load::MAX_ENVMAP_PIXELS;
+        let (lo, hi) = SCALE_RANGE;
+        type Edit = fn(&mut Manifest, usize);
+        let good: [Edit; 5] = [
+            |m, _| m.scale = SCALE_RANGE.0,
+            |m, _| m.scale = SCALE_RANGE.1,
+            |m, _| (m.width, m.height) = (1, 1),
+            |m, max| (m.width, m.height) = (max, 1),
+            |m, max| (m.width, m.height) = (1, max),
+        ];
+        for edit in good {
+            let mut m = ok.clone();
+            edit(&mut m, max);
+            assert!(m.check("export.json").is_ok(), "{m:?}");
+        }
+        let bad: [(Edit, &str); 11] = [
+            (|m, _| m.scale = 0.0, "scale"),
+            (|m, _| m.scale = -1.0, "scale"),
+            (|m, _| m.scale = 1e-320, "scale"),
+            (|m, _| m.scale = f64::INFINITY, "scale"),
+            (|m, _| m.scale = f64::NAN, "scale"),
+            (|m, _| m.width = 0, "width"),
+            (|m, _| m.height = 0, "height"),
+            (|m, max| (m.width, m.height) = (max + 1, 1), "width"),
+            (|m, max| (m.width, m.height) = (1, max + 1), "width"),
+            (|m, max| (m.width, m.height) = (max / 2, 3), "width"),
+            (|m, _| (m.width, m.height) = (usize::MAX, 2), "width"),
+        ];
+        for (edit, field) in bad {
+            let mut m = ok.clone();
+            edit(&mut m, max);
+            let e = m.check("export.json").unwrap_err();
+            assert_eq!((e.file.as_str(), e.field.as_str()), ("export.json", field), "{e}");
+        }
+        for scale in [lo * (1.0 - 1e-15), hi * (1.0 + 1e-15)] {
+            let m = Manifest { scale, ..ok.clone() };
+            assert_eq!(m.check("export.json").unwrap_err().field, "scale");
+        }
+    }
+
     #[test]
     fn flux_probes_scale_the_reference_to_the_mean_irradiance() {
         use std::f64::consts::PI;
