@@ -1042,10 +1042,17 @@ mod tests {
             let mut m = ok.clone();
             edit(&mut m, max);
             let e = m.check("export.json").unwrap_err();
-            assert_eq!((e.file.as_str(), e.field.as_str()), ("export.json", field), "{e}");
+            assert_eq!(
+                (e.file.as_str(), e.field.as_str()),
+                ("export.json", field),
+                "{e}"
+            );
         }
         for scale in [lo * (1.0 - 1e-15), hi * (1.0 + 1e-15)] {
-            let m = Manifest { scale, ..ok.clone() };
+            let m = Manifest {
+                scale,
+                ..ok.clone()
+            };
             assert_eq!(m.check("export.json").unwrap_err().field, "scale");
         }
     }
@@ -1074,6 +1081,28 @@ mod tests {
         let flux = probe(&c41(false)).unwrap();
         assert!((flux.scale() - 4.0 / PI).abs() < 1e-15, "{flux:?}");
         assert_eq!(flux.sensor(), "flux");
+        // A receiver (not validated here) of area 0 or +∞ is refused for its area, and
+        // one whose scale 1/A₂ falls outside SCALE_RANGE (A₂ = π·10¹²⁰) for its scale.
+        let receiver = |radius: &str| {
+            let mut c = c41(false);
+            let text = serde_json::to_string(&c).unwrap();
+            c = case(&text.replace("\"radius\":0.5", &format!("\"radius\":{radius}")));
+            probe(&c)
+        };
+        for (radius, why) in [
+            ("0", "its area is not a positive finite number"),
+            ("1e200", "its area is not a positive finite number"),
+            ("1e60", "is not within [1e-100, 1e100]"),
+        ] {
+            match receiver(radius) {
+                Err(Refusal(r)) => assert!(r.contains(why), "{radius}: {r}"),
+                other => panic!("radius {radius}: {other:?}"),
+            }
+        }
+        assert!(
+            receiver("1e40").is_ok(),
+            "a scale of 1/(π·10⁸⁰) is in range"
+        );
     }
 
     #[test]

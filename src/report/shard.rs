@@ -789,13 +789,9 @@ mod tests {
                 |p| p.batches[3].mean = f64::from(f32::MAX) * (1.0 + 1e-15),
                 "batches[3].mean",
             ),
-            (
-                |p| {
-                    let b = &mut p.batches[3];
-                    b.m2 = max_m2(b.count) * (1.0 + 1e-15);
-                },
-                "batches[3].m2",
-            ),
+            // Two samples (N = 256) deviate by at most 2·f32::MAX each:
+            // m2 ≤ 2·(6.8056469e38)² = 9.2633660e77.
+            (|p| p.batches[3].m2 = 9.2634e77, "batches[3].m2"),
             (|p| p.batches[3].m2 = 1e308, "batches[3].m2"),
             (
                 |p| p.batches[3].seconds = MAX_BATCH_SECONDS * (1.0 + 1e-15),
@@ -829,7 +825,8 @@ mod tests {
         // and time; no samples finite, m2 and seconds 0, the last batch index.
         let mut p = valid.clone();
         let b = &mut p.cases[0].series[0].points[0].batches[3];
-        (b.mean, b.m2, b.seconds) = (-f64::from(f32::MAX), max_m2(b.count), MAX_BATCH_SECONDS);
+        assert_eq!(b.count, 2, "the corpus's partial has points of 256 samples");
+        (b.mean, b.m2, b.seconds) = (-f64::from(f32::MAX), 9.2633e77, MAX_BATCH_SECONDS);
         assert!(check_batches("p.json", &p).is_ok());
         let mut p = valid.clone();
         let b = &mut p.cases[0].series[0].points[0].batches[3];
