@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Regenerate the hostile-input corpus of tests/hostile.rs: case files under cases/,
 assets (EXR images, a shard partial) under assets/, hostile shard partials under merge/,
-and manifest.json listing every input with its expected outcome.
+export folders (export.json, case.json, renders) for judge under export/, and manifest.json listing every input with its expected outcome.
 
     python3 tests/corpus/generate.py
 
@@ -11,7 +11,8 @@ baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per en
 sparse `.exr` past the 1 GiB asset limit, {fifo} a named pipe with no writer, {file} an
 existing regular file, {dangling} a symbolic link to a missing target), and either expect 2 with `field` (and optionally `contains`), a
 substring the one stderr line must hold (and optionally `absent`, one it must not), or
-expect "valid" (exit 0 or 1; for estimate a finite `estimate` on stdout). `pre_files` are
+expect "valid" (exit 0 or 1; for estimate a finite `estimate` on stdout; for merge, case
+reports whose every point has a finite `estimate` and `seconds`). `pre_files` are
 created in {tmp} first; `no_leftovers` asks that no `.tmp` file remain in {tmp}
 afterwards. `sweep` ({group, value}) marks the entries of one numeric field swept over
 every value of EXTREMES (hostile.rs checks that no sweep misses one).

@@ -5,7 +5,8 @@
 //! for a field), and an unwritable output 3 likewise naming the path; a
 //! render whose pixels are negative or not finite fails its verdict (exit 1, saying
 //! why); a valid extreme must run (exit 0 or 1) and, for `estimate`, print a finite,
-//! non-negative estimate with no non-finite sample. Nothing may panic, hang or leave temporary files behind.
+//! non-negative estimate with no non-finite sample, and for `merge`, write case reports
+//! whose every point has a finite estimate and time. Nothing may panic, hang or leave temporary files behind.
 //!
 //! `LIGHTPROOF_HOSTILE_BIN=/path/to/lightproof` runs the corpus against another build
 //! (e.g. an old one, to measure what a fix changed); the table per class is printed
