@@ -375,7 +375,21 @@ fn parse_cli() -> Result<Cli, ExitCode> {
             let _ = e.print();
             Err(ExitCode::from(e.exit_code().clamp(0, 255) as u8))
         }
-        Err(e) => {
+        Err(e) => Err(usage_error(&e)),
+    }
+}
+
+/// A usage error: one line on stderr, exit status 2. Text that is not UTF-8 in
+/// `LIGHTPROOF_SEED` (the default `--seed`, which clap reads) is named: clap's own message
+/// says only "invalid UTF-8 was detected in one or more arguments".
+fn usage_error(e: &clap::Error) -> ExitCode {
+    let seed = std::env::var_os("LIGHTPROOF_SEED");
+    match seed.as_deref().filter(|v| v.to_str().is_none()) {
+        Some(v) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => eprintln!(
+            "error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text, got {:?} (it is the default --seed)",
+            v.to_string_lossy()
+        ),
+        _ => {
             let text = e.render().to_string();
             let line: Vec<&str> = text
                 .lines()
@@ -384,19 +398,21 @@ fn parse_cli() -> Result<Cli, ExitCode> {
                 .filter(|l| !l.is_empty())
                 .collect();
             eprintln!("{} (see --help)", line.join(" "));
-            Err(ExitCode::from(2))
         }
     }
+    ExitCode::from(2)
 }
 
 /// The command given, or with none (a bare `lightproof`) `verify` with every default of
 /// its own arguments, parsed as `lightproof verify` so the defaults live in one place.
-fn command_or_verify(cli: Cli) -> Option<Command> {
-    cli.command.or_else(|| {
-        Cli::try_parse_from(["lightproof", "verify"])
-            .ok()
-            .and_then(|c| c.command)
-    })
+/// (A `LIGHTPROOF_SEED` that is not UTF-8 fails that parse: a usage error naming it.)
+fn command_or_verify(cli: Cli) -> Result<Command, clap::Error> {
+    match cli.command {
+        Some(c) => Ok(c),
+        None => Cli::try_parse_from(["lightproof", "verify"])?
+            .command
+            .ok_or_else(|| clap::Error::new(clap::error::ErrorKind::MissingSubcommand)),
+    }
 }
 
 fn main() -> ExitCode {
@@ -405,9 +421,9 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(code) => return code,
     };
-    let Some(command) = command_or_verify(cli) else {
-        eprintln!("error: lightproof: cannot form the default `verify` command");
-        return ExitCode::from(3);
+    let command = match command_or_verify(cli) {
+        Ok(c) => c,
+        Err(e) => return usage_error(&e),
     };
     let threads = match &command {
         Command::Verify { threads, .. }
@@ -966,7 +982,7 @@ mod tests {
         let bare = Cli::try_parse_from(["lightproof"]).unwrap();
         assert!(bare.command.is_none());
         match command_or_verify(bare) {
-            Some(Command::Verify {
+            Ok(Command::Verify {
                 paths,
                 seed,
                 threads,
@@ -988,7 +1004,7 @@ mod tests {
         let given = Cli::try_parse_from(["lightproof", "verify", "--seed", "7"]).unwrap();
         assert!(matches!(
             command_or_verify(given),
-            Some(Command::Verify { seed: 7, .. })
+            Ok(Command::Verify { seed: 7, .. })
         ));
     }
 }

@@ -1009,6 +1009,51 @@ fn shard_auto_reads_only_its_own_variables() {
     );
 }
 
+/// `LIGHTPROOF_SEED`, the default `--seed` of every command that samples, holding text
+/// that is not UTF-8 is a usage error naming it (clap's own message named nothing), for a
+/// command given and for a bare `lightproof`; a command without a seed (`merge`) does not
+/// read it.
+#[cfg(unix)]
+#[test]
+fn a_seed_variable_that_is_not_text_is_named() {
+    use std::os::unix::ffi::OsStrExt;
+    let junk = std::ffi::OsStr::from_bytes(b"7\xff");
+    let case = tmp("seed_env.json", GOOD);
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-seed-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for args in [vec!["estimate".into(), case.display().to_string()], vec![]] {
+        let out = bin()
+            .args(&args)
+            .current_dir(&dir)
+            .env("LIGHTPROOF_SEED", junk)
+            .env_remove("RUST_BACKTRACE")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.trim().lines().count() == 1
+                && err.starts_with("error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text"),
+            "{args:?}: {err}"
+        );
+    }
+    let merge = bin()
+        .args(["merge", "--out"])
+        .arg(dir.join("rep"))
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/merge/merge_valid"))
+        .env("LIGHTPROOF_SEED", junk)
+        .output()
+        .unwrap();
+    assert_eq!(
+        merge.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A folder holding `a.json` and two links to itself (`l1 -> .`, `l2 -> .`) is one case,
 /// found at once: links to folders are not followed (one such link once listed the case
 /// 41 times, two exponentially often).
