@@ -1051,6 +1051,19 @@ fn a_seed_variable_that_is_not_text_is_named() {
         "{}",
         String::from_utf8_lossy(&merge.stderr)
     );
+    // Another usage error is told as it is, not blamed on the variable.
+    let usage = bin()
+        .arg("merge")
+        .env("LIGHTPROOF_SEED", junk)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&usage.stderr);
+    assert_eq!(usage.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: the following required arguments were not provided")
+            && err.trim().lines().count() == 1,
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
