@@ -54,7 +54,9 @@ pub fn read_input(path: &Path, limit: u64) -> Result<String, String> {
 
 /// The files among `paths` and in the folders among them (and their sub-folders when
 /// `recursive`) that `keep` accepts, sorted, each once. Files given directly are kept
-/// whatever their name; a path that does not exist is an error naming it.
+/// whatever their name; a path that does not exist is an error naming it. Inside a
+/// folder, a symbolic link to a file is kept as the file, and a symbolic link to a
+/// folder is skipped (a link to `.` or to a folder above would list it again and again).
 pub fn collect_files(
     paths: &[PathBuf],
     recursive: bool,
@@ -74,7 +76,10 @@ pub fn collect_files(
                 })?;
                 for entry in rd.flatten() {
                     let q = entry.path();
-                    if q.is_dir() {
+                    // The entry's own type, links not followed: a link to a folder is
+                    // not entered (`l -> .` once listed a folder 41 times, and two such
+                    // links exponentially often); a link to a file is read as the file.
+                    if entry.file_type().is_ok_and(|t| t.is_dir()) {
                         if recursive {
                             stack.push(q);
                         }
@@ -170,6 +175,32 @@ pub fn check_output_file(out: &Path) -> Result<(), crate::error::IoError> {
     };
     probe_new_file(dir, &name)
         .map_err(|e| fail(format!("`{}` takes no new file ({e})", dir.display())))
+}
+
+/// An output folder `out` that cannot be written: a folder on the way that cannot be one
+/// ([`crate::error::IoError::check_output_folder`]), or the nearest existing folder on the
+/// way (`out` itself when it exists) refusing a new file ([`probe_new_file`]: read-only,
+/// `/proc`). Checked before a command's work (`report`'s sweep, `chi2`'s sampling), so
+/// that it does not end in an unwritable output.
+pub fn check_output_dir(out: &Path) -> Result<(), crate::error::IoError> {
+    crate::error::IoError::check_output_folder(out)?;
+    let Some(dir) = out
+        .ancestors()
+        .map(|a| {
+            if a.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                a
+            }
+        })
+        .find(|a| a.is_dir())
+    else {
+        return Ok(());
+    };
+    probe_new_file(dir, "lightproof").map_err(|e| crate::error::IoError {
+        path: out.display().to_string(),
+        reason: format!("cannot write: `{}` takes no new file ({e})", dir.display()),
+    })
 }
 
 /// Whether `dir` takes a new file: an empty `.NAME.probePID` is created there and removed
@@ -301,6 +332,54 @@ mod tests {
         );
         let missing = collect_files(&[dir.join("nope")], true, json).unwrap_err();
         assert!(missing.reason.contains("no such file"), "{missing}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Links to folders are not entered (`l1 -> .` and `l2 -> .` once listed `a.json`
+    /// exponentially often); a link to a file is kept as that file.
+    #[cfg(unix)]
+    #[test]
+    fn links_to_folders_are_skipped_and_links_to_files_kept() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-links-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("a.json"), b"{}").unwrap();
+        std::fs::write(dir.join("sub/b.json"), b"{}").unwrap();
+        for (link, target) in [("l1", "."), ("l2", "."), ("up", ".."), ("f.json", "a.json")] {
+            std::os::unix::fs::symlink(target, dir.join(link)).unwrap();
+        }
+        std::os::unix::fs::symlink("..", dir.join("sub/parent")).unwrap();
+        let json = |p: &Path| p.extension().is_some_and(|x| x == "json");
+        let found: Vec<String> = collect_files(std::slice::from_ref(&dir), true, json)
+            .unwrap()
+            .iter()
+            .map(|p| p.strip_prefix(&dir).unwrap().display().to_string())
+            .collect();
+        assert_eq!(found, ["a.json", "f.json", "sub/b.json"]);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// An output folder is checked for new files in the nearest existing folder on its way
+    /// (`/proc` takes none); a writable one passes and keeps nothing of the check.
+    #[test]
+    fn an_output_folder_that_takes_no_file_is_named() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-outdir-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for ok in [dir.clone(), dir.join("new/deeper")] {
+            assert!(check_output_dir(&ok).is_ok(), "{}", ok.display());
+        }
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing left");
+        if Path::new("/proc/self").exists() {
+            for out in ["/proc", "/proc/rep", "/proc/rep/deeper"] {
+                let e = check_output_dir(Path::new(out)).unwrap_err();
+                assert_eq!(e.path, out);
+                assert!(e.reason.contains("`/proc` takes no new file"), "{e}");
+            }
+        }
+        // A file on the way is told as before, by `check_output_folder`.
+        std::fs::write(dir.join("afile"), b"x").unwrap();
+        let e = check_output_dir(&dir.join("afile/sub")).unwrap_err();
+        assert!(e.reason.contains("is a file, not a folder"), "{e}");
         std::fs::remove_dir_all(dir).unwrap();
     }
 

@@ -19,6 +19,10 @@
 //!   per-pixel seeding; independent renders are the safer choice;
 //! - one render of one pixel has no error to estimate: bad input.
 //!
+//! **A bad `export.json`** is bad input naming it and the field: a `scale` outside
+//! [`crate::export::SCALE_RANGE`], a `width` or `height` of 0, or more pixels than a render
+//! may have ([`Manifest::check`]).
+//!
 //! **Bad renders** are bad input (exit 2, naming the file): not an EXR, no R, G, B
 //! channels, a size other than the export's (or than the first render's), more than
 //! [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels. **Non-finite pixels** (NaN, ±∞) are
@@ -441,7 +445,7 @@ fn export_manifest(case_file: &Path) -> Result<Option<Manifest>, InputError> {
     if !path.is_file() {
         return Ok(None);
     }
-    let m: Manifest = read_json(&path)?;
+    let m = read_manifest(&path)?;
     let own = case_file.file_name().is_some_and(|n| *n == *m.case);
     Ok(own.then_some(m))
 }
@@ -469,6 +473,13 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputErro
     crate::error::parse_json(&file, &text)
 }
 
+/// Read an `export.json` and check the numbers the judge uses ([`Manifest::check`]).
+fn read_manifest(path: &Path) -> Result<Manifest, InputError> {
+    let m: Manifest = read_json(path)?;
+    m.check(&path.display().to_string())?;
+    Ok(m)
+}
+
 /// Judge every rendered case of an exported suite folder (`suite.json`), as one family.
 pub fn judge_suite(
     dir: &Path,
@@ -480,7 +491,7 @@ pub fn judge_suite(
     let mut not_rendered = Vec::new();
     for id in &suite.cases {
         let d = dir.join(id);
-        let manifest: Manifest = read_json(&d.join("export.json"))?;
+        let manifest = read_manifest(&d.join("export.json"))?;
         let renders = crate::io::collect_files(&[d.join("renders")], false, |p| {
             p.extension().is_some_and(|x| x == "exr")
                 && !p

@@ -315,6 +315,33 @@ impl From<Error> for Failure {
     }
 }
 
+/// Write to stdout and flush: a failed write (`> /dev/full`) is an output that cannot be
+/// written, exit 3, where `print!` would panic. A closed pipe never gets here: SIGPIPE
+/// ends the process first ([`quiet_on_broken_pipe`]).
+fn write_stdout(text: std::fmt::Arguments) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_fmt(text).and_then(|()| out.flush()).map_err(|e| {
+        Failure::Io(
+            IoError {
+                path: "<stdout>".to_string(),
+                reason: format!("cannot write: {e}"),
+            }
+            .to_string(),
+        )
+    })
+}
+
+/// `print!` that fails with exit 3 instead of panicking ([`write_stdout`]).
+macro_rules! out {
+    ($($t:tt)*) => { write_stdout(format_args!($($t)*)) };
+}
+
+/// `println!` that fails with exit 3 instead of panicking ([`write_stdout`]).
+macro_rules! outln {
+    ($($t:tt)*) => { write_stdout(format_args!("{}\n", format_args!($($t)*))) };
+}
+
 /// Let a closed pipe end the process quietly, as Unix tools do (`lightproof estimate
 /// CASE | head -n 3`): Rust ignores SIGPIPE, which turns the write into a panic.
 fn quiet_on_broken_pipe() {
@@ -348,7 +375,21 @@ fn parse_cli() -> Result<Cli, ExitCode> {
             let _ = e.print();
             Err(ExitCode::from(e.exit_code().clamp(0, 255) as u8))
         }
-        Err(e) => {
+        Err(e) => Err(usage_error(&e)),
+    }
+}
+
+/// A usage error: one line on stderr, exit status 2. Text that is not UTF-8 in
+/// `LIGHTPROOF_SEED` (the default `--seed`, which clap reads) is named: clap's own message
+/// says only "invalid UTF-8 was detected in one or more arguments".
+fn usage_error(e: &clap::Error) -> ExitCode {
+    let seed = std::env::var_os("LIGHTPROOF_SEED");
+    match seed.as_deref().filter(|v| v.to_str().is_none()) {
+        Some(v) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => eprintln!(
+            "error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text, got {:?} (it is the default --seed)",
+            v.to_string_lossy()
+        ),
+        _ => {
             let text = e.render().to_string();
             let line: Vec<&str> = text
                 .lines()
@@ -357,19 +398,21 @@ fn parse_cli() -> Result<Cli, ExitCode> {
                 .filter(|l| !l.is_empty())
                 .collect();
             eprintln!("{} (see --help)", line.join(" "));
-            Err(ExitCode::from(2))
         }
     }
+    ExitCode::from(2)
 }
 
 /// The command given, or with none (a bare `lightproof`) `verify` with every default of
 /// its own arguments, parsed as `lightproof verify` so the defaults live in one place.
-fn command_or_verify(cli: Cli) -> Option<Command> {
-    cli.command.or_else(|| {
-        Cli::try_parse_from(["lightproof", "verify"])
-            .ok()
-            .and_then(|c| c.command)
-    })
+/// (A `LIGHTPROOF_SEED` that is not UTF-8 fails that parse: a usage error naming it.)
+fn command_or_verify(cli: Cli) -> Result<Command, clap::Error> {
+    match cli.command {
+        Some(c) => Ok(c),
+        None => Cli::try_parse_from(["lightproof", "verify"])?
+            .command
+            .ok_or_else(|| clap::Error::new(clap::error::ErrorKind::MissingSubcommand)),
+    }
 }
 
 fn main() -> ExitCode {
@@ -378,9 +421,9 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(code) => return code,
     };
-    let Some(command) = command_or_verify(cli) else {
-        eprintln!("error: lightproof: cannot form the default `verify` command");
-        return ExitCode::from(3);
+    let command = match command_or_verify(cli) {
+        Ok(c) => c,
+        Err(e) => return usage_error(&e),
     };
     let threads = match &command {
         Command::Verify { threads, .. }
@@ -484,9 +527,10 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         } => {
             let shard = match shard.as_deref() {
                 None => None,
-                Some("auto") => Some(lightproof::report::shard::shard_from_env(
-                    &std::env::vars().collect(),
-                )?),
+                Some("auto") => {
+                    use lightproof::report::shard::{shard_env, shard_from_env};
+                    Some(shard_from_env(&shard_env(|n| std::env::var_os(n))?)?)
+                }
                 Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
             };
             require_cases(&paths)?;
@@ -512,8 +556,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
             print_notes(&summary);
-            print_summary(&out, &summary);
-            Ok(())
+            print_summary(&out, &summary)
         }
         Command::Render {
             scene,
@@ -565,7 +608,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             if all {
                 require_cases(&paths)?;
             }
-            println!("{}", lightproof::export::run(&paths, all, to, &out)?);
+            outln!("{}", lightproof::export::run(&paths, all, to, &out)?)?;
             Ok(())
         }
         Command::Judge {
@@ -576,7 +619,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
         } => {
             let (text, passed) =
                 lightproof::judge::run(&files, suite.as_deref(), renderer.as_deref(), json, ALPHA)?;
-            print!("{text}");
+            out!("{text}")?;
             if passed {
                 Ok(())
             } else {
@@ -674,10 +717,10 @@ fn verify(
         rows.push(row);
     }
     rows.extend(chi2_rows.iter().map(lightproof::table::chi2_row));
-    print!(
+    out!(
         "{}",
         lightproof::table::render(&rows, lightproof::table::terminal_width())
-    );
+    )?;
     let failed = outcomes.iter().filter(|o| !o.passed()).count()
         + chi2_rows.iter().filter(|c| !c.passed).count();
     let total = outcomes.len() + chi2_rows.len();
@@ -689,31 +732,31 @@ fn verify(
     };
     let exact = passed_of(true);
     let statistical = passed_of(false) + chi2_rows.iter().filter(|c| c.passed).count();
-    println!(
+    outln!(
         "\n{} passed ({statistical} statistical, {exact} exact), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|; seed {seed}, {:.1}s)",
         total - failed,
         cases.len(),
         lightproof::stats::exact_relative_tolerance(),
         t0.elapsed().as_secs_f64()
-    );
+    )?;
     // Weak at the case's own count only where the reference is 0: its own line.
     let (weak, weak_zero) = lightproof::verdict::weak_counts(&outcomes, &counts);
     if weak > 0 {
-        println!(
+        outln!(
             "{weak} of the {statistical} statistical passes are weak: drawn with fewer samples than their case's own count (--samples), they cannot see a {}% bias, so they show agreement, not a proof: rerun at the case's own count",
             100.0 * lightproof::verdict::DETECTABLE_BOUND
-        );
+        )?;
     }
     if weak_zero > 0 {
-        println!(
+        outln!(
             "{weak_zero} of the {statistical} statistical passes are weak: their reference is 0, so there is no relative bias to see, and they cannot see an absolute one of {} (in their case's units): raise their case's samples",
             lightproof::verdict::DETECTABLE_BOUND
-        );
+        )?;
     }
     if below > 0 {
-        println!(
+        outln!(
             "{below} of the {failed} failures drew fewer samples than their case's own count (--samples), where a false alarm is possible: see their reasons"
-        );
+        )?;
     }
     if let Some(path) = json {
         let doc = serde_json::json!({ "seed": seed, "alpha": ALPHA, "tests": k, "outcomes": outcomes, "chi2": chi2_rows });
@@ -803,10 +846,10 @@ fn estimate(
     if all.len() > 1 {
         obj["bins"] = serde_json::json!(all[1..]);
     }
-    println!(
+    outln!(
         "{}",
         serde_json::to_string_pretty(&obj).map_err(|e| Failure::Input(e.to_string()))?
-    );
+    )?;
     // A failed verdict, or non-finite samples without a reference, exit 1.
     if all.iter().all(Outcome::passed) {
         Ok(())
@@ -833,7 +876,7 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
             "<command line>: --wo: θ must lie in [0, 180] and φ in [-360, 360] degrees, got `{wo}`"
         )));
     }
-    IoError::check_output_folder(out)?;
+    lightproof::io::check_output_dir(out)?;
     let w = direction(parts[0].to_radians() as f32, parts[1].to_radians() as f32);
     // A failing test's dump goes under --out too, never into the build's own tree.
     let test = lightproof::stats::chi2::Chi2Test::new(
@@ -848,13 +891,13 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
     let o = test.judge(bsdf.name(), &tables);
     let files = lightproof::bsdf::contract::write_chi2_images(&tables, out, bsdf.name())
         .map_err(|e| IoError::write(out, e))?;
-    println!(
+    outln!(
         "{}",
         serde_json::to_string_pretty(
             &serde_json::json!({ "bsdf": bsdf, "wo_degrees": parts, "outcome": o, "images": files })
         )
         .unwrap_or_default()
-    );
+    )?;
     if o.passed {
         Ok(())
     } else {
@@ -876,7 +919,7 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
     bar.finish_and_clear();
     print_notes(&summary);
     if let Some(p) = &summary.partial {
-        println!(
+        outln!(
             "wrote {} ({} points computed, {} resumed{})",
             p.display(),
             summary.computed,
@@ -886,11 +929,10 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
             } else {
                 ""
             }
-        );
+        )?;
         return Ok(());
     }
-    print_summary(&opts.out, &summary);
-    Ok(())
+    print_summary(&opts.out, &summary)
 }
 
 /// A sweep's or a merge's notes (a report started afresh, a case with no plot), on stderr.
@@ -900,18 +942,22 @@ fn print_notes(summary: &lightproof::report::sweep::Summary) {
     }
 }
 
-fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) {
+fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) -> Result<(), Failure> {
     use lightproof::report::index::{cells, row};
-    println!(
+    outln!(
         "{:<44} {:<24} {:>28} {:>14} {:>10}",
-        "case", "best", "time to 0.1%", "slope", "runner-up"
-    );
+        "case",
+        "best",
+        "time to 0.1%",
+        "slope",
+        "runner-up"
+    )?;
     for r in &summary.reports {
         let [best, time, slope, ratio] = cells(&row(r));
         let id: String = r.id.chars().take(44).collect();
-        println!("{id:<44} {best:<24} {time:>28} {slope:>14} {ratio:>10}");
+        outln!("{id:<44} {best:<24} {time:>28} {slope:>14} {ratio:>10}")?;
     }
-    println!(
+    outln!(
         "\nwrote {} case reports to {} (index.md), {} points computed, {} resumed{}",
         summary.reports.len(),
         out.display(),
@@ -922,7 +968,7 @@ fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) {
         } else {
             ""
         }
-    );
+    )
 }
 
 #[cfg(test)]
@@ -936,7 +982,7 @@ mod tests {
         let bare = Cli::try_parse_from(["lightproof"]).unwrap();
         assert!(bare.command.is_none());
         match command_or_verify(bare) {
-            Some(Command::Verify {
+            Ok(Command::Verify {
                 paths,
                 seed,
                 threads,
@@ -958,7 +1004,7 @@ mod tests {
         let given = Cli::try_parse_from(["lightproof", "verify", "--seed", "7"]).unwrap();
         assert!(matches!(
             command_or_verify(given),
-            Some(Command::Verify { seed: 7, .. })
+            Ok(Command::Verify { seed: 7, .. })
         ));
     }
 }

@@ -561,7 +561,7 @@ pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
                     })?,
             };
             let v = lightproof_analytic::catalog::evaluate(name, &params)
-                .map_err(|e| InputError::new(f, "reference", e.to_string()))?;
+                .map_err(|e| InputError::new(f, reference_field(&e), e.to_string()))?;
             if !(v * scale).is_finite() {
                 return Err(InputError::new(
                     f,
@@ -575,6 +575,20 @@ pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
             Some(v * scale)
         }
     })
+}
+
+/// The field of a closed form's refusal: `reference.PARAM` for a parameter that is
+/// missing, unknown or invalid, `reference.closed_form` for an unknown name, `reference`
+/// for parameters that are valid one by one but not together.
+fn reference_field(e: &lightproof_analytic::catalog::CatalogError) -> String {
+    use lightproof_analytic::catalog::CatalogError;
+    match e {
+        CatalogError::UnknownClosedForm { .. } => "reference.closed_form".to_string(),
+        CatalogError::MissingParameter { param, .. }
+        | CatalogError::InvalidParameter { param, .. } => format!("reference.{param}"),
+        CatalogError::UnknownParameter { param, .. } => format!("reference.{param}"),
+        CatalogError::Domain { .. } => "reference".to_string(),
+    }
 }
 
 #[cfg(test)]
@@ -806,7 +820,31 @@ mod tests {
         let e = r(json!({"distribution": "ggx"})).unwrap_err();
         assert_eq!(e.field, "reference.closed_form");
         let e = r(json!({"closed_form": "no_such_form"})).unwrap_err();
-        assert_eq!(e.field, "reference");
+        assert_eq!(e.field, "reference.closed_form");
+        // A parameter at fault is named by its path: invalid, missing or unknown.
+        for (m, field) in [
+            (
+                json!({"closed_form": "mean_chord_sphere", "radius": -1}),
+                "reference.radius",
+            ),
+            (
+                json!({"closed_form": "mean_chord_sphere"}),
+                "reference.radius",
+            ),
+            (
+                json!({"closed_form": "mean_chord_sphere", "radius": 1, "colour": 1}),
+                "reference.colour",
+            ),
+        ] {
+            assert_eq!(r(m).unwrap_err().field, field);
+        }
+        // Parameters valid one by one whose value is not finite: the reference as a whole.
+        let e = r(
+            json!({"closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2,
+                         "radiance": 1e308}),
+        )
+        .unwrap_err();
+        assert_eq!(e.field, "reference", "{e}");
     }
     /// Two disks facing each other a unit apart: shape 0 (radius 1, at z = 1, facing
     /// down) emits L = 1 one-sided, shape 1 (radius ½, at the origin) does not; `extra`

@@ -211,6 +211,54 @@ pub struct Manifest {
     pub conventions: Vec<String>,
 }
 
+/// The range of an export's `scale` (both exporting and judging hold it): a pixel of f32
+/// range (1.4·10⁻⁴⁵ ≤ |x| ≤ 3.4·10³⁸) divided by a scale in [10⁻¹⁰⁰, 10¹⁰⁰] lies within
+/// [10⁻¹⁴⁵, 3.4·10¹³⁸], whose squares (a variance's terms) stay finite and normal in f64.
+/// A scale of 0, 10⁻³²⁰ or +∞ once printed `± inf`; a negative one, a negative estimate.
+pub const SCALE_RANGE: (f64, f64) = (1e-100, 1e100);
+
+impl Manifest {
+    /// Every number of an `export.json` that `judge` uses is one an export writes: a
+    /// `scale` within [`SCALE_RANGE`], `width` and `height` at least 1 with at most
+    /// [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels, the most a render may have. The
+    /// schema cannot say these; without them a scale of 0 printed `± inf` and a width of
+    /// 0 blamed every render for its size.
+    pub fn check(&self, file: &str) -> Result<(), InputError> {
+        let (lo, hi) = SCALE_RANGE;
+        if !(lo..=hi).contains(&self.scale) {
+            return Err(InputError::new(
+                file,
+                "scale",
+                format!(
+                    "must be a number from {lo:e} to {hi:e}, got {:?}",
+                    self.scale
+                ),
+            ));
+        }
+        let max = crate::scene::load::MAX_ENVMAP_PIXELS;
+        for (field, n) in [("width", self.width), ("height", self.height)] {
+            if n == 0 {
+                return Err(InputError::new(
+                    file,
+                    field,
+                    "must be at least 1 pixel, got 0",
+                ));
+            }
+        }
+        if self.width.checked_mul(self.height).is_none_or(|n| n > max) {
+            return Err(InputError::new(
+                file,
+                "width",
+                format!(
+                    "width × height = {} × {} is more than {max} pixels, the most a render may have",
+                    self.width, self.height
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A case a renderer cannot express: the reason.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Refusal(pub String);
@@ -364,9 +412,10 @@ fn flux(scene: &SceneDesc, shape: usize, view_factor: bool) -> Result<Probe, Ref
     } else {
         1.0 / a2
     };
-    if !(scale.is_finite() && scale > 0.0) {
+    let (lo, hi) = SCALE_RANGE;
+    if !(lo..=hi).contains(&scale) {
         return refuse(format!(
-            "{field}: the mean irradiance per unit of the reference ({scale:e}) is not finite"
+            "{field}: the mean irradiance per unit of the reference ({scale:e}) is not within [{lo:e}, {hi:e}]"
         ));
     }
     Ok(Probe::Flux {
@@ -943,6 +992,71 @@ mod tests {
         assert!(probe(&timed).unwrap_err().0.contains("time"));
     }
 
+    /// `export.json`'s numbers are checked at their limits: a scale at either end of
+    /// [`SCALE_RANGE`] and a render of 1 × 1 or of exactly the pixel limit pass; a scale
+    /// just outside, 0, negative or +∞, a width or height of 0 and one pixel more than
+    /// the limit (or a product that overflows) are named.
+    #[test]
+    fn a_manifest_the_judge_cannot_use_is_named() {
+        let ok = Manifest {
+            renderer: Target::Mitsuba,
+            source: "c.json".into(),
+            name: "c".into(),
+            case: "case.json".into(),
+            scene: "scene.xml".into(),
+            sensor: "irradiance".into(),
+            width: 4,
+            height: 2,
+            scale: 1.0,
+            conventions: vec![],
+        };
+        let max = crate::scene::load::MAX_ENVMAP_PIXELS;
+        let (lo, hi) = SCALE_RANGE;
+        type Edit = fn(&mut Manifest, usize);
+        let good: [Edit; 5] = [
+            |m, _| m.scale = SCALE_RANGE.0,
+            |m, _| m.scale = SCALE_RANGE.1,
+            |m, _| (m.width, m.height) = (1, 1),
+            |m, max| (m.width, m.height) = (max, 1),
+            |m, max| (m.width, m.height) = (1, max),
+        ];
+        for edit in good {
+            let mut m = ok.clone();
+            edit(&mut m, max);
+            assert!(m.check("export.json").is_ok(), "{m:?}");
+        }
+        let bad: [(Edit, &str); 11] = [
+            (|m, _| m.scale = 0.0, "scale"),
+            (|m, _| m.scale = -1.0, "scale"),
+            (|m, _| m.scale = 1e-320, "scale"),
+            (|m, _| m.scale = f64::INFINITY, "scale"),
+            (|m, _| m.scale = f64::NAN, "scale"),
+            (|m, _| m.width = 0, "width"),
+            (|m, _| m.height = 0, "height"),
+            (|m, max| (m.width, m.height) = (max + 1, 1), "width"),
+            (|m, max| (m.width, m.height) = (1, max + 1), "width"),
+            (|m, max| (m.width, m.height) = (max / 2, 3), "width"),
+            (|m, _| (m.width, m.height) = (usize::MAX, 2), "width"),
+        ];
+        for (edit, field) in bad {
+            let mut m = ok.clone();
+            edit(&mut m, max);
+            let e = m.check("export.json").unwrap_err();
+            assert_eq!(
+                (e.file.as_str(), e.field.as_str()),
+                ("export.json", field),
+                "{e}"
+            );
+        }
+        for scale in [lo * (1.0 - 1e-15), hi * (1.0 + 1e-15)] {
+            let m = Manifest {
+                scale,
+                ..ok.clone()
+            };
+            assert_eq!(m.check("export.json").unwrap_err().field, "scale");
+        }
+    }
+
     #[test]
     fn flux_probes_scale_the_reference_to_the_mean_irradiance() {
         use std::f64::consts::PI;
@@ -967,6 +1081,28 @@ mod tests {
         let flux = probe(&c41(false)).unwrap();
         assert!((flux.scale() - 4.0 / PI).abs() < 1e-15, "{flux:?}");
         assert_eq!(flux.sensor(), "flux");
+        // A receiver (not validated here) of area 0 or +∞ is refused for its area, and
+        // one whose scale 1/A₂ falls outside SCALE_RANGE (A₂ = π·10¹²⁰) for its scale.
+        let receiver = |radius: &str| {
+            let mut c = c41(false);
+            let text = serde_json::to_string(&c).unwrap();
+            c = case(&text.replace("\"radius\":0.5", &format!("\"radius\":{radius}")));
+            probe(&c)
+        };
+        for (radius, why) in [
+            ("0", "its area is not a positive finite number"),
+            ("1e200", "its area is not a positive finite number"),
+            ("1e60", "is not within [1e-100, 1e100]"),
+        ] {
+            match receiver(radius) {
+                Err(Refusal(r)) => assert!(r.contains(why), "{radius}: {r}"),
+                other => panic!("radius {radius}: {other:?}"),
+            }
+        }
+        assert!(
+            receiver("1e40").is_ok(),
+            "a scale of 1/(π·10⁸⁰) is in range"
+        );
     }
 
     #[test]

@@ -123,6 +123,39 @@ fn make(index: u64, count: u64, index_var: &str, count_var: &str) -> Result<Shar
     })
 }
 
+/// The variables [`shard_from_env`] reads: only these are taken from the environment.
+pub const SHARD_VARIABLES: [&str; 8] = [
+    "LIGHTPROOF_SHARD_INDEX",
+    "LIGHTPROOF_SHARD_COUNT",
+    "JOB_COMPLETION_INDEX",
+    "SLURM_ARRAY_TASK_ID",
+    "SLURM_ARRAY_TASK_COUNT",
+    "SLURM_ARRAY_TASK_MIN",
+    "SLURM_ARRAY_TASK_MAX",
+    "SLURM_ARRAY_TASK_STEP",
+];
+
+/// The [`SHARD_VARIABLES`] that `get` (`std::env::var_os`) finds set, as text; one whose
+/// value is not UTF-8 is bad input naming it. The rest of the environment is not read:
+/// a variable of no concern to lightproof may hold any bytes.
+pub fn shard_env(
+    get: impl Fn(&str) -> Option<std::ffi::OsString>,
+) -> Result<BTreeMap<String, String>, InputError> {
+    let mut env = BTreeMap::new();
+    for name in SHARD_VARIABLES {
+        if let Some(v) = get(name) {
+            let v = v.into_string().map_err(|v| {
+                shard_err(
+                    name,
+                    format!("is not UTF-8 text, got {:?}", v.to_string_lossy()),
+                )
+            })?;
+            env.insert(name.to_string(), v);
+        }
+    }
+    Ok(env)
+}
+
 /// The shard of `--shard auto`, from environment variables (a pure function of the map):
 ///
 /// 1. `LIGHTPROOF_SHARD_INDEX` and `LIGHTPROOF_SHARD_COUNT`, if set;
@@ -300,15 +333,68 @@ pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
         .map_err(|e| InputError::new(&file, "-", e))?;
     check_header(&file, &text, Kind::Shard)?;
     let partial: ShardPartial = parse_json(&file, &text)?;
+    check_settings(&file, &partial.settings)?;
     check_batches(&file, &partial)?;
     Ok(partial)
 }
 
+/// The settings are a sweep's that `report` runs: `min_samples` and `max_samples` powers of
+/// two from 256 to 2⁴⁰ (what `--min-samples` and `--max-samples` become), the first not
+/// above the second, and [`BATCHES`] batches. Unchecked, `min_samples` 0 made the merge's
+/// points 2⁶⁴ (a panic with overflow checks, no points without).
+fn check_settings(file: &str, s: &Settings) -> Result<(), InputError> {
+    let (lo, hi) = (crate::case::MIN_SAMPLES, crate::case::MAX_SAMPLES);
+    for (name, n) in [
+        ("min_samples", s.min_samples),
+        ("max_samples", s.max_samples),
+    ] {
+        if !(n.is_power_of_two() && (lo..=hi).contains(&n)) {
+            return Err(InputError::new(
+                file,
+                format!("settings.{name}"),
+                format!("{n} is not a power of two from {lo} to 2^40 = {hi}"),
+            ));
+        }
+    }
+    if s.min_samples > s.max_samples {
+        return Err(InputError::new(
+            file,
+            "settings.max_samples",
+            format!(
+                "{} is below settings.min_samples {}",
+                s.max_samples, s.min_samples
+            ),
+        ));
+    }
+    if s.batches != BATCHES {
+        return Err(InputError::new(
+            file,
+            "settings.batches",
+            format!(
+                "every sweep has {BATCHES} batches per point, got {}",
+                s.batches
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The longest compute time of one batch a partial may record: 10⁹ s (32 years). Any
+/// bound would keep a point's sum of [`BATCHES`] times finite; this one keeps the fits
+/// and extrapolations made from it finite too (a batch of 10³⁰⁸ s once merged into a
+/// report with no fits).
+pub const MAX_BATCH_SECONDS: f64 = 1e9;
+
+/// The largest |mean| of a batch: a run's samples are f32, so their mean is within its range.
+const MAX_BATCH_MEAN: f64 = f32::MAX as f64;
+
 /// Every point and batch record of a partial is one that a run can write: N a power of
-/// two from 256 to 2⁴⁰, a batch index below [`BATCHES`], its finite and non-finite samples adding up to the point's batch size
-/// N/B, a finite mean, a finite Σ(x − mean)² ≥ 0 and finite compute seconds ≥ 0. The
-/// schema cannot say these; without them a batch of `count` 0 or a negative `m2` merged
-/// into a different estimate or a missing standard error without a word.
+/// two from 256 to 2⁴⁰, a batch index below [`BATCHES`], its finite and non-finite samples
+/// adding up to the point's batch size N/B, a mean of f32 samples (|mean| ≤ f32::MAX), a
+/// Σ(x − mean)² from 0 to what `count` such samples can give, count·(2·f32::MAX)², and
+/// compute seconds from 0 to [`MAX_BATCH_SECONDS`]. The schema cannot say these; without
+/// them a batch of `count` 0 or a negative `m2` merged into a different estimate or a
+/// missing standard error without a word, and means of ±10³⁰⁸ into `"estimate": null`.
 fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
     for (ci, c) in p.cases.iter().enumerate() {
         for (si, s) in c.series.iter().enumerate() {
@@ -338,12 +424,32 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
                                 b.count, b.non_finite, pt.samples
                             ),
                         ))
-                    } else if !b.mean.is_finite() {
-                        Some(("mean", format!("{} is not finite", b.mean)))
-                    } else if !(b.m2 >= 0.0 && b.m2.is_finite()) {
-                        Some(("m2", format!("{} is not a finite sum of squares ≥ 0", b.m2)))
-                    } else if !(b.seconds >= 0.0 && b.seconds.is_finite()) {
-                        Some(("seconds", format!("{} is not a finite time ≥ 0", b.seconds)))
+                    } else if !(b.mean.abs() <= MAX_BATCH_MEAN) {
+                        Some((
+                            "mean",
+                            format!(
+                                "{:?} is not a mean of f32 samples (|mean| ≤ {MAX_BATCH_MEAN:e})",
+                                b.mean
+                            ),
+                        ))
+                    } else if !(0.0..=max_m2(b.count)).contains(&b.m2) {
+                        Some((
+                            "m2",
+                            format!(
+                                "{:?} is not a sum of squares from 0 to {:e}, the most {} f32 samples give",
+                                b.m2,
+                                max_m2(b.count),
+                                b.count
+                            ),
+                        ))
+                    } else if !(0.0..=MAX_BATCH_SECONDS).contains(&b.seconds) {
+                        Some((
+                            "seconds",
+                            format!(
+                                "{:?} is not a time from 0 to {MAX_BATCH_SECONDS:e} s",
+                                b.seconds
+                            ),
+                        ))
                     } else {
                         None
                     };
@@ -355,6 +461,11 @@ fn check_batches(file: &str, p: &ShardPartial) -> Result<(), InputError> {
         }
     }
     Ok(())
+}
+
+/// The largest Σ(x − mean)² of `count` f32 samples: each deviation is at most 2·f32::MAX.
+fn max_m2(count: u64) -> f64 {
+    count as f64 * (2.0 * MAX_BATCH_MEAN).powi(2)
 }
 
 /// Whether a file name is a shard partial's.
@@ -667,8 +778,26 @@ mod tests {
         assert!(check_batches("p.json", &valid).is_ok());
         let at = "cases[0].series[0].points[0]";
         type Edit = fn(&mut ShardPoint);
-        let cases: [(Edit, &str); 14] = [
+        let cases: [(Edit, &str); 21] = [
             (|p| p.batches[3].count += 1, "batches[3].count"),
+            // Just past what f32 samples give: a mean beyond f32::MAX (10³⁰⁸ once
+            // merged into `"estimate": null`), m2 beyond count·(2·f32::MAX)², and a
+            // batch time beyond 10⁹ s.
+            (|p| p.batches[3].mean = 1e308, "batches[3].mean"),
+            (|p| p.batches[3].mean = -1e308, "batches[3].mean"),
+            (
+                |p| p.batches[3].mean = f64::from(f32::MAX) * (1.0 + 1e-15),
+                "batches[3].mean",
+            ),
+            // Two samples (N = 256) deviate by at most 2·f32::MAX each:
+            // m2 ≤ 2·(6.8056469e38)² = 9.2633660e77.
+            (|p| p.batches[3].m2 = 9.2634e77, "batches[3].m2"),
+            (|p| p.batches[3].m2 = 1e308, "batches[3].m2"),
+            (
+                |p| p.batches[3].seconds = MAX_BATCH_SECONDS * (1.0 + 1e-15),
+                "batches[3].seconds",
+            ),
+            (|p| p.batches[3].seconds = 1e308, "batches[3].seconds"),
             (|p| p.batches[3].count -= 1, "batches[3].count"),
             (|p| p.batches[3].non_finite = u64::MAX, "batches[3].count"),
             (|p| p.batches[3].m2 = -1e-300, "batches[3].m2"),
@@ -692,8 +821,13 @@ mod tests {
             let e = check_batches("p.json", &p).unwrap_err();
             assert_eq!(e.field, format!("{at}.{field}"), "{e}");
         }
-        // Every value at its limit that a run can write passes: no samples finite, m2
-        // and seconds 0, the last batch index.
+        // Every value at its limit that a run can write passes: the largest mean, m2
+        // and time; no samples finite, m2 and seconds 0, the last batch index.
+        let mut p = valid.clone();
+        let b = &mut p.cases[0].series[0].points[0].batches[3];
+        assert_eq!(b.count, 2, "the corpus's partial has points of 256 samples");
+        (b.mean, b.m2, b.seconds) = (-f64::from(f32::MAX), 9.2633e77, MAX_BATCH_SECONDS);
+        assert!(check_batches("p.json", &p).is_ok());
         let mut p = valid.clone();
         let b = &mut p.cases[0].series[0].points[0].batches[3];
         (b.non_finite, b.count, b.m2, b.seconds, b.batch) = (b.count, 0, 0.0, 0.0, BATCHES - 1);
@@ -705,6 +839,72 @@ mod tests {
             (b.count, b.non_finite) = (1 << 33, 0);
         }
         assert!(check_batches("p.json", &p).is_ok());
+    }
+
+    /// The settings of a partial are a sweep's that `report` runs: powers of two from 256
+    /// to 2⁴⁰, min ≤ max, 128 batches. Both 0 once made the merge shift by 64.
+    #[test]
+    fn settings_a_run_cannot_write_are_named() {
+        let ok = Settings {
+            seed: 1,
+            min_samples: 256,
+            max_samples: 1 << 40,
+            batches: BATCHES,
+        };
+        assert!(check_settings("p.json", &ok).is_ok());
+        let same = Settings {
+            min_samples: 1 << 40,
+            ..ok.clone()
+        };
+        assert!(check_settings("p.json", &same).is_ok());
+        type Edit = fn(&mut Settings);
+        let cases: [(Edit, &str); 9] = [
+            (|s| s.min_samples = 0, "settings.min_samples"),
+            (|s| s.min_samples = 128, "settings.min_samples"),
+            (|s| s.min_samples = 384, "settings.min_samples"),
+            (|s| s.max_samples = 0, "settings.max_samples"),
+            (|s| s.max_samples = 1 << 41, "settings.max_samples"),
+            (|s| s.max_samples = (1 << 40) - 1, "settings.max_samples"),
+            (
+                |s| (s.min_samples, s.max_samples) = (512, 256),
+                "settings.max_samples",
+            ),
+            (|s| s.batches = BATCHES - 1, "settings.batches"),
+            (|s| s.batches = BATCHES + 1, "settings.batches"),
+        ];
+        for (edit, field) in cases {
+            let mut s = ok.clone();
+            edit(&mut s);
+            let e = check_settings("p.json", &s).unwrap_err();
+            assert_eq!(e.field, field, "{e}");
+        }
+    }
+
+    /// `--shard auto` reads only its own variables: junk bytes elsewhere in the
+    /// environment are not its business; a variable of its own that is not UTF-8 is named.
+    #[cfg(unix)]
+    #[test]
+    fn only_the_shard_variables_are_read_and_must_be_text() {
+        use std::ffi::OsString;
+        use std::os::unix::ffi::OsStringExt;
+        let asked = std::cell::RefCell::new(vec![]);
+        let env = shard_env(|n| {
+            asked.borrow_mut().push(n.to_string());
+            match n {
+                "LIGHTPROOF_SHARD_INDEX" => Some(OsString::from("1")),
+                "LIGHTPROOF_SHARD_COUNT" => Some(OsString::from("4")),
+                _ => None,
+            }
+        })
+        .unwrap();
+        assert_eq!(asked.into_inner(), SHARD_VARIABLES);
+        assert_eq!(shard_from_env(&env).unwrap(), Shard { index: 1, count: 4 });
+        for name in SHARD_VARIABLES {
+            let e = shard_env(|n| (n == name).then(|| OsString::from_vec(vec![b'1', 0xff])))
+                .unwrap_err();
+            assert_eq!(e.field, name);
+            assert!(e.reason.contains("not UTF-8"), "{e}");
+        }
     }
 
     #[test]

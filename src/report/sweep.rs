@@ -298,7 +298,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     let mut cases = plan_cases(opts, &settings)?;
     // The cases are good: an output folder blocked by a file is told now, not after the
     // sweep (bad input first, exit 2; then the output, exit 3).
-    crate::error::IoError::check_output_folder(&opts.out)?;
+    crate::io::check_output_dir(&opts.out)?;
     let threads = rayon::current_num_threads();
     let plan = plan_digest(&settings, &cases);
     let mut notes = vec![];

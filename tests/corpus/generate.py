@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Regenerate the hostile-input corpus of tests/hostile.rs: case files under cases/,
 assets (EXR images, a shard partial) under assets/, hostile shard partials under merge/,
-and manifest.json listing every input with its expected outcome.
+export folders (export.json, case.json, renders) for judge under export/, and manifest.json listing every input with its expected outcome.
 
     python3 tests/corpus/generate.py
 
@@ -11,7 +11,8 @@ baseline), args (placeholders: {corpus} this folder, {tmp} a fresh folder per en
 sparse `.exr` past the 1 GiB asset limit, {fifo} a named pipe with no writer, {file} an
 existing regular file, {dangling} a symbolic link to a missing target), and either expect 2 with `field` (and optionally `contains`), a
 substring the one stderr line must hold (and optionally `absent`, one it must not), or
-expect "valid" (exit 0 or 1; for estimate a finite `estimate` on stdout). `pre_files` are
+expect "valid" (exit 0 or 1; for estimate a finite `estimate` on stdout; for merge, case
+reports whose every point has a finite `estimate` and `seconds`). `pre_files` are
 created in {tmp} first; `no_leftovers` asks that no `.tmp` file remain in {tmp}
 afterwards. `sweep` ({group, value}) marks the entries of one numeric field swept over
 every value of EXTREMES (hostile.rs checks that no sweep misses one).
@@ -508,9 +509,9 @@ sweep("microfacet_theta", MF, "measure.microfacet.theta_degrees", "measure.micro
 # A reference's parameters go to the f64 closed forms of lightproof-analytic, not to the
 # f32 engine: a value inside the closed form's domain runs (a wrong reference fails its
 # verdict, exit 1), one outside it, or one whose value is not finite, is refused.
-sweep("microfacet_reference_alpha", MF, "reference.alpha", "reference", ALL2)
-sweep("microfacet_reference_cos_theta", MF, "reference.cos_theta", "reference",
-      outcomes(2, zero="valid", sub="valid"))
+sweep("microfacet_reference_alpha", MF, "reference.alpha", "reference.alpha", ALL2)
+sweep("microfacet_reference_cos_theta", MF, "reference.cos_theta", "reference.cos_theta",
+      outcomes(2, zero="valid", sub="valid"), fields={"sub64": "reference"}, contains={"sub64": "non-finite result"})
 case("microfacet_theta_missing", "wrong", MF, [("measure.microfacet.theta_degrees", DELETE)], 2,
      "measure.microfacet.theta_degrees", "missing")
 case("microfacet_normalisation_theta", "wrong", MF, [("measure.microfacet.integral", "normalisation"),
@@ -529,10 +530,10 @@ case("microfacet_distribution_phong", "baseline", MF, [("measure.microfacet.dist
 case("microfacet_integral_area", "baseline", MF, [("measure.microfacet.integral", "area")], 2, "measure.microfacet.integral")
 case("microfacet_integral_missing", "baseline", MF, [("measure.microfacet.integral", DELETE)], 2, "integral")
 case("microfacet_estimator_bsdf", "baseline", MF, [("estimators", ["bsdf"])], 2, "estimators[0]")
-case("microfacet_reference_distribution", "baseline", MF, [("reference.distribution", "phong")], 2, "reference", "`distribution`")
+case("microfacet_reference_distribution", "baseline", MF, [("reference.distribution", "phong")], 2, "reference.distribution", "`distribution`")
 case("microfacet_reference_masking", "baseline", MF, [("reference", {"closed_form": "microfacet_white_albedo", "distribution": "ggx",
-     "masking": "separable", "alpha": 0.3, "cos_theta": 0.5})], 2, "reference", "`masking`")
-case("microfacet_reference_alpha", "baseline", MF, [("reference.alpha", 0)], 2, "reference", "`alpha`")
+     "masking": "separable", "alpha": 0.3, "cos_theta": 0.5})], 2, "reference.masking", "`masking`")
+case("microfacet_reference_alpha", "baseline", MF, [("reference.alpha", 0)], 2, "reference.alpha", "`alpha`")
 sweep("segments", CHORD, "measure.mean_path_length.segments", "measure.mean_path_length.segments", ALL2)
 sweep("chord_shape", CHORD, "measure.mean_path_length.shape", "measure.mean_path_length.shape",
       outcomes(2, zero="valid"))
@@ -551,16 +552,16 @@ case("measure_missing", "baseline", DISK, [("measure", DELETE)], 2, "measure")
 CONDUCTOR_REF = dict(ALBEDO, reference={"closed_form": "microfacet_conductor_albedo", "distribution": "ggx",
                                         "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5,
                                         "eta": 0.2, "k": 3.9})
-sweep("conductor_reference_eta", CONDUCTOR_REF, "reference.eta", "reference", outcomes("valid", m1=2, zero=2, str=2))
-sweep("conductor_reference_k", CONDUCTOR_REF, "reference.k", "reference", outcomes("valid", m1=2, str=2))
+sweep("conductor_reference_eta", CONDUCTOR_REF, "reference.eta", "reference.eta", outcomes("valid", m1=2, zero=2, str=2))
+sweep("conductor_reference_k", CONDUCTOR_REF, "reference.k", "reference.k", outcomes("valid", m1=2, str=2))
 
 # A rough dielectric's albedo reference: eta within [0.1, 10], where its quadrature is
 # validated (fuzzing with a seed of 1007 found eta = 1.5e12, which took it minutes).
 DIELECTRIC_REF = dict(ALBEDO, reference={"closed_form": "microfacet_dielectric_albedo", "distribution": "ggx",
                                          "masking": "height_correlated", "alpha": 0.3, "cos_theta": 0.5,
                                          "eta": 1.5})
-sweep("dielectric_reference_eta", DIELECTRIC_REF, "reference.eta", "reference", outcomes(2))
-case("dielectric_reference_eta_1.5e12", "hang", DIELECTRIC_REF, [("reference.eta", 1.5e12)], 2, "reference",
+sweep("dielectric_reference_eta", DIELECTRIC_REF, "reference.eta", "reference.eta", outcomes(2))
+case("dielectric_reference_eta_1.5e12", "hang", DIELECTRIC_REF, [("reference.eta", 1.5e12)], 2, "reference.eta",
      "[0.1, 10]")
 case("dielectric_reference_eta_10_valid", "baseline", DIELECTRIC_REF, [("reference.eta", 10)], "valid")
 
@@ -569,11 +570,12 @@ sweep("reference_scale", REF, "reference.scale", "reference.scale", outcomes("va
 # A disk of radius 1e308 (with height 2 or 1e308): E = pi L/(1 + (h/R)^2), pi and pi/2; the
 # oracle once formed R^2 and refused them as non-finite, now it computes them (the
 # estimate then fails against the scene's unit disk: exit 1, a valid run).
-sweep("reference_radius", REF, "reference.radius", "reference", outcomes("valid", m1=2, zero=2, str=2))
-sweep("reference_height", REF, "reference.height", "reference", outcomes("valid", m1=2, zero=2, str=2))
-sweep("reference_radiance", REF, "reference.radiance", "reference", outcomes("valid", m1=2, e308=2, str=2))
+sweep("reference_radius", REF, "reference.radius", "reference.radius", outcomes("valid", m1=2, zero=2, str=2))
+sweep("reference_height", REF, "reference.height", "reference.height", outcomes("valid", m1=2, zero=2, str=2))
+sweep("reference_radiance", REF, "reference.radiance", "reference.radiance", outcomes("valid", m1=2, e308=2, str=2),
+      fields={"e308": "reference"}, contains={"e308": "non-finite result"})
 case("reference_radius_height_e308", "f32", REF, [("reference.radius", 1e308), ("reference.height", 1e308)], "valid")
-case("reference_unknown", "baseline", REF, [("reference.closed_form", "nope")], 2, "reference")
+case("reference_unknown", "baseline", REF, [("reference.closed_form", "nope")], 2, "reference.closed_form")
 case("samples_huge", "hang", DISK, [("samples", 18446744073709551615)], 2, "samples", "2^40")
 sweep("samples", DISK, "samples", "samples", ALL2)
 case("estimators_empty", "baseline", DISK, [("estimators", [])], 2, "estimators")
@@ -732,17 +734,17 @@ case("flux_without_view_factor_valid", "baseline", FLUX, [("measure.flux.view_fa
 # 1e-39 m NaN, and parallel rectangles beyond 1e4 × the shorter side refused.
 PAR_REF = dict(FLUX, reference={"closed_form": "view_factor_parallel_rectangles", "width": 1, "length": 1,
                                 "separation": 1})
-sweep("parallel_reference_separation", PAR_REF, "reference.separation", "reference",
+sweep("parallel_reference_separation", PAR_REF, "reference.separation", "reference.separation",
       outcomes("valid", m1=2, zero=2, str=2))
 PERP_REF = dict(FLUX, reference={"closed_form": "view_factor_perpendicular_rectangles", "common_edge": 1,
                                  "width": 1, "height": 1})
-sweep("perpendicular_reference_width", PERP_REF, "reference.width", "reference",
+sweep("perpendicular_reference_width", PERP_REF, "reference.width", "reference.width",
       outcomes("valid", m1=2, zero=2, str=2))
 FRESNEL_REF = dict(ALBEDO, reference={"closed_form": "fresnel_dielectric_average", "eta": 1.5})
-sweep("fresnel_average_reference_eta", FRESNEL_REF, "reference.eta", "reference",
+sweep("fresnel_average_reference_eta", FRESNEL_REF, "reference.eta", "reference.eta",
       outcomes("valid", m1=2, zero=2, str=2))
 PLANCK_REF = dict(ALBEDO, reference={"closed_form": "planck_radiance", "wavelength": 5e-7, "temperature": 5778})
-sweep("planck_reference_wavelength", PLANCK_REF, "reference.wavelength", "reference",
+sweep("planck_reference_wavelength", PLANCK_REF, "reference.wavelength", "reference.wavelength",
       outcomes("valid", m1=2, zero=2, str=2))
 
 # ---------------------------------------------------------------- verify
@@ -872,12 +874,22 @@ merge_case("merge_count_huge", "hang", lambda d: d["shard"].update(count=4294967
 merge_case("merge_count_string", "baseline", lambda d: d["shard"].update(count="one"), 2, "shard.count")
 merge_case("merge_wrong_format", "baseline", lambda d: d.update(format="other/1"), 2, "format")
 merge_case("merge_valid", "baseline", lambda d: None, "valid")
-merge_case("merge_seconds_e308", "hang",
-           lambda d: d["cases"][0]["series"][0]["points"][0]["batches"][0].update(seconds=1e308), "valid")
 # Batch records no run writes (the schema cannot say these): they once merged silently,
-# a zero count into a different estimate, a negative m2 into a missing standard error.
+# a zero count into a different estimate, a negative m2 into a missing standard error,
+# means of 1e308 into `"estimate": null`, a batch of 1e308 s into a report without fits.
 B0 = lambda d: d["cases"][0]["series"][0]["points"][0]["batches"][0]
 BF = "cases[0].series[0].points[0].batches[0]."
+merge_case("merge_seconds_e308", "wrong", lambda d: B0(d).update(seconds=1e308), 2, BF + "seconds")
+merge_case("merge_batch_mean_e308", "wrong", lambda d: B0(d).update(mean=1e308), 2, BF + "mean")
+merge_case("merge_batch_mean_e39", "f32", lambda d: B0(d).update(mean=-1e39), 2, BF + "mean")
+merge_case("merge_batch_m2_e308", "wrong", lambda d: B0(d).update(m2=1e308), 2, BF + "m2")
+# Settings no `report` writes: min_samples 0 made the merge shift by 64 (a panic with
+# overflow checks, no points without).
+merge_case("merge_settings_min_zero", "crash", lambda d: d["settings"].update(min_samples=0, max_samples=0), 2,
+           "settings.min_samples")
+merge_case("merge_settings_max_below_min", "wrong", lambda d: d["settings"].update(min_samples=512, max_samples=256),
+           2, "settings.max_samples")
+merge_case("merge_settings_batches_64", "wrong", lambda d: d["settings"].update(batches=64), 2, "settings.batches")
 merge_case("merge_batch_count_zero", "wrong", lambda d: B0(d).update(count=0), 2, BF + "count")
 merge_case("merge_batch_count_more", "wrong", lambda d: B0(d).update(count=B0(d)["count"] + 1), 2, BF + "count")
 merge_case("merge_batch_m2_negative", "wrong", lambda d: B0(d).update(m2=-5), 2, BF + "m2")
@@ -925,6 +937,38 @@ entry("judge_case_bad", "baseline", ["judge", "{corpus}/cases/emission_radiance_
       "scene.shapes[0].emission.radiance")
 entry("judge_no_render", "baseline", ["judge", J], 2, "RENDER.exr")
 entry("judge_suite_empty", "baseline", ["judge", "--suite", "{empty_dir}"], 2, "suite.json")
+# export.json as an export writes it (verify_valid's case, 4 × 2 pixels, scale 1), and with
+# numbers no export writes: a scale of 0 or 1e-320 once printed `± inf`, -1 a negative
+# estimate; a width of 0 blamed the render for its size.
+VERIFY_VALID = json.dumps(REF, indent=1)
+MANIFEST = {"renderer": "mitsuba", "source": "verify_valid.json", "name": "disk on axis", "case": "case.json",
+            "scene": "scene.xml", "sensor": "irradiance", "width": 4, "height": 2, "scale": 1.0,
+            "conventions": []}
+def export_case(name, cls, edits, expect, field=None, contains=None):
+    m = dict(MANIFEST, **edits)
+    write("export/%s/export.json" % name, json.dumps(m, indent=1))
+    write("export/%s/case.json" % name, VERIFY_VALID)
+    entry(name, cls, ["judge", "{corpus}/export/%s/case.json" % name, a("render_ok.exr"), a("render_ok.exr")], expect,
+          field, field and "export.json: %s: %s" % (field, contains or ""))
+export_case("judge_export_valid", "baseline", {}, "valid")
+export_case("judge_export_scale_zero", "wrong", {"scale": 0}, 2, "scale")
+export_case("judge_export_scale_subnormal", "wrong", {"scale": 1e-320}, 2, "scale")
+export_case("judge_export_scale_negative", "wrong", {"scale": -1}, 2, "scale")
+export_case("judge_export_scale_e308", "wrong", {"scale": 1e308}, 2, "scale")
+export_case("judge_export_width_zero", "wrong", {"width": 0}, 2, "width")
+export_case("judge_export_height_zero", "wrong", {"height": 0}, 2, "height")
+export_case("judge_export_pixels_over_limit", "wrong", {"width": 8192, "height": 8193}, 2, "width", "width × height")
+export_case("judge_export_width_huge", "wrong", {"width": 2**63, "height": 2}, 2, "width", "width × height")
+# The same check for a suite (one case `c` with two renders, render_ok.exr's copies,
+# written below): valid, and with a negative scale.
+SUITES = {"judge_suite_valid": 1.0, "judge_suite_scale_negative": -1}
+for name, scale in SUITES.items():
+    write("export/%s/suite.json" % name, json.dumps({"renderer": "mitsuba", "cases": ["c"], "refused": []}))
+    write("export/%s/c/export.json" % name, json.dumps(dict(MANIFEST, scale=scale), indent=1))
+    write("export/%s/c/case.json" % name, VERIFY_VALID)
+entry("judge_suite_valid", "baseline", ["judge", "--suite", "{corpus}/export/judge_suite_valid"], "valid")
+entry("judge_suite_scale_negative", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_scale_negative"], 2,
+      "scale", "c/export.json: scale: ")
 
 # ---------------------------------------------------------------- export
 entry("export_valid", "baseline", ["export", V, "--to", "mitsuba", "--out", "{tmp}/x"], "valid", no_leftovers=True)
@@ -970,6 +1014,13 @@ entry("verify_html_proc", "unclear", ["verify", J, "--samples", "4096", "--no-ch
       contains="takes no new file")
 entry("chi2_out_is_file_before_sampling", "hang", ["chi2", L, "--samples", "4294967296", "--out", "{file}"], 3,
       contains=NOT_FOLDER)
+# An --out folder that takes no new file (/proc) is found before sampling too, by a probe
+# file in the nearest existing folder on the way (it once ran 2^32 samples, or 2^40, first).
+entry("chi2_out_proc_before_sampling", "hang", ["chi2", L, "--samples", "4294967296", "--out", "/proc/x"], 3,
+      contains="`/proc` takes no new file")
+entry("report_out_proc_before_sampling", "hang", ["report", R, "--min-samples", "1099511627776",
+                                                  "--max-samples", "1099511627776", "--out", "/proc/rep"], 3,
+      contains="`/proc` takes no new file")
 # A symbolic link whose target does not exist, as the output folder or on the way to a
 # file: the system says "File exists"; the message names the link and its target.
 DANGLING = "is a symbolic link to"
@@ -989,6 +1040,9 @@ entry("render_output_below_dangling_link", "unclear", ["render", "{corpus}/cases
 if __name__ == "__main__":
     ok = [(E_DISK,) * 3] * 8
     write("assets/render_ok.exr", exr(4, 2, ok))
+    for name in SUITES:
+        for k in range(2):
+            write("export/%s/c/renders/%03d.exr" % (name, k), exr(4, 2, ok))
     write("assets/render_negative_channel.exr", exr(4, 2, ok[:5] + [(-0.5, Y, Y)] + ok[6:]))
     write("assets/render_nan.exr", exr(4, 2, ok[:2] + [(float("nan"),) * 3] + ok[3:]))
     write("assets/render_small.exr", exr(2, 2, ok[:4]))

@@ -914,3 +914,183 @@ fn a_failing_time_bin_fails_the_estimate() {
         assert_eq!(v["verdict"]["passed"], true, "the whole span passes: {v}");
     }
 }
+
+/// A standard output that cannot be written (`> /dev/full`) is an output that cannot be
+/// written: exit 3 and one line naming it, where `println!` panicked (exit 101). The
+/// commands that print a table or a JSON object all write through the same helper.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_stdout_that_cannot_be_written_exits_3() {
+    let case = tmp("stdout_full.json", GOOD);
+    let case = case.to_str().unwrap();
+    for args in [
+        &["estimate", case, "--samples", "256"][..],
+        &["verify", case, "--samples", "256", "--no-chi2"][..],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = bin()
+            .args(args)
+            .env_remove("RUST_BACKTRACE")
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "{args:?}: {err}");
+        assert_eq!(
+            err.trim(),
+            "error: <stdout>: cannot write: No space left on device (os error 28)",
+            "{args:?}"
+        );
+    }
+}
+
+/// `report --shard auto` reads only its own variables of the environment: a variable of
+/// no concern to it may hold any bytes (`JUNK=\xff` once panicked in `std::env::vars`),
+/// and one of its own that is not UTF-8 exits 2 naming it.
+#[cfg(unix)]
+#[test]
+fn shard_auto_reads_only_its_own_variables() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+    let case = tmp("shard_env.json", GOOD);
+    let junk = OsStr::from_bytes(b"\xff");
+    let run = |out: &str, env: &[(&str, &OsStr)]| {
+        let dir = std::env::temp_dir().join(format!("lightproof-cli-{}-{out}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut c = bin();
+        c.arg("report")
+            .arg(&case)
+            .args([
+                "--shard",
+                "auto",
+                "--max-samples",
+                "256",
+                "--sampler",
+                "independent",
+            ])
+            .arg("--out")
+            .arg(&dir)
+            .env_remove("RUST_BACKTRACE");
+        for (k, v) in env {
+            c.env(k, v);
+        }
+        let o = c.output().unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        o
+    };
+    let (zero, one) = (OsStr::new("0"), OsStr::new("1"));
+    let ok = run(
+        "junk",
+        &[
+            ("JUNK", junk),
+            ("LIGHTPROOF_SHARD_INDEX", zero),
+            ("LIGHTPROOF_SHARD_COUNT", one),
+        ],
+    );
+    let err = String::from_utf8_lossy(&ok.stderr);
+    assert_eq!(ok.status.code(), Some(0), "{err}");
+    let bad = run(
+        "bad",
+        &[
+            ("LIGHTPROOF_SHARD_INDEX", junk),
+            ("LIGHTPROOF_SHARD_COUNT", one),
+        ],
+    );
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{err}");
+    assert!(
+        err.trim().lines().count() == 1
+            && err.contains("LIGHTPROOF_SHARD_INDEX: is not UTF-8 text")
+            && !err.contains("panicked"),
+        "{err}"
+    );
+}
+
+/// `LIGHTPROOF_SEED`, the default `--seed` of every command that samples, holding text
+/// that is not UTF-8 is a usage error naming it (clap's own message named nothing), for a
+/// command given and for a bare `lightproof`; a command without a seed (`merge`) does not
+/// read it.
+#[cfg(unix)]
+#[test]
+fn a_seed_variable_that_is_not_text_is_named() {
+    use std::os::unix::ffi::OsStrExt;
+    let junk = std::ffi::OsStr::from_bytes(b"7\xff");
+    let case = tmp("seed_env.json", GOOD);
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-seed-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for args in [vec!["estimate".into(), case.display().to_string()], vec![]] {
+        let out = bin()
+            .args(&args)
+            .current_dir(&dir)
+            .env("LIGHTPROOF_SEED", junk)
+            .env_remove("RUST_BACKTRACE")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.trim().lines().count() == 1
+                && err.starts_with("error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text"),
+            "{args:?}: {err}"
+        );
+    }
+    let merge = bin()
+        .args(["merge", "--out"])
+        .arg(dir.join("rep"))
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/merge/merge_valid"))
+        .env("LIGHTPROOF_SEED", junk)
+        .output()
+        .unwrap();
+    assert_eq!(
+        merge.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    // Another usage error is told as it is, not blamed on the variable.
+    let usage = bin()
+        .arg("merge")
+        .env("LIGHTPROOF_SEED", junk)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&usage.stderr);
+    assert_eq!(usage.status.code(), Some(2), "{err}");
+    // One line: clap's usage and its "For more information" are left out.
+    assert_eq!(
+        err.trim(),
+        "error: the following required arguments were not provided: <INPUTS>... (see --help)"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A folder holding `a.json` and two links to itself (`l1 -> .`, `l2 -> .`) is one case,
+/// found at once: links to folders are not followed (one such link once listed the case
+/// 41 times, two exponentially often).
+#[cfg(unix)]
+#[test]
+fn links_to_folders_are_not_followed() {
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-links-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("a.json"), GOOD).unwrap();
+    for link in ["l1", "l2"] {
+        std::os::unix::fs::symlink(".", dir.join(link)).unwrap();
+    }
+    let t0 = std::time::Instant::now();
+    let out = succeeds(
+        bin()
+            .arg("verify")
+            .arg(&dir)
+            .args(["--no-chi2", "--samples", "256"]),
+    );
+    let seconds = t0.elapsed().as_secs_f64();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("(1 cases, "), "{stdout}");
+    // One case of 256 samples: well under a second; 41² copies would take minutes.
+    assert!(seconds < 30.0, "{seconds:.1}s");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -5,7 +5,8 @@
 //! for a field), and an unwritable output 3 likewise naming the path; a
 //! render whose pixels are negative or not finite fails its verdict (exit 1, saying
 //! why); a valid extreme must run (exit 0 or 1) and, for `estimate`, print a finite,
-//! non-negative estimate with no non-finite sample. Nothing may panic, hang or leave temporary files behind.
+//! non-negative estimate with no non-finite sample, and for `merge`, write case reports
+//! whose every point has a finite estimate and time. Nothing may panic, hang or leave temporary files behind.
 //!
 //! `LIGHTPROOF_HOSTILE_BIN=/path/to/lightproof` runs the corpus against another build
 //! (e.g. an old one, to measure what a fix changed); the table per class is printed
@@ -258,6 +259,9 @@ fn check(entry: &Value, fx: &Fixture, bin: &Path) -> Result<f64, String> {
                     ));
                 }
             }
+            if args[0] == "merge" {
+                merged_reports_are_finite(&args).map_err(|why| format!("{why}: {}", show()))?;
+            }
         }
         other => panic!("{name}: unknown expectation {other}"),
     }
@@ -271,6 +275,47 @@ fn check(entry: &Value, fx: &Fixture, bin: &Path) -> Result<f64, String> {
         }
     }
     Ok(r.seconds)
+}
+
+/// A merge that ran wrote case reports whose every point has a finite estimate and time
+/// (JSON writes a non-finite number as `null`: batch means of 10³⁰⁸ once merged into
+/// `"estimate": null`, and batch times of 10³⁰⁸ into a report without fits).
+fn merged_reports_are_finite(args: &[String]) -> Result<(), String> {
+    let out = args
+        .iter()
+        .position(|a| a == "--out")
+        .and_then(|i| args.get(i + 1))
+        .ok_or("a merge entry must name --out")?;
+    let mut reports = 0;
+    for f in walk(Path::new(out)) {
+        if !f.ends_with(".json") || f.ends_with("index.json") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&f).map_err(|e| format!("{f}: {e}"))?;
+        let v: Value = serde_json::from_str(&text).map_err(|e| format!("{f}: {e}"))?;
+        reports += 1;
+        for (si, series) in v["series"].as_array().into_iter().flatten().enumerate() {
+            for (pi, point) in series["points"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .enumerate()
+            {
+                for key in ["estimate", "seconds"] {
+                    if !point[key].is_number() {
+                        return Err(format!(
+                            "{f}: series[{si}].points[{pi}].{key} is {}, not a finite number",
+                            point[key]
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    if reports == 0 {
+        return Err(format!("no case report written to {out}"));
+    }
+    Ok(())
 }
 
 fn walk(dir: &Path) -> Vec<String> {
@@ -361,6 +406,44 @@ fn hostile_corpus() {
         failures.len(),
         failures.join("\n\n")
     );
+}
+
+/// The README's counts of the corpus are the manifest's: its inputs ("(N inputs over
+/// every command"), its swept numeric fields ("every numeric field (N of them"), and its
+/// exit-2 entries, with those whose field is a nested path (holding `.` or `[`: "N of the
+/// corpus's M exit-2 entries name a nested field by its full path"). A corpus that grew
+/// without the README once left the last count at 806 exit-2 entries of 818.
+#[test]
+fn the_readmes_corpus_counts_are_the_manifests() {
+    let text = std::fs::read_to_string(corpus().join("manifest.json")).unwrap();
+    let manifest: Value = serde_json::from_str(&text).unwrap();
+    let entries = manifest["entries"].as_array().unwrap();
+    let refused: Vec<&Value> = entries.iter().filter(|e| e["expect"] == 2).collect();
+    let nested = refused
+        .iter()
+        .filter(|e| e["field"].as_str().is_some_and(|f| f.contains(['.', '['])))
+        .count();
+    let swept: std::collections::BTreeSet<&str> = entries
+        .iter()
+        .filter_map(|e| e["sweep"]["group"].as_str())
+        .collect();
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    // Sentences wrap across lines: compare with every run of white space one space.
+    let readme = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+    for want in [
+        format!("({} inputs over every command", entries.len()),
+        format!("every numeric field ({} of them", swept.len()),
+        format!(
+            "{nested} of the corpus's {} exit-2 entries name a nested field by its full path",
+            refused.len()
+        ),
+    ] {
+        assert!(
+            readme.contains(&want),
+            "README.md does not say `{want}`: update its counts of the corpus"
+        );
+    }
 }
 
 /// The values every numeric field of the corpus is swept over (`EXTREMES` in
