@@ -46,41 +46,38 @@ pub(crate) fn interpolate(w: &[f32], v: &[f32], lambda: f32, outside: Outside) -
     v[i - 1] + t * (v[i] - v[i - 1])
 }
 
+/// The table's linear pieces clipped to [a, b]: (c, d, v) for each non-empty
+/// [c, d] = [λᵢ₋₁, λᵢ] ∩ [a, b], with v(x) the interpolant of that piece.
+fn clipped_pieces(
+    w: &[f32],
+    v: &[f32],
+    a: f64,
+    b: f64,
+) -> impl Iterator<Item = (f64, f64, impl Fn(f64) -> f64)> {
+    let n = w.len().min(v.len());
+    (1..n).filter_map(move |i| {
+        let (l0, l1) = (w[i - 1] as f64, w[i] as f64);
+        let (c, d) = (l0.max(a), l1.min(b));
+        let (v0, v1) = (v[i - 1] as f64, v[i] as f64);
+        let at = move |x: f64| v0 + (x - l0) / (l1 - l0) * (v1 - v0);
+        (d > c && l1 > l0).then_some((c, d, at))
+    })
+}
+
 /// ∫ v(λ) dλ over [a, b] ∩ [λ₀, λₙ₋₁] (zero outside the table), exact for the
 /// piecewise-linear function: Σ over the clipped intervals of (d − c)(v(c) + v(d))/2.
 pub(crate) fn integral(w: &[f32], v: &[f32], a: f64, b: f64) -> f64 {
-    let n = w.len().min(v.len());
-    let mut s = 0.0;
-    for i in 1..n {
-        let (l0, l1) = (w[i - 1] as f64, w[i] as f64);
-        let (c, d) = (l0.max(a), l1.min(b));
-        if !(d > c && l1 > l0) {
-            continue;
-        }
-        let (v0, v1) = (v[i - 1] as f64, v[i] as f64);
-        let at = |x: f64| v0 + (x - l0) / (l1 - l0) * (v1 - v0);
-        s += 0.5 * (d - c) * (at(c) + at(d));
-    }
-    s
+    clipped_pieces(w, v, a, b).fold(0.0, |s, (c, d, at)| s + 0.5 * (d - c) * (at(c) + at(d)))
 }
 
 /// ∫ v(λ) λ dλ over [a, b] ∩ [λ₀, λₙ₋₁] (nm², zero outside the table), exact for the
 /// piecewise-linear function: v·λ is quadratic on each clipped interval [c, d], so
 /// Simpson's rule (d − c)/6 · (f(c) + 4f((c + d)/2) + f(d)), exact for cubics, is exact.
 pub(crate) fn moment(w: &[f32], v: &[f32], a: f64, b: f64) -> f64 {
-    let n = w.len().min(v.len());
-    let mut s = 0.0;
-    for i in 1..n {
-        let (l0, l1) = (w[i - 1] as f64, w[i] as f64);
-        let (c, d) = (l0.max(a), l1.min(b));
-        if !(d > c && l1 > l0) {
-            continue;
-        }
-        let (v0, v1) = (v[i - 1] as f64, v[i] as f64);
-        let f = |x: f64| (v0 + (x - l0) / (l1 - l0) * (v1 - v0)) * x;
-        s += (d - c) / 6.0 * (f(c) + 4.0 * f(0.5 * (c + d)) + f(d));
-    }
-    s
+    clipped_pieces(w, v, a, b).fold(0.0, |s, (c, d, at)| {
+        let f = |x: f64| at(x) * x;
+        s + (d - c) / 6.0 * (f(c) + 4.0 * f(0.5 * (c + d)) + f(d))
+    })
 }
 
 /// max v over [a, b] (zero outside the table): the larger of the interpolated ends and
