@@ -471,7 +471,7 @@ impl Chi2Test {
     ///   largest (twice the smaller tail falls away from K/N on either side): it fails
     ///   only if no ∫ pdf within the allowance fits the count, and at once if none lies in
     ///   [0, 1] (a density integrating to more than 1). The exact test holds at any count;
-    ///   a normal approximation's tail at the suites' α₂ ~ 10⁻⁶ (z ≈ 4.9) would need
+    ///   a normal approximation's tail at the suites' α₂ of 10⁻⁶ (z ≈ 4.9) would need
     ///   N q(1 − q) ≥ (z(z² − 1)/3)² ≈ 1400 (the Edgeworth rule of
     ///   [`crate::stats::MeanTest::clt_samples`], the sum's skewness being
     ///   (1 − 2q)/√(N q(1 − q))). The reported z is the score statistic
@@ -1443,6 +1443,18 @@ mod tests {
         // A pooled cell (E < 5) carries the share s·E/√5.
         let s = t.cell_tolerance(1e-6) * n;
         assert!((s - 0.019764 / 5f64.sqrt()).abs() < 1e-6, "{s}");
+        // "About 0.05 standard deviations": the bound s²(2G + 1)/√(2(G − 1)) with
+        // G = 8192 judged cells is 0.0500; cells of equal count each at their tolerance
+        // spend s² G/√(2(G − 1)) = 0.025 of it.
+        let s2 = 0.05 * 128.0 / 16384.0;
+        assert!((s2 * 16385.0 / (2.0f64 * 8191.0).sqrt() - 0.05).abs() < 1e-4);
+        let p = 1.0 / 8192.0;
+        let share = t.quadrature_share(&vec![(p, t.cell_tolerance(p)); 8192]);
+        assert!(
+            (share - s2 * 8192.0 / (2.0f64 * 8191.0).sqrt()).abs() < 1e-9,
+            "{share}"
+        );
+        assert!((share - 0.025).abs() < 1e-4, "{share}");
     }
 
     /// Two cells of expected count ≥ 5 are enough to judge (one degree of freedom);
