@@ -212,12 +212,14 @@ mod tests {
     #[test]
     fn tails_match_their_definition() {
         let q = 20.0 / 32_000.0;
-        let cases: [(f64, f64, f64); 9] = [
+        let cases: [(f64, f64, f64); 10] = [
             (lower_tail(10, 32_000, q), 0.010_793_549_118_661_757, 1e-9),
             (lower_tail(9, 32_000, q), 0.004_985_420_625_146_068, 1e-9),
             (lower_tail(8, 32_000, q), 0.002_082_354_931_316_057_5, 1e-9),
             (upper_tail(33, 32_000, q), 0.004_714_817_016_727_359_5, 1e-9),
             (upper_tail(34, 32_000, q), 0.002_680_161_464_998_374_7, 1e-9),
+            // Far in the upper tail (not 1 minus a sum near 1).
+            (upper_tail(60, 32_000, q), 4.130_040_084_587_611e-13, 1e-9),
             // n = 10⁷, q = ½: 6.3 σ below the mean, and at the mean (½ + P(K = n/2)/2).
             (
                 lower_tail(4_990_000, 10_000_000, 0.5),
@@ -328,8 +330,11 @@ mod tests {
         );
         // Total internal reflection (R = 1): one transmitted draw fails.
         let tir = test.judge_binomial(20_000, 20_000, 1.0, 0);
+        assert!(tir.passed && tir.z == 0.0, "{tir:?}");
+        // Its power: K ≤ n − 1 (one draw transmitted) with probability 1 − r′ⁿ ≥ 0.99,
+        // r′ ≤ 0.01^{1/n}: |Δr| = 1 − 0.01^{1/20 000} = 2.3023·10⁻⁴ (mpmath).
         assert!(
-            tir.passed && tir.detectable_bias < 1e-3 && tir.z == 0.0,
+            (tir.detectable_bias - 2.302_320_018_434_136_5e-4).abs() < 1e-12,
             "{tir:?}"
         );
         let lost = test.judge_binomial(19_999, 20_000, 1.0, 0);
@@ -345,5 +350,30 @@ mod tests {
         assert_eq!(v.alpha, alpha1);
         assert!((v.critical - Normal::standard().inverse_cdf(1.0 - alpha1 / 2.0)).abs() < 1e-15);
         assert!(v.passed && (v.p_value - two_sided_p(5_100, 10_000, 0.5)).abs() < 1e-15);
+        // Both rejection regions at r = ½ (symmetric: k_lo = n − k_hi), and the shift
+        // that reaches each with probability 0.99.
+        let k_hi = (5_000..=10_000u64)
+            .find(|&j| upper_tail(j, 10_000, 0.5) <= alpha1 / 2.0)
+            .unwrap();
+        let k_lo = (0..=5_000u64)
+            .rev()
+            .find(|&j| lower_tail(j, 10_000, 0.5) <= alpha1 / 2.0)
+            .unwrap();
+        assert_eq!(k_lo, 10_000 - k_hi);
+        let d = v.detectable_bias;
+        assert!(
+            (upper_tail(k_hi, 10_000, 0.5 + d) - 0.99).abs() < 1e-9,
+            "{d}"
+        );
+        assert!(
+            (lower_tail(k_lo, 10_000, 0.5 - d) - 0.99).abs() < 1e-9,
+            "{d}"
+        );
+        assert!((v.detectable_relative_bias - 2.0 * d).abs() < 1e-15);
+        // A probability of 0: the detectable bias is absolute, as the relative one.
+        let zero = test.judge_binomial(0, 20_000, 0.0, 0);
+        assert!(zero.passed && zero.p_value == 1.0, "{zero:?}");
+        assert_eq!(zero.detectable_relative_bias, zero.detectable_bias);
+        assert!(!test.judge_binomial(1, 20_000, 0.0, 0).passed);
     }
 }
