@@ -482,9 +482,22 @@ mod tests {
         assert_eq!(ind.dof, None);
         assert!(!ind.exact());
         assert_eq!(ind.std_error, Some(e.batches.total.std_error()));
-        let sob = ErrorBar::of(&e, SamplerKind::Sobol);
-        assert_eq!(sob.dof, Some(15));
-        assert_eq!(sob.std_error, Some(e.batches.std_error()));
+        // Every quasi-random sampler is judged by batch means, even where they agree
+        // with the plain error (the README: "always judged by batch means").
+        for kind in SamplerKind::ALL {
+            let quasi = match kind {
+                SamplerKind::Independent => false,
+                SamplerKind::Stratified | SamplerKind::Sobol => true,
+            };
+            let bar = ErrorBar::of(&e, kind);
+            if quasi {
+                assert_eq!(bar.dof, Some(15), "{kind:?}");
+                assert_eq!(bar.std_error, Some(e.batches.std_error()), "{kind:?}");
+                assert_ne!(bar.std_error, Some(e.batches.total.std_error()), "{kind:?}");
+            } else {
+                assert_eq!(bar, ind);
+            }
+        }
         // Batch means far apart (correlated samples): independent switches to them.
         let lumpy: Vec<_> = (0..16).map(|i| batch(&[i as f64; 8])).collect();
         let l = estimate(lumpy);
@@ -523,6 +536,53 @@ mod tests {
             (bar.std_error, bar.dof),
             (Some(e.batches.std_error()), Some(15))
         );
+    }
+
+    /// The same estimate through an outcome: `Outcome::new` records it as exact, it is
+    /// not a member of the Šidák family (`is_statistical`), `judge_family` counts only
+    /// the statistical outcome beside it and judges the exact one within the f32 bound.
+    #[test]
+    fn batch_means_without_variance_stay_outside_the_family() {
+        use crate::transport::phase::Dimensions;
+        let e = estimate((0..16).map(|_| batch(&[0.0, 1.0, 0.0, 1.0])).collect());
+        let plan = Plan {
+            effects: Effects::everything(),
+            dims: Dimensions::none(),
+        };
+        let measure = Measure::SolidAngle {
+            from: glam::Vec3::ZERO,
+            shape: 0,
+        };
+        let step = |reference: f64| {
+            Outcome::new(
+                "step",
+                Path::new("step.json"),
+                &measure,
+                &plan,
+                Some(reference),
+                Estimator::Light,
+                SamplerKind::Sobol,
+                1,
+                &e,
+            )
+        };
+        let o = step(0.5);
+        assert!(o.exact && o.std_error.is_none() && o.dof.is_none(), "{o:?}");
+        assert_eq!((o.samples, o.estimate), (64, 0.5));
+        assert!(!o.is_statistical());
+        let mut run = vec![o, outcome(1.0, Some(0.1), Some(1.0), 100, 0), step(0.6)];
+        assert_eq!(judge_family(&mut run, 0, 1e-4), 1);
+        let v = run[0].verdict.as_ref().unwrap();
+        assert!(
+            v.passed && v.class == VerdictClass::Exact && v.alpha == 0.0,
+            "{v:?}"
+        );
+        let off = run[2].verdict.as_ref().unwrap();
+        assert!(!off.passed && off.class == VerdictClass::Exact, "{off:?}");
+        // The statistical outcome is a family of one: its α₁ is α itself.
+        let stat = run[1].verdict.as_ref().unwrap();
+        assert_eq!(stat.alpha, crate::stats::sidak_alpha(1e-4, 1));
+        assert_eq!(stat.class, VerdictClass::Statistical);
     }
 
     #[test]

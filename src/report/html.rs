@@ -797,6 +797,7 @@ mod tests {
             pdf_integral: 1.0,
             success_fraction: 1.0,
             normalisation_z: 0.1,
+            normalisation_p: 0.9,
             quadrature_share: 0.0,
             passed: false,
             reason: Some("p below α".into()),

@@ -6,14 +6,18 @@
 //! expected count of a cell is N times the integral of the density over it, computed
 //! by adaptive 2-D Gauss–Legendre quadrature (a tensor 4×4 rule against the same rule
 //! on the cell's four children, refined where they disagree; pbrt-v4 and Mitsuba 3 use
-//! a fixed rule per cell, which misses sharp lobes and falsely rejects). Cells with expected count < 5 are pooled, smallest first.
-//! The statistic Σ(O − E)²/E has (cells − 1) degrees of freedom; its p value comes from
-//! statrs's `ChiSquared::sf` (accurate to tiny p, unlike `1 − cdf`).
+//! a fixed rule per cell, which misses sharp lobes and falsely rejects). The statistic is
+//! conditioned on the S samples binned: each expected count is scaled to E′ = E·S/ΣE,
+//! cells with E′ < 5 are pooled, smallest first, and Σ(O − E′)²/E′ has (cells − 1)
+//! degrees of freedom; its p value comes from statrs's `ChiSquared::sf` (accurate to tiny
+//! p, unlike `1 − cdf`).
 //!
 //! Three further checks make the test hard to fool:
 //! - a sample in a cell whose expected count is exactly zero fails at once;
 //! - the density must integrate over the domain to the fraction of samples the sampler
-//!   returned (a density off by a constant factor passes a normalised histogram test);
+//!   returned (a density off by a constant factor passes a normalised histogram test):
+//!   the failed draws are judged against Binomial(N, 1 − ∫ pdf) by an exact two-sided
+//!   test, allowing the quadrature's error in ∫ pdf ([`Chi2Test::judge`]);
 //! - the quadrature's estimated error must be far below the statistical error
 //!   (it may move the statistic by at most a tenth of its standard deviation), else
 //!   the test says so instead of judging.
@@ -25,7 +29,7 @@ use crate::sampling::Sampler;
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
+use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -150,7 +154,7 @@ pub enum Quadrature {
 pub struct Chi2Outcome {
     /// Name of the sampler under test.
     pub name: String,
-    /// Σ (O − E)²/E over pooled cells.
+    /// Σ (O − E′)²/E′ over pooled cells, E′ = E·S/ΣE conditioned on the S samples binned.
     pub statistic: f64,
     /// Degrees of freedom.
     pub dof: usize,
@@ -162,8 +166,14 @@ pub struct Chi2Outcome {
     pub pdf_integral: f64,
     /// Fraction of draws the sampler returned a sample for.
     pub success_fraction: f64,
-    /// z of (∫ pdf − success fraction).
+    /// Score z of the failed draws K against Binomial(N, q*): (K − N q*)/√(N q*(1 − q*)),
+    /// q* the failure probability 1 − ∫ pdf within the quadrature error closest to K/N
+    /// (positive: more draws failed than the pdf allows).
     pub normalisation_z: f64,
+    /// Exact two-sided binomial p value of the failed draws against Binomial(N, q*),
+    /// which decides the normalisation ([`Chi2Test::judge`]).
+    #[serde(default)]
+    pub normalisation_p: f64,
     /// Upper bound of the quadrature error's contribution to the statistic, in units of
     /// the statistic's standard deviation √(2 dof); must stay below 0.1.
     pub quadrature_share: f64,
@@ -441,10 +451,36 @@ impl Chi2Test {
     }
 
     /// Judge tables made by [`Chi2Test::tables`] with this test's settings.
+    ///
+    /// Two random tests share the outcome's level α, each at the Šidák level
+    /// α₂ = 1 − (1 − α)^{1/2}:
+    ///
+    /// - **Shape**, conditioned on the S = Σ O_i samples binned: given S, the counts are
+    ///   multinomial with cell probabilities p_i/Σp, so the statistic is
+    ///   X² = Σ (O_i − E′_i)²/E′_i with E′_i = E_i·S/Σ E (cells with E′ < 5 pooled),
+    ///   asymptotically χ² on G − 1 degrees of freedom for G judged cells (Cramér,
+    ///   "Mathematical Methods of Statistics", 1946, §30.1). With the unconditioned
+    ///   E_i = N ∫_cell pdf, a sampler that fails draws (Σ E = N p₀ < N) would add
+    ///   (1 − p₀)χ²₁ to the null distribution (the random scale of S).
+    /// - **Normalisation**: the K = N − S failed draws are Binomial(N, q₀) under the null,
+    ///   q₀ = 1 − ∫ pdf. ∫ pdf is known to within an allowance a = ε + γ₁₂₈·∫ pdf: the
+    ///   quadrature's error estimate ε (the sum of the cells') and the f32 rounding of the
+    ///   density ([`crate::stats::exact_relative_tolerance`], the rounding budget of every
+    ///   verdict). The test is made at the q* in [q̂₀ − a, q̂₀ + a] closest to the observed
+    ///   K/N, where the exact two-sided p value ([`super::binomial::two_sided_p`]) is
+    ///   largest (twice the smaller tail falls away from K/N on either side): it fails
+    ///   only if no ∫ pdf within the allowance fits the count, and at once if none lies in
+    ///   [0, 1] (a density integrating to more than 1). The exact test holds at any count;
+    ///   a normal approximation's tail at the suites' α₂ of 10⁻⁶ (z ≈ 4.9) would need
+    ///   N q(1 − q) ≥ (z(z² − 1)/3)² ≈ 1400 (the Edgeworth rule of
+    ///   [`crate::stats::MeanTest::clt_samples`], the sum's skewness being
+    ///   (1 − 2q)/√(N q(1 − q))). The reported z is the score statistic
+    ///   (K − N q*)/√(N q* (1 − q*)), with the null's variance, not the observed count's.
     pub fn judge(&self, name: &str, t: &Chi2Tables) -> Chi2Outcome {
         let n = self.samples as f64;
         let (observed, expected) = (&t.observed, &t.expected);
-        let pdf_integral: f64 = expected.iter().sum::<f64>() / n;
+        let expected_total: f64 = expected.iter().sum();
+        let pdf_integral = expected_total / n;
         let quad_err: f64 = t.quadrature_error.iter().sum();
         let success_fraction = t.successes as f64 / n;
 
@@ -466,10 +502,20 @@ impl Chi2Test {
                 zero_cells[0] % self.cols
             ));
         }
-        let errors: Vec<f64> = t.quadrature_error.iter().map(|e| e * n).collect();
-        let pooled = pool(observed, expected, &errors);
+        // The statistic is conditioned on the samples binned: E′ = E·S/ΣE (0 where the
+        // pdf integrates to zero everywhere, whose samples fail above).
+        let binned = observed.iter().sum::<u64>() as f64;
+        let scale = if expected_total > 0.0 {
+            binned / expected_total
+        } else {
+            0.0
+        };
+        let conditioned: Vec<f64> = expected.iter().map(|e| e * scale).collect();
+        let errors: Vec<f64> = t.quadrature_error.iter().map(|e| e * n * scale).collect();
+        let pooled = pool(observed, &conditioned, &errors);
         // What the quadrature error could add to the statistic: Σ δ²/E over the cells
-        // it is computed on (a pool's error is the sum of its cells').
+        // it is computed on (a pool's error is the sum of its cells'; conditioning
+        // removes the errors' common part, which only lowers the sum).
         let quadrature_chi2 = quadrature_chi2(&pooled);
         // Too few samples to fill two pooled cells: there is nothing to judge with, and
         // a statistic of 0 with p = 1 would pass vacuously.
@@ -492,7 +538,7 @@ impl Chi2Test {
             .map(|d| d.sf(statistic))
             .unwrap_or(0.0);
         // Two random tests share the outcome's level α: the statistic and, for a sampler
-        // that can fail a draw, the normalisation's z. Each runs at the Šidák level
+        // that can fail a draw, the normalisation. Each runs at the Šidák level
         // 1 − (1 − α)^{1/2} ≈ α/2, so that a correct sampler fails the outcome with
         // probability at most α (each at α had let it fail up to 2α).
         let alpha_each = crate::stats::hypothesis::sidak_alpha(self.alpha, 2);
@@ -503,21 +549,47 @@ impl Chi2Test {
             ));
         }
 
-        // Normalisation: ∫ pdf = fraction of successful draws.
-        let f = success_fraction;
-        let binom_var = (f * (1.0 - f)).max(1.0 / n) / n;
-        let normalisation_z = (pdf_integral - f) / (binom_var + quad_err * quad_err).sqrt();
-        let crit = Normal::standard().inverse_cdf(1.0 - alpha_each / 2.0);
-        if normalisation_z.abs() > crit {
+        // Normalisation: the failed draws K against Binomial(N, q*), q* the failure
+        // probability 1 − ∫ pdf closest to K/N within the allowance: the quadrature's
+        // error plus the f32 rounding of the density, γ₁₂₈·∫ pdf.
+        let lost = self.samples.saturating_sub(t.successes);
+        let q_hat = 1.0 - pdf_integral;
+        let allowance = quad_err + crate::stats::exact_relative_tolerance() * pdf_integral.abs();
+        let q_star = (lost as f64 / n)
+            .max(q_hat - allowance)
+            .min(q_hat + allowance);
+        // No probability fits where q* is outside [0, 1] (∫ pdf above 1 beyond the
+        // allowance) or where ∫ pdf or the allowance is not finite.
+        let fits = q_hat.is_finite() && allowance.is_finite() && (0.0..=1.0).contains(&q_star);
+        let normalisation_p = if fits {
+            super::binomial::two_sided_p(lost, self.samples, q_star)
+        } else {
+            0.0
+        };
+        let excess = lost as f64 - n * q_star;
+        let spread = (n * q_star * (1.0 - q_star)).sqrt();
+        let normalisation_z = if spread > 0.0 {
+            excess / spread
+        } else if excess == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY.copysign(excess)
+        };
+        if !fits {
             reasons.push(format!(
-                "pdf integrates to {pdf_integral:.6} but {:.6} of draws succeeded (z = {normalisation_z:.1})",
-                f
+                "pdf integrates to {pdf_integral:.6} but {success_fraction:.6} of draws succeeded: no failure probability 1 − ∫ pdf within its allowance {allowance:.1e} (quadrature error and f32 rounding) lies in [0, 1]"
+            ));
+        } else if normalisation_p < alpha_each {
+            reasons.push(format!(
+                "pdf integrates to {pdf_integral:.6} but {success_fraction:.6} of draws succeeded: {lost} of {} draws failed where 1 − ∫ pdf within its allowance {allowance:.1e} (quadrature error and f32 rounding) expects {:.1} (exact binomial p = {normalisation_p:.3e} < α = {alpha_each:.3e}, z = {normalisation_z:.1})",
+                self.samples,
+                n * q_star
             ));
         }
         // The quadrature must not move the statistic by more than a tenth of its
-        // standard deviation √(2 dof).
+        // standard deviation √(2 dof) (a NaN share fails).
         let quadrature_share = quadrature_chi2 / (2.0 * dof as f64).sqrt();
-        if quadrature_share > 0.1 {
+        if !(quadrature_share <= 0.1) {
             reasons.push(format!(
                 "pdf quadrature error could move the statistic by {quadrature_share:.2} standard deviations: refine the grid"
             ));
@@ -532,6 +604,7 @@ impl Chi2Test {
             pdf_integral,
             success_fraction,
             normalisation_z,
+            normalisation_p,
             quadrature_share,
             passed: reasons.is_empty(),
             reason: None,
@@ -1076,7 +1149,8 @@ mod tests {
     /// each against its formula evaluated here: counts 1000 ± 30 in alternate cells
     /// (Σ (O − E)²/E = 32 · 0.9 = 28.8 on 31 dof, p = 0.58: a pass), then the same counts
     /// at a 31 000 × 1/1000 larger deviation (a fail), then draws of which only 31 of 32
-    /// succeeded while the pdf integrates to 1 (z = (1 − f)/√(f(1 − f)/N + δ²)).
+    /// succeeded while the pdf integrates to 1 within the allowance a = δ + γ₁₂₈
+    /// (z = (K − N q*)/√(N q*(1 − q*)), q* = a the failure probability closest to K/N).
     #[test]
     fn statistic_and_normalisation_follow_their_formulas() {
         let (t, mut tables) = perfect_tables();
@@ -1112,13 +1186,13 @@ mod tests {
         tables.successes = 31_000;
         let o = t.judge("lost draws", &tables);
         let (n, f) = (32_000.0f64, 31_000.0 / 32_000.0);
-        let pdf_integral = 1.0;
-        let delta = 32.0 * 1e-7;
-        let z = (pdf_integral - f) / (f * (1.0 - f) / n + delta * delta).sqrt();
+        let q = 32.0 * 1e-7 + crate::stats::exact_relative_tolerance();
+        let z = (1000.0 - n * q) / (n * q * (1.0 - q)).sqrt();
         assert!(
-            (o.normalisation_z - z).abs() < 1e-9 * z && z > 30.0,
+            (o.normalisation_z - z).abs() < 1e-9 * z && z > 1000.0,
             "{o:?}"
         );
+        assert!(!o.passed && o.normalisation_p == 0.0, "{o:?}");
         assert!((o.pdf_integral - 1.0).abs() < 1e-12 && (o.success_fraction - f).abs() < 1e-15);
         assert!(
             o.reason
@@ -1127,18 +1201,24 @@ mod tests {
                 .contains("pdf integrates to 1.000000 but 0.968750 of draws succeeded"),
             "{o:?}"
         );
-        // The outcome's α = 0.01 is shared by its two tests, each at 1 − 0.99^{1/2}
-        // (two-sided critical value 2.807): seven lost draws, z = 2.645, pass (they failed
-        // when each test had all of α, critical value 2.576, letting a correct sampler
-        // fail up to 2α); nine, z = 3.0, fail (a one-sided or doubled α would be lower).
-        for (lost, z, passes) in [(7u64, 2.645, true), (9, 3.0, false)] {
+        // The outcome's α = 0.01 is shared by its two tests, each at
+        // α₂ = 1 − 0.99^{1/2} = 0.005013: with 20 ± 0.244 draws expected to fail (∫ pdf =
+        // 31 980/32 000 within its f32 allowance γ₁₂₈·∫ pdf), 34 failed give the exact
+        // p = 2 P(K ≥ 34 | N q* = 20.244) = 0.00643 (mpmath), a pass (it failed when each
+        // test had all of α, letting a correct sampler fail up to 2α); 35 give 0.00360
+        // and 8 give 2 P(K ≤ 8 | 19.756) = 0.00485, fails.
+        for (lost, p, passes) in [
+            (34u64, 0.006_434_969_620_294_338, true),
+            (35, 0.003_603_408_997_671_933_8, false),
+            (8, 0.004_851_108_848_521_844_5, false),
+        ] {
             let (t, mut tables) = perfect_tables();
-            tables.quadrature_error = vec![1e-7; 32];
-            tables.observed[0] = 1000 - lost;
+            tables.expected[0] = 980.0;
+            tables.observed[0] = 1000 + 20 - lost;
             tables.successes = 32_000 - lost;
             let o = t.judge("lost", &tables);
             assert!(
-                (o.normalisation_z - z).abs() < 0.01 && o.passed == passes,
+                (o.normalisation_p / p - 1.0).abs() < 1e-9 && o.passed == passes,
                 "{lost}: {o:?}"
             );
         }
@@ -1156,6 +1236,225 @@ mod tests {
         let o = t.judge("outside", &tables);
         assert!(!o.passed && o.reason.unwrap().contains("1 samples fell outside"));
         let _ = std::fs::remove_dir_all(&t.dump_dir);
+    }
+
+    /// The lost draws are judged against the null's Binomial(N, 1 − ∫ pdf), not against
+    /// their own observed count: 20 draws expected to fail (∫ pdf = 31 980/32 000) and 10
+    /// failed give the exact p = 2 P(K ≤ 10 | N q*) = 0.0246 at the q* closest to 10/N
+    /// within the f32 allowance γ₁₂₈·∫ pdf (N q* = 19.756; at 20 exactly 0.0216, Poisson
+    /// 2·0.0108), a pass at α₂ = 0.005 (a variance from the observed 10, z = 3.2, failed
+    /// it), with the score z = (10 − N q*)/√(N q*(1 − q*)). Seven lost draws where the pdf
+    /// integrates to 1 within the quadrature error 3.2·10⁻⁶ and γ₁₂₈ (0.35 draws expected
+    /// to fail) fail (p = 1.8·10⁻⁷; the variance of the observed 7 had passed them at
+    /// z = 2.645).
+    #[test]
+    fn lost_draws_are_judged_against_the_null() {
+        let (t, mut tables) = perfect_tables();
+        tables.expected[0] = 980.0;
+        tables.observed[0] = 990;
+        tables.successes = 31_990;
+        let o = t.judge("10 of 20 lost", &tables);
+        let q = (20.0 - crate::stats::exact_relative_tolerance() * 31_980.0) / 32_000.0;
+        assert!(o.passed, "{o:?}");
+        assert!(
+            (o.normalisation_p / 0.024_601_751_437_383_628 - 1.0).abs() < 1e-9,
+            "{o:?}"
+        );
+        let z = (10.0 - 32_000.0 * q) / (32_000.0 * q * (1.0 - q)).sqrt();
+        assert!((o.normalisation_z - z).abs() < 1e-9, "{o:?}");
+        // Seven lost where none can be.
+        let (t, mut tables) = perfect_tables();
+        tables.quadrature_error = vec![1e-7; 32];
+        tables.observed[0] = 993;
+        tables.successes = 31_993;
+        let o = t.judge("7 lost", &tables);
+        assert!(
+            !o.passed && (o.normalisation_p / 1.759_023_212_339_078_6e-7 - 1.0).abs() < 1e-6,
+            "{o:?}"
+        );
+        let why = o.reason.clone().unwrap_or_default();
+        assert!(
+            why.contains("7 of 32000 draws failed") && why.contains("expects 0.3"),
+            "{why}"
+        );
+        // The quadrature's error is an allowance, not noise: the test takes the ∫ pdf
+        // within it that fits best. Nine lost against an error of 9 draws: p = 1, z = 0;
+        // against an error of one draw (1.244 with γ₁₂₈): p = 1.3·10⁻⁵, a fail.
+        for (delta, passes) in [(9.0, true), (1.0, false)] {
+            let (t, mut tables) = perfect_tables();
+            tables.quadrature_error = vec![delta / 32.0 / 32_000.0; 32];
+            tables.observed[0] = 991;
+            tables.successes = 31_991;
+            let o = t.judge("9 lost", &tables);
+            assert_eq!(o.passed, passes, "{delta}: {o:?}");
+            if passes {
+                assert!(o.normalisation_p == 1.0 && o.normalisation_z.abs() < 1e-9);
+            }
+        }
+        // A quadrature error that is not finite fits nothing (and refuses the grid).
+        let (t, mut tables) = perfect_tables();
+        tables.quadrature_error[3] = f64::INFINITY;
+        let o = t.judge("infinite error", &tables);
+        let why = o.reason.clone().unwrap_or_default();
+        assert!(
+            o.normalisation_p == 0.0 && why.contains("no failure probability"),
+            "{why}"
+        );
+        assert!(why.contains("refine the grid"), "{why}");
+        // Nor does a NaN one (whose share of the statistic is NaN: refused too).
+        tables.quadrature_error[3] = f64::NAN;
+        let o = t.judge("NaN error", &tables);
+        let why = o.reason.clone().unwrap_or_default();
+        assert!(
+            o.normalisation_p == 0.0 && why.contains("refine the grid"),
+            "{why}"
+        );
+        // A density integrating to more than 1 beyond its allowance fits no probability,
+        // whatever the draws did; within γ₁₂₈ (f32 rounding of the density) it passes.
+        for (excess, passes) in [(1.2e-5, false), (0.5e-5, true)] {
+            let (t, mut tables) = perfect_tables();
+            tables.expected[5] += excess * 32_000.0;
+            let o = t.judge("above 1", &tables);
+            assert_eq!(o.passed, passes, "{excess}: {o:?}");
+            assert_eq!(o.normalisation_z == f64::INFINITY, !passes, "{o:?}");
+        }
+        let _ = std::fs::remove_dir_all(&t.dump_dir);
+    }
+
+    /// The statistic is conditioned on the samples binned: counts exactly proportional to
+    /// the pdf give 0, however many draws failed (unconditioned, 202 against 200 in each
+    /// of 32 cells gave 32·4/200 = 0.64); cells are pooled by their conditioned
+    /// expectation E·S/ΣE (4.5 × 1.2 = 5.4 stands alone, 4.5 would be pooled).
+    #[test]
+    fn the_statistic_is_conditioned_on_the_samples_binned() {
+        let (t, mut tables) = perfect_tables();
+        tables.expected = vec![200.0; 32];
+        tables.observed = vec![202; 32];
+        tables.successes = 32 * 202;
+        let o = t.judge("proportional", &tables);
+        assert!(
+            o.statistic < 1e-20 && o.p_value == 1.0 && o.dof == 31,
+            "{o:?}"
+        );
+        assert!(o.passed, "{o:?}");
+        // Four cells of 4.5 scaled by 26 900/22 418 ≈ 1.2: each 5.4, judged alone (31 dof).
+        let (t, mut tables) = perfect_tables();
+        tables.expected = (0..32).map(|i| if i < 4 { 4.5 } else { 800.0 }).collect();
+        let total: f64 = tables.expected.iter().sum();
+        tables.observed = (0..32).map(|i| if i < 4 { 5 } else { 960 }).collect();
+        let binned: u64 = tables.observed.iter().sum();
+        tables.successes = binned;
+        let o = t.judge("pooled after scaling", &tables);
+        assert_eq!(o.dof, 31, "{o:?}");
+        let scale = binned as f64 / total;
+        let x2: f64 = tables
+            .observed
+            .iter()
+            .zip(&tables.expected)
+            .map(|(&o, &e)| (o as f64 - e * scale).powi(2) / (e * scale))
+            .sum();
+        assert!((o.statistic - x2).abs() < 1e-9 * x2, "{o:?} vs {x2}");
+        // The quadrature's errors scale with their cells: δ·S/ΣE.
+        let (t, mut tables) = perfect_tables();
+        tables.expected = vec![500.0; 32];
+        tables.quadrature_error = vec![1e-4; 32];
+        let o = t.judge("errors scaled", &tables);
+        let share = 32.0 * (3.2f64 * 2.0).powi(2) / 1000.0 / 62f64.sqrt();
+        assert!(
+            (o.quadrature_share - share).abs() < 1e-9,
+            "{o:?} vs {share}"
+        );
+        // A pdf that is zero everywhere, every draw failed: nothing to judge, no NaN.
+        let (t, mut tables) = perfect_tables();
+        tables.expected = vec![0.0; 32];
+        tables.observed = vec![0; 32];
+        tables.successes = 0;
+        let o = t.judge("nothing", &tables);
+        assert!(
+            !o.passed && o.dof == 1 && o.quadrature_share == 0.0,
+            "{o:?}"
+        );
+        assert!(o.normalisation_p == 1.0 && o.statistic == 0.0, "{o:?}");
+        let _ = std::fs::remove_dir_all(&t.dump_dir);
+    }
+
+    /// Under the null the conditioned statistic is χ² on G − 1 degrees of freedom however
+    /// many draws fail: over 4000 seeded multinomial tables of N = 1600 draws on 2 × 4
+    /// cells with ∫ pdf = 0.2 (40 expected per cell), its mean must lie within 4 standard
+    /// errors √(2·7/4000) = 0.059 of 7. Unconditioned (E = N ∫_cell pdf) the mean is
+    /// Σ Var(O_i)/E_i = Σ (1 − p_i) = G − p₀ = 7.8, 13.5 standard errors away.
+    #[test]
+    fn the_conditioned_statistic_has_its_degrees_of_freedom() {
+        let dir = std::env::temp_dir().join(format!("lightproof-chi2-null-{}", std::process::id()));
+        let t = Chi2Test::new(Domain::Square, 1600, 1, 1e-12)
+            .with_resolution(2, 4)
+            .with_dump_dir(&dir);
+        let mut state = 0x6a09_e667_f3bc_c908u64;
+        let mut next = || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            (crate::sampling::sampler::mix64(state) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        const TABLES: usize = 4000;
+        let mut sum = 0.0;
+        for _ in 0..TABLES {
+            let mut observed = vec![0u64; 8];
+            for _ in 0..1600 {
+                let u = next();
+                if u < 0.2 {
+                    observed[(u * 40.0) as usize] += 1;
+                }
+            }
+            let successes = observed.iter().sum();
+            let tables = Chi2Tables {
+                rows: 2,
+                cols: 4,
+                samples: 1600,
+                observed,
+                expected: vec![40.0; 8],
+                quadrature_error: vec![0.0; 8],
+                successes,
+                outside: 0,
+            };
+            let o = t.judge("null", &tables);
+            assert_eq!(o.dof, 7);
+            sum += o.statistic;
+        }
+        let mean = sum / TABLES as f64;
+        let se = (2.0 * 7.0 / TABLES as f64).sqrt();
+        assert!((mean - 7.0).abs() < 4.0 * se, "mean {mean} ± {se}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    /// The README's figure: on the default 64 × 128 sphere grid a cell judged alone
+    /// (E ≥ 5) may carry a quadrature error of s√E expected counts,
+    /// s = √(0.05·√(2·8192)/(2·8192)) = √(0.05·128/16384) = 0.019764.
+    #[test]
+    fn cell_tolerance_on_the_default_grid() {
+        let t = Chi2Test::new(Domain::Sphere, 1_000_000, 1, 0.01);
+        let n = 1_000_000.0;
+        for p in [5e-6, 1e-4, 0.01] {
+            let s = t.cell_tolerance(p) * n / (n * p).sqrt();
+            assert!(
+                (s - (0.05f64 * 128.0 / 16384.0).sqrt()).abs() < 1e-12,
+                "{p}: {s}"
+            );
+            assert!((s - 0.019764).abs() < 1e-6, "{s}");
+        }
+        // A pooled cell (E < 5) carries the share s·E/√5.
+        let s = t.cell_tolerance(1e-6) * n;
+        assert!((s - 0.019764 / 5f64.sqrt()).abs() < 1e-6, "{s}");
+        // "About 0.05 standard deviations": the bound s²(2G + 1)/√(2(G − 1)) with
+        // G = 8192 judged cells is 0.0500; cells of equal count each at their tolerance
+        // spend s² G/√(2(G − 1)) = 0.025 of it.
+        let s2 = 0.05 * 128.0 / 16384.0;
+        assert!((s2 * 16385.0 / (2.0f64 * 8191.0).sqrt() - 0.05).abs() < 1e-4);
+        let p = 1.0 / 8192.0;
+        let share = t.quadrature_share(&vec![(p, t.cell_tolerance(p)); 8192]);
+        assert!(
+            (share - s2 * 8192.0 / (2.0f64 * 8191.0).sqrt()).abs() < 1e-9,
+            "{share}"
+        );
+        assert!((share - 0.025).abs() < 1e-4, "{share}");
     }
 
     /// Two cells of expected count ≥ 5 are enough to judge (one degree of freedom);

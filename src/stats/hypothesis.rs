@@ -851,6 +851,19 @@ mod tests {
             let central = q + quantile(POWER, Some(nu));
             assert!(t_power(central, q, nu as f64) < 0.9895, "ν = {nu}");
         }
+        // The README's figures: at ν = 127 and q = 5.3745834 (k = 282) the quantile sum
+        // q + t₀.₉₉(127) = 5.3745834 + 2.3560686 = 7.7307 has 98.75% power, where λ = 7.82
+        // has 99%; at ν = 1 (two renders) the sum has 68.5% (mpmath: 0.98750007,
+        // 0.68510235, P integrated over Z as in [`t_power`]).
+        let (q, t99) = (5.374_583_4, quantile(POWER, Some(127)));
+        assert!((t99 - 2.356_068_6).abs() < 1e-6, "{t99}");
+        assert!((q + t99 - 7.7307).abs() < 1e-3, "{}", q + t99);
+        let p = t_power(5.374_583_4 + 2.356_068_6, 5.374_583_4, 127.0);
+        assert!((0.9870..=0.9880).contains(&p), "{p}");
+        assert!((p - 0.987_500_07).abs() < 1e-6, "{p}");
+        let q1 = quantile(1.0 - 1e-4 / 2.0, Some(1));
+        let p1 = t_power(q1 + quantile(POWER, Some(1)), q1, 1.0);
+        assert!((p1 - 0.685_102_35).abs() < 1e-6, "{p1}");
         let t = MeanTest::new(1e-4, 1);
         let v = t.judge_parts(1.0, 1e-3, 1.0, Some(127), 0, 128);
         let tau = exact_relative_tolerance();

@@ -8,11 +8,14 @@
 //!   smallest relative bias the test detects with 99% power.
 //! - [`bounded`]: the empirical Bernstein test for samples in a known range (no
 //!   central limit theorem needed: rare-loss weights at any sample count).
+//! - [`binomial`]: exact binomial tails and the two-sided test of a count (the
+//!   chi-square judge's lost draws, the BSDF suite's reflection fractions).
 //! - [`slope`]: least-squares slope of log–log data (convergence rates).
 //! - [`cost`]: the cost line t = t₀ + c·N of a sweep (robust, relative least squares).
 //! - [`chi2`]: chi-square goodness of fit of a sampler against its density.
 
 pub mod accumulator;
+pub mod binomial;
 pub mod bounded;
 pub mod chi2;
 pub mod cost;

@@ -529,102 +529,6 @@ fn fraction_samples(test: &MeanTest) -> u64 {
     (q * 0.5 / (0.99 * FRACTION_POWER)).powi(2).ceil() as u64
 }
 
-/// Exact two-sided binomial test of `k` reflections in `n` draws against probability
-/// `r` (statrs), for n r (1 − r) < 25 where the normal approximation is meaningless
-/// (R ~ 1e-8 at η = 1.0001; R = 1 under total internal reflection). Rejects when
-/// p = 2 min(P(K ≤ k), P(K ≥ k)) < α₁. Its power is stated as the verdict's
-/// `detectable_bias`: the smallest |r′ − r| at which a true reflection probability r′
-/// lands in the rejection region {K ≥ k_hi} or {K ≤ k_lo} (each tail ≤ α₁/2 under r)
-/// with probability ≥ 0.99, by bisection on r′; `std_error` is the null
-/// √(r(1 − r)/n) and `z` the plain (k/n − r)/SE.
-fn exact_binomial_verdict(test: &MeanTest, k: u64, n: u64, r: f64, non_finite: u64) -> Verdict {
-    use statrs::distribution::{Binomial, DiscreteCDF};
-    let r = r.clamp(0.0, 1.0);
-    let at = |p: f64| Binomial::new(p.clamp(0.0, 1.0), n).unwrap();
-    let b = at(r);
-    // P(K ≥ j) and P(K ≤ j) under probability p.
-    let at_least = |p: f64, j: u64| if j == 0 { 1.0 } else { at(p).sf(j - 1) };
-    let at_most = |p: f64, j: u64| at(p).cdf(j);
-    let lower = b.cdf(k);
-    let upper = at_least(r, k);
-    let p_two = (2.0 * lower.min(upper)).min(1.0);
-    let alpha1 = test.per_test_alpha();
-    // Rejection region under r: K ≥ k_hi (None: unreachable) or K ≤ k_lo.
-    let mean = (n as f64 * r).floor() as u64;
-    let mut k_hi = Some(mean);
-    while let Some(j) = k_hi {
-        if at_least(r, j) <= alpha1 / 2.0 {
-            break;
-        }
-        k_hi = (j < n).then_some(j + 1);
-    }
-    let mut k_lo = Some(mean.min(n));
-    while let Some(j) = k_lo {
-        if at_most(r, j) <= alpha1 / 2.0 {
-            break;
-        }
-        k_lo = j.checked_sub(1);
-    }
-    // The shift of r that reaches 99% power on one side, by bisection (∞: none does).
-    let shift = |power: &dyn Fn(f64) -> f64, towards: f64| {
-        if power(towards) < 0.99 {
-            return f64::INFINITY;
-        }
-        let (mut near, mut far) = (r, towards);
-        for _ in 0..100 {
-            let mid = 0.5 * (near + far);
-            if power(mid) >= 0.99 {
-                far = mid;
-            } else {
-                near = mid;
-            }
-        }
-        (far - r).abs()
-    };
-    let up = k_hi.map_or(f64::INFINITY, |j| shift(&|p| at_least(p, j), 1.0));
-    let down = k_lo.map_or(f64::INFINITY, |j| shift(&|p| at_most(p, j), 0.0));
-    let detectable_bias = up.min(down);
-    let se = (r * (1.0 - r) / n as f64).sqrt();
-    let diff = k as f64 / n as f64 - r;
-    let reason = if non_finite > 0 {
-        Some(format!("{non_finite} non-finite samples (NaN or Inf)"))
-    } else if !(p_two >= alpha1) {
-        Some(format!(
-            "{k} of {n} reflected, exact binomial p = {p_two:.2e} < α = {alpha1:.2e}"
-        ))
-    } else {
-        None
-    };
-    Verdict {
-        class: lightproof::stats::VerdictClass::Statistical,
-        estimate: k as f64 / n as f64,
-        std_error: se,
-        reference: r,
-        z: if se > 0.0 {
-            diff / se
-        } else {
-            f64::INFINITY.copysign(diff)
-        },
-        p_value: p_two,
-        alpha: alpha1,
-        critical: statrs::distribution::ContinuousCDF::inverse_cdf(
-            &statrs::distribution::Normal::standard(),
-            1.0 - alpha1 / 2.0,
-        ),
-        detectable_bias,
-        detectable_relative_bias: if r > 0.0 {
-            detectable_bias / r
-        } else {
-            detectable_bias
-        },
-        dof: None,
-        non_finite,
-        passed: reason.is_none(),
-        reason,
-        weak: false,
-    }
-}
-
 /// Mean, standard deviation and skewness of a model's energy weights w η² at ωo, from a
 /// pilot run on its own stream (the pilot only sets n; the verdict uses fresh samples).
 struct Pilot {
@@ -832,12 +736,13 @@ fn energy_conservation_and_promised_albedo() {
                 };
                 tests += 1;
                 // Binomial test of the reflected count k against Binomial(n, r): exact
-                // (two-sided, statrs) where n r (1 − r) is small, e.g. R ~ 1e-8 at
-                // η = 1.0001, where the normal approximation is meaningless.
+                // (two-sided, `MeanTest::judge_binomial`) where n r (1 − r) is small,
+                // e.g. R ~ 1e-8 at η = 1.0001, where the normal approximation is
+                // meaningless.
                 let f = &a.reflect_fraction;
                 let (n_f, k) = (f.count, (f.mean * f.count as f64).round() as u64);
                 let v = if (n_f as f64) * r * (1.0 - r) < 25.0 {
-                    exact_binomial_verdict(&test, k, n_f, r, f.non_finite)
+                    test.judge_binomial(k, n_f, r, f.non_finite)
                 } else {
                     let se = (r * (1.0 - r) / n_f as f64).sqrt();
                     test.judge_parts(f.mean, se, r, None, f.non_finite, n_f)
@@ -1344,18 +1249,18 @@ fn exact_binomial_reflection_test_can_fail() {
     let test = MeanTest::new(FAMILY_ALPHA, ALBEDO_SUITE);
     // R ≈ 2.5e-9 (η = 1.0001) at 20 000 draws: none reflected passes, 5 fail.
     let r = 2.5e-9;
-    let ok = exact_binomial_verdict(&test, 0, 20_000, r, 0);
+    let ok = test.judge_binomial(0, 20_000, r, 0);
     assert!(ok.passed, "{ok:?}");
-    assert!(!exact_binomial_verdict(&test, 5, 20_000, r, 0).passed);
+    assert!(!test.judge_binomial(5, 20_000, r, 0).passed);
     // A true R′ = R + detectable is seen 99% of the time: k ≥ k_hi there.
     assert!(
         ok.detectable_bias > 0.0 && ok.detectable_bias < 1e-3,
         "{ok:?}"
     );
     // Total internal reflection (R = 1): one transmitted draw fails.
-    let tir = exact_binomial_verdict(&test, 20_000, 20_000, 1.0, 0);
+    let tir = test.judge_binomial(20_000, 20_000, 1.0, 0);
     assert!(tir.passed && tir.detectable_bias < 1e-3, "{tir:?}");
-    assert!(!exact_binomial_verdict(&test, 19_999, 20_000, 1.0, 0).passed);
+    assert!(!test.judge_binomial(19_999, 20_000, 1.0, 0).passed);
     // Non-finite samples fail whatever the count.
-    assert!(!exact_binomial_verdict(&test, 0, 20_000, r, 1).passed);
+    assert!(!test.judge_binomial(0, 20_000, r, 1).passed);
 }
