@@ -1209,8 +1209,8 @@ mod tests {
         // and 8 give 2 P(K ≤ 8 | 19.756) = 0.00485, fails.
         for (lost, p, passes) in [
             (34u64, 0.006_434_969_620_294_338, true),
-            (35, 0.003_603_408_997_671_933_8, false),
-            (8, 0.004_851_108_848_521_844_5, false),
+            (35, 0.003_603_408_997_671_934, false),
+            (8, 0.004_851_108_848_521_845, false),
         ] {
             let (t, mut tables) = perfect_tables();
             tables.expected[0] = 980.0;
