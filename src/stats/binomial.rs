@@ -140,11 +140,10 @@ impl MeanTest {
             }
             k_lo = j.checked_sub(1);
         }
-        // The shift of r that reaches 99% power on one side, by bisection (∞: none does).
+        // The shift of r that reaches 99% power on one side, by bisection between r and
+        // the end `towards` (1 or 0), where a region that exists is met surely: K ≥ k_hi
+        // with k_hi ≤ n at r′ = 1, K ≤ k_lo at r′ = 0 (a side without a region: ∞).
         let shift = |power: &dyn Fn(f64) -> f64, towards: f64| {
-            if power(towards) < 0.99 {
-                return f64::INFINITY;
-            }
             let (mut near, mut far) = (r, towards);
             for _ in 0..100 {
                 let mid = 0.5 * (near + far);
@@ -339,6 +338,7 @@ mod tests {
         assert!(!test.judge_binomial(0, 20_000, r, 1).passed);
         // The normal parts: SE √(r(1 − r)/n), z, α₁ and its critical value.
         let v = test.judge_binomial(5_100, 10_000, 0.5, 0);
+        assert_eq!(v.estimate, 0.51);
         assert!(
             (v.std_error - 0.005).abs() < 1e-15 && (v.z - 2.0).abs() < 1e-9,
             "{v:?}"

@@ -1375,6 +1375,8 @@ mod tests {
             "{o:?}"
         );
         assert!(o.normalisation_p == 1.0 && o.statistic == 0.0, "{o:?}");
+        // q* = 1 and every draw failed: no spread, no excess, z = 0 (not 0/0).
+        assert_eq!(o.normalisation_z, 0.0, "{o:?}");
         let _ = std::fs::remove_dir_all(&t.dump_dir);
     }
 
