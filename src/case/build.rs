@@ -885,6 +885,19 @@ mod tests {
         let min = f32::MIN_POSITIVE as f64;
         assert!(case([2e-38, 2e-38 + min]).is_ok());
         assert!(case([0.0, 1e-9]).is_ok());
+        // An empty bin is refused for its order, before its width is looked at.
+        let err = case([1.0, 1.0]).err().unwrap();
+        assert!(err.to_string().contains("t₁ < t₂"), "{err}");
+        // A shutter that f32 seconds cannot resolve (10 ms at t = 10⁶ s) is refused too.
+        let mut d = two_disks(
+            json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+            json!([]),
+        );
+        d.time = Some(serde_json::from_value(json!({ "shutter": [1e6, 1e6 + 0.01] })).unwrap());
+        let err = crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
+            .err()
+            .unwrap();
+        assert!(err.to_string().contains("too short"), "{err}");
     }
 
     /// The measurement as the case builds it (origin, scene, then the measure step).
