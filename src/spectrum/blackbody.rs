@@ -141,6 +141,29 @@ fn tail(x: f64) -> f64 {
 /// **Source.** Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1–2 (blackbody
 /// fractions).
 pub fn blackbody_band_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f64) -> f64 {
+    let c = 2.0 * BOLTZMANN.powi(4) / (PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
+    band_in_x(
+        lambda1_nm,
+        lambda2_nm,
+        temperature,
+        c * temperature.powi(4),
+        bose,
+        tail,
+    )
+}
+
+/// `scale` · ∫_{x₂}^{x₁} f(t) dt over the band [λ₁, λ₂] (nm) mapped to x = hc/(λkT):
+/// 8-panel Gauss–Legendre for a band narrower than Δx = 1 (no cancellation of two close
+/// tails), else `upper(x₂) − upper(x₁)` with `upper` f's upper incomplete integral; 0
+/// for a degenerate band or temperature, clamped to `f64::MAX`.
+fn band_in_x(
+    lambda1_nm: f64,
+    lambda2_nm: f64,
+    temperature: f64,
+    scale: f64,
+    f: fn(f64) -> f64,
+    upper: fn(f64) -> f64,
+) -> f64 {
     let l1 = lambda1_nm.max(0.0);
     if !(lambda2_nm > l1 && temperature > 0.0 && temperature.is_finite()) {
         return 0.0;
@@ -148,13 +171,12 @@ pub fn blackbody_band_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f6
     // x₁ ≥ x₂ (short wavelengths have large x).
     let x_of = |l: f64| C2_NM_K / l / temperature;
     let (x1, x2) = (x_of(l1), x_of(lambda2_nm));
-    let c = 2.0 * BOLTZMANN.powi(4) / (PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
     let integral = if x1.is_finite() && x1 - x2 <= 1.0 {
-        gauss_legendre(x2, x1, 8, bose)
+        gauss_legendre(x2, x1, 8, f)
     } else {
-        tail(x2) - tail(x1)
+        upper(x2) - upper(x1)
     };
-    finite_f64(c * temperature.powi(4) * integral)
+    finite_f64(scale * integral)
 }
 
 /// 2ζ(3) = ∫₀^∞ t²/(eᵗ − 1) dt (ζ(3) = 1.2020569031595942, Apéry's constant).
@@ -200,19 +222,15 @@ fn photon_tail(x: f64) -> f64 {
 ///
 /// **Source.** Siegel & Howell, *Thermal Radiation Heat Transfer*, ch. 1 (photon gas).
 pub fn blackbody_band_photon_radiance(lambda1_nm: f64, lambda2_nm: f64, temperature: f64) -> f64 {
-    let l1 = lambda1_nm.max(0.0);
-    if !(lambda2_nm > l1 && temperature > 0.0 && temperature.is_finite()) {
-        return 0.0;
-    }
-    let x_of = |l: f64| C2_NM_K / l / temperature;
-    let (x1, x2) = (x_of(l1), x_of(lambda2_nm));
     let c = 2.0 * BOLTZMANN.powi(3) / (PLANCK.powi(3) * SPEED_OF_LIGHT.powi(2));
-    let integral = if x1.is_finite() && x1 - x2 <= 1.0 {
-        gauss_legendre(x2, x1, 8, bose2)
-    } else {
-        photon_tail(x2) - photon_tail(x1)
-    };
-    finite_f64(c * temperature.powi(3) * integral)
+    band_in_x(
+        lambda1_nm,
+        lambda2_nm,
+        temperature,
+        c * temperature.powi(3),
+        bose2,
+        photon_tail,
+    )
 }
 
 #[cfg(test)]
