@@ -142,10 +142,10 @@ pub fn render_file(
     let observer = Observer::over(VISIBLE.min as f64, VISIBLE.max as f64);
     let to_rgb = xyz_e_to_linear_srgb();
     let mut cfg = plans.pruned.config(Estimator::Mis);
-    if let Some(depth) = max_depth {
-        // 0: only emission seen directly; 1: direct lighting; and so on.
-        cfg.max_bounces = cfg.max_bounces.min(depth);
-    }
+    // 0: only emission seen directly; 1: direct lighting; and so on. An image is for
+    // looking: without `--max-depth` its paths end at the path tracer's guard of 2¹⁶
+    // scatterings (where a measurement would fail on a +∞ sample).
+    cfg.max_bounces = cfg.max_bounces.min(max_depth.unwrap_or(MAX_DEPTH));
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
     let (w, h) = (c.width, c.height);
     let pixels: Vec<[f32; 3]> = (0..w * h)

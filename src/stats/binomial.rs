@@ -161,7 +161,7 @@ impl MeanTest {
         let se = (r * (1.0 - r) / n as f64).sqrt();
         let diff = k as f64 / n as f64 - r;
         let reason = if non_finite > 0 {
-            Some(format!("{non_finite} non-finite samples (NaN or Inf)"))
+            Some(crate::stats::hypothesis::non_finite_reason(non_finite))
         } else if !(p_two >= alpha1) {
             Some(format!(
                 "{k} of {n} draws against probability {r:.3e}: exact binomial p = {p_two:.2e} < α = {alpha1:.2e}"

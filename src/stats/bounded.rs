@@ -33,7 +33,7 @@
 //! passes the smallest and largest sample seen: one sample outside fails the verdict
 //! (the model broke the bound the test relies on).
 
-use crate::stats::hypothesis::non_finite_moments;
+use crate::stats::hypothesis::{non_finite_moments, non_finite_reason};
 use crate::stats::{Accumulator, MeanTest, Verdict, is_exact_at};
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -189,10 +189,7 @@ impl MeanTest {
         let detectable_bias =
             tau + h + Normal::standard().inverse_cdf(crate::stats::hypothesis::POWER) * s;
         let reason = if acc.non_finite > 0 {
-            Some(format!(
-                "{} non-finite samples (NaN or Inf)",
-                acc.non_finite
-            ))
+            Some(non_finite_reason(acc.non_finite))
         } else if acc.count < 2 {
             Some("fewer than two finite samples".into())
         } else if !reference.is_finite() {

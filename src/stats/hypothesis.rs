@@ -205,6 +205,13 @@ fn upper_tail(z: f64, dof: Option<u64>) -> f64 {
     }
 }
 
+/// Why samples that are not finite fail a verdict: NaN or ±∞ from the engine (a bug, or an
+/// overflow), or +∞ from a path still scattering at the path tracer's guard of 2¹⁶
+/// bounces (its remaining energy unknown: `transport::path::MAX_PATH_BOUNCES`).
+pub(crate) fn non_finite_reason(non_finite: u64) -> String {
+    format!("{non_finite} non-finite samples (NaN or Inf; +Inf also marks a path cut at the 65536-bounce guard)")
+}
+
 /// Why an estimate or its standard error cannot be judged: finite samples whose moments
 /// overflowed f64 (a mean of ±∞ or NaN, Σ(x − x̄)² = ∞) or a standard error that is NaN,
 /// infinite or negative. A statistic computed from them would read NaN as "no evidence
@@ -401,7 +408,7 @@ impl MeanTest {
         };
         let mut reason = None;
         if non_finite > 0 {
-            reason = Some(format!("{non_finite} non-finite samples (NaN or Inf)"));
+            reason = Some(non_finite_reason(non_finite));
         } else if count < 2 {
             reason = Some("fewer than two finite samples".into());
         } else if !reference.is_finite() {
@@ -473,7 +480,7 @@ impl MeanTest {
             f64::INFINITY.copysign(excess)
         };
         let reason = if non_finite > 0 {
-            Some(format!("{non_finite} non-finite samples (NaN or Inf)"))
+            Some(non_finite_reason(non_finite))
         } else if count < 1 {
             Some("no finite sample".into())
         } else if !reference.is_finite() {
@@ -550,10 +557,7 @@ impl MeanTest {
         let detectable_bias = tau + (critical + power_q) * s;
         let mut reason = None;
         if acc.non_finite > 0 {
-            reason = Some(format!(
-                "{} non-finite samples (NaN or Inf)",
-                acc.non_finite
-            ));
+            reason = Some(non_finite_reason(acc.non_finite));
         } else if acc.count < 2 {
             reason = Some("fewer than two finite samples".into());
         } else if !bound.is_finite() {

@@ -7,7 +7,8 @@
 //! strategy can produce them). Russian roulette from the `rr_depth`-th bounce keeps a
 //! path with probability q = min(1, β) and divides β by q: the estimate stays unbiased
 //! because roulette truncates no path outright (Arvo & Kirk 1990; pbrt-v4 §13.1); only
-//! the depth caps do (a case's `max_depth`, and the guard of 2¹⁶ bounces below).
+//! the depth limit does (a case's `max_depth`); a path still going at the guard of 2¹⁶
+//! bounces returns +∞ rather than a silently truncated value.
 //!
 //! The [`Config`] comes from the plan's effects ([`Config::for_estimator`]): a scene
 //! that cannot produce a second bounce is traced for one bounce only, and shadow rays are
@@ -23,10 +24,14 @@ use crate::transport::phase::{Lanes, Phase, terminate_secondary};
 use crate::transport::{Estimator, Heuristic};
 use glam::{Vec2, Vec3};
 
-/// A guard against a path that never ends (a broken sampler feeding Russian roulette the
-/// same number forever): paths stop after this many scatterings. Its bias is the energy
-/// of longer paths, below ρ^65536 of the emission for a scene of albedo ρ (< 1e-28 at
-/// ρ = 0.999).
+/// A guard against a path that never ends (a scene of albedo 1 with no `max_depth`, or a
+/// broken sampler feeding Russian roulette the same number forever): a path that reaches
+/// a scattering surface after this many scatterings, without a depth limit
+/// ([`Config::max_bounces`]) below it, returns +∞. The energy of the rest of the path is
+/// unknown, so the sample is not finite and fails any verdict; truncating it silently
+/// would bias the estimate low by the energy of longer paths (ρ^65536 of the answer at
+/// albedo ρ: 10⁻²⁸ at ρ = 0.999, 52% at ρ = 0.99999). Where no sampled path among N
+/// reaches the guard, the probability of reaching it is below 3/N (95%).
 pub const MAX_PATH_BOUNCES: u32 = 1 << 16;
 
 /// First bounce at which Russian roulette may end a path (every estimator, every plan).
@@ -231,12 +236,19 @@ pub fn trace<P: Phase>(
             let e = scene.shapes[sh.shape].emitter.unwrap_or(0);
             l += beta * phase.emission(scene, e, le * w, length);
         }
-        if bounces >= cfg.max_bounces.min(MAX_PATH_BOUNCES) {
+        if bounces >= cfg.max_bounces {
             break;
         }
         let Some(m) = scene.shapes[sh.shape].material else {
             break;
         };
+        if bounces >= MAX_PATH_BOUNCES {
+            // Still scattering at the guard: the energy of the rest of the path is
+            // unknown, so the sample is +∞, counted by the accumulator (never a silent
+            // truncation that biases the estimate low).
+            l = P::L::splat(f32::INFINITY);
+            break;
+        }
         let (mat, disperses) = phase.material(scene, m);
         if disperses && !terminated {
             beta = terminate_secondary(beta);
@@ -740,6 +752,40 @@ mod tests {
                 assert_eq!(down(&s, &c, &Grey, seed), want, "max_bounces {max}");
             }
         }
+    }
+
+    /// A path still scattering at the guard returns +∞; one a depth limit ends there, or
+    /// one that reaches a surface without material, is finite. In a closed white sphere
+    /// emitting Le = 1 (BSDF sampling only, β = 1 and roulette q = 1 at every bounce),
+    /// started 3 scatterings before the guard: each hit adds 1.
+    #[test]
+    fn a_path_still_going_at_the_guard_is_infinite() {
+        let sphere = |material: bool| {
+            let mut sh = json!({
+                "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                "flip_normals": true, "emission": { "radiance": 1 } });
+            if material {
+                sh["material"] = json!("white");
+            }
+            scene(json!({
+                "materials": { "white": { "type": "lambertian", "albedo": 1 } },
+                "shapes": [sh] }))
+        };
+        let mut c = cfg(false, true, Heuristic::Power);
+        let from = |s: &Scene, c: &Config, bounces: u32| {
+            let prev = Prev::sensor(Vec3::ZERO);
+            trace(s, c, &Grey, Vec3::ZERO, Vec3::Z, prev, bounces, &mut stream(1))
+        };
+        let (closed, open) = (sphere(true), sphere(false));
+        for bounces in [MAX_PATH_BOUNCES - 3, MAX_PATH_BOUNCES] {
+            assert_eq!(from(&closed, &c, bounces), f32::INFINITY, "{bounces}");
+            assert_eq!(from(&open, &c, bounces), 1.0, "{bounces}");
+        }
+        // A depth limit at the guard ends the path first: four hits, each adding 1.
+        c.max_bounces = MAX_PATH_BOUNCES;
+        assert_eq!(from(&closed, &c, MAX_PATH_BOUNCES - 3), 4.0);
+        c.max_bounces = MAX_PATH_BOUNCES - 1;
+        assert_eq!(from(&closed, &c, MAX_PATH_BOUNCES - 3), 3.0);
     }
 
     #[test]

@@ -396,6 +396,28 @@ fn assert_counted(c: &Case, est: Estimator, what: &str) {
     );
 }
 
+/// A white closed sphere (albedo 1, no `max_depth`) has an infinite answer; roulette
+/// keeps nearly every path (β stays 1 up to f32 rounding), so paths reach the guard of
+/// 2¹⁶ scatterings (BSDF sampling alone, the cheapest). Each such path is +∞, counted, and the verdict fails: the engine
+/// once cut them silently and read a finite 65 275 ± 188. 256 paths, ~1.7·10⁷ bounces.
+#[test]
+fn paths_cut_at_the_bounce_guard_are_counted() {
+    let c = case(
+        r#"{ "name": "white furnace", "teaches": "an infinite answer is not a finite one",
+        "scene": { "materials": { "white": { "type": "lambertian", "albedo": 1 } },
+          "shapes": [ { "geometry": { "type": "sphere", "center": [0,0,0], "radius": 1 },
+                        "material": "white", "flip_normals": true, "emission": { "radiance": 1 } } ] },
+        "measure": { "radiance": { "at": [0,0,0], "direction": [0,0,1] } },
+        "estimators": ["bsdf"] }"#,
+    );
+    let e = c.estimate(Estimator::Bsdf, &spec(256, 0x7a7a));
+    let nf = e.batches.total.non_finite;
+    assert!(nf > 128, "{nf} of 256 paths counted at the guard");
+    let v = judge(&e, SamplerKind::Independent, 1.0, ALPHA, 1);
+    let why = v.reason.as_deref().unwrap_or("");
+    assert!(!v.passed && why.contains("65536-bounce guard"), "{v:?}");
+}
+
 #[test]
 fn nan_emission_is_counted_on_every_strategy() {
     use lightproof::scene::emitter::EmitterKind;
