@@ -104,9 +104,15 @@ pub fn render_file(
         |x| x > 0.0 && x < 180.0,
         "in (0, 180) degrees",
     )?;
-    let scene = desc
-        .scene
-        .build(&file, "scene", path.parent().unwrap_or(Path::new(".")), eye)?;
+    // The time section places moving objects (at the shutter's start): checked first.
+    crate::case::build::check_spectral_and_time(&file, &desc)?;
+    let scene = desc.scene.build(
+        &file,
+        "scene",
+        path.parent().unwrap_or(Path::new(".")),
+        eye,
+        crate::case::build::epoch(&desc),
+    )?;
     let fwd = look.normalize().as_vec3();
     let frame = Frame::from_z(fwd);
     let upv = Vec3::from_array(c.up.map(|x| x as f32));

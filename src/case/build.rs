@@ -42,6 +42,17 @@ pub fn origin(f: &str, desc: &CaseDesc) -> Result<DVec3, InputError> {
     })
 }
 
+/// The instant that becomes the scene's time 0 (s): the shutter's start t₀ where the case
+/// gives a finite one, else 0. Moving objects are placed where they are at t₀ (in f64)
+/// and time is sampled as τ = t − t₀ ∈ [0, t₁ − t₀] in f32, so a shutter far from t = 0
+/// keeps its resolution (at t = 10⁶ s, f32 seconds step by 1/16 s).
+pub fn epoch(desc: &CaseDesc) -> f64 {
+    match desc.time.as_ref().and_then(|t| t.shutter) {
+        Some([t0, _]) if t0.is_finite() => t0,
+        _ => 0.0,
+    }
+}
+
 /// Shape `i` of the scene, or an error naming `field`.
 fn shape_index(f: &str, scene: &Scene, field: &str, i: usize) -> Result<usize, InputError> {
     if i < scene.shapes.len() {
@@ -503,16 +514,8 @@ pub fn check_spectral_and_time(f: &str, desc: &CaseDesc) -> Result<(), InputErro
                     .map(|v| (format!("scene.shapes[{i}].velocity"), v))
             })
             .chain(desc.scene.emitters.iter().enumerate().filter_map(|(i, e)| {
-                use crate::scene::load::EmitterDesc;
-                match e {
-                    EmitterDesc::Point { velocity, .. } | EmitterDesc::Spot { velocity, .. } => {
-                        velocity.map(|v| (format!("scene.emitters[{i}].velocity"), v))
-                    }
-                    // Lights at infinity do not move.
-                    EmitterDesc::Directional { .. }
-                    | EmitterDesc::Constant { .. }
-                    | EmitterDesc::Envmap { .. } => None,
-                }
+                e.velocity()
+                    .map(|v| (format!("scene.emitters[{i}].velocity"), v))
             }));
         for (field, v) in speeds {
             let travel = DVec3::from_array(v).length() * t;
@@ -888,24 +891,38 @@ mod tests {
         // An empty bin is refused for its order, before its width is looked at.
         let err = case([1.0, 1.0]).err().unwrap();
         assert!(err.to_string().contains("t₁ < t₂"), "{err}");
-        // A shutter that f32 seconds cannot resolve (10 ms at t = 10⁶ s) is refused too.
-        let mut d = two_disks(
-            json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
-            json!([]),
-        );
-        d.time = Some(serde_json::from_value(json!({ "shutter": [1e6, 1e6 + 0.01] })).unwrap());
-        let err = crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
-            .err()
-            .unwrap();
-        assert!(err.to_string().contains("too short"), "{err}");
+        // A shutter is sampled from its start (time τ = t − t₀): 10 ms at t = 10⁶ s is
+        // resolved (f32 seconds there step by 1/16 s); a length below the smallest
+        // normal f32 is refused, and so is one above f32::MAX.
+        let shutter = |t: [f64; 2]| {
+            let mut d = two_disks(
+                json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+                json!([]),
+            );
+            d.time = Some(serde_json::from_value(json!({ "shutter": t })).unwrap());
+            crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
+        };
+        assert!(shutter([1e6, 1e6 + 0.01]).is_ok());
+        assert!(shutter([1e-30, 1e-30 + min]).is_ok());
+        for t in [[1e-30, 1e-30 + 1e-39], [-3e38, 3e38]] {
+            let err = shutter(t).err().unwrap();
+            assert!(
+                err.field == "time.shutter" && err.to_string().contains("not a normal f32"),
+                "{t:?}: {err}"
+            );
+        }
     }
 
     /// The measurement as the case builds it (origin, scene, then the measure step).
     fn built(d: &CaseDesc) -> Result<Measure, InputError> {
         let origin = origin("c.json", d)?;
-        let scene = d
-            .scene
-            .build("c.json", "scene", std::path::Path::new("."), origin)?;
+        let scene = d.scene.build(
+            "c.json",
+            "scene",
+            std::path::Path::new("."),
+            origin,
+            epoch(d),
+        )?;
         measure("c.json", &d.measure, &scene, origin)
     }
 

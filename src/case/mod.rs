@@ -105,17 +105,22 @@ impl Case {
         let file = path.display().to_string();
         let f = file.as_str();
         let origin = build::origin(f, &desc)?;
+        // Before the scene is built: moving objects are placed at the shutter's start,
+        // which must keep them in range (`build::epoch`).
+        build::check_spectral_and_time(f, &desc)?;
         let scene = match scene {
             Some(s) => Arc::clone(s),
             None => {
                 let base = path.parent().unwrap_or(Path::new("."));
-                Arc::new(desc.scene.build(f, "scene", base, origin)?)
+                Arc::new(
+                    desc.scene
+                        .build(f, "scene", base, origin, build::epoch(&desc))?,
+                )
             }
         };
         let measure = build::measure(f, &desc.measure, &scene, origin)?;
         build::check_estimators(f, &desc, &measure)?;
         build::check_samples(f, &desc)?;
-        build::check_spectral_and_time(f, &desc)?;
         let reference = build::reference(f, &desc)?;
         let max_bounces = build::max_bounces(f, &desc, &measure)?;
         let Plans {

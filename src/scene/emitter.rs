@@ -184,7 +184,8 @@ pub struct EmitterProps {
     pub spectrum: Option<crate::spectrum::Spectrum>,
     /// Emission time (s) of a Dirac pulse; `None`: steady emission.
     pub pulse: Option<f64>,
-    /// Linear velocity (scene units per second): the emitter sits at p + v t.
+    /// Linear velocity (scene units per second): the emitter sits at p + v t, t from the
+    /// scene's time 0 (the shutter's start, where p is taken).
     pub velocity: Vec3,
 }
 

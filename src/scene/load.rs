@@ -274,6 +274,19 @@ pub enum EmitterDesc {
     },
 }
 
+impl EmitterDesc {
+    /// The light's linear velocity as written (point and spot lights; lights at infinity
+    /// do not move).
+    pub fn velocity(&self) -> Option<[f64; 3]> {
+        match self {
+            EmitterDesc::Point { velocity, .. } | EmitterDesc::Spot { velocity, .. } => *velocity,
+            EmitterDesc::Directional { .. }
+            | EmitterDesc::Constant { .. }
+            | EmitterDesc::Envmap { .. } => None,
+        }
+    }
+}
+
 fn one() -> f64 {
     1.0
 }
@@ -353,15 +366,32 @@ impl Placement {
 }
 
 /// Everything needed to turn the f64 description into f32 geometry.
+#[derive(Clone)]
 struct Builder<'a> {
     file: &'a str,
     base: PathBuf,
     origin: DVec3,
+    /// The time t₀ (s) that becomes time 0: the shutter's start.
+    epoch: f64,
 }
 
 impl Builder<'_> {
     fn to_f32(&self, p: DVec3) -> Vec3 {
         (p - self.origin).as_vec3()
+    }
+
+    /// The builder of an object whose `velocity` (field `field`) is v: it is placed where
+    /// it is at the epoch t₀, p + v t₀ in f64 (rebased on the origin moved by −v t₀), so
+    /// that its motion v τ runs over τ = t − t₀, which f32 resolves however far the
+    /// shutter is from t = 0. Returns v (0 for a static object).
+    fn moving(&self, field: &str, velocity: Option<[f64; 3]>) -> Result<(Self, Vec3), InputError> {
+        let v = match velocity {
+            None => DVec3::ZERO,
+            Some(v) => check_point(self.file, field, v)?,
+        };
+        let mut b = self.clone();
+        b.origin -= v * self.epoch;
+        Ok((b, v.as_vec3()))
     }
 }
 
@@ -409,18 +439,23 @@ impl SceneDesc {
     }
 
     /// Validate and build, with every position rebased on `origin` (in f64) before it
-    /// becomes f32. `file` names the file in errors; relative paths resolve against `base`.
+    /// becomes f32, and time on `epoch`: a moving object is placed where it is at
+    /// t = `epoch` (in f64), and the scene's time 0 is that instant (a case's shutter
+    /// start, [`crate::case::build::epoch`]). `file` names the file in errors; relative
+    /// paths resolve against `base`.
     pub fn build(
         &self,
         file: &str,
         field: &str,
         base: &Path,
         origin: DVec3,
+        epoch: f64,
     ) -> Result<Scene, InputError> {
         let b = Builder {
             file,
             base: base.to_path_buf(),
             origin,
+            epoch,
         };
         let mut materials: Vec<Material> = Vec::new();
         let mut material_index = BTreeMap::new();
@@ -461,7 +496,8 @@ impl SceneDesc {
         for (i, s) in self.shapes.iter().enumerate() {
             let f = format!("{field}.shapes[{i}]");
             let start = prims.len();
-            let kind = b.geometry(&s.geometry, s.transform.as_ref(), &f, &mut prims)?;
+            let (bs, velocity) = b.moving(&format!("{f}.velocity"), s.velocity)?;
+            let kind = bs.geometry(&s.geometry, s.transform.as_ref(), &f, &mut prims)?;
             let range = start..prims.len();
             let material = match &s.material {
                 None => None,
@@ -544,15 +580,13 @@ impl SceneDesc {
                 emitter,
                 flip_normals: s.flip_normals,
                 kind,
-                velocity: match s.velocity {
-                    None => Vec3::ZERO,
-                    Some(v) => check_point(file, &format!("{f}.velocity"), v)?.as_vec3(),
-                },
+                velocity,
             });
         }
         for (i, e) in self.emitters.iter().enumerate() {
             let f = format!("{field}.emitters[{i}]");
-            let (e, p) = b.emitter(e, &f)?;
+            let (be, _) = b.moving(&format!("{f}.velocity"), e.velocity())?;
+            let (e, p) = be.emitter(e, &f)?;
             emitters.push(e);
             props.push(p);
         }
@@ -1279,10 +1313,11 @@ mod tests {
                 "scene",
                 Path::new("."),
                 DVec3::new(1e17, -1e17, 1e17),
+                0.0,
             )
             .unwrap();
         let near = shapes(false)
-            .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+            .build("t.json", "scene", Path::new("."), DVec3::ZERO, 0.0)
             .unwrap();
         assert_eq!(far.prims().len(), 6);
         assert_eq!(far.prims(), near.prims());
@@ -1314,7 +1349,7 @@ mod tests {
         }]}))
         .unwrap();
         let scene = d
-            .build("t.json", "scene", &dir, DVec3::new(1e17, 0.0, 0.0))
+            .build("t.json", "scene", &dir, DVec3::new(1e17, 0.0, 0.0), 0.0)
             .unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
         let area: f32 = scene
@@ -1333,7 +1368,7 @@ mod tests {
                 "transform": { "translate": [t, 0, 0] }
             }]}))
             .unwrap()
-            .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+            .build("t.json", "scene", Path::new("."), DVec3::ZERO, 0.0)
         };
         assert!(far(6e17, 5e17).is_err());
         assert!(far(6e17, -5e17).is_ok());
@@ -1343,7 +1378,7 @@ mod tests {
             "transform": { "scale": 0 }
         }]}))
         .unwrap()
-        .build("t.json", "scene", Path::new("."), DVec3::ZERO)
+        .build("t.json", "scene", Path::new("."), DVec3::ZERO, 0.0)
         .map(|_| ())
         .unwrap_err();
         assert!(e.to_string().contains("transform.scale"), "{e}");

@@ -52,7 +52,8 @@ pub struct Shape {
     pub flip_normals: bool,
     /// Geometric kind.
     pub kind: ShapeKind,
-    /// Linear velocity (units/s): the shape sits at its rest position + velocity · t.
+    /// Linear velocity (units/s): the shape sits at its rest position + velocity · t, with
+    /// t from the scene's time 0 (the shutter's start, where the rest position is taken).
     pub velocity: Vec3,
 }
 
@@ -461,8 +462,14 @@ mod tests {
             "emission": { "radiance": 3.0, "two_sided": two_sided }
         }]}))
         .unwrap();
-        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
-            .unwrap()
+        d.build(
+            "t.json",
+            "scene",
+            std::path::Path::new("."),
+            DVec3::ZERO,
+            0.0,
+        )
+        .unwrap()
     }
 
     /// Every cone sample of a sphere light seen from outside lies on the cap that faces
@@ -547,7 +554,13 @@ mod tests {
         ]}))
         .unwrap();
         let scene = d
-            .build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
+            .build(
+                "t.json",
+                "scene",
+                std::path::Path::new("."),
+                DVec3::ZERO,
+                0.0,
+            )
             .unwrap();
         let c = DVec3::new(0.5, 0.3, 2.0);
         let sphere = 2.0 * std::f64::consts::PI * (0.4 / c.length()).powi(2) * c.z / c.length();

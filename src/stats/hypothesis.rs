@@ -209,7 +209,9 @@ fn upper_tail(z: f64, dof: Option<u64>) -> f64 {
 /// overflow), or +∞ from a path still scattering at the path tracer's guard of 2¹⁶
 /// bounces (its remaining energy unknown: `transport::path::MAX_PATH_BOUNCES`).
 pub(crate) fn non_finite_reason(non_finite: u64) -> String {
-    format!("{non_finite} non-finite samples (NaN or Inf; +Inf also marks a path cut at the 65536-bounce guard)")
+    format!(
+        "{non_finite} non-finite samples (NaN or Inf; +Inf also marks a path cut at the 65536-bounce guard)"
+    )
 }
 
 /// Why an estimate or its standard error cannot be judged: finite samples whose moments

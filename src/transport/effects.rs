@@ -323,8 +323,14 @@ mod tests {
 
     fn scene(v: serde_json::Value) -> Scene {
         let d: SceneDesc = serde_json::from_value(v).unwrap();
-        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
-            .unwrap()
+        d.build(
+            "t.json",
+            "scene",
+            std::path::Path::new("."),
+            DVec3::ZERO,
+            0.0,
+        )
+        .unwrap()
     }
 
     /// The geometric rules only: wavelength and time are decided elsewhere.

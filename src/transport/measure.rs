@@ -581,6 +581,7 @@ mod tests {
                 "scene",
                 std::path::Path::new("."),
                 glam::DVec3::ZERO,
+                0.0,
             )
             .unwrap();
         let out = Vec3::new(0.0, 0.0, 3.0);

@@ -342,8 +342,14 @@ mod tests {
 
     fn scene(v: serde_json::Value) -> Scene {
         let d: SceneDesc = serde_json::from_value(v).unwrap();
-        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
-            .unwrap()
+        d.build(
+            "t.json",
+            "scene",
+            std::path::Path::new("."),
+            DVec3::ZERO,
+            0.0,
+        )
+        .unwrap()
     }
 
     fn cfg(light: bool, bsdf: bool, heuristic: Heuristic) -> Config {
@@ -774,7 +780,16 @@ mod tests {
         let mut c = cfg(false, true, Heuristic::Power);
         let from = |s: &Scene, c: &Config, bounces: u32| {
             let prev = Prev::sensor(Vec3::ZERO);
-            trace(s, c, &Grey, Vec3::ZERO, Vec3::Z, prev, bounces, &mut stream(1))
+            trace(
+                s,
+                c,
+                &Grey,
+                Vec3::ZERO,
+                Vec3::Z,
+                prev,
+                bounces,
+                &mut stream(1),
+            )
         };
         let (closed, open) = (sphere(true), sphere(false));
         for bounces in [MAX_PATH_BOUNCES - 3, MAX_PATH_BOUNCES] {

@@ -30,7 +30,9 @@
 //!   contribution times t₂ − t₁ (its exposure over the bin).
 //! - **motion** — emitters may move linearly, p(t) = p + v t; a path draws t uniformly
 //!   over the shutter [t₀, t₁] and the measurement is the shutter average
-//!   (1/(t₁ − t₀)) ∫ M(t) dt.
+//!   (1/(t₁ − t₀)) ∫ M(t) dt. The scene is built at t₀ (moving objects placed at
+//!   p + v t₀ in f64) and a path carries τ = t − t₀ ∈ [0, t₁ − t₀] in f32, so a shutter
+//!   far from t = 0 keeps its resolution.
 //!
 //! The path tracer is generic over [`Phase`]: the grey, static instance [`Grey`]
 //! compiles to the scalar tracer (no wavelength, no time, no extra work), while
@@ -178,7 +180,7 @@ pub struct PhaseSample<L> {
     pub lambda: [f32; 4],
     /// Whether wavelength is a dimension of this sample (else emitters are grey).
     pub spectral: bool,
-    /// Time (s) within the shutter.
+    /// Time (s) since the shutter's start t₀ (the scene's time 0).
     pub time: f32,
     /// Arrival-time bin (s) of a time-resolved measurement (f64: nanosecond bins far
     /// from t = 0 keep their width).
@@ -255,7 +257,8 @@ pub struct SpectralSetup {
 /// How a case samples time.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TimeSetup {
-    /// Shutter interval (s) over which time is sampled (moving emitters).
+    /// Shutter interval (s) over which time is sampled (moving emitters), from the
+    /// scene's time 0: [0, t₁ − t₀] for a case's shutter [t₀, t₁].
     pub shutter: Option<(f32, f32)>,
     /// Arrival-time bin (s) of a time-resolved measurement (f64: nanosecond bins far
     /// from t = 0 keep their width).

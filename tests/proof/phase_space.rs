@@ -815,6 +815,44 @@ fn moving_occluder_shadows_a_point_light_at_the_path_time() {
     judge_motion("moving sphere occluder, light", &e, exact);
 }
 
+/// A shutter far from t = 0 is the same shutter near it: the scene's time 0 is the
+/// shutter's start t₀, where moving objects are placed in f64 (rest position + v t₀), so
+/// a moving occluder and a moving point light over [T, T + 1] s, at rest positions moved
+/// back by v T, give the [0, 1] s estimate bit for bit. In f32 seconds t = 10⁶ steps by
+/// 1/16 s: time was once drawn from 16 instants (and positions rounded to 1/8 unit),
+/// and a shutter of 2⁻⁷ s there was refused.
+#[test]
+fn a_shutter_far_from_t_zero_keeps_its_resolution() {
+    let at = |t: f64, shutter: f64| {
+        case(&format!(
+            r#"{{ "name": "moving occluder at {t}", "teaches": "time rebased on the shutter",
+            "scene": {{ "shapes": [ {{ "geometry": {{ "type": "sphere", "center": [{}, 0, 1], "radius": 0.25 }},
+                                     "velocity": [2, 0, 0] }} ],
+                       "emitters": [ {{ "type": "point", "position": [0, {}, 2], "intensity": 3,
+                                        "velocity": [0, 0.5, 0] }} ] }},
+            "measure": {{ "irradiance": {{ "at": [0, 0, 0], "normal": [0, 0, 1] }} }},
+            "time": {{ "shutter": [{t}, {}] }},
+            "estimators": ["light"] }}"#,
+            -0.5 - 2.0 * t,
+            -0.5 * t,
+            t + shutter
+        ))
+    };
+    // Shutter lengths that t₁ − t₀ keeps exactly at both distances (1 s and 2⁻⁷ s).
+    for shutter in [1.0, 0.0078125] {
+        let near = at(0.0, shutter).estimate(Estimator::Light, &spec(1 << 12, 111));
+        for t in [1e6, -3e9] {
+            let far = at(t, shutter).estimate(Estimator::Light, &spec(1 << 12, 111));
+            assert!(
+                far.batches == near.batches,
+                "shutter [{t}, {t} + {shutter}]: {:?} for {:?}",
+                far.batches.total,
+                near.batches.total
+            );
+        }
+    }
+}
+
 /// A moving occluder with a partial shadow, seen by shadow rays and by BSDF-sampled rays.
 /// A two-sided square light (side 1, radiance 1) at height 2 centred over a receiver at
 /// the origin facing +z, and a black half-plane (a 20 × 40 rectangle) at height 1 whose

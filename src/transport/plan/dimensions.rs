@@ -387,14 +387,23 @@ fn time_dims(
             )),
         }
     };
-    let shutter = interval("time.shutter", td.shutter)?
-        .map(|(a, b)| (a as f32, b as f32))
-        .filter(|(a, b)| b > a);
-    if td.shutter.is_some() && shutter.is_none() {
+    // The scene's time 0 is the shutter's start t₀ (moving objects are placed where they
+    // are then, `case::build::epoch`): time is sampled as τ = t − t₀ over [0, t₁ − t₀],
+    // whose f32 width must be a normal number (a subnormal or zero width cannot be
+    // sampled uniformly).
+    let shutter = interval("time.shutter", td.shutter)?.map(|(a, b)| (0.0f32, (b - a) as f32));
+    if let Some((_, w)) = shutter
+        && !w.is_normal()
+    {
         return Err(InputError::new(
             f,
             "time.shutter",
-            "is too short to resolve in f32 seconds at this distance from t = 0",
+            format!(
+                "its length t₁ − t₀ = {:e} s is not a normal f32 (between {:e} and {:e} s)",
+                w,
+                f32::MIN_POSITIVE,
+                f32::MAX
+            ),
         ));
     }
     let bin = interval("time.bin", td.bin)?;
@@ -534,8 +543,14 @@ mod tests {
 
     fn scene(emitter: serde_json::Value) -> Scene {
         let d: SceneDesc = serde_json::from_value(json!({ "emitters": [emitter] })).unwrap();
-        d.build("t.json", "scene", std::path::Path::new("."), DVec3::ZERO)
-            .unwrap()
+        d.build(
+            "t.json",
+            "scene",
+            std::path::Path::new("."),
+            DVec3::ZERO,
+            0.0,
+        )
+        .unwrap()
     }
 
     fn spectral(v: serde_json::Value) -> SpectralDesc {
