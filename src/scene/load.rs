@@ -157,6 +157,26 @@ impl GeometryDesc {
     }
 }
 
+impl ShapeDesc {
+    /// The shape's own point (its centre, corner or first vertex; an OBJ's origin) where
+    /// its transform places it, R(s p) + t in f64: a scene rebased there keeps the
+    /// digits of a shape translated far from the world's origin. `None` where the point
+    /// or the transform is not valid (the build names the field).
+    pub fn placed_point(&self) -> Option<DVec3> {
+        let b = Builder {
+            file: "",
+            base: PathBuf::new(),
+            origin: DVec3::ZERO,
+            epoch: 0.0,
+        };
+        let p = b
+            .transform(self.transform.as_ref(), "")
+            .ok()?
+            .point(self.geometry.point().map_or(DVec3::ZERO, v3));
+        p.is_finite().then_some(p)
+    }
+}
+
 /// Diffuse emission of a shape.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -418,24 +438,21 @@ impl SceneDesc {
         shapes.chain(emitters).collect()
     }
 
-    /// A coordinate of shape `i` (its centre, corner or first vertex), or
+    /// Where shape `i`'s own point lands ([`ShapeDesc::placed_point`]), or
     /// [`SceneDesc::any_point`] when it has none.
     pub fn shape_point(&self, i: usize) -> DVec3 {
-        match self.shapes.get(i).map(|s| s.geometry.point()) {
-            Some(Some(p)) if p.iter().all(|x| x.is_finite()) => v3(p),
-            _ => self.any_point(),
-        }
+        self.shapes
+            .get(i)
+            .and_then(ShapeDesc::placed_point)
+            .unwrap_or_else(|| self.any_point())
     }
 
-    /// The first coordinate found in the scene (used as a default origin).
+    /// The first shape's placed point that is valid (used as a default origin), else 0.
     pub fn any_point(&self) -> DVec3 {
-        for s in &self.shapes {
-            let p = s.geometry.point().unwrap_or([0.0; 3]);
-            if p.iter().all(|x| x.is_finite()) {
-                return v3(p);
-            }
-        }
-        DVec3::ZERO
+        self.shapes
+            .iter()
+            .find_map(ShapeDesc::placed_point)
+            .unwrap_or(DVec3::ZERO)
     }
 
     /// Validate and build, with every position rebased on `origin` (in f64) before it
@@ -1298,6 +1315,43 @@ mod tests {
                           "indices": [[0, 1, 2], [1, 3, 2]] })),
         ]}))
         .unwrap()
+    }
+
+    /// The origin a case rebases on is a shape's point where its transform places it
+    /// (R(s p) + t), not where the description writes it: a flux receiver translated to
+    /// 10¹⁷ was once rebased on its untransformed centre, every coordinate 10¹⁷ in f32
+    /// (the catalog's `view_factor/coaxial_disks_translated_1e17` read 0 for 0.117).
+    #[test]
+    fn a_shapes_point_is_placed_by_its_transform() {
+        let scene = |shapes: serde_json::Value| -> SceneDesc {
+            serde_json::from_value(json!({ "shapes": shapes })).unwrap()
+        };
+        let rect = json!({ "type": "rectangle", "corner": [1, 0, 0],
+                           "edge_u": [1, 0, 0], "edge_v": [0, 1, 0] });
+        let t = json!({ "scale": 2, "rotate": { "axis": [0, 0, 1], "degrees": 90 },
+                        "translate": [1e17, 0, 3] });
+        let s = scene(json!([{ "geometry": rect, "transform": t }]));
+        let p = s.shape_point(0);
+        assert!(
+            (p - DVec3::new(1e17, 2.0, 3.0)).length() < 1e-15 * 1e17,
+            "{p}"
+        );
+        assert_eq!(s.any_point(), p);
+        // An OBJ's point is its own origin, placed; no transform leaves a point as written.
+        let obj = scene(json!([{ "geometry": { "type": "obj", "path": "m.obj" },
+                                 "transform": { "translate": [5, 6, 7] } },
+                               { "geometry": rect }]));
+        assert_eq!(obj.shape_point(0), DVec3::new(5.0, 6.0, 7.0));
+        assert_eq!(obj.shape_point(1), DVec3::new(1.0, 0.0, 0.0));
+        // An invalid transform or point has none: the first valid shape's point, else 0;
+        // a shape that does not exist falls back the same way.
+        let bad = scene(json!([{ "geometry": rect, "transform": { "scale": -1 } },
+                               { "geometry": rect, "transform": { "translate": [0, 0, 2] } }]));
+        assert_eq!(bad.shape_point(0), DVec3::new(1.0, 0.0, 2.0));
+        assert_eq!(bad.shape_point(7), DVec3::new(1.0, 0.0, 2.0));
+        let huge = json!({ "type": "sphere", "center": [1e308, 0, 0], "radius": 1 });
+        let none = scene(json!([{ "geometry": huge, "transform": { "scale": 10 } }]));
+        assert_eq!(none.any_point(), DVec3::ZERO);
     }
 
     /// A shape translated far from the world's origin, rebased on a point there, is the
