@@ -342,6 +342,15 @@ macro_rules! outln {
     ($($t:tt)*) => { write_stdout(format_args!("{}\n", format_args!($($t)*))) };
 }
 
+/// One line on stderr. A write that fails (stderr closed, or a full disk behind it) is
+/// ignored, where `eprintln!` would panic: the exit status still tells the outcome.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 /// Let a closed pipe end the process quietly, as Unix tools do (`lightproof estimate
 /// CASE | head -n 3`): Rust ignores SIGPIPE, which turns the write into a panic.
 fn quiet_on_broken_pipe() {
@@ -385,7 +394,7 @@ fn parse_cli() -> Result<Cli, ExitCode> {
 fn usage_error(e: &clap::Error) -> ExitCode {
     let seed = std::env::var_os("LIGHTPROOF_SEED");
     match seed.as_deref().filter(|v| v.to_str().is_none()) {
-        Some(v) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => eprintln!(
+        Some(v) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => say!(
             "error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text, got {:?} (it is the default --seed)",
             v.to_string_lossy()
         ),
@@ -397,7 +406,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
                 .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
                 .filter(|l| !l.is_empty())
                 .collect();
-            eprintln!("{} (see --help)", line.join(" "));
+            say!("{} (see --help)", line.join(" "));
         }
     }
     ExitCode::from(2)
@@ -441,7 +450,7 @@ fn main() -> ExitCode {
     {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: worker threads: cannot start: {e}");
+            say!("error: worker threads: cannot start: {e}");
             return ExitCode::from(3);
         }
     };
@@ -449,11 +458,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Verdict) => ExitCode::from(1),
         Err(Failure::Input(msg)) => {
-            eprintln!("error: {msg}");
+            say!("error: {msg}");
             ExitCode::from(2)
         }
         Err(Failure::Io(msg)) => {
-            eprintln!("error: {msg}");
+            say!("error: {msg}");
             ExitCode::from(3)
         }
     }
@@ -575,7 +584,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             let paths = (w * h) as f64 * spp as f64;
             lightproof::render::write_image(&output, w, h, &data, exposure)
                 .map_err(|e| IoError::write(&output, e))?;
-            eprintln!(
+            say!(
                 "wrote {} ({w}×{h}, {spp} spp): {paths} paths in {seconds:.3} s, {:.0} paths/s on {} threads",
                 output.display(),
                 paths / seconds.max(f64::MIN_POSITIVE),
@@ -587,7 +596,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 (0, _) => Ok(()),
                 (n, first) => {
                     let (x, y) = first.unwrap_or_default();
-                    eprintln!(
+                    say!(
                         "{n} pixels are not finite (NaN or ±∞), the first at ({x}, {y}): a bug of the engine"
                     );
                     Err(Failure::Verdict)
@@ -938,7 +947,7 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
 /// A sweep's or a merge's notes (a report started afresh, a case with no plot), on stderr.
 fn print_notes(summary: &lightproof::report::sweep::Summary) {
     for n in &summary.notes {
-        eprintln!("note: {n}");
+        say!("note: {n}");
     }
 }
 

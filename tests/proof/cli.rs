@@ -947,6 +947,47 @@ fn a_stdout_that_cannot_be_written_exits_3() {
     }
 }
 
+/// A standard error that cannot be written (`2> /dev/full`) loses the message, never the
+/// outcome: each exit status is the one a readable stderr would give (a missing file 2,
+/// a usage error 2, a written render 0), where `eprintln!` panicked (exit 101).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_stderr_that_cannot_be_written_keeps_the_exit_status() {
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes/cornell.json");
+    let png = dir.join("stderr_full.png");
+    let missing = dir.join("no such case.json");
+    for (args, code) in [
+        (vec!["estimate".into(), missing.into_os_string()], 2),
+        (vec!["--no-such-flag".into()], 2),
+        (
+            vec![
+                "render".into(),
+                scene.into_os_string(),
+                "--spp".into(),
+                "1".into(),
+                "-o".into(),
+                png.into_os_string(),
+            ],
+            0,
+        ),
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = bin()
+            .args(&args)
+            .env_remove("RUST_BACKTRACE")
+            .stderr(full)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(code), "{args:?}");
+    }
+}
+
 /// `report --shard auto` reads only its own variables of the environment: a variable of
 /// no concern to it may hold any bytes (`JUNK=\xff` once panicked in `std::env::vars`),
 /// and one of its own that is not UTF-8 exits 2 naming it.
