@@ -39,8 +39,8 @@ pub const MAX_RENDER_SAMPLES: u64 = 1 << 40;
 pub const MAX_DEPTH: u32 = MAX_PATH_BOUNCES;
 
 /// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
-/// scatterings (`None`: the plan's bound, unlimited with Russian roulette where more
-/// bounces can contribute); returns (width, height, linear sRGB radiance per pixel).
+/// scatterings (`None`: the plan's bound, else [`MAX_DEPTH`] with Russian roulette where
+/// more bounces can contribute); returns (width, height, linear sRGB radiance per pixel).
 pub fn render_file(
     path: &Path,
     spp: u64,
