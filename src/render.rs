@@ -394,4 +394,28 @@ mod tests {
         }
         std::fs::remove_dir_all(dir).unwrap();
     }
+
+    /// An image is for looking: without `--max-depth` a path ends at the guard of
+    /// [`MAX_DEPTH`] scatterings, where a measurement's path returns +∞. Inside a white
+    /// closed sphere emitting 1 (an infinite answer) the one pixel is finite (and more
+    /// than the emission seen directly, which `--max-depth 0` gives exactly).
+    #[test]
+    fn an_unbounded_render_ends_at_the_guard() {
+        let case = r#"{"name": "white furnace", "teaches": "the guard",
+          "scene": {"materials": {"white": {"type": "lambertian", "albedo": 1}},
+            "shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+              "material": "white", "flip_normals": true, "emission": {"radiance": 1}}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 1, "height": 1},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#;
+        let dir = std::env::temp_dir().join(format!("lightproof-guard-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("white.json");
+        std::fs::write(&path, case).unwrap();
+        let (_, _, px) = render_file(&path, 1, 3, None).unwrap();
+        let v = px[0][0];
+        assert!(v.is_finite() && v > 1.0, "{v}");
+        let (_, _, px) = render_file(&path, 1, 3, Some(0)).unwrap();
+        assert_eq!(px[0][0], 1.0);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }
