@@ -852,6 +852,27 @@ mod tests {
     /// Two disks facing each other a unit apart: shape 0 (radius 1, at z = 1, facing
     /// down) emits L = 1 one-sided, shape 1 (radius ½, at the origin) does not; `extra`
     /// emitters follow the area light.
+    /// The scene's time 0 is a finite shutter start; without one (or with one that is
+    /// not finite, refused later by `check_spectral_and_time`), t = 0.
+    #[test]
+    fn the_epoch_is_the_shutters_start() {
+        assert_eq!(
+            epoch(&desc(json!({ "time": { "shutter": [1e6, 2e6] } }))),
+            1e6
+        );
+        assert_eq!(
+            epoch(&desc(json!({ "time": { "shutter": [-2.5, 1] } }))),
+            -2.5
+        );
+        assert_eq!(epoch(&desc(json!({ "time": { "bin": [1, 2] } }))), 0.0);
+        assert_eq!(epoch(&desc(json!({}))), 0.0);
+        let mut d = desc(json!({ "time": { "shutter": [0, 1] } }));
+        for t0 in [f64::NAN, f64::INFINITY] {
+            d.time.as_mut().unwrap().shutter = Some([t0, 1.0]);
+            assert_eq!(epoch(&d), 0.0, "{t0}");
+        }
+    }
+
     fn two_disks(measure: serde_json::Value, extra: serde_json::Value) -> CaseDesc {
         desc(json!({
             "scene": {

@@ -1317,6 +1317,37 @@ mod tests {
         .unwrap()
     }
 
+    /// A moving object is placed where it is at the epoch (p + v t₀ in f64, rebased on
+    /// the origin): a sphere and a point light written at their t = 0 positions, built
+    /// at t₀ = 10⁶ s, sit exactly where they are then; a static shape does not move.
+    #[test]
+    fn moving_objects_are_placed_at_the_epoch() {
+        let d: SceneDesc = serde_json::from_value(json!({
+            "shapes": [
+                { "geometry": { "type": "sphere", "center": [-2000000.5, 0, 1], "radius": 0.25 },
+                  "velocity": [2, 0, 0] },
+                { "geometry": { "type": "sphere", "center": [0, 3, 1], "radius": 0.25 } } ],
+            "emitters": [ { "type": "point", "position": [0, -500000, 2], "intensity": 3,
+                            "velocity": [0, 0.5, 0] } ] }))
+        .unwrap();
+        let origin = DVec3::new(0.0, 0.0, 0.5);
+        let s = d
+            .build("t.json", "scene", Path::new("."), origin, 1e6)
+            .unwrap();
+        let centre = |i: usize| match s.prims()[s.shapes[i].prims.start] {
+            Primitive::Sphere { center, .. } => center,
+            ref p => panic!("{p:?}"),
+        };
+        assert_eq!(centre(0), Vec3::new(-0.5, 0.0, 0.5));
+        assert_eq!(centre(1), Vec3::new(0.0, 3.0, 0.5));
+        let EmitterKind::Point { position, .. } = s.emitters[0].kind else {
+            panic!("a point light")
+        };
+        assert_eq!(position, Vec3::new(0.0, 0.0, 1.5));
+        assert_eq!(s.shapes[0].velocity, Vec3::new(2.0, 0.0, 0.0));
+        assert_eq!(s.emitters[0].props.velocity, Vec3::new(0.0, 0.5, 0.0));
+    }
+
     /// The origin a case rebases on is a shape's point where its transform places it
     /// (R(s p) + t), not where the description writes it: a flux receiver translated to
     /// 10¹⁷ was once rebased on its untransformed centre, every coordinate 10¹⁷ in f32
