@@ -417,6 +417,14 @@ sweep("wavelength", SPECTRAL, "spectral.wavelength", "spectral.wavelength", ALL2
 # The shutter's end: -1 puts it before its start [-0.5, ...].
 sweep("shutter", MOVING, "time.shutter", "time.shutter", outcomes(2, zero="valid"), vec=(1, [-0.5, 2]))
 case("shutter_reversed", "baseline", MOVING, [("time.shutter", [2, -0.5])], 2, "time.shutter")
+# Time is sampled from the shutter's start: 10 ms at t = 1e6 s is resolved (once refused
+# as "too short" in f32 seconds); a length that is not a normal f32 is refused.
+case("shutter_far_10ms", "wrong", MOVING, [("time.shutter", [1e6, 1e6 + 0.01]),
+     ("scene.emitters.0.position", [-1.5e6, 0, 2])], "valid")
+case("shutter_length_subnormal", "f32", MOVING, [("time.shutter", [1e-30, 1e-30 + 1e-39])], 2,
+     "time.shutter", "not a normal f32")
+case("shutter_length_overflow", "f32", MOVING, [("time.shutter", [-3e38, 3e38]),
+     ("scene.emitters.0.velocity", [1e-30, 0, 0])], 2, "time.shutter", "not a normal f32")
 sweep("bin", PULSE, "time.bin", "time.bin", SIGNED, vec=(0, PULSE["time"]["bin"]))
 sweep("bins", PULSE, "time.bins", "time.bins", SIGNED, vec=(0, [0, 4e-9, 5e-9]), edits=[("time.bin", DELETE)])
 
