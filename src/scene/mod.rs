@@ -447,6 +447,20 @@ impl Scene {
     }
 }
 
+/// A scene from its JSON description, at the origin and time 0 (for unit tests).
+#[cfg(test)]
+pub(crate) fn from_json(v: serde_json::Value) -> Scene {
+    let d: load::SceneDesc = serde_json::from_value(v).unwrap();
+    d.build(
+        "t.json",
+        "scene",
+        std::path::Path::new("."),
+        glam::DVec3::ZERO,
+        0.0,
+    )
+    .unwrap()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -456,20 +470,11 @@ mod tests {
     use serde_json::json;
 
     fn sphere_light(radius: f64, flip: bool, two_sided: bool) -> Scene {
-        let d: load::SceneDesc = serde_json::from_value(json!({ "shapes": [{
+        from_json(json!({ "shapes": [{
             "geometry": { "type": "sphere", "center": [0.5, 0.3, 2.0], "radius": radius },
             "flip_normals": flip,
             "emission": { "radiance": 3.0, "two_sided": two_sided }
         }]}))
-        .unwrap();
-        d.build(
-            "t.json",
-            "scene",
-            std::path::Path::new("."),
-            DVec3::ZERO,
-            0.0,
-        )
-        .unwrap()
     }
 
     /// Every cone sample of a sphere light seen from outside lies on the cap that faces

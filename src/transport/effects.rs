@@ -317,20 +317,11 @@ mod tests {
     //! One scene per rule, each on both sides of the rule, so a rule that prunes too much
     //! (unsound) or too little (wasted work) is seen.
     use super::*;
-    use crate::scene::load::SceneDesc;
-    use glam::{DVec3, Vec3};
+    use glam::Vec3;
     use serde_json::json;
 
     fn scene(v: serde_json::Value) -> Scene {
-        let d: SceneDesc = serde_json::from_value(v).unwrap();
-        d.build(
-            "t.json",
-            "scene",
-            std::path::Path::new("."),
-            DVec3::ZERO,
-            0.0,
-        )
-        .unwrap()
+        crate::scene::from_json(v)
     }
 
     /// The geometric rules only: wavelength and time are decided elsewhere.

@@ -569,21 +569,11 @@ mod tests {
     /// finite samples, every other one NaN (never a silent substitute).
     #[test]
     fn estimators_a_measurement_cannot_use_give_nan() {
-        let desc: crate::scene::load::SceneDesc = serde_json::from_value(serde_json::json!({
+        let scene = crate::scene::from_json(serde_json::json!({
             "materials": { "m": { "type": "lambertian", "albedo": 0.5 } },
             "shapes": [{ "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
                          "material": "m", "emission": { "radiance": 1 } }]
-        }))
-        .unwrap();
-        let scene = desc
-            .build(
-                "t.json",
-                "scene",
-                std::path::Path::new("."),
-                glam::DVec3::ZERO,
-                0.0,
-            )
-            .unwrap();
+        }));
         let out = Vec3::new(0.0, 0.0, 3.0);
         let measures = [
             Measure::SolidAngle {

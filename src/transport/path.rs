@@ -330,26 +330,17 @@ mod tests {
     use crate::sampling::Sampler;
     use crate::scene::SpectralIor;
     use crate::scene::emitter::EmitterKind;
-    use crate::scene::load::SceneDesc;
     use crate::spectrum::{Ior, SPEED_OF_LIGHT};
     use crate::stats::{Accumulator, MeanTest, exact_relative_tolerance};
     use crate::transport::effects::Decision;
     use crate::transport::phase::{Grey, PhaseSample};
-    use glam::{DVec3, Vec4};
+    use glam::Vec4;
     use serde_json::json;
     use std::cell::Cell;
     use std::f64::consts::PI;
 
     fn scene(v: serde_json::Value) -> Scene {
-        let d: SceneDesc = serde_json::from_value(v).unwrap();
-        d.build(
-            "t.json",
-            "scene",
-            std::path::Path::new("."),
-            DVec3::ZERO,
-            0.0,
-        )
-        .unwrap()
+        crate::scene::from_json(v)
     }
 
     fn cfg(light: bool, bsdf: bool, heuristic: Heuristic) -> Config {

@@ -537,20 +537,10 @@ fn time_dims(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::load::SceneDesc;
-    use glam::DVec3;
     use serde_json::json;
 
     fn scene(emitter: serde_json::Value) -> Scene {
-        let d: SceneDesc = serde_json::from_value(json!({ "emitters": [emitter] })).unwrap();
-        d.build(
-            "t.json",
-            "scene",
-            std::path::Path::new("."),
-            DVec3::ZERO,
-            0.0,
-        )
-        .unwrap()
+        crate::scene::from_json(json!({ "emitters": [emitter] }))
     }
 
     fn spectral(v: serde_json::Value) -> SpectralDesc {
