@@ -696,10 +696,10 @@ impl EmitterKind {
                 if r2 <= 0.0 {
                     return None;
                 }
-                let wi = d / r2.sqrt();
+                let (wi, inv_r2) = toward(d, r2);
                 Some(LightSample {
                     wi,
-                    li: intensity / r2,
+                    li: inv_r2(*intensity),
                     pdf: 1.0,
                     p: *position,
                     p_error: Vec3::ZERO,
@@ -721,9 +721,9 @@ impl EmitterKind {
                 if r2 <= 0.0 {
                     return None;
                 }
-                let wi = d / r2.sqrt();
+                let (wi, inv_r2) = toward(d, r2);
                 let cos = (-wi).dot(frame.n);
-                let li = intensity * spot_falloff(cos, *cos_total, *cos_falloff_start) / r2;
+                let li = inv_r2(intensity * spot_falloff(cos, *cos_total, *cos_falloff_start));
                 Some(LightSample {
                     wi,
                     li,
@@ -789,6 +789,29 @@ impl EmitterKind {
             | EmitterKind::Map(_) => None,
         }
     }
+}
+
+/// The unit direction of d (r2 = |d|² > 0 in `f32`) and the inverse-square law x ↦ x/r²
+/// (Pharr et al., pbrt-v4 §12.1: E = I/r²). Where r² is subnormal (a receiver within
+/// ~10⁻¹⁹ of a point or spot light) its `f32` square and root keep few digits: d/√r² had
+/// length 1 + 2.6·10⁻⁶ at 10⁻²⁰, so the direction is [`crate::math::unit_vector`] and r²
+/// is formed in `f64` there (I/r² itself may still exceed `f32`: +∞ for I ≥ 0.034 at
+/// 10⁻²⁰). Bit for bit d/√r² and x/r² where r² is normal.
+#[inline]
+fn toward(d: Vec3, r2: f32) -> (Vec3, impl Fn(f32) -> f32) {
+    let normal = r2 >= f32::MIN_POSITIVE;
+    let wi = if normal {
+        d / r2.sqrt()
+    } else {
+        crate::math::unit_vector(d)
+    };
+    (wi, move |x: f32| {
+        if normal {
+            x / r2
+        } else {
+            (x as f64 / d.as_dvec3().length_squared()) as f32
+        }
+    })
 }
 
 /// A 1-D distribution over a shape's primitives by area.
@@ -1029,6 +1052,43 @@ mod tests {
             }
         }
         assert!(checked > 200, "{checked}");
+    }
+
+    /// A receiver 10⁻²⁰ (and 3·10⁻²⁰, 10⁻¹⁹) from a point or spot light: r² is subnormal
+    /// in `f32`. The direction was d/√r², of length 1 + 2.6·10⁻⁶ at 10⁻²⁰; now it is unit
+    /// to 2ε and I/r² is the `f64` value rounded (10³⁷ for I = 10⁻³ at 10⁻²⁰).
+    #[test]
+    fn lights_a_subnormal_square_away_keep_unit_directions() {
+        let frame = Frame::from_z(Vec3::X);
+        for d in [1e-20f32, 3e-20, 1e-19] {
+            let p = Vec3::new(d, 0.0, 0.0);
+            for light in [
+                EmitterKind::Point {
+                    position: Vec3::ZERO,
+                    intensity: 1e-3,
+                },
+                EmitterKind::Spot {
+                    position: Vec3::ZERO,
+                    frame,
+                    intensity: 1e-3,
+                    cos_total: 0.5,
+                    cos_falloff_start: 0.9,
+                },
+            ] {
+                let s = light.sample_non_area(p, Vec2::ZERO).unwrap();
+                assert!(
+                    (s.wi.length() - 1.0).abs() <= 2.0 * f32::EPSILON && s.wi.x < 0.0,
+                    "{d:e}: {:?}",
+                    s.wi
+                );
+                let want = 1e-3f32 as f64 / (d as f64 * d as f64);
+                assert!(
+                    (s.li as f64 / want - 1.0).abs() <= 1e-6,
+                    "{d:e}: L {} vs {want:e}",
+                    s.li
+                );
+            }
+        }
     }
 
     #[test]
