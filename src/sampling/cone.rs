@@ -17,7 +17,11 @@ pub struct Cone {
 }
 
 impl Cone {
-    /// The cone of half-angle `theta_max` ∈ (0, π].
+    /// The cone of half-angle `theta_max` ∈ (0, π]. Its density is an `f32` for
+    /// θmax ≥ 3.1·10⁻²⁰ and accurate to rounding for θmax ≥ 2.2·10⁻¹⁹, where
+    /// 1 − cos θmax = 2 sin²(θmax/2) is a normal number; below 3.1·10⁻²⁰ the solid angle
+    /// 2π(1 − cos θmax) ≈ πθmax² is under 1/`f32::MAX` and [`Cone::pdf`] is +∞ (no `f32`
+    /// holds the density of so narrow a cone).
     pub fn from_half_angle(theta_max: f32) -> Self {
         let s = (0.5 * theta_max).sin();
         Cone {

@@ -58,12 +58,28 @@ impl EnvMap {
         )
     }
 
+    /// The pixel (column, row) of the map coordinates `uv`.
+    #[inline]
+    fn pixel(&self, uv: Vec2) -> (usize, usize) {
+        (
+            ((uv.x * self.width as f32) as usize).min(self.width - 1),
+            ((uv.y * self.height as f32) as usize).min(self.height - 1),
+        )
+    }
+
     /// Radiance arriving from direction `w` (pointing away from the scene).
     pub fn eval(&self, w: Vec3) -> f32 {
-        let uv = self.uv(w);
-        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+        let (x, y) = self.pixel(self.uv(w));
         self.radiance[y * self.width + x]
+    }
+
+    /// The direction of the map coordinates `uv`, and sin θ.
+    #[inline]
+    fn direction(uv: Vec2) -> (Vec3, f32) {
+        let theta = uv.y * PI;
+        let phi = uv.x * TWO_PI;
+        let (st, ct) = theta.sin_cos();
+        (Vec3::new(st * phi.cos(), st * phi.sin(), ct), st)
     }
 
     /// Density in solid angle of [`EnvMap::sample`]: p(u, v) / (2π² sin θ).
@@ -83,10 +99,30 @@ impl EnvMap {
     /// Sample a direction.
     pub fn sample(&self, u: Vec2) -> Option<(Vec3, f32)> {
         let (uv, pdf_uv) = self.distribution.sample(u);
-        let theta = uv.y * PI;
-        let phi = uv.x * TWO_PI;
-        let (st, ct) = theta.sin_cos();
-        let w = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
+        let (mut w, mut st) = Self::direction(uv);
+        // Within a few ulps of a pixel's edge, w's azimuth or polar angle (atan2, acos)
+        // can read back the neighbouring pixel, whose density and radiance differ or are 0
+        // (a 3 × 5 map at u = (1 − 2⁻²⁴, 0.25): sampled density 0.33, pdf(w) = 0, L = 0).
+        // Move uv towards its pixel's centre by growing fractions of the way until w reads
+        // back the pixel it was drawn in (at most 25 steps; the centre itself reads back).
+        let cell = self.pixel(uv);
+        if self.pixel(self.uv(w)) != cell {
+            let centre = Vec2::new(
+                (cell.0 as f32 + 0.5) / self.width as f32,
+                (cell.1 as f32 + 0.5) / self.height as f32,
+            );
+            let mut t = f32::EPSILON;
+            while t < 1.0 {
+                (w, st) = Self::direction(uv + (centre - uv) * t);
+                if self.pixel(self.uv(w)) == cell {
+                    break;
+                }
+                t *= 2.0;
+            }
+            if t >= 1.0 {
+                (w, st) = Self::direction(centre);
+            }
+        }
         // At the pole θ = 0 [`EnvMap::pdf`] has no density for w: no sample there either,
         // so that sampler and MIS density agree; nor where the pixel's density rounds to 0.
         if pdf_uv <= 0.0 || st <= 0.0 || w.x.hypot(w.y) <= 0.0 {
@@ -414,6 +450,11 @@ impl PrimDensity {
             PrimDensity::SolidAngle(pdf) => Some(pdf),
             PrimDensity::Area(pdf) => {
                 let r2 = d.length_squared();
+                if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
+                    // (The same overflow rule as below, and a NaN passes on.)
+                    let w = area_to_solid_angle_wide(pdf as f64, d, n)?;
+                    return (!(w == f32::INFINITY && pdf.is_finite())).then_some(w);
+                }
                 let rcp = 1.0 / dist;
                 let cos = if rcp.is_finite() && rcp > 0.0 {
                     (d * rcp).dot(n).abs()
@@ -533,14 +574,46 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
         PrimSampling::Area => {
             let d = q - p;
             let r2 = d.length_squared();
+            if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
+                // As [`PrimDensity::solid_angle`] forms the sample's density there.
+                return area_to_solid_angle_wide(1.0 / prim.area() as f64, d, n).unwrap_or(0.0);
+            }
             let cos = (d.normalize_or_zero().dot(n)).abs();
             if cos <= 0.0 {
-                0.0
+                return 0.0;
+            }
+            let area_cos = prim.area() * cos;
+            if area_cos >= f32::MIN_POSITIVE {
+                r2 / area_cos
             } else {
-                r2 / (prim.area() * cos)
+                // A light near 10⁻¹⁹ across seen obliquely: A |cos θl| below the normal
+                // range rounds coarsely or to 0, and r²/0 read as ∞ where the sample's own
+                // density, (1/A) r²/|cos θl|, was 8.9·10⁷. The same cosine, in f64.
+                (r2 as f64 / (prim.area() as f64 * cos as f64)) as f32
             }
         }
     }
+}
+
+/// The solid-angle density p_A r²/|cos θl| of a point at d = q − p (normal `n`) with
+/// area density `pdf_area`, in `f64` (Pharr et al., pbrt-v4 §4.2.3, dω = |cos θl| dA/r²):
+/// where r² = |d|² falls below `f32`'s normal range (a viewer within ~10⁻¹⁹ of a light
+/// point), its `f32` square and the length formed from it keep few digits, so
+/// [`PrimDensity::solid_angle`] and [`prim_pdf`] both take this form there.
+/// `None` where the point is seen edge-on or coincides with the viewer, or where the
+/// density underflows to 0 (as where the `f32` r² underflowed, a point within ~10⁻²³);
+/// +∞ where it overflows `f32`, and NaN for a NaN density (passed on, never masked).
+#[cold]
+fn area_to_solid_angle_wide(pdf_area: f64, d: Vec3, n: Vec3) -> Option<f32> {
+    let d = d.as_dvec3();
+    let r2 = d.length_squared();
+    let cos = (d.dot(n.as_dvec3()) / r2.sqrt()).abs();
+    // `<=`, not `!(>)`: a NaN normal passes on as NaN.
+    if cos <= 0.0 || r2 <= 0.0 {
+        return None;
+    }
+    let w = (pdf_area * r2 / cos) as f32;
+    (w != 0.0).then_some(w)
 }
 
 impl EmitterKind {
@@ -623,10 +696,10 @@ impl EmitterKind {
                 if r2 <= 0.0 {
                     return None;
                 }
-                let wi = d / r2.sqrt();
+                let (wi, inv_r2) = toward(d, r2);
                 Some(LightSample {
                     wi,
-                    li: intensity / r2,
+                    li: inv_r2(*intensity),
                     pdf: 1.0,
                     p: *position,
                     p_error: Vec3::ZERO,
@@ -648,9 +721,9 @@ impl EmitterKind {
                 if r2 <= 0.0 {
                     return None;
                 }
-                let wi = d / r2.sqrt();
+                let (wi, inv_r2) = toward(d, r2);
                 let cos = (-wi).dot(frame.n);
-                let li = intensity * spot_falloff(cos, *cos_total, *cos_falloff_start) / r2;
+                let li = inv_r2(intensity * spot_falloff(cos, *cos_total, *cos_falloff_start));
                 Some(LightSample {
                     wi,
                     li,
@@ -716,6 +789,29 @@ impl EmitterKind {
             | EmitterKind::Map(_) => None,
         }
     }
+}
+
+/// The unit direction of d (r2 = |d|² > 0 in `f32`) and the inverse-square law x ↦ x/r²
+/// (Pharr et al., pbrt-v4 §12.1: E = I/r²). Where r² is subnormal (a receiver within
+/// ~10⁻¹⁹ of a point or spot light) its `f32` square and root keep few digits: d/√r² had
+/// length 1 + 2.6·10⁻⁶ at 10⁻²⁰, so the direction is [`crate::math::unit_vector`] and r²
+/// is formed in `f64` there (I/r² itself may still exceed `f32`: +∞ for I ≥ 0.034 at
+/// 10⁻²⁰). Bit for bit d/√r² and x/r² where r² is normal.
+#[inline]
+fn toward(d: Vec3, r2: f32) -> (Vec3, impl Fn(f32) -> f32) {
+    let normal = r2 >= f32::MIN_POSITIVE;
+    let wi = if normal {
+        d / r2.sqrt()
+    } else {
+        crate::math::unit_vector(d)
+    };
+    (wi, move |x: f32| {
+        if normal {
+            x / r2
+        } else {
+            (x as f64 / d.as_dvec3().length_squared()) as f32
+        }
+    })
 }
 
 /// A 1-D distribution over a shape's primitives by area.
@@ -917,6 +1013,84 @@ mod tests {
         assert!(nan_far.is_some_and(f32::is_nan));
     }
 
+    /// A disk light of radius 10⁻¹⁹ (area π·10⁻³⁸, which the loader accepts) seen from
+    /// its own plane, from 2·10⁻²⁶ above it and from 10⁻²⁰ above its centre: A |cos θl| or
+    /// r² below the normal `f32` range. [`prim_pdf`] once returned +∞ where the sample's
+    /// own density was 8.9·10⁷ (viewer (1.2·10⁻¹⁹, 0, 0): A cos θl rounded to 0), and
+    /// 2.38·10⁶ against 2.14·10⁶ (11% off) from 2·10⁻²⁶ above the plane; now the light
+    /// sample's density and [`prim_pdf`] (the MIS density of the same point) are finite
+    /// and agree to 10⁻⁵.
+    #[test]
+    fn tiny_area_lights_have_one_finite_density() {
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        let disk = Primitive::Disk {
+            center: Vec3::ZERO,
+            normal: n,
+            radius: 1e-19,
+        };
+        assert!(disk.area() >= f32::MIN_POSITIVE);
+        let mut checked = 0;
+        for p in [
+            Vec3::new(1.2e-19, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 2e-26),
+            n * 1e-20,
+            Vec3::new(3e-20, -2e-20, 1e-21),
+        ] {
+            for k in 0..64 {
+                let u = Vec2::new((k % 8) as f32 / 8.0, (k / 8) as f32 / 8.0 + 0.01);
+                let s = sample_prim(&disk, p, u).unwrap();
+                let d = s.p - p;
+                let Some(w) = s.density.solid_angle(d, d.length(), s.n) else {
+                    continue;
+                };
+                let q = prim_pdf(&disk, p, s.p, s.n);
+                assert!(
+                    w.is_finite() && q.is_finite() && ((q / w) as f64 - 1.0).abs() <= 1e-5,
+                    "p {p}, u {u}: sample density {w}, prim_pdf {q}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 200, "{checked}");
+    }
+
+    /// A receiver 10⁻²⁰ (and 3·10⁻²⁰, 10⁻¹⁹) from a point or spot light: r² is subnormal
+    /// in `f32`. The direction was d/√r², of length 1 + 2.6·10⁻⁶ at 10⁻²⁰; now it is unit
+    /// to 2ε and I/r² is the `f64` value rounded (10³⁷ for I = 10⁻³ at 10⁻²⁰).
+    #[test]
+    fn lights_a_subnormal_square_away_keep_unit_directions() {
+        let frame = Frame::from_z(Vec3::X);
+        for d in [1e-20f32, 3e-20, 1e-19] {
+            let p = Vec3::new(d, 0.0, 0.0);
+            for light in [
+                EmitterKind::Point {
+                    position: Vec3::ZERO,
+                    intensity: 1e-3,
+                },
+                EmitterKind::Spot {
+                    position: Vec3::ZERO,
+                    frame,
+                    intensity: 1e-3,
+                    cos_total: 0.5,
+                    cos_falloff_start: 0.9,
+                },
+            ] {
+                let s = light.sample_non_area(p, Vec2::ZERO).unwrap();
+                assert!(
+                    (s.wi.length() - 1.0).abs() <= 2.0 * f32::EPSILON && s.wi.x < 0.0,
+                    "{d:e}: {:?}",
+                    s.wi
+                );
+                let want = 1e-3f32 as f64 / (d as f64 * d as f64);
+                assert!(
+                    (s.li as f64 / want - 1.0).abs() <= 1e-6,
+                    "{d:e}: L {} vs {want:e}",
+                    s.li
+                );
+            }
+        }
+    }
+
     #[test]
     fn envmap_pdf_matches_sample() {
         let vals: Vec<f32> = (0..32).map(|i| 1.0 + (i % 5) as f32).collect();
@@ -962,6 +1136,31 @@ mod tests {
                 }
             }
         }
+        // At a pixel's edge w reads back its own pixel: a 3 × 5 map lit in every fourth
+        // pixel, sampled at u.x = 1 − 2⁻²⁴ (the last bit of a lit pixel's column), once
+        // gave a density of 0.33 where pdf(w) and L(w) were 0, the neighbour's.
+        let sparse = EnvMap::new(
+            3,
+            5,
+            (0..15)
+                .map(|i| if i % 4 == 0 { 1.0 } else { 0.0 })
+                .collect(),
+        );
+        let mut lit = 0;
+        for a in edge {
+            for b in [0.0, 0.1, 0.25, 0.4, 0.5, 0.6, 0.75, 0.9, 0.999_999_9] {
+                if let Some((w, pdf)) = sparse.sample(Vec2::new(a, b)) {
+                    let again = sparse.pdf(w);
+                    assert!(
+                        sparse.eval(w) > 0.0 && (again as f64 / pdf as f64 - 1.0).abs() <= rel(8),
+                        "u ({a}, {b}): sampled density {pdf}, pdf(w) {again}, L {}",
+                        sparse.eval(w)
+                    );
+                    lit += 1;
+                }
+            }
+        }
+        assert!(lit >= 40, "{lit} samples");
         // A pixel whose density rounds to 0 in f32 (10⁻³⁸ beside 10³⁰: a ratio of 10⁻⁶⁸)
         // keeps a positive width in the f64 CDF, so u.x = 0 selects it: no sample.
         let faint = EnvMap::new(2, 1, vec![1e-38, 1e30]);

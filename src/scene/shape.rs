@@ -107,7 +107,18 @@ impl Primitive {
     pub fn area(&self) -> f32 {
         match *self {
             Primitive::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
-            Primitive::Rectangle { u, v, .. } => u.cross(v).length(),
+            // |u × v|, in f64 where its f32 square leaves the normal range (sides below
+            // ~3·10⁻¹⁰ or above ~4·10⁹): the f32 square underflowed to 0 for 10⁻¹⁵ × 10⁻¹⁵
+            // (area 10⁻³⁰, which the loader then called degenerate) and overflowed to ∞
+            // for 10¹⁸ × 10¹⁸ (area 10³⁶, called too large).
+            Primitive::Rectangle { u, v, .. } => {
+                let a2 = u.cross(v).length_squared();
+                if (f32::MIN_POSITIVE..f32::INFINITY).contains(&a2) {
+                    a2.sqrt()
+                } else {
+                    u.as_dvec3().cross(v.as_dvec3()).length() as f32
+                }
+            }
             Primitive::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
             // In f64: the f32 cross product of a sliver triangle's edges loses ~5e-4 of its area.
             Primitive::Triangle { p } => {
@@ -386,7 +397,14 @@ fn intersect_sphere(
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
     // Re-project the hit onto the surface (pbrt-v4 §6.8.5): error γ₅ |p − c| about c.
     let rel = f + d * t;
-    let rel = rel * (radius / rel.length());
+    let scale = radius / rel.length();
+    // A sphere below the rounding of f + d t (radius 10⁻¹⁵ at 10⁵ from the origin, where
+    // f32 steps by 0.0078) can leave rel = 0, and r/|rel| = ∞ made the point NaN: the
+    // f64 form keeps the direction (`tiny_spheres_far_out_hit_at_a_finite_point`).
+    if !scale.is_finite() {
+        return intersect_sphere_wide(center, radius, o, d, tmin, tmax);
+    }
+    let rel = rel * scale;
     let n = rel / radius;
     let p = center + rel;
     let p_error = gamma(5) * rel.abs() + gamma(1) * center.abs();
@@ -421,9 +439,15 @@ fn intersect_sphere_wide(
     let cc = f.length_squared() - r * r;
     let q = b + disc.sqrt().copysign(b);
     let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (cc / q, q) };
-    let (t0, t1) = (t0.min(t1) as f32, t0.max(t1) as f32);
+    let (t0d, t1d) = (t0.min(t1), t0.max(t1));
+    let (t0, t1) = (t0d as f32, t1d as f32);
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
-    let rel = f + d64 * t as f64;
+    let mut rel = f + d64 * t as f64;
+    if !(rel.length() > 0.0) {
+        // The root rounded to f32 lands on the centre of a sphere smaller than its
+        // rounding (t = 0.015625 for radius 10⁻¹⁵): the unrounded root keeps the side.
+        rel = f + d64 * if t == t0 { t0d } else { t1d };
+    }
     let len = rel.length();
     if !(len > 0.0 && len.is_finite()) {
         return None;
@@ -1033,6 +1057,75 @@ mod tests {
                     "r {r}: {dist:e} off, {h:?}"
                 );
                 assert!((h.n.length() - 1.0).abs() < 1e-6, "{h:?}");
+            }
+        }
+    }
+
+    /// A parallelogram's area at every accepted scale: |u × v| for sides 10⁻¹⁸ … 10¹⁸
+    /// within 2 ulps of the f64 value, and bit for bit `length()` where the f32 square is
+    /// a normal number. It was `u.cross(v).length()`: 0 for sides of 10⁻¹² and below
+    /// (|u × v|² underflows), 1% low at 10⁻¹¹ (a subnormal square), and ∞ for sides of
+    /// 10¹⁰ and above (|u × v|² past `f32::MAX`).
+    #[test]
+    fn rectangle_areas_hold_at_every_scale() {
+        for e in -18..=18 {
+            let l = 10f32.powi(e);
+            let (u, v) = (Vec3::new(l, 0.0, 0.0), Vec3::new(0.3 * l, l, 0.0));
+            let a = Primitive::Rectangle {
+                corner: Vec3::ONE,
+                u,
+                v,
+            }
+            .area();
+            let want = u.as_dvec3().cross(v.as_dvec3()).length();
+            assert!(
+                ((a as f64 - want) / want).abs() <= 2.0 * f32::EPSILON as f64,
+                "side {l:e}: area {a:e} vs {want:e}"
+            );
+            let a2 = u.cross(v).length_squared();
+            if a2 >= f32::MIN_POSITIVE && a2.is_finite() {
+                assert_eq!(a.to_bits(), u.cross(v).length().to_bits(), "side {l:e}");
+            }
+        }
+    }
+
+    /// A sphere smaller than the f32 rounding of its own neighbourhood (radius 10⁻¹⁵,
+    /// centred at 10⁵ per axis, where f32 steps by 2⁻⁷): a ray straight down its axis from
+    /// 2⁻⁶ above once returned a hit at t = 0.015625 with a NaN point, error and normal
+    /// (f + d t rounded to 0, then r/|rel| = ∞); it now hits the top of the sphere, at a
+    /// point within its error bound of the surface, with the normal +z. So does the same
+    /// ray through a hemispherical cap about +z, which intersects through the sphere.
+    #[test]
+    fn tiny_spheres_far_out_hit_at_a_finite_point() {
+        let c = Vec3::splat(1e5);
+        for r in [1e-15f32, 1e-12] {
+            let o = c + Vec3::Z * 0.015625;
+            for s in [
+                Primitive::Sphere {
+                    center: c,
+                    radius: r,
+                },
+                Primitive::SphericalCap {
+                    center: c,
+                    radius: r,
+                    axis: Vec3::Z,
+                    cos_max: 0.0,
+                    one_minus_cos: 1.0,
+                },
+            ] {
+                let h = s
+                    .intersect(o, -Vec3::Z, 0.0, f32::INFINITY)
+                    .unwrap_or_else(|| panic!("r {r}: no hit on {s:?}"));
+                assert!(
+                    h.t.is_finite() && h.p.is_finite() && h.p_error.is_finite(),
+                    "r {r}: {h:?}"
+                );
+                assert_eq!(h.n, Vec3::Z, "r {r}: {h:?}");
+                let dist = ((h.p.as_dvec3() - c.as_dvec3()).length() - r as f64).abs();
+                assert!(
+                    dist <= h.p_error.as_dvec3().length(),
+                    "r {r}: {dist:e} off, {h:?}"
+                );
             }
         }
     }
