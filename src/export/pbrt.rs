@@ -23,7 +23,8 @@
 //! (0.69995 ± 0.00020 for 0.7 under a sky, 17 renders); the film writes full floats
 //! (`savefp16` false: pbrt's default is half floats). Refused: irradiance,
 //! Beckmann and uncorrelated masking (pbrt-v4 has Trowbridge–Reitz, height-correlated,
-//! only), Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
+//! only), α < 10⁻³ (pbrt-v4 renders that as a perfect mirror or smooth glass:
+//! `EffectivelySmooth`), Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
 //! stochastic layered model, not the closed form), environment maps.
 
 use super::{
@@ -45,6 +46,12 @@ pub const DRIVER: &str = include_str!("render_all_pbrt.sh");
 /// 1 − |r_p|² ≈ 4/(k² cos θ) for k cos θ ≫ 1, so 1 − F ≤ 4/(k² cos θ) = 4·10⁻¹²/cos θ:
 /// below f32 resolution wherever cos θ > 10⁻⁴.
 const WHITE_CONDUCTOR_K: f64 = 1e6;
+
+/// pbrt-v4 renders a Trowbridge–Reitz surface with α below this as a perfect mirror or
+/// smooth glass (`TrowbridgeReitzDistribution::EffectivelySmooth`: max(αx, αy) < 10⁻³
+/// in f32, `util/scattering.h`), not the rough closed form, which differs at grazing
+/// angles (the masking of a rough surface: Λ grows with α tan θ).
+const PBRT_SMOOTH_ALPHA: f32 = 1e-3;
 
 /// "unbounded" depth for pbrt's integer `maxdepth`.
 const UNBOUNDED_DEPTH: u32 = 65536;
@@ -89,6 +96,14 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         };
         Err(Refusal(format!("{what}: {why}")))
     };
+    let rough = |alpha: f32, what: &str| -> Result<(), Refusal> {
+        if alpha < PBRT_SMOOTH_ALPHA {
+            return Err(Refusal(format!(
+                "{what}: α = {alpha} < 10⁻³, which pbrt-v4 renders as a perfect mirror or smooth glass (EffectivelySmooth), not this rough BSDF"
+            )));
+        }
+        Ok(())
+    };
     Ok(match b {
         Bsdf::Lambertian(l) => format!(
             r#"Material "diffuse" "rgb reflectance" {}"#,
@@ -111,6 +126,7 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         ),
         Bsdf::RoughConductor(r) => {
             micro(r.distribution, r.masking, "rough_conductor")?;
+            rough(r.alpha, "rough_conductor")?;
             let (eta, k) = match r.fresnel {
                 FresnelMode::None => (1.0, WHITE_CONDUCTOR_K),
                 FresnelMode::Conductor => (r.eta.unwrap_or(1.0) as f64, r.k.unwrap_or(0.0) as f64),
@@ -124,6 +140,7 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         }
         Bsdf::RoughDielectric(r) => {
             micro(r.distribution, r.masking, "rough_dielectric")?;
+            rough(r.alpha, "rough_dielectric")?;
             format!(
                 r#"Material "dielectric" "float eta" [ {} ] "float roughness" [ {} ] "bool remaproughness" false"#,
                 num(r.eta as f64),
@@ -525,6 +542,25 @@ mod tests {
         // Each scene's camera, sampler, integrator, filter and film (9 parameters), and
         // the lights, materials and shapes above.
         assert!(checked > 9 * scenes.len() + 40, "{checked}");
+    }
+
+    /// pbrt-v4 renders Trowbridge–Reitz with α < 10⁻³ as a perfect specular surface
+    /// (`EffectivelySmooth`): such rough BSDFs are refused, α = 10⁻³ itself (the
+    /// catalog's smallest) is exported as it is.
+    #[test]
+    fn roughness_pbrt_treats_as_smooth_is_refused() {
+        use crate::export::mapping::{has, refused, with_material};
+        let m = |bsdf: &str| with_material(Target::Pbrt, bsdf);
+        for bsdf in [
+            r#"{"type":"rough_conductor","alpha":0.0005,"fresnel":"none"}"#,
+            r#"{"type":"rough_dielectric","alpha":0.0009,"eta":1.5}"#,
+        ] {
+            refused(&m(bsdf), "EffectivelySmooth");
+        }
+        has(
+            &m(r#"{"type":"rough_conductor","alpha":0.001,"fresnel":"none"}"#),
+            &[r#""float roughness" [ 0.0010000000474974513 ]"#],
+        );
     }
 
     /// The README's pbrt column, row by row.
