@@ -39,7 +39,8 @@
 //! the sensor measures, the expected render size, the conventions applied); the suite's
 //! `suite.json` lists the exported cases and the refused ones with their reasons, and the
 //! driver (`render_all.py` or `render_all.sh`) writes independent renders as
-//! `renders/NNN.exr` (render k with seed k) in every case folder.
+//! `renders/NNN.exr` in every case folder, render k with seeds of its own (pbrt-v4 and
+//! lightproof `--seed k`; Mitsuba one seed per pass q, k·passes + q).
 
 pub mod lightproof;
 pub mod mitsuba;

@@ -16,14 +16,15 @@
 //! | sphere (cap) / disk (annulus) | `sphere` (zmin = r cos θmax about `axis`) / `disk` (innerradius) |
 //! | rectangle / triangle / mesh | `plymesh` (ASCII PLY) |
 //! | `flip_normals` | `ReverseOrientation` |
-//! | point / spot / directional / constant | `point` / `spot` (conedelta = cone − falloff start, pbrt's smoothstep, as lightproof's) / `distant` / `infinite` |
+//! | point / spot / directional / constant | `point` / `spot` (`conedeltaangle` = cone − falloff start, pbrt's smoothstep, as lightproof's) / `distant` / `infinite` |
 //!
 //! RGB: pbrt-v4 turns an RGB light into the colour space's illuminant spectrum scaled to
 //! 1 nit per unit, and its `rgb` film maps that back, so a grey (L, L, L) renders as L
 //! (0.69995 ± 0.00020 for 0.7 under a sky, 17 renders); the film writes full floats
 //! (`savefp16` false: pbrt's default is half floats). Refused: irradiance,
 //! Beckmann and uncorrelated masking (pbrt-v4 has Trowbridge–Reitz, height-correlated,
-//! only), Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
+//! only), α < 10⁻³ (pbrt-v4 renders that as a perfect mirror or smooth glass:
+//! `EffectivelySmooth`), Oren–Nayar and `plastic` (pbrt-v4's `coateddiffuse` is a
 //! stochastic layered model, not the closed form), environment maps.
 
 use super::{
@@ -45,6 +46,12 @@ pub const DRIVER: &str = include_str!("render_all_pbrt.sh");
 /// 1 − |r_p|² ≈ 4/(k² cos θ) for k cos θ ≫ 1, so 1 − F ≤ 4/(k² cos θ) = 4·10⁻¹²/cos θ:
 /// below f32 resolution wherever cos θ > 10⁻⁴.
 const WHITE_CONDUCTOR_K: f64 = 1e6;
+
+/// pbrt-v4 renders a Trowbridge–Reitz surface with α below this as a perfect mirror or
+/// smooth glass (`TrowbridgeReitzDistribution::EffectivelySmooth`: max(αx, αy) < 10⁻³
+/// in f32, `util/scattering.h`), not the rough closed form, which differs at grazing
+/// angles (the masking of a rough surface: Λ grows with α tan θ).
+const PBRT_SMOOTH_ALPHA: f32 = 1e-3;
 
 /// "unbounded" depth for pbrt's integer `maxdepth`.
 const UNBOUNDED_DEPTH: u32 = 65536;
@@ -89,6 +96,14 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         };
         Err(Refusal(format!("{what}: {why}")))
     };
+    let rough = |alpha: f32, what: &str| -> Result<(), Refusal> {
+        if alpha < PBRT_SMOOTH_ALPHA {
+            return Err(Refusal(format!(
+                "{what}: α = {alpha} < 10⁻³, which pbrt-v4 renders as a perfect mirror or smooth glass (EffectivelySmooth), not this rough BSDF"
+            )));
+        }
+        Ok(())
+    };
     Ok(match b {
         Bsdf::Lambertian(l) => format!(
             r#"Material "diffuse" "rgb reflectance" {}"#,
@@ -111,6 +126,7 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         ),
         Bsdf::RoughConductor(r) => {
             micro(r.distribution, r.masking, "rough_conductor")?;
+            rough(r.alpha, "rough_conductor")?;
             let (eta, k) = match r.fresnel {
                 FresnelMode::None => (1.0, WHITE_CONDUCTOR_K),
                 FresnelMode::Conductor => (r.eta.unwrap_or(1.0) as f64, r.k.unwrap_or(0.0) as f64),
@@ -124,6 +140,7 @@ fn material(b: &Bsdf) -> Result<String, Refusal> {
         }
         Bsdf::RoughDielectric(r) => {
             micro(r.distribution, r.masking, "rough_dielectric")?;
+            rough(r.alpha, "rough_dielectric")?;
             format!(
                 r#"Material "dielectric" "float eta" [ {} ] "float roughness" [ {} ] "bool remaproughness" false"#,
                 num(r.eta as f64),
@@ -196,7 +213,7 @@ pub fn write(desc: &CaseDesc, probe: &Probe) -> Result<Written, Refusal> {
                 falloff_start,
                 ..
             } => format!(
-                r#"LightSource "spot" "point3 from" [ {} ] "point3 to" [ {} ] "float coneangle" [ {} ] "float conedelta" [ {} ] "rgb I" {}"#,
+                r#"LightSource "spot" "point3 from" [ {} ] "point3 to" [ {} ] "float coneangle" [ {} ] "float conedeltaangle" [ {} ] "rgb I" {}"#,
                 v3(v(*position)),
                 v3(v(*position) + v(*direction)),
                 num(*cone_angle),
@@ -367,6 +384,185 @@ mod tests {
         crate::export::mapping::export(Target::Pbrt, materials, shapes, emitters, extra)
     }
 
+    /// The parameters pbrt-v4 (commit 5f7a6068) reads for each directive and type this
+    /// exporter writes, with their types: an unread parameter makes pbrt-v4 exit
+    /// (`ParameterDictionary::ReportUnused`: "unused parameter"), and a misspelt one
+    /// would otherwise fall back to pbrt's default. From `lights.cpp`, `materials.cpp`,
+    /// `shapes.cpp`, `cameras.cpp`, `samplers.cpp`, `film.cpp`, `filters.cpp` and
+    /// `cpu/integrators.cpp` (`parameters.GetOne…("name", …)`).
+    const PBRT_V4_PARAMETERS: &[(&str, &str, &[&str])] = &[
+        ("Camera", "perspective", &["float fov"]),
+        ("Sampler", "independent", &["integer pixelsamples"]),
+        ("Integrator", "path", &["integer maxdepth"]),
+        ("PixelFilter", "box", &["float xradius", "float yradius"]),
+        (
+            "Film",
+            "rgb",
+            &[
+                "integer xresolution",
+                "integer yresolution",
+                "string filename",
+                "bool savefp16",
+            ],
+        ),
+        ("LightSource", "point", &["point3 from", "rgb I"]),
+        (
+            "LightSource",
+            "spot",
+            &[
+                "point3 from",
+                "point3 to",
+                "float coneangle",
+                "float conedeltaangle",
+                "rgb I",
+            ],
+        ),
+        (
+            "LightSource",
+            "distant",
+            &["point3 from", "point3 to", "rgb L"],
+        ),
+        ("LightSource", "infinite", &["rgb L"]),
+        ("AreaLightSource", "diffuse", &["rgb L", "bool twosided"]),
+        ("Material", "diffuse", &["rgb reflectance"]),
+        (
+            "Material",
+            "conductor",
+            &[
+                "spectrum eta",
+                "spectrum k",
+                "float roughness",
+                "bool remaproughness",
+            ],
+        ),
+        (
+            "Material",
+            "dielectric",
+            &["float eta", "float roughness", "bool remaproughness"],
+        ),
+        ("Shape", "sphere", &["float radius", "float zmin"]),
+        ("Shape", "disk", &["float radius", "float innerradius"]),
+        ("Shape", "plymesh", &["string filename"]),
+    ];
+
+    /// Every `"type name"` parameter of every directive in `scene` is one pbrt-v4 reads
+    /// for that directive's type (see [`PBRT_V4_PARAMETERS`]); returns how many were
+    /// checked.
+    fn check_parameters(scene: &str) -> usize {
+        let mut n = 0;
+        for line in scene.lines().map(str::trim) {
+            let Some((directive, rest)) = line.split_once(' ') else {
+                continue;
+            };
+            if !rest.starts_with('"') {
+                continue;
+            }
+            // "kind" "type name" [ ... ] "type name" [ ... ] ...: the quoted strings
+            // outside brackets, the first being the directive's type.
+            let mut quoted = Vec::new();
+            let (mut depth, mut cur, mut inside) = (0, String::new(), false);
+            for c in rest.chars() {
+                match c {
+                    '[' if !inside => depth += 1,
+                    ']' if !inside => depth -= 1,
+                    '"' if depth == 0 => {
+                        if inside {
+                            quoted.push(std::mem::take(&mut cur));
+                        }
+                        inside = !inside;
+                    }
+                    _ if inside && depth == 0 => cur.push(c),
+                    _ => {}
+                }
+            }
+            let Some((kind, params)) = quoted.split_first() else {
+                continue;
+            };
+            let Some((_, _, known)) = PBRT_V4_PARAMETERS
+                .iter()
+                .find(|(d, k, _)| *d == directive && k == kind)
+            else {
+                panic!("{directive} \"{kind}\": not in the table of what pbrt-v4 reads\n{line}");
+            };
+            for p in params {
+                assert!(
+                    known.contains(&p.as_str()),
+                    "{directive} \"{kind}\": pbrt-v4 reads no \"{p}\" (it would exit: unused parameter)\n{line}"
+                );
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// Every directive the exporter writes, for every light, material and shape it
+    /// maps, names parameters pbrt-v4 reads (the spot light's falloff is
+    /// `conedeltaangle`: `conedelta` made pbrt-v4 exit on every scene with a spot).
+    #[test]
+    fn every_parameter_is_one_pbrt_v4_reads() {
+        use crate::export::mapping::{DISK_LIGHT, with_material};
+        let mut scenes = vec![
+            export("", DISK_LIGHT, "", r#","max_depth":3"#),
+            export(
+                "",
+                r#"{"geometry":{"type":"disk","center":[0,0,3],"normal":[0,0,-1],"radius":1,"inner_radius":0.5},"emission":{"radiance":2,"two_sided":true},"flip_normals":true}"#,
+                "",
+                "",
+            ),
+            export(
+                "",
+                &format!(
+                    r#"{DISK_LIGHT},{{"geometry":{{"type":"sphere","center":[0,5,0],"radius":2,"theta_max":60}}}},{{"geometry":{{"type":"rectangle","corner":[0,5,0],"edge_u":[1,0,0],"edge_v":[0,1,0]}}}}"#
+                ),
+                "",
+                "",
+            ),
+            export(
+                "",
+                "",
+                r#"{"type":"point","position":[0,0,2],"intensity":3},{"type":"spot","position":[0,0,2],"direction":[0,0,-1],"intensity":5,"cone_angle":30,"falloff_start":20},{"type":"directional","direction":[0,0,-1],"irradiance":4},{"type":"constant","radiance":1.25}"#,
+                "",
+            ),
+        ];
+        for bsdf in [
+            r#"{"type":"lambertian","albedo":0.5}"#,
+            r#"{"type":"conductor","eta":0.25,"k":3.5}"#,
+            r#"{"type":"dielectric","eta":1.5}"#,
+            r#"{"type":"rough_conductor","alpha":0.375,"eta":0.25,"k":3.5}"#,
+            r#"{"type":"rough_conductor","alpha":0.375,"fresnel":"none"}"#,
+            r#"{"type":"rough_dielectric","alpha":0.5,"eta":1.25}"#,
+        ] {
+            scenes.push(with_material(Target::Pbrt, bsdf));
+        }
+        let mut checked = 0;
+        for s in &scenes {
+            let s = s.as_ref().unwrap_or_else(|e| panic!("refused: {e}"));
+            checked += check_parameters(s);
+        }
+        // Each scene's camera, sampler, integrator, filter and film (9 parameters), and
+        // the lights, materials and shapes above.
+        assert!(checked > 9 * scenes.len() + 40, "{checked}");
+    }
+
+    /// pbrt-v4 renders Trowbridge–Reitz with α < 10⁻³ as a perfect specular surface
+    /// (`EffectivelySmooth`): such rough BSDFs are refused, α = 10⁻³ itself (the
+    /// catalog's smallest) is exported as it is.
+    #[test]
+    fn roughness_pbrt_treats_as_smooth_is_refused() {
+        use crate::export::mapping::{has, refused, with_material};
+        let m = |bsdf: &str| with_material(Target::Pbrt, bsdf);
+        for bsdf in [
+            r#"{"type":"rough_conductor","alpha":0.0005,"fresnel":"none"}"#,
+            r#"{"type":"rough_dielectric","alpha":0.0009,"eta":1.5}"#,
+        ] {
+            refused(&m(bsdf), "EffectivelySmooth");
+        }
+        has(
+            &m(r#"{"type":"rough_conductor","alpha":0.001,"fresnel":"none"}"#),
+            &[r#""float roughness" [ 0.0010000000474974513 ]"#],
+        );
+    }
+
     /// The README's pbrt column, row by row.
     #[test]
     fn the_mapping_table_holds_for_pbrt() {
@@ -491,7 +687,7 @@ mod tests {
                 r#"{"type":"spot","position":[0,0,2],"direction":[0,0,-1],"intensity":5,"cone_angle":30,"falloff_start":20}"#,
             ),
             &[
-                r#"LightSource "spot" "point3 from" [ 0 0 2 ] "point3 to" [ 0 0 1 ] "float coneangle" [ 30 ] "float conedelta" [ 10 ] "rgb I" [ 5 5 5 ]"#,
+                r#"LightSource "spot" "point3 from" [ 0 0 2 ] "point3 to" [ 0 0 1 ] "float coneangle" [ 30 ] "float conedeltaangle" [ 10 ] "rgb I" [ 5 5 5 ]"#,
             ],
         );
         has(

@@ -2,8 +2,9 @@
 """Render every case of a lightproof export with Mitsuba 3 (written by `lightproof export`).
 
 Each case folder listed in suite.json holds scene.xml and export.json; this script writes
-independent renders renders/000.exr, renders/001.exr, ... (render k uses seed k) and
-renders/render.json (variant, samples, seeds), removing earlier renders first.
+independent renders renders/000.exr, renders/001.exr, ... (render k uses seeds
+k * passes + q, one per pass q, below) and renders/render.json (variant, samples,
+seeds), removing earlier renders first.
 
 Mitsuba's film sums a pixel's samples in float32: one render of 2^18 samples of a constant
 sky of radiance 0.7 returns 0.7018 (2^20: 0.6927). So each render is made of passes of at
