@@ -347,8 +347,9 @@ fn cap_angle(p: &Params<'_>, name: &'static str, closed_ok: bool) -> Result<f64>
 fn integrating_sphere_cap(p: &Params<'_>) -> Result<(f64, f64, f64)> {
     let le = p.non_negative("emitted_radiance")?;
     let rho = p.range("albedo", 0.0, 1.0, false)?;
-    let t = cap_angle(p, "wall_theta_max_degrees", false)?;
-    Ok((le, rho, partial_shapes::port_fraction_of_cap(t)))
+    cap_angle(p, "wall_theta_max_degrees", false)?;
+    let t = p.num("wall_theta_max_degrees")?;
+    Ok((le, rho, partial_shapes::port_fraction_of_cap_degrees(t)))
 }
 
 /// The distribution, masking, α and cos θo ∈ (0, 1] of a rough mirror's albedo.
@@ -1420,9 +1421,29 @@ mod tests {
                 json!({"emitted_radiance": 1, "albedo": 1, "wall_theta_max_degrees": 179.99999999}),
             ),
         );
-        let f = partial_shapes::port_fraction_of_cap(179.99999999f64.to_radians());
+        // 1/cos²(θmax/2) at the f64 θmax, in 40-digit mpmath (session 40).
         let v = v.unwrap();
-        assert!((v * f - 1.0).abs() < 1e-12, "{v} vs 1/{f}");
+        assert!((v / 1.313_120_456_651_320_4e20 - 1.0).abs() < 1e-12, "{v}");
+    }
+
+    /// A tiny port's fraction is taken from 180° − θmax, exact in degrees: through
+    /// radians, π − θmax rounded (2.5·10⁻¹¹ relative at 179.999°, 2.7·10⁻⁸ at
+    /// 179.999999°). References: 1/cos²(θmax/2) at the f64 θmax, 40-digit mpmath.
+    #[test]
+    fn integrating_sphere_tiny_port_keeps_its_digits() {
+        for (t, want) in [
+            (179.999, 13_131_225_400.254_91),
+            (179.999999, 1.313_122_546_635_329e16),
+            (90.0, 2.0),
+            (1e-6, 1.000_000_000_000_000_1),
+        ] {
+            let v = evaluate(
+                "furnace_integrating_sphere_cap",
+                &obj(json!({"emitted_radiance": 1, "albedo": 1, "wall_theta_max_degrees": t})),
+            )
+            .unwrap();
+            assert!((v / want - 1.0).abs() < 1e-13, "θmax {t}: {v} vs {want}");
+        }
     }
 
     /// Finite true values at extreme scales come out finite (they were "non-finite

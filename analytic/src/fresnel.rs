@@ -325,7 +325,11 @@ fn transmitted_average_large(eta: f64) -> f64 {
 /// Hemispherical average of the dielectric reflectance for light *inside* a medium of
 /// relative index η > 1 (η = n_inside / n_outside), including total internal reflection.
 ///
-/// **Formula.** F̄_in(η) = 1 − (1 − F̄_out(η)) / η².
+/// **Formula.** F̄_in(η) = 1 − (1 − F̄_out(η)) / η², evaluated as
+/// ((η − 1)(η + 1) + F̄_out(η)) / η² below η = 2: near a matched index 1 − 1/η² cancels (it lost
+/// log₁₀(1/(η − 1)) digits, 3.5·10⁻¹⁰ relative at η = 1 + 10⁻⁷ and 1.6·10⁻⁵ at
+/// η = 1 + 10⁻¹², against a 40-digit mpmath quadrature of 2∫F μ dμ from inside), while
+/// η − 1 is exact there.
 ///
 /// **Derivation.** Reciprocity of transmission: radiance crossing the interface scales
 /// by η², and the étendue of the cone of transmitted directions inside is the outside
@@ -335,7 +339,12 @@ fn transmitted_average_large(eta: f64) -> f64 {
 /// **Source.** Walter et al. 2007 / d'Eon & Irving 2011 (internal diffuse reflectance);
 /// Siegel & Howell, interface reciprocity.
 pub fn dielectric_average_inside(eta: f64) -> f64 {
-    1.0 - (1.0 - dielectric_average(eta)) / (eta * eta)
+    if eta < 2.0 {
+        ((eta - 1.0) * (eta + 1.0) + dielectric_average(eta)) / (eta * eta)
+    } else {
+        // No cancellation here, and η² may overflow (the transmitted part → 0).
+        1.0 - (1.0 - dielectric_average(eta)) / (eta * eta)
+    }
 }
 
 /// Normal-incidence reflectance of a dielectric, R₀ = ((η − 1)/(η + 1))².
@@ -462,6 +471,29 @@ mod tests {
         let (eta, k) = (1e100, 3.0);
         let r0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
         assert!(rel(conductor(1.0, eta, k), r0) < 1e-12);
+    }
+
+    /// Near a matched index from inside, F̄_in ≈ 1 − 1/η² is small and 1 − (1 − F̄)/η²
+    /// cancelled: 3.5·10⁻¹⁰ relative at η = 1 + 10⁻⁷, 1.6·10⁻⁵ at 1 + 10⁻¹². References:
+    /// 2∫₀¹ F(μ; 1/η) μ dμ split at the critical μ, in 40-digit mpmath (session 40).
+    #[test]
+    fn average_inside_near_a_matched_index_does_not_cancel() {
+        for (eta, want) in [
+            (1.0000001, 2.333_332_206_633_736e-7),
+            (1.0001, 2.332_550_778_980_566e-4),
+            (1.01, 2.278_825_868_282_86e-2),
+            (1.000000000001, 2.333_540_768_008_422e-12),
+        ] {
+            let got = dielectric_average_inside(eta);
+            assert!(rel(got, want) < 1e-13, "η = {eta}: {got:e} vs {want:e}");
+            assert!(
+                rel(dielectric_average(1.0 / eta), want) < 1e-12,
+                "1/η = {}",
+                1.0 / eta
+            );
+        }
+        assert_eq!(dielectric_average_inside(1.0), 0.0);
+        assert_eq!(dielectric_average_inside(1e300), 1.0);
     }
 
     #[test]

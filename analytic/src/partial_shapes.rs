@@ -128,6 +128,16 @@ pub fn port_fraction_of_cap(theta_max: f64) -> f64 {
     c * c
 }
 
+/// [`port_fraction_of_cap`] for θmax given in degrees, as the catalog gives it:
+/// f = sin²((180° − θmax)/2), the port's own half-angle. 180 − θmax is exact for
+/// θmax ≥ 90 (Sterbenz), so a tiny port keeps its digits; converting θmax to radians
+/// first rounded π − θmax (relative error ~10⁻¹⁶·π/(π − θmax): 2.5·10⁻¹¹ at
+/// θmax = 179.999°, 2.7·10⁻⁸ at 179.999999°, against 40-digit mpmath).
+pub fn port_fraction_of_cap_degrees(theta_max_degrees: f64) -> f64 {
+    let s = (0.5 * (180.0 - theta_max_degrees)).to_radians().sin();
+    s * s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
