@@ -173,6 +173,7 @@ impl BsdfModel for RoughConductor {
     }
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
+        let wo_in = wo;
         // Unit length, so that the mirrored or refracted direction is unit too (and finite:
         // a non-finite or zero ωo becomes 0, which the side test below rejects).
         let wo = wo.normalize_or_zero();
@@ -191,15 +192,19 @@ impl BsdfModel for RoughConductor {
         if !(wi.z > 0.0) {
             return None;
         }
-        let pdf = mf.pdf_m(wo, m) / (4.0 * c);
-        if !(pdf > 0.0) || !pdf.is_finite() {
-            return None;
-        }
         let weight = self.fresnel(c) * mf.g2(wo, wi) / mf.g1(wo);
         if !weight.is_finite() {
             return None;
         }
+        // The density MIS sees is `pdf` at the given ωo and the returned f32 direction,
+        // whose half vector differs from m by rounding (at α = 10⁻⁴ one ulp moves D by up
+        // to 87% near grazing): next-event estimation evaluates that same function, so
+        // the two strategies' weights sum to 1.
         let wi = if flip { flip_z(wi) } else { wi };
+        let pdf = self.pdf(wo_in, wi);
+        if !(pdf > 0.0) || !pdf.is_finite() {
+            return None;
+        }
         Some(BsdfSample {
             wi,
             weight,
@@ -281,5 +286,42 @@ mod tests {
         assert_eq!(w.index(), Index::Fixed);
         let mut c = c;
         assert!(matches!(c.index(), Index::Conductor(..)));
+    }
+
+    /// The density a sample reports is `pdf` at the returned direction, bit for bit, so
+    /// that MIS weights the BSDF strategy and next-event estimation with one function.
+    /// It was the density of the sampled microfacet m, which differs from the half vector
+    /// of the rounded f32 direction: up to 0.3% apart at α = 10⁻⁴, 87% at grazing.
+    #[test]
+    fn a_samples_density_is_pdf_at_its_direction() {
+        use crate::bsdf::microfacet::{Distribution, Masking};
+        use crate::sampling::Sampler;
+        let s = Sampler::independent(17);
+        for alpha in [1e-4f32, 1e-3, 0.3] {
+            for distribution in [Distribution::Ggx, Distribution::Beckmann] {
+                for masking in [Masking::HeightCorrelated, Masking::Uncorrelated] {
+                    let model = RoughConductor {
+                        alpha,
+                        distribution,
+                        masking,
+                        ..RoughConductor::new(alpha, 0.2, 3.9)
+                    };
+                    for cos in [1e-3f32, 0.01, 0.5, 0.99, -0.01, -0.7] {
+                        let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
+                        for i in 0..200 {
+                            let mut st = s.stream(i);
+                            let u = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d());
+                            if let Some(smp) = model.sample(wo, u) {
+                                assert_eq!(
+                                    smp.pdf,
+                                    model.pdf(wo, smp.wi),
+                                    "α {alpha} cos {cos} {distribution:?} {masking:?}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 }

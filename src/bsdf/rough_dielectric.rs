@@ -203,6 +203,7 @@ impl BsdfModel for RoughDielectric {
 
     fn sample(&self, wo: Vec3, u: Vec3) -> Option<BsdfSample> {
         // Unit length, so that the mirrored or refracted direction is unit too.
+        let wo_in = wo;
         let wo = wo.normalize_or_zero();
         let flip = wo.z < 0.0;
         let (wo, _, _, _, etap) = self.canonical(wo, Vec3::ZERO);
@@ -254,6 +255,13 @@ impl BsdfModel for RoughDielectric {
             return None;
         }
         let wi = if flip { flip_z(wi) } else { wi };
+        // The density MIS sees is `pdf` at the given ωo and the returned f32 direction
+        // (whose generalised half vector differs from m by rounding), the function
+        // next-event estimation evaluates, so that the two strategies' weights sum to 1.
+        let pdf = self.pdf(wo_in, wi);
+        if !(pdf > 0.0) || !pdf.is_finite() {
+            return None;
+        }
         Some(BsdfSample {
             wi,
             weight,
@@ -329,6 +337,42 @@ mod tests {
                     "α = {alpha}, η = {eta}, ωo = {wo}: f = {got}, Walter: {want}"
                 );
                 assert!(b.pdf(wo, wi) > 0.0, "α = {alpha}, η = {eta}, ωo = {wo}");
+            }
+        }
+    }
+
+    /// The density a sample reports is `pdf` at the returned direction, bit for bit, so
+    /// that MIS weights the BSDF strategy and next-event estimation with one function.
+    /// It was the density of the sampled microfacet m, which differs from the half vector
+    /// of the rounded f32 direction: up to 0.3% apart at α = 10⁻⁴, 87% at grazing.
+    #[test]
+    fn a_samples_density_is_pdf_at_its_direction() {
+        use crate::bsdf::microfacet::{Distribution, Masking};
+        use crate::sampling::Sampler;
+        let s = Sampler::independent(17);
+        for alpha in [1e-4f32, 1e-3, 0.3] {
+            for distribution in [Distribution::Ggx, Distribution::Beckmann] {
+                for masking in [Masking::HeightCorrelated, Masking::Uncorrelated] {
+                    let model = RoughDielectric {
+                        distribution,
+                        masking,
+                        ..RoughDielectric::new(alpha, 1.5)
+                    };
+                    for cos in [1e-3f32, 0.01, 0.5, 0.99, -0.01, -0.7] {
+                        let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
+                        for i in 0..200 {
+                            let mut st = s.stream(i);
+                            let u = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d());
+                            if let Some(smp) = model.sample(wo, u) {
+                                assert_eq!(
+                                    smp.pdf,
+                                    model.pdf(wo, smp.wi),
+                                    "α {alpha} cos {cos} {distribution:?} {masking:?}"
+                                );
+                            }
+                        }
+                    }
+                }
             }
         }
     }
