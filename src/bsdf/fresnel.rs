@@ -234,6 +234,34 @@ mod tests {
                 assert!(tan.length() <= 4.0 * f32::EPSILON, "η {eta}, ω {w}: t {t}");
             }
         }
+        // About a tilted normal (a microfacet's m, whose squared length is 1 only to
+        // rounding), where ω's normal part is not removed exactly by one projection: the
+        // second removes what is left, which 1/η would magnify.
+        let mut worst = 0.0f32;
+        for (i, m) in [(0.3f32, -0.2, 1.0), (-0.7, 0.1, 0.4), (0.05, 0.9, 0.3)]
+            .into_iter()
+            .enumerate()
+        {
+            let n = Vec3::from(m).normalize();
+            let f = crate::math::Frame::from_z(n);
+            for eta in [0.01f32, 0.05, 0.2] {
+                for k in 0..=200 {
+                    let sin = eta * k as f32 / 200.0;
+                    let local = Vec3::new(sin * 0.6, sin * 0.8, (1.0 - sin * sin).sqrt());
+                    let w = f.to_world(local).normalize();
+                    let Some(t) = refract(w, n, eta) else {
+                        continue;
+                    };
+                    worst = worst.max((t.length() - 1.0).abs());
+                    assert!(
+                        (t.length() - 1.0).abs() <= 8.0 * f32::EPSILON,
+                        "normal {i}, η {eta}, ω {w}: |t| − 1 = {:e}",
+                        t.length() - 1.0
+                    );
+                }
+            }
+        }
+        println!("tilted normals: worst |t| − 1 = {worst:e}");
     }
 
     #[test]
