@@ -217,6 +217,7 @@ mod tests {
         let w = Vec3::new(0.000_488_281_25, 0.0, 0.999_999_9);
         let t = refract(w, Vec3::Z, 0.01).unwrap();
         assert!((t.length() - 1.0).abs() <= 4.0 * f32::EPSILON, "{t}");
+        let mut refracted = 0;
         for eta in [0.01f32, 0.02, 0.05, 0.1, 0.2, 0.249] {
             for k in 0..=1000 {
                 let sin = eta * k as f32 / 1000.0;
@@ -224,6 +225,9 @@ mod tests {
                 let Some(t) = refract(w, Vec3::Z, eta) else {
                     continue;
                 };
+                refracted += 1;
+                // Onto the other side.
+                assert!(t.z < 0.0, "η {eta}, ω {w}: t {t}");
                 assert!(
                     (t.length() - 1.0).abs() <= 4.0 * f32::EPSILON,
                     "η {eta}, ω {w}: t {t}, |t| − 1 = {:e}",
@@ -234,6 +238,8 @@ mod tests {
                 assert!(tan.length() <= 4.0 * f32::EPSILON, "η {eta}, ω {w}: t {t}");
             }
         }
+        // Every ω up to the critical angle sin θc = η refracts (k = 1000 may not).
+        assert!(refracted >= 6 * 1000, "{refracted}");
         // About a tilted normal (a microfacet's m, whose squared length is 1 only to
         // rounding), where ω's normal part is not removed exactly by one projection: the
         // second removes what is left, which 1/η would magnify.
@@ -252,6 +258,7 @@ mod tests {
                     let Some(t) = refract(w, n, eta) else {
                         continue;
                     };
+                    assert!(t.dot(n) < 0.0, "normal {i}, η {eta}, ω {w}: t {t}");
                     worst = worst.max((t.length() - 1.0).abs());
                     assert!(
                         (t.length() - 1.0).abs() <= 8.0 * f32::EPSILON,
