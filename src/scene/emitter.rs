@@ -1161,6 +1161,39 @@ mod tests {
             }
         }
         assert!(lit >= 40, "{lit} samples");
+        // The move is a few ulps, never a jump to the centre: at every u near a row's or
+        // a column's edge (the u.y edges of a map lit in every other row), w reads back
+        // the pixel drawn and lies within 10⁻⁵ rad of the unmoved direction.
+        let rows = EnvMap::new(
+            4,
+            6,
+            (0..24)
+                .map(|i| if (i / 4) % 2 == 0 { 1.0 } else { 0.0 })
+                .collect(),
+        );
+        let mut moved = 0;
+        for m in [&sparse, &rows] {
+            for k in 0..=2000 {
+                for v in [k as f32 / 2000.0, crate::math::ONE_MINUS_EPSILON] {
+                    for u in [
+                        Vec2::new(v, 0.37),
+                        Vec2::new(0.41, v),
+                        Vec2::new(v, crate::math::ONE_MINUS_EPSILON - v * 1e-7),
+                    ] {
+                        let (uv, _) = m.distribution.sample(u);
+                        let (w0, _) = EnvMap::direction(uv);
+                        let Some((w, _)) = m.sample(u) else {
+                            continue;
+                        };
+                        assert_eq!(m.pixel(m.uv(w)), m.pixel(uv), "u {u}");
+                        moved += usize::from(w != w0);
+                        let angle = w.dot(w0).clamp(-1.0, 1.0).acos();
+                        assert!((w - w0).length() <= 1e-5, "u {u}: moved {angle} rad");
+                    }
+                }
+            }
+        }
+        assert!(moved > 0, "no sample needed a move");
         // A pixel whose density rounds to 0 in f32 (10⁻³⁸ beside 10³⁰: a ratio of 10⁻⁶⁸)
         // keeps a positive width in the f64 CDF, so u.x = 0 selects it: no sample.
         let faint = EnvMap::new(2, 1, vec![1e-38, 1e30]);
