@@ -350,6 +350,7 @@ mod tests {
         use crate::bsdf::microfacet::{Distribution, Masking};
         use crate::sampling::Sampler;
         let s = Sampler::independent(17);
+        let mut sampled = 0;
         for alpha in [1e-4f32, 1e-3, 0.3] {
             for distribution in [Distribution::Ggx, Distribution::Beckmann] {
                 for masking in [Masking::HeightCorrelated, Masking::Uncorrelated] {
@@ -369,11 +370,23 @@ mod tests {
                                     model.pdf(wo, smp.wi),
                                     "α {alpha} cos {cos} {distribution:?} {masking:?}"
                                 );
+                                // And the weight is f |cos θi| / pdf (to f32 rounding of
+                                // the terms that cancel, below 10⁻⁵ where pdf is normal).
+                                let f = model.eval(wo, smp.wi) * smp.wi.z.abs() / smp.pdf;
+                                if smp.pdf >= 1e-30 {
+                                    assert!(
+                                        ((smp.weight / f) as f64 - 1.0).abs() <= 1e-5,
+                                        "α {alpha} cos {cos}: weight {} for {f}",
+                                        smp.weight
+                                    );
+                                }
+                                sampled += 1;
                             }
                         }
                     }
                 }
             }
         }
+        assert!(sampled > 10_000, "{sampled} samples");
     }
 }
