@@ -65,6 +65,12 @@ impl Check<'_> {
             self.num(what, reference[i], scene[i], tol);
         }
     }
+    /// The reference's `point` and `normal` are the irradiance meter's `at` and `normal`.
+    fn receiver(&mut self, r: &Value, irradiance: &Value) {
+        self.vec("point", v3(&r["point"]), v3(&irradiance["at"]), TOL);
+        let n = unit(v3(&irradiance["normal"]));
+        self.vec("normal", unit(v3(&r["normal"])), n, TOL);
+    }
 }
 
 const TOL: f64 = 1e-12;
@@ -179,13 +185,7 @@ fn check_case(ck: &mut Check<'_>, c: &Value) {
             let s = emitters(scene)[0];
             let g = &s["geometry"];
             let i = irr.unwrap();
-            ck.vec("point", v3(&r["point"]), v3(&i["at"]), TOL);
-            ck.vec(
-                "normal",
-                unit(v3(&r["normal"])),
-                unit(v3(&i["normal"])),
-                TOL,
-            );
+            ck.receiver(r, i);
             ck.vec("center", v3(&r["center"]), v3(&g["center"]), TOL);
             ck.vec("axis", unit(v3(&r["axis"])), unit(v3(&g["normal"])), TOL);
             ck.num("radius", f(r, "radius"), f(g, "radius"), TOL);
@@ -230,13 +230,7 @@ fn check_case(ck: &mut Check<'_>, c: &Value) {
             let s = emitters(scene)[0];
             let g = &s["geometry"];
             let i = irr.unwrap();
-            ck.vec("point", v3(&r["point"]), v3(&i["at"]), TOL);
-            ck.vec(
-                "normal",
-                unit(v3(&r["normal"])),
-                unit(v3(&i["normal"])),
-                TOL,
-            );
+            ck.receiver(r, i);
             ck.vec("center", v3(&r["center"]), v3(&g["center"]), TOL);
             ck.num("radius", f(r, "radius"), f(g, "radius"), TOL);
             ck.num("radiance", f(r, "radiance"), radiance(s), TOL);
@@ -246,13 +240,7 @@ fn check_case(ck: &mut Check<'_>, c: &Value) {
             let i = irr.unwrap();
             ck.vec("light", v3(&r["light"]), v3(&e["position"]), TOL);
             ck.num("intensity", f(r, "intensity"), f(e, "intensity"), TOL);
-            ck.vec("point", v3(&r["point"]), v3(&i["at"]), TOL);
-            ck.vec(
-                "normal",
-                unit(v3(&r["normal"])),
-                unit(v3(&i["normal"])),
-                TOL,
-            );
+            ck.receiver(r, i);
             if e["type"] == "spot" {
                 let to = unit(sub(v3(&i["at"]), v3(&e["position"])));
                 let angle = dot(to, unit(v3(&e["direction"]))).acos().to_degrees();

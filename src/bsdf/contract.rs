@@ -812,6 +812,65 @@ mod tests {
     use super::*;
     use crate::bsdf::{Bsdf, Conductor, Lambertian, LobeFlags, RoughDielectric};
 
+    /// The density a rough model's sample reports is `pdf` at the given ωo and the
+    /// returned direction, bit for bit, so that MIS weights the BSDF strategy and
+    /// next-event estimation with one function (it was the density of the sampled
+    /// microfacet m, which differs from the half vector of the rounded f32 direction: up
+    /// to 0.3% apart at α = 10⁻⁴, 87% at grazing); and the weight is f |cos θi| / pdf.
+    #[test]
+    fn a_rough_samples_density_is_pdf_at_its_direction() {
+        use crate::bsdf::RoughConductor;
+        use crate::bsdf::microfacet::{Distribution, Masking};
+        use crate::sampling::Sampler;
+        let s = Sampler::independent(17);
+        let mut sampled = 0;
+        for alpha in [1e-4f32, 1e-3, 0.3] {
+            for distribution in [Distribution::Ggx, Distribution::Beckmann] {
+                for masking in [Masking::HeightCorrelated, Masking::Uncorrelated] {
+                    let conductor = RoughConductor {
+                        alpha,
+                        distribution,
+                        masking,
+                        ..RoughConductor::new(alpha, 0.2, 3.9)
+                    };
+                    let dielectric = RoughDielectric {
+                        distribution,
+                        masking,
+                        ..RoughDielectric::new(alpha, 1.5)
+                    };
+                    for model in [
+                        Bsdf::RoughConductor(conductor),
+                        Bsdf::RoughDielectric(dielectric),
+                    ] {
+                        for cos in [1e-3f32, 0.01, 0.5, 0.99, -0.01, -0.7] {
+                            let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
+                            for i in 0..200 {
+                                let mut st = s.stream(i);
+                                let u = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d());
+                                let Some(smp) = model.sample(wo, u) else {
+                                    continue;
+                                };
+                                let at = format!("{model:?} cos {cos}");
+                                assert_eq!(smp.pdf, model.pdf(wo, smp.wi), "{at}");
+                                // The weight to f32 rounding of the terms that cancel.
+                                let f = model.eval(wo, smp.wi) * smp.wi.z.abs() / smp.pdf;
+                                if smp.pdf >= 1e-30 {
+                                    assert!(
+                                        ((smp.weight / f) as f64 - 1.0).abs() <= 1e-5,
+                                        "{at}: weight {} for {f}",
+                                        smp.weight
+                                    );
+                                }
+                                sampled += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(sampled > 20_000, "{sampled} samples");
+    }
+
     /// A diffuse model whose `sample` never returns a sample.
     struct NeverSamples;
 
