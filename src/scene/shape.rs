@@ -442,12 +442,15 @@ fn intersect_sphere_wide(
     let (t0d, t1d) = (t0.min(t1), t0.max(t1));
     let (t0, t1) = (t0d as f32, t1d as f32);
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
-    let mut rel = f + d64 * t as f64;
-    if !(rel.length() > 0.0) {
-        // The root rounded to f32 lands on the centre of a sphere smaller than its
-        // rounding (t = 0.015625 for radius 10⁻¹⁵): the unrounded root keeps the side.
-        rel = f + d64 * if t == t0 { t0d } else { t1d };
-    }
+    // The point from the unrounded root: the f32 one can land on the centre of a sphere
+    // smaller than its rounding (t = 0.015625 for radius 10⁻¹⁵, once a NaN point) or on
+    // the wrong part of it (a ray down at x = 0.3 r onto r = 10⁻²⁰ from 1 away met it at
+    // t = 1 in f32, the point (r, 0, 0) with normal +x instead of (0.3, 0, 0.95)).
+    // Formed as l ∓ d √disc (the roots are b ∓ √disc, and l = f + d b is the ray's
+    // closest approach), since b ∓ √disc itself rounds √disc away when the sphere is
+    // small against the distance (1 ± 10⁻²⁰ is 1 in f64).
+    let sq = disc.sqrt() * if t == t0 { -1.0 } else { 1.0 };
+    let rel = l + d64 * sq;
     let len = rel.length();
     if !(len > 0.0 && len.is_finite()) {
         return None;
@@ -1128,6 +1131,24 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A sphere of radius 10⁻²⁰ (r² below the normal f32 range: the f64 form) hit off its
+    /// axis by a ray straight down at x = 0.3 r: the point is (0.3 r, 0, √0.91 r) and
+    /// the normal (0.3, 0, √0.91), on the side the ray comes from (it was (r, 0, 0) and
+    /// +x: the point of the root rounded to f32, t = 1).
+    #[test]
+    fn a_sphere_below_f32_squares_is_hit_where_the_ray_meets_it() {
+        let r = 1e-20f32;
+        let s = Primitive::Sphere {
+            center: Vec3::ZERO,
+            radius: r,
+        };
+        let o = Vec3::new(0.3 * r, 0.0, 1.0);
+        let h = s.intersect(o, -Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        let want = Vec3::new(0.3, 0.0, 0.91f32.sqrt());
+        assert!((h.n - want).length() <= 1e-5, "{h:?}");
+        assert!((h.p / r - want).length() <= 1e-5, "{h:?}");
     }
 
     /// pbrt-v4's watertight triangle test as written there (§6.5.3), everything per
