@@ -216,17 +216,15 @@ impl BsdfModel for RoughDielectric {
         if !(c > 0.0) {
             return None;
         }
-        let pm = mf.pdf_m(wo, m);
         let f = fr_dielectric(c, etap);
         let g1 = mf.g1(wo);
-        let (wi, pdf, weight, lobe, eta) = if u.z < f {
+        let (wi, weight, lobe, eta) = if u.z < f {
             let wi = reflect(wo, m);
             if !(wi.z > 0.0) {
                 return None;
             }
             (
                 wi,
-                pm / (4.0 * c) * f,
                 mf.g2(wo, wi) / g1,
                 LobeFlags::REFLECTION | LobeFlags::GLOSSY,
                 1.0,
@@ -236,22 +234,14 @@ impl BsdfModel for RoughDielectric {
             if !(wi.z < 0.0) {
                 return None;
             }
-            let (no, nf) = if flip {
-                (self.eta, 1.0)
-            } else {
-                (1.0, self.eta)
-            };
-            let t = transmittance(dot64(wo, m), dot64(wi, m), no, nf);
-            let pdf = (pm as f64 * transmission_jacobian(wo, wi, m, no, nf) * t as f64) as f32;
             (
                 wi,
-                pdf,
                 mf.g2(wo, wi) / (g1 * etap * etap),
                 LobeFlags::TRANSMISSION | LobeFlags::GLOSSY,
                 etap,
             )
         };
-        if !(pdf > 0.0) || !pdf.is_finite() || !weight.is_finite() {
+        if !weight.is_finite() {
             return None;
         }
         let wi = if flip { flip_z(wi) } else { wi };
