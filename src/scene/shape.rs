@@ -1018,6 +1018,35 @@ mod tests {
         );
     }
 
+    /// The hit point is re-projected onto the sphere (pbrt-v4 §6.8.5), so it lies on it
+    /// within its error bound γ₅|p − c| + γ₁|c| however far the ray came from: from 10⁴
+    /// away, f + d t itself is off the unit sphere by up to ~10⁴ ε ≈ 10⁻³, far beyond
+    /// the bound (3·10⁻⁷ about the origin); the reprojection's factor r/|f + d t| is what
+    /// brings it back (dividing by it instead doubled the error).
+    #[test]
+    fn hits_from_far_away_are_reprojected_onto_the_sphere() {
+        let mut stream = crate::sampling::Sampler::independent(5).stream(0);
+        for c in [Vec3::ZERO, Vec3::new(3.0, -2.0, 1.0)] {
+            let s = Primitive::Sphere {
+                center: c,
+                radius: 1.0,
+            };
+            for _ in 0..200 {
+                let from = uniform_sphere(stream.next_2d()) * 1e4;
+                let target = uniform_sphere(stream.next_2d()) * 0.9;
+                let o = c + from;
+                let d = (target - from).normalize();
+                let h = s.intersect(o, d, 0.0, f32::INFINITY).expect("aimed inside");
+                let dist = ((h.p.as_dvec3() - c.as_dvec3()).length() - 1.0).abs();
+                assert!(
+                    dist <= h.p_error.as_dvec3().length(),
+                    "{dist:e} off the sphere, bound {:?}",
+                    h.p_error
+                );
+            }
+        }
+    }
+
     /// Spheres whose f32 squares leave the normal range (radius 10⁻³⁰ and a subnormal
     /// 10⁻⁴², seen from 1 away; radius 10²⁰ and a centre 10²⁰ out, built in code past the
     /// loader's 10¹⁸ limit): a ray passing 3 radii off the centre misses (it was read as
