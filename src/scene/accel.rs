@@ -661,16 +661,23 @@ impl Accel {
 
     /// Closest hit with t in (tmin, tmax), tmin ≥ 0: (primitive index, hit).
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, Hit)> {
-        let ray = Ray::new(o, d);
         match &self.tree {
             None => {
                 let mut best: Option<(usize, Hit)> = None;
                 let mut tm = tmax;
+                // Prepared at the first triangle: the other primitives do not read it
+                // (a furnace's sphere paid its three divisions on every bounce).
+                let mut ray: Option<Ray> = None;
                 for (i, p) in self.prims.iter().enumerate() {
                     if self.skip[i] {
                         continue;
                     }
-                    if let Some(h) = p.intersect_ray(&ray, tmin, tm) {
+                    let hit = if p.reads_prepared_ray() {
+                        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tm)
+                    } else {
+                        p.intersect(o, d, tmin, tm)
+                    };
+                    if let Some(h) = hit {
                         tm = h.t;
                         best = Some((i, h));
                     }
@@ -678,6 +685,7 @@ impl Accel {
                 best
             }
             Some(tree) => {
+                let ray = Ray::new(o, d);
                 let mut best: Option<(usize, Hit)> = None;
                 tree.walk(o, d, tmin, tmax, |slot, prim, tm| {
                     match prim.intersect_ray(&ray, tmin, tm) {
@@ -761,14 +769,20 @@ impl Accel {
 
     /// Whether nothing lies on the segment t ∈ (tmin, tmax), tmin ≥ 0.
     pub fn unoccluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        let ray = Ray::new(o, d);
         match &self.tree {
-            None => self
-                .prims
-                .iter()
-                .zip(&self.skip)
-                .all(|(p, &skip)| skip || p.intersect_ray(&ray, tmin, tmax).is_none()),
+            None => {
+                let mut ray: Option<Ray> = None;
+                self.prims.iter().zip(&self.skip).all(|(p, &skip)| {
+                    skip || if p.reads_prepared_ray() {
+                        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tmax)
+                    } else {
+                        p.intersect(o, d, tmin, tmax)
+                    }
+                    .is_none()
+                })
+            }
             Some(tree) => {
+                let ray = Ray::new(o, d);
                 let mut clear = true;
                 tree.walk(o, d, tmin, tmax, |_, prim, _| {
                     if prim.intersect_ray(&ray, tmin, tmax).is_some() {

@@ -503,6 +503,21 @@ impl Ray {
 }
 
 impl Primitive {
+    /// Whether [`Primitive::intersect_ray`] reads the [`Ray`]'s prepared permutation and
+    /// shear (a triangle's watertight test); every other primitive's test takes the origin
+    /// and direction as they are, so a query over such primitives need not prepare it.
+    #[inline]
+    pub fn reads_prepared_ray(&self) -> bool {
+        match self {
+            Primitive::Triangle { .. } => true,
+            Primitive::Sphere { .. }
+            | Primitive::Rectangle { .. }
+            | Primitive::Disk { .. }
+            | Primitive::SphericalCap { .. }
+            | Primitive::Annulus { .. } => false,
+        }
+    }
+
     /// [`Primitive::intersect`] for a prepared [`Ray`]: the same result, bit for bit.
     #[inline]
     pub fn intersect_ray(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
