@@ -1054,6 +1054,47 @@ mod tests {
         assert!(checked > 200, "{checked}");
     }
 
+    /// [`prim_pdf`] by area where r² = |q − p|² is subnormal in `f32` or underflows to 0
+    /// (offsets from 10⁻²⁰ down to 10⁻²³ from a disk of radius 10⁻¹⁹): the closed form
+    /// r²/(A |cos θl|) with A = π r_disk², formed in f64 from the offset's own components,
+    /// to γ₄ (f32's π, its two products in A, the final rounding), at oblique cosines
+    /// (r²·cos against r²/cos would differ by cos²). A point seen edge-on has density 0
+    /// there as at a normal distance (the wide form returns `None`, not r²/0 = ∞).
+    #[test]
+    fn tiny_offsets_give_the_closed_form_area_density() {
+        let radius = 1e-19f32;
+        let disk = Primitive::Disk {
+            center: Vec3::ZERO,
+            normal: Vec3::Z,
+            radius,
+        };
+        let area = std::f64::consts::PI * (radius as f64).powi(2);
+        let mut wide = 0;
+        for s in [1e-20f32, 3e-21, 4e-23, 1e-23] {
+            for dir in [
+                Vec3::new(0.48, -0.6, 0.64),
+                Vec3::new(0.8, 0.0, -0.6),
+                Vec3::new(-0.96, 0.0, 0.28),
+            ] {
+                let d = dir * s;
+                // q = 0 (the disk's centre) seen from p = −d: q − p = d exactly.
+                let got = prim_pdf(&disk, -d, Vec3::ZERO, Vec3::Z);
+                let dd = d.as_dvec3();
+                let r2 = dd.length_squared();
+                let cos = dd.z.abs() / r2.sqrt();
+                let want = r2 / (area * cos);
+                assert!(close(got, want, 4), "d = {d:?}: {got:e} vs {want:e}");
+                wide += (d.length_squared() < f32::MIN_POSITIVE) as u32;
+            }
+            let edge_on = Vec3::new(s, -2.0 * s, 0.0);
+            assert_eq!(prim_pdf(&disk, -edge_on, Vec3::ZERO, Vec3::Z), 0.0, "{s:e}");
+            assert_eq!(area_to_solid_angle_wide(1.0, edge_on, Vec3::Z), None);
+        }
+        assert_eq!(wide, 12);
+        let edge_on = Vec3::new(1.0, -2.0, 0.0);
+        assert_eq!(prim_pdf(&disk, -edge_on, Vec3::ZERO, Vec3::Z), 0.0);
+    }
+
     /// A receiver 10⁻²⁰ (and 3·10⁻²⁰, 10⁻¹⁹) from a point or spot light: r² is subnormal
     /// in `f32`. The direction was d/√r², of length 1 + 2.6·10⁻⁶ at 10⁻²⁰; now it is unit
     /// to 2ε and I/r² is the `f64` value rounded (10³⁷ for I = 10⁻³ at 10⁻²⁰).
