@@ -962,6 +962,53 @@ mod tests {
         assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
     }
 
+    /// The plain loop over a scene that mixes triangles (whose test reads the ray's
+    /// prepared shear, formed at the first triangle met) with spheres and rectangles
+    /// (which take the ray as it is): closest hits and shadow rays as brute force finds
+    /// them, whether the first primitive is a triangle or not.
+    #[test]
+    fn plain_loop_with_triangles_agrees_with_brute_force() {
+        let sampler = Sampler::independent(29);
+        let mut prims = Vec::new();
+        for i in 0..LINEAR_LIMIT as u64 {
+            let mut s = sampler.stream(i);
+            let c = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 6.0;
+            let (a, b) = (
+                uniform_sphere(s.next_2d()) * 2.0,
+                uniform_sphere(s.next_2d()) * 2.0,
+            );
+            prims.push(match i % 3 {
+                0 => Primitive::Triangle {
+                    p: [c, c + a, c + b],
+                },
+                1 => Primitive::Sphere {
+                    center: c,
+                    radius: 0.7,
+                },
+                _ => Primitive::Rectangle {
+                    corner: c,
+                    u: a,
+                    v: b - a * (a.dot(b) / a.length_squared()),
+                },
+            });
+        }
+        let mut hits = 0;
+        for first in [0, 1] {
+            // Starting with a triangle, then with a sphere (the ray prepared later).
+            let accel = Accel::new(prims[first..].to_vec());
+            assert!(accel.tree.is_none());
+            for i in 0..600u64 {
+                let mut st = sampler.stream(1000 + i);
+                let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 10.0 - 2.0;
+                let target =
+                    accel.prims()[(i as usize) % accel.prims().len()].sample_area(st.next_2d());
+                let d = (target.p - o).normalize();
+                hits += usize::from(agrees(&accel, o, d, 0.0, f32::INFINITY).unwrap());
+            }
+        }
+        assert!(hits > 900, "{hits} hits");
+    }
+
     /// Brute force: every primitive in index order, the first of equal distances kept.
     fn brute(prims: &[Primitive], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(usize, f32)> {
         let mut best: Option<(usize, f32)> = None;
