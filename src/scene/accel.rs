@@ -603,6 +603,26 @@ const BUILD_EXTENT_LO: f32 = 1.0 / (1u64 << 30) as f32;
 /// … 2³⁰.
 const BUILD_EXTENT_HI: f32 = (1u64 << 30) as f32;
 
+/// `p`'s hit on the ray o + t d, t ∈ (tmin, tmax), for the loop without a BVH: the ray's
+/// prepared form (a triangle's permutation and shear) is made at the first primitive that
+/// reads it and kept in `ray` for the rest; the others take o and d as they are (a
+/// furnace's sphere paid the preparation's three divisions on every bounce).
+#[inline]
+fn intersect_lazily(
+    p: &Primitive,
+    ray: &mut Option<Ray>,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    if p.reads_prepared_ray() {
+        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tmax)
+    } else {
+        p.intersect(o, d, tmin, tmax)
+    }
+}
+
 /// Acceleration structure over primitives.
 pub struct Accel {
     prims: Vec<Primitive>,
@@ -665,19 +685,12 @@ impl Accel {
             None => {
                 let mut best: Option<(usize, Hit)> = None;
                 let mut tm = tmax;
-                // Prepared at the first triangle: the other primitives do not read it
-                // (a furnace's sphere paid its three divisions on every bounce).
                 let mut ray: Option<Ray> = None;
                 for (i, p) in self.prims.iter().enumerate() {
                     if self.skip[i] {
                         continue;
                     }
-                    let hit = if p.reads_prepared_ray() {
-                        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tm)
-                    } else {
-                        p.intersect(o, d, tmin, tm)
-                    };
-                    if let Some(h) = hit {
+                    if let Some(h) = intersect_lazily(p, &mut ray, o, d, tmin, tm) {
                         tm = h.t;
                         best = Some((i, h));
                     }
@@ -773,12 +786,7 @@ impl Accel {
             None => {
                 let mut ray: Option<Ray> = None;
                 self.prims.iter().zip(&self.skip).all(|(p, &skip)| {
-                    skip || if p.reads_prepared_ray() {
-                        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tmax)
-                    } else {
-                        p.intersect(o, d, tmin, tmax)
-                    }
-                    .is_none()
+                    skip || intersect_lazily(p, &mut ray, o, d, tmin, tmax).is_none()
                 })
             }
             Some(tree) => {
