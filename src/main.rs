@@ -579,10 +579,11 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             lightproof::render::check_output_name(&output)?;
             lightproof::io::check_output_file(&output)?;
             let t0 = std::time::Instant::now();
-            let (w, h, data) = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
+            let image = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
+            let (w, h, data) = (image.width, image.height, &image.pixels[..]);
             let seconds = t0.elapsed().as_secs_f64();
             let paths = (w * h) as f64 * spp as f64;
-            lightproof::render::write_image(&output, w, h, &data, exposure)
+            lightproof::render::write_image(&output, w, h, data, exposure)
                 .map_err(|e| IoError::write(&output, e))?;
             say!(
                 "wrote {} ({w}×{h}, {spp} spp): {paths} paths in {seconds:.3} s, {:.0} paths/s on {} threads",
@@ -590,9 +591,16 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 paths / seconds.max(f64::MIN_POSITIVE),
                 rayon::current_num_threads()
             );
+            if image.cut_at_guard > 0 {
+                say!(
+                    "{} of {paths} paths were still scattering at the guard of {} scatterings and were cut there: the image is short of the rest of their energy (give --max-depth to choose the cut)",
+                    image.cut_at_guard,
+                    lightproof::render::MAX_DEPTH
+                );
+            }
             // Never masked: a pixel that is not finite is a bug, kept in the image (in a
             // PNG, NaN black and +∞ white) and reported, and the command fails.
-            match lightproof::render::non_finite_pixels(w, &data) {
+            match lightproof::render::non_finite_pixels(w, data) {
                 (0, _) => Ok(()),
                 (n, first) => {
                     let (x, y) = first.unwrap_or_default();

@@ -12,13 +12,15 @@
 use crate::case::CaseDesc;
 use crate::error::{InputError, parse_json};
 use crate::math::Frame;
+use crate::sampling::SampleStream;
 use crate::sampling::{Sampler, SamplerKind};
+use crate::scene::Scene;
 use crate::spectrum::cie::{Observer, to_linear_srgb, xyz_e_to_linear_srgb};
 use crate::spectrum::{Response, VISIBLE};
 use crate::transport::Estimator;
 use crate::transport::measure::Measure;
-use crate::transport::path::{MAX_PATH_BOUNCES, Prev, trace};
-use crate::transport::phase::{Grey, Lanes, PhaseSample};
+use crate::transport::path::{Config, MAX_PATH_BOUNCES, Prev, trace};
+use crate::transport::phase::{Grey, Lanes, Phase, PhaseSample};
 use crate::transport::plan::{Plans, SpectralDesc, WavelengthSampling};
 use glam::Vec3;
 use glam::Vec4;
@@ -38,15 +40,31 @@ pub const MAX_RENDER_SAMPLES: u64 = 1 << 40;
 /// [`MAX_PATH_BOUNCES`]).
 pub const MAX_DEPTH: u32 = MAX_PATH_BOUNCES;
 
+/// A rendered image and what the guard cut.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Linear sRGB radiance per pixel, row by row from the top left.
+    pub pixels: Vec<[f32; 3]>,
+    /// Paths still scattering at the path tracer's guard of [`MAX_DEPTH`] scatterings
+    /// where no depth limit (`--max-depth`, the case's or the plan's) ended them first:
+    /// each was cut there, its value short of the rest of the path's energy (the image
+    /// is biased low by that much); `render` says so on stderr.
+    pub cut_at_guard: u64,
+}
+
 /// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
-/// scatterings (`None`: the plan's bound, else [`MAX_DEPTH`] with Russian roulette where
-/// more bounces can contribute); returns (width, height, linear sRGB radiance per pixel).
+/// scatterings (`None`: the plan's bound, else cut at the guard of [`MAX_DEPTH`] with
+/// Russian roulette where more bounces can contribute, each such cut counted).
 pub fn render_file(
     path: &Path,
     spp: u64,
     seed: u64,
     max_depth: Option<u32>,
-) -> Result<(usize, usize, Vec<[f32; 3]>), InputError> {
+) -> Result<Rendered, InputError> {
     let file = path.display().to_string();
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(&file, "-", e))?;
@@ -149,27 +167,35 @@ pub fn render_file(
     let to_rgb = xyz_e_to_linear_srgb();
     let mut cfg = plans.pruned.config(Estimator::Mis);
     // 0: only emission seen directly; 1: direct lighting; and so on. An image is for
-    // looking: without `--max-depth` its paths end at the path tracer's guard of 2¹⁶
-    // scatterings (where a measurement would fail on a +∞ sample).
-    cfg.max_bounces = cfg.max_bounces.min(max_depth.unwrap_or(MAX_DEPTH));
+    // looking: without a depth limit a path still scattering at the path tracer's guard
+    // of 2¹⁶ scatterings returns +∞ (where a measurement fails); it is traced again, the
+    // same path from the same stream, with the guard as its limit (`cut`), and counted.
+    cfg.max_bounces = cfg.max_bounces.min(max_depth.unwrap_or(u32::MAX));
+    let cut = Config {
+        max_bounces: cfg.max_bounces.min(MAX_DEPTH),
+        ..cfg
+    };
+    let cut = (cut.max_bounces != cfg.max_bounces).then_some(&cut);
     let sampler = Sampler::new(SamplerKind::Independent, seed, 1);
     let (w, h) = (c.width, c.height);
-    let pixels: Vec<[f32; 3]> = (0..w * h)
+    let traced: Vec<([f32; 3], u64)> = (0..w * h)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
             // Grey: the radiance in [0]; spectral: the E-normalised X̂, Ŷ, Ẑ.
             let mut sum = [0.0f64; 3];
+            let mut cuts = 0u64;
             for k in 0..spp {
-                let mut s = sampler.stream(i as u64 * spp + k);
+                let index = i as u64 * spp + k;
+                let mut s = sampler.stream(index);
                 let j = s.next_2d();
                 let px = (2.0 * (x as f32 + j.x) / w as f32 - 1.0) * tan * aspect;
                 let py = (1.0 - 2.0 * (y as f32 + j.y) / h as f32) * tan;
                 let d = (fwd + right * px + up * py).normalize();
-                let (o, prev) = (Vec3::ZERO, Prev::sensor(Vec3::ZERO));
+                let o = Vec3::ZERO;
                 if spectral {
                     let phase: PhaseSample<Vec4> = dims.draw(&mut s);
-                    let l = trace(&scene, &cfg, &phase, o, d, prev, 0, &mut s);
+                    let l = trace_cut(&scene, &cfg, cut, &phase, o, d, &mut s, &mut cuts);
                     for lane in 0..Vec4::LANES {
                         let v = l.lane(lane) * phase.weight.lane(lane);
                         let cmf = observer.weights(phase.lambda[lane]);
@@ -178,18 +204,53 @@ pub fn render_file(
                         }
                     }
                 } else {
-                    sum[0] += trace(&scene, &cfg, &Grey, o, d, prev, 0, &mut s) as f64;
+                    sum[0] += trace_cut(&scene, &cfg, cut, &Grey, o, d, &mut s, &mut cuts) as f64;
                 }
             }
             let mean = sum.map(|v| v / spp.max(1) as f64);
-            if spectral {
+            let rgb = if spectral {
                 to_linear_srgb(&to_rgb, mean)
             } else {
                 [mean[0] as f32; 3]
-            }
+            };
+            (rgb, cuts)
         })
         .collect();
-    Ok((w, h, pixels))
+    Ok(Rendered {
+        width: w,
+        height: h,
+        cut_at_guard: traced.iter().map(|t| t.1).sum(),
+        pixels: traced.into_iter().map(|t| t.0).collect(),
+    })
+}
+
+/// The radiance along the camera ray o + t d under `cfg`; where `cut` is given and the
+/// path came back +∞ from the guard, the same path (the stream as it was) traced under
+/// `cut`, whose depth limit is the guard, counted in `cuts` (a path that is still not
+/// finite is a bug, kept as it is).
+#[allow(clippy::too_many_arguments)]
+fn trace_cut<P: Phase>(
+    scene: &Scene,
+    cfg: &Config,
+    cut: Option<&Config>,
+    phase: &P,
+    o: Vec3,
+    d: Vec3,
+    stream: &mut SampleStream,
+    cuts: &mut u64,
+) -> P::L {
+    let resume = cut.map(|c| (c, stream.clone()));
+    let l = trace(scene, cfg, phase, o, d, Prev::sensor(o), 0, stream);
+    if let Some((cut, mut again)) = resume
+        && l.max_lane() == f32::INFINITY
+    {
+        let cut_l = trace(scene, cut, phase, o, d, Prev::sensor(o), 0, &mut again);
+        if cut_l.all_finite() {
+            *cuts += 1;
+            return cut_l;
+        }
+    }
+    l
 }
 
 /// The pixels of an image with a component that is not finite (NaN or ±∞: a bug of the
@@ -383,7 +444,9 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("flat.json");
         std::fs::write(&path, case).unwrap();
-        let (w, h, px) = render_file(&path, 1024, 9, None).unwrap();
+        let image = render_file(&path, 1024, 9, None).unwrap();
+        assert_eq!(image.cut_at_guard, 0);
+        let (w, h, px) = (image.width, image.height, image.pixels);
         let n = (w * h) as f64;
         for c in 0..3 {
             let mean = px.iter().map(|p| p[c] as f64).sum::<f64>() / n;
@@ -395,12 +458,15 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
-    /// An image is for looking: without `--max-depth` a path ends at the guard of
-    /// [`MAX_DEPTH`] scatterings, where a measurement's path returns +∞. Inside a white
-    /// closed sphere emitting 1 (an infinite answer) the one pixel is finite (and more
-    /// than the emission seen directly, which `--max-depth 0` gives exactly).
+    /// An image is for looking: without `--max-depth` a path still scattering at the
+    /// guard of [`MAX_DEPTH`] scatterings (where a measurement's path returns +∞) is cut
+    /// there and counted. Inside a white closed sphere emitting 1 (an infinite answer;
+    /// roulette keeps every path, β = 1) the one path reaches it: the pixel is finite,
+    /// more than the emission seen directly (which `--max-depth 0` gives exactly), the
+    /// same to the bit as `--max-depth 65536` (the same path, cut by a limit the user
+    /// chose, so not counted), and the one cut is counted.
     #[test]
-    fn an_unbounded_render_ends_at_the_guard() {
+    fn an_unbounded_render_is_cut_at_the_guard_and_counted() {
         let case = r#"{"name": "white furnace", "teaches": "the guard",
           "scene": {"materials": {"white": {"type": "lambertian", "albedo": 1}},
             "shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1},
@@ -411,11 +477,14 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("white.json");
         std::fs::write(&path, case).unwrap();
-        let (_, _, px) = render_file(&path, 1, 3, None).unwrap();
-        let v = px[0][0];
+        let image = render_file(&path, 1, 3, None).unwrap();
+        let v = image.pixels[0][0];
         assert!(v.is_finite() && v > 1.0, "{v}");
-        let (_, _, px) = render_file(&path, 1, 3, Some(0)).unwrap();
-        assert_eq!(px[0][0], 1.0);
+        assert_eq!(image.cut_at_guard, 1);
+        let limited = render_file(&path, 1, 3, Some(MAX_DEPTH)).unwrap();
+        assert_eq!((limited.pixels[0][0], limited.cut_at_guard), (v, 0));
+        let direct = render_file(&path, 1, 3, Some(0)).unwrap();
+        assert_eq!((direct.pixels[0][0], direct.cut_at_guard), (1.0, 0));
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -301,6 +301,44 @@ const LIT_FLOOR: &str = r#"{
   "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
   "estimators": ["light"] }"#;
 
+/// A path still scattering at the guard of 2¹⁶ scatterings (a white closed sphere:
+/// roulette keeps every path) is cut there when `render` has no `--max-depth`, and
+/// stderr says how many were; with `--max-depth 65536` the same image, no such line.
+#[test]
+fn render_says_how_many_paths_the_guard_cut() {
+    let case = tmp(
+        "white_furnace_camera.json",
+        r#"{"name": "white furnace", "teaches": "the guard",
+          "scene": {"materials": {"white": {"type": "lambertian", "albedo": 1}},
+            "shapes": [{"geometry": {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+              "material": "white", "flip_normals": true, "emission": {"radiance": 1}}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 2, "height": 1},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#,
+    );
+    let dir = case.parent().unwrap().to_path_buf();
+    let render = |depth: Option<&str>, name: &str| {
+        let mut cmd = bin();
+        cmd.args(["render", "--spp", "1", "-o"])
+            .arg(dir.join(name))
+            .arg(&case);
+        if let Some(d) = depth {
+            cmd.args(["--max-depth", d]);
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        (std::fs::read(dir.join(name)).unwrap(), err)
+    };
+    let (cut, err) = render(None, "guard.exr");
+    assert!(
+        err.contains("2 of 2 paths were still scattering at the guard of 65536 scatterings"),
+        "{err}"
+    );
+    let (limited, err) = render(Some("65536"), "limit.exr");
+    assert_eq!(cut, limited, "the same paths, cut at the same depth");
+    assert!(!err.contains("guard"), "a limit the user chose: {err}");
+}
+
 /// `render --threads T --max-depth D`: bounds checked (exit 2 naming the flag), the
 /// image identical for any thread count, time and paths/s on stderr, and a depth of 0
 /// leaving only the emission seen directly (none here), 1 adding direct lighting.
@@ -356,10 +394,9 @@ fn render_takes_threads_and_max_depth() {
     );
     assert_eq!(one, render("2", Some("65536"), "deep.exr"));
     let pixels = |depth: u32| {
-        let (w, h, data) =
-            lightproof::render::render_file(&case, 8, 1, Some(depth)).expect("renders");
-        assert_eq!(data.len(), w * h);
-        data
+        let image = lightproof::render::render_file(&case, 8, 1, Some(depth)).expect("renders");
+        assert_eq!(image.pixels.len(), image.width * image.height);
+        image.pixels
     };
     assert!(
         pixels(0).iter().all(|&v| v == [0.0; 3]),
@@ -379,7 +416,9 @@ fn render_takes_threads_and_max_depth() {
         &LIT_FLOOR.replace(r#""look_at": [0, 0, 0]"#, r#""look_at": [0, 0, 3]"#),
     );
     for depth in [Some(0), None] {
-        let (_, _, data) = lightproof::render::render_file(&up, 8, 1, depth).expect("renders");
+        let data = lightproof::render::render_file(&up, 8, 1, depth)
+            .expect("renders")
+            .pixels;
         assert!(
             !data.is_empty() && data.iter().all(|&p| p == [10.0; 3]),
             "depth {depth:?}: {data:?}"

@@ -738,7 +738,12 @@ fn render_samples_the_visible_range_whatever_the_case_band() {
     std::fs::write(&path, json).unwrap();
     let rendered = lightproof::render::render_file(&path, 1024, common::seed() ^ 100, None);
     std::fs::remove_dir_all(&dir).unwrap();
-    let (w, h, px) = rendered.unwrap_or_else(|e| panic!("{e}"));
+    let lightproof::render::Rendered {
+        width: w,
+        height: h,
+        pixels: px,
+        ..
+    } = rendered.unwrap_or_else(|e| panic!("{e}"));
     let n = (w * h) as f64;
     for c in 0..3 {
         let mean = px.iter().map(|p| p[c] as f64).sum::<f64>() / n;

@@ -974,7 +974,12 @@ fn the_blackbody_scene_scales_every_sphere_to_unit_luminance() {
     assert_eq!(temperatures.first(), Some(&1900.0));
     assert_eq!(temperatures.last(), Some(&12000.0));
     assert_eq!(temperatures.len(), 5, "{temperatures:?}");
-    let (w, h, data) = lightproof::render::render_file(&path, 1, 1, Some(2)).expect("renders");
+    let lightproof::render::Rendered {
+        width: w,
+        height: h,
+        pixels: data,
+        ..
+    } = lightproof::render::render_file(&path, 1, 1, Some(2)).expect("renders");
     assert_eq!(data.len(), w * h);
     assert!(data.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
 }
