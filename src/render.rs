@@ -440,11 +440,7 @@ mod tests {
           "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 16, "height": 16},
           "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
           "spectral": {"band": [360, 830]}, "estimators": ["mis"]}"#;
-        let dir = std::env::temp_dir().join(format!("lightproof-white-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("flat.json");
-        std::fs::write(&path, case).unwrap();
-        let image = render_file(&path, 1024, 9, None).unwrap();
+        let image = render_case("flat", case, &[(1024, 9, None)]).remove(0);
         assert_eq!(image.cut_at_guard, 0);
         let (w, h, px) = (image.width, image.height, image.pixels);
         let n = (w * h) as f64;
@@ -455,7 +451,6 @@ mod tests {
             assert!(se > 0.0 && se < 0.002 * 2.0, "channel {c}: se {se}");
             assert!((mean - 2.0).abs() < 4.5 * se, "channel {c}: {mean} ± {se}");
         }
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     /// An image is for looking: without `--max-depth` a path still scattering at the
@@ -473,18 +468,55 @@ mod tests {
               "material": "white", "flip_normals": true, "emission": {"radiance": 1}}]},
           "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 30, "width": 1, "height": 1},
           "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#;
-        let dir = std::env::temp_dir().join(format!("lightproof-guard-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("white.json");
-        std::fs::write(&path, case).unwrap();
-        let image = render_file(&path, 1, 3, None).unwrap();
+        let runs = [(1, 3, None), (1, 3, Some(MAX_DEPTH)), (1, 3, Some(0))];
+        let [image, limited, direct] = <[Rendered; 3]>::try_from(render_case("guard", case, &runs))
+            .unwrap_or_else(|_| unreachable!());
         let v = image.pixels[0][0];
         assert!(v.is_finite() && v > 1.0, "{v}");
         assert_eq!(image.cut_at_guard, 1);
-        let limited = render_file(&path, 1, 3, Some(MAX_DEPTH)).unwrap();
         assert_eq!((limited.pixels[0][0], limited.cut_at_guard), (v, 0));
-        let direct = render_file(&path, 1, 3, Some(0)).unwrap();
         assert_eq!((direct.pixels[0][0], direct.cut_at_guard), (1.0, 0));
+    }
+
+    /// The pinhole's geometry: pixel (i, j) sees the directions fwd + right·px + up·py
+    /// with px ∈ [−1 + 2i/w, −1 + 2(i + 1)/w]·tan(fov/2)·(w/h) and py ∈ [1 − 2(j + 1)/h,
+    /// 1 − 2j/h]·tan(fov/2), right = fwd × up (−x looking along +z with +y up). An 8×4
+    /// image at fov 90° (tan = 1, aspect 2) looking along +z: the top-left pixel sees
+    /// x ∈ [1.5, 2], y ∈ [0.5, 1] on the plane z = 1, which a rectangle light of
+    /// radiance 3 over x ∈ [1.4, 2.1], y ∈ [0.4, 1.1] covers (every jittered ray hits
+    /// it: exactly 3), and no pixel beyond its neighbours sees any of it (exactly 0). A
+    /// flipped axis, a wrong aspect or field of view, or a pixel offset fails.
+    #[test]
+    fn the_pinhole_maps_pixels_to_directions() {
+        let case = r#"{"name": "corner light", "teaches": "the pinhole",
+          "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [1.4, 0.4, 1], "edge_u": [0, 0.7, 0], "edge_v": [0.7, 0, 0]},
+            "emission": {"radiance": 3}}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 90, "width": 8, "height": 4},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#;
+        let image = render_case("pinhole", case, &[(64, 5, None)]).remove(0);
+        assert_eq!((image.width, image.height), (8, 4));
+        for (k, p) in image.pixels.iter().enumerate() {
+            let (i, j) = (k % 8, k / 8);
+            match (i, j) {
+                (0, 0) => assert_eq!(*p, [3.0; 3], "({i}, {j})"),
+                (0 | 1, 0 | 1) => assert!(p[0] < 3.0, "({i}, {j}): {p:?}"),
+                _ => assert_eq!(*p, [0.0; 3], "({i}, {j})"),
+            }
+        }
+    }
+
+    /// Render the case text `case` once per (spp, seed, max_depth) in `runs`, from a file
+    /// in a folder of its own named after `name`.
+    fn render_case(name: &str, case: &str, runs: &[(u64, u64, Option<u32>)]) -> Vec<Rendered> {
+        let dir = std::env::temp_dir().join(format!("lightproof-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("case.json");
+        std::fs::write(&path, case).unwrap();
+        let images = runs
+            .iter()
+            .map(|&(spp, seed, depth)| render_file(&path, spp, seed, depth).unwrap())
+            .collect();
         std::fs::remove_dir_all(dir).unwrap();
+        images
     }
 }
