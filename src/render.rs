@@ -20,6 +20,7 @@ use crate::spectrum::{Response, VISIBLE};
 use crate::transport::Estimator;
 use crate::transport::measure::Measure;
 use crate::transport::path::{Config, MAX_PATH_BOUNCES, Prev, trace};
+use crate::transport::phase::TimeSetup;
 use crate::transport::phase::{Grey, Lanes, Phase, PhaseSample};
 use crate::transport::plan::{Plans, SpectralDesc, WavelengthSampling};
 use glam::Vec3;
@@ -141,7 +142,9 @@ pub fn render_file(
     // The same plan as `estimate` for radiance seen from the eye (effects depend on the
     // viewpoint, not on the pixel's direction): bounded depth, and no shadow rays where
     // nothing can occlude. Wavelength is sampled over the visible range where the scene
-    // varies with it (whatever the case's own `spectral` section measures); time is not.
+    // varies with it (whatever the case's own `spectral` section measures); time as the
+    // case's `time` section says (a shutter where something moves, an arrival-time bin),
+    // in a grey scene as in a spectral one.
     let eye_measure = Measure::Radiance {
         at: Vec3::ZERO,
         direction: fwd,
@@ -163,6 +166,7 @@ pub fn render_file(
     )?;
     let dims = &plans.pruned.dims;
     let spectral = dims.spectral.is_some();
+    let timed = dims.time != TimeSetup::default();
     let observer = Observer::over(VISIBLE.min as f64, VISIBLE.max as f64);
     let to_rgb = xyz_e_to_linear_srgb();
     let mut cfg = plans.pruned.config(Estimator::Mis);
@@ -203,6 +207,11 @@ pub fn render_file(
                             sum[c] += (v * cmf[c]) as f64;
                         }
                     }
+                } else if timed {
+                    // Grey but moving or time resolved: the time drawn as for a measurement
+                    // (its weight, the pruned wavelength factor, is not a radiance's).
+                    let phase: PhaseSample<f32> = dims.draw(&mut s);
+                    sum[0] += trace_cut(&scene, &cfg, cut, &phase, o, d, &mut s, &mut cuts) as f64;
                 } else {
                     sum[0] += trace_cut(&scene, &cfg, cut, &Grey, o, d, &mut s, &mut cuts) as f64;
                 }
@@ -478,6 +487,14 @@ mod tests {
         assert_eq!((direct.pixels[0][0], direct.cut_at_guard), (1.0, 0));
     }
 
+    /// A rectangle light of radiance 3 over x ∈ [1.4, 2.1], y ∈ [0.4, 1.1] on z = 1,
+    /// seen by an 8×4 camera at fov 90° looking along +z.
+    const PINHOLE: &str = r#"{"name": "corner light", "teaches": "the pinhole",
+          "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [1.4, 0.4, 1], "edge_u": [0, 0.7, 0], "edge_v": [0.7, 0, 0]},
+            "emission": {"radiance": 3}}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 90, "width": 8, "height": 4},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#;
+
     /// The pinhole's geometry: pixel (i, j) sees the directions fwd + right·px + up·py
     /// with px ∈ [−1 + 2i/w, −1 + 2(i + 1)/w]·tan(fov/2)·(w/h) and py ∈ [1 − 2(j + 1)/h,
     /// 1 − 2j/h]·tan(fov/2), right = fwd × up (−x looking along +z with +y up). An 8×4
@@ -488,12 +505,7 @@ mod tests {
     /// flipped axis, a wrong aspect or field of view, or a pixel offset fails.
     #[test]
     fn the_pinhole_maps_pixels_to_directions() {
-        let case = r#"{"name": "corner light", "teaches": "the pinhole",
-          "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [1.4, 0.4, 1], "edge_u": [0, 0.7, 0], "edge_v": [0.7, 0, 0]},
-            "emission": {"radiance": 3}}]},
-          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 90, "width": 8, "height": 4},
-          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}}, "estimators": ["mis"]}"#;
-        let image = render_case("pinhole", case, &[(64, 5, None)]).remove(0);
+        let image = render_case("pinhole", PINHOLE, &[(64, 5, None)]).remove(0);
         assert_eq!((image.width, image.height), (8, 4));
         for (k, p) in image.pixels.iter().enumerate() {
             let (i, j) = (k % 8, k / 8);
@@ -503,6 +515,44 @@ mod tests {
                 _ => assert_eq!(*p, [0.0; 3], "({i}, {j})"),
             }
         }
+    }
+
+    /// A grey scene samples time as a measurement does. Motion blur: a rectangle light of
+    /// radiance 1 (y ∈ [−2, 2] on z = 1) covering x ∈ [2.1, 3.9] at the shutter's start
+    /// moves by (−2, 0, 0) over the shutter [0, 1] s; a 4×1 image at fov 90° (pixel i sees
+    /// x ∈ [4 − 2(i+1), 4 − 2i], y ∈ [−1, 1]) then has pixels 0 and 1 each covered for
+    /// 0.45 of pixel × shutter (∫₀¹ overlap dt / 2 = 0.9/2), pixels 2 and 3 never. Each
+    /// lit pixel is judged by a z test at 4.5σ of its binomial spread (4096 paths: σ =
+    /// 0.0078; at the shutter's start alone they read 0.9 and 0). A time bin [0, 0.25] s
+    /// of a steady light weighs the radiance by its width: the covered pixel reads 3 ×
+    /// 0.25 exactly.
+    #[test]
+    fn a_grey_render_samples_the_shutter_and_the_bin() {
+        let case = r#"{"name": "moving light", "teaches": "motion blur",
+          "scene": {"shapes": [{"geometry": {"type": "rectangle", "corner": [2.1, -2, 1], "edge_u": [0, 4, 0], "edge_v": [1.8, 0, 0]},
+            "emission": {"radiance": 1}, "velocity": [-2, 0, 0]}]},
+          "camera": {"position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 90, "width": 4, "height": 1},
+          "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+          "time": {"shutter": [0, 1]}, "estimators": ["mis"]}"#;
+        let n = 4096;
+        let px = render_case("blur", case, &[(n, 7, None)]).remove(0).pixels;
+        let sigma = (0.45f64 * 0.55 / n as f64).sqrt();
+        for (i, p) in px.iter().enumerate() {
+            if i < 2 {
+                let z = (p[0] as f64 - 0.45) / sigma;
+                assert!(z.abs() < 4.5, "pixel {i}: {p:?}, z = {z}");
+            } else {
+                assert_eq!(*p, [0.0; 3], "pixel {i}");
+            }
+        }
+        let binned = PINHOLE.replace(
+            r#""estimators""#,
+            r#""time": {"bin": [0, 0.25]}, "estimators""#,
+        );
+        let px = render_case("bin", &binned, &[(16, 5, None)])
+            .remove(0)
+            .pixels;
+        assert_eq!(px[0], [0.75; 3]);
     }
 
     /// Render the case text `case` once per (spp, seed, max_depth) in `runs`, from a file

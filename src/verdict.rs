@@ -184,7 +184,8 @@ pub struct Outcome {
     pub samples: u64,
     /// Seed.
     pub seed: u64,
-    /// Mean.
+    /// Mean of the finite samples; NaN (`null` in JSON) where there is none, every
+    /// sample non-finite (a mean of no samples is no estimate, never 0).
     pub estimate: f64,
     /// Standard error a verdict uses (plain or batch means, see [`ErrorBar`]); absent
     /// when the estimate is exact.
@@ -240,7 +241,11 @@ impl Outcome {
             sampler,
             samples: total.count + total.non_finite,
             seed,
-            estimate: total.mean,
+            estimate: if total.count == 0 {
+                f64::NAN
+            } else {
+                total.mean
+            },
             std_error: bar.std_error,
             dof: bar.dof,
             exact: bar.exact(),
@@ -566,6 +571,23 @@ mod tests {
                 &e,
             )
         };
+        // Every sample non-finite: no estimate (NaN, `null` in JSON), never a mean of 0.
+        let lost = estimate((0..16).map(|_| batch(&[f64::NAN, f64::INFINITY])).collect());
+        let mut o = Outcome::new(
+            "lost",
+            Path::new("lost.json"),
+            &measure,
+            &plan,
+            Some(0.0),
+            Estimator::Light,
+            SamplerKind::Sobol,
+            1,
+            &lost,
+        );
+        assert!(o.estimate.is_nan() && o.non_finite == 32, "{o:?}");
+        assert!(serde_json::to_string(&o).unwrap().contains(r#""estimate":null"#));
+        o.judge(1e-4, 1);
+        assert!(!o.verdict.as_ref().unwrap().passed);
         let o = step(0.5);
         assert!(o.exact && o.std_error.is_none() && o.dof.is_none(), "{o:?}");
         assert_eq!((o.samples, o.estimate), (64, 0.5));

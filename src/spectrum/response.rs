@@ -12,6 +12,9 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 /// value at 555 nm to 683.002. Luminous quantities are K_m ∫ ȳ(λ) X_λ dλ.
 pub const LUMINOUS_EFFICACY: f64 = 683.002;
 
+/// An upper bound of [`photopic`] over every wavelength (the fit peaks just above 1).
+pub const PHOTOPIC_MAX: f32 = 1.01;
+
 /// The CIE 1931 2° photopic luminosity function ȳ(λ) (= V(λ)), λ in nm.
 ///
 /// **Formula.** The multi-lobe piecewise-Gaussian fit of C. Wyman, P.-P. Sloan and
@@ -88,6 +91,20 @@ impl Response {
             Response::Flat => finite_f64(0.5 * (b - a) * (b + a) * per_joule),
             Response::Photopic => finite_f64(super::cie::Y.moment(a, b) * per_joule),
             Response::Sampled(s) => s.photon_integral(band),
+        }
+    }
+
+    /// A bound on R over the band: 1 for flat, [`PHOTOPIC_MAX`] for the photopic fit
+    /// (its peak near 555 nm, `tests::the_photopic_bound_holds`), and the table's
+    /// [`Spectrum::max_in`]; 0 for a malformed band.
+    pub fn max_in(&self, band: Band) -> f32 {
+        if !(band.min <= band.max) {
+            return 0.0;
+        }
+        match self {
+            Response::Flat => 1.0,
+            Response::Photopic => PHOTOPIC_MAX,
+            Response::Sampled(s) => s.max_in(band),
         }
     }
 
@@ -169,6 +186,34 @@ fn ser_response_body<S: Serializer>(s: &Spectrum, ser: S) -> Result<S::Ok, S::Er
 mod tests {
     use super::*;
     use crate::spectrum::{VISIBLE, gauss_legendre};
+
+    /// [`PHOTOPIC_MAX`] bounds the fit at every f32 wavelength from 1 to 10⁷ nm (every
+    /// f32 in [540, 570] nm, where the peak is, and a 10⁻³ nm grid up to 2000 nm, past
+    /// which the lobes are negligible), and is within 2% of its peak.
+    #[test]
+    fn the_photopic_bound_holds() {
+        let mut peak = 0.0f32;
+        let mut l = 540.0f32;
+        while l <= 570.0 {
+            peak = peak.max(photopic(l));
+            l = l.next_up();
+        }
+        for i in 0..2_000_000 {
+            peak = peak.max(photopic(i as f32 * 1e-3));
+        }
+        for l in [3e3, 1e4, 1e5, 1e7] {
+            peak = peak.max(photopic(l));
+        }
+        assert!(peak <= PHOTOPIC_MAX && peak > PHOTOPIC_MAX - 0.02, "{peak}");
+        let band = |a: f32, b: f32| Band { min: a, max: b };
+        assert_eq!(Response::Photopic.max_in(band(400.0, 700.0)), PHOTOPIC_MAX);
+        assert_eq!(Response::Flat.max_in(band(400.0, 700.0)), 1.0);
+        assert_eq!(Response::Flat.max_in(band(700.0, 400.0)), 0.0);
+        let table: Spectrum =
+            serde_json::from_value(serde_json::json!({"sampled": {"wavelengths": [400, 500], "values": [1, 3]}}))
+                .unwrap();
+        assert_eq!(Response::Sampled(table).max_in(band(400.0, 450.0)), 2.0);
+    }
 
     #[test]
     fn photopic_peak_and_area() {

@@ -412,6 +412,15 @@ case("band_1e39", "f32", SPECTRAL, [("spectral.band", [500, 1e39])], 2, "spectra
 sweep("band", SPECTRAL, "spectral.band", "spectral.band", ALL2, vec=(0, [380, 780]))
 sweep("response_value", SPECTRAL, "spectral.response.sampled.values", "spectral.response", NONNEG, vec=(1, [1, 1]),
       edits=[("spectral.response", {"sampled": {"wavelengths": [380, 780], "values": [1, 1]}})])
+# A response or an emitter's spectrum of 3e38 over 100 nm: each value fits f32, the
+# sample's weight R·width (or the spectrum times it) does not; every sample came out
+# non-finite ("an engine bug"). Refused up front naming `spectral`.
+case("response_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400, 500]),
+     ("spectral.response", {"sampled": {"wavelengths": [400, 500], "values": [3e38, 3e38]}})],
+     2, "spectral", "overflows f32")
+case("spectrum_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400, 500]),
+     ("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [400, 500], "values": [3e38, 3e38]}})],
+     2, "spectral", "overflows f32")
 sweep("wavelength", SPECTRAL, "spectral.wavelength", "spectral.wavelength", ALL2,
       edits=[("spectral", {"wavelength": 550})])
 # The shutter's end: -1 puts it before its start [-0.5, ...].
@@ -425,6 +434,10 @@ case("shutter_length_subnormal", "f32", MOVING, [("time.shutter", [1e-30, 1e-30 
      "time.shutter", "not a normal f32")
 case("shutter_length_overflow", "f32", MOVING, [("time.shutter", [-3e38, 3e38]),
      ("scene.emitters.0.velocity", [1e-30, 0, 0])], 2, "time.shutter", "not a normal f32")
+# A pulsed emitter that moves was sampled where it is at the shutter's time, not where it
+# flashed (0.030 where the flash at x = 0 gives 0.75 or nothing): pulse and motion refused.
+case("pulse_while_moving", "wrong", MOVING, [("scene.emitters.0.pulse_at", 0)], 2, "time.shutter",
+     "a pulse and motion together")
 sweep("bin", PULSE, "time.bin", "time.bin", SIGNED, vec=(0, PULSE["time"]["bin"]))
 sweep("bins", PULSE, "time.bins", "time.bins", SIGNED, vec=(0, [0, 4e-9, 5e-9]), edits=[("time.bin", DELETE)])
 

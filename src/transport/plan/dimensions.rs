@@ -135,9 +135,7 @@ fn wavelength(
             .map_err(|r| err("spectral.response", r.to_string()))?;
     }
     let varies = spectral_scene.then(|| varies.join(" and "));
-    if sd.photons {
-        check_photon_scale(f, scene, sd)?;
-    }
+    check_sample_scale(f, scene, sd)?;
     match (sd.band, sd.wavelength) {
         (Some(_), Some(_)) | (None, None) => Err(err(
             "spectral",
@@ -164,14 +162,16 @@ fn wavelength(
     }
 }
 
-/// Counting photons multiplies each emitter's strength by its spectrum and by λ/(hc)
-/// photons per joule (5·10²² at λ = 1 cm), and a wavelength drawn uniformly over a band
-/// by the band's width (the inverse of its density): the largest such product,
-/// max_e(strength·spectrum) × λ₂/(hc) × max(1, λ₂ − λ₁ nm), must fit f32, or a sample
-/// overflows to +∞ (an emitter of radiance 10¹⁸ counted over [10 nm, 1 cm] did). A
-/// bound, so a case just below it can still be refused; the field named is
-/// `spectral.photons`.
-fn check_photon_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), InputError> {
+/// A spectral sample weighs an emitter's strength by its spectrum, by the response over
+/// the density of the drawn wavelength (R·width for a band drawn uniformly: the largest
+/// weight), and when counting photons by λ/(hc) photons per joule (5·10²² at λ = 1 cm).
+/// The weight alone, R_max × [λ₂/(hc)] × max(1, λ₂ − λ₁ nm), and times the largest
+/// strength × spectrum, must fit f32, or a sample overflows to +∞ (an emitter of
+/// radiance 10¹⁸ counted in photons over [10 nm, 1 cm] did; so did a response or an
+/// emitter's spectrum of 3·10³⁸ over 100 nm, every sample non-finite). A bound, so a
+/// case just below it can still be refused; the field named is `spectral.photons` when
+/// counting photons, else `spectral`.
+fn check_sample_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), InputError> {
     let (lo, hi) = match (sd.band, sd.wavelength) {
         (Some([a, b]), None) => (a, b),
         (None, Some(l)) => (l, l),
@@ -193,13 +193,19 @@ fn check_photon_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), I
             e.kind.peak_strength() as f64 * spectrum as f64
         })
         .fold(0.0f64, f64::max);
-    let bound = peak / photon_energy(hi) * (hi - lo).max(1.0);
-    crate::error::check_derived(
-        f,
-        "spectral.photons",
-        bound,
-        "the largest photon count of a sample, strength × spectrum × λ₂/(hc) × band width,",
-    )
+    let weight = sd.response.max_in(band) as f64 * photon_factor(sd, hi) * (hi - lo).max(1.0);
+    let (field, what) = if sd.photons {
+        (
+            "spectral.photons",
+            "the largest photon count of a sample, strength × spectrum × response × λ₂/(hc) × band width,",
+        )
+    } else {
+        (
+            "spectral",
+            "the largest value of a sample, strength × spectrum × response × band width,",
+        )
+    };
+    crate::error::check_derived(f, field, weight * peak.max(1.0), what)
 }
 
 /// 1, or 1/(hc/λ) when counting photons.
@@ -492,6 +498,22 @@ fn time_dims(
         ));
     }
     let pulsed = scene.emitters.iter().any(|e| e.props.pulse.is_some());
+    // A path's scene is frozen at its one sampled time, the detection time, while a pulse
+    // fixes the time of emission: a pulsed emitter that moved (or in a scene where
+    // anything does) would be sampled where it is at the shutter's time, not where it
+    // flashed. Refused rather than answered wrongly.
+    if let (Some(k), Some(what)) = (
+        scene.emitters.iter().position(|e| e.props.pulse.is_some()),
+        moving.first(),
+    ) {
+        return Err(InputError::new(
+            f,
+            "time.shutter",
+            format!(
+                "emitter {k} is pulsed (`pulse_at`) while {what} moves: a path sees the scene at one time, so a pulse and motion together are not supported"
+            ),
+        ));
+    }
     let mut why = Vec::new();
     if !moving.is_empty() {
         why.push(format!(
@@ -547,48 +569,61 @@ mod tests {
         serde_json::from_value(v).unwrap()
     }
 
-    /// The photon-count bound: strength × λ₂/(hc) × band width against f32::MAX, on
-    /// either side of it, for a band and for one wavelength, with the strength of each
-    /// kind of emitter; a band it does not judge (refused elsewhere) passes here.
+    /// The sample-scale bound: strength × response × [λ₂/(hc)] × band width against
+    /// f32::MAX, on either side of it, for a band and for one wavelength, with the
+    /// strength of each kind of emitter, in photons and in energy; a band it does not
+    /// judge (refused elsewhere) passes here.
     #[test]
-    fn the_photon_count_of_a_sample_fits_f32() {
+    fn the_largest_sample_fits_f32() {
         let photons = |band: [f64; 2]| spectral(json!({ "band": band, "photons": true }));
         // λ₂/(hc) at 1 cm is 5.03e22 per joule; over a band of 1e7 nm a strength s gives
         // s·5.03e29, so 6.7e8 fits and 6.8e8 overflows.
         let e = |s: f64| json!({ "type": "point", "position": [0, 0, 1], "intensity": s });
         let band = photons([1.0, 1e7 + 1.0]);
-        assert!(check_photon_scale("c.json", &scene(e(6.7e8)), &band).is_ok());
-        let err = check_photon_scale("c.json", &scene(e(6.8e8)), &band).unwrap_err();
+        assert!(check_sample_scale("c.json", &scene(e(6.7e8)), &band).is_ok());
+        let err = check_sample_scale("c.json", &scene(e(6.8e8)), &band).unwrap_err();
         assert_eq!(err.field, "spectral.photons");
         // One wavelength: no band width; at 1 cm a strength of 6.7e15 fits, 6.8e15 not.
         let one = spectral(json!({ "wavelength": 1e7, "photons": true }));
-        assert!(check_photon_scale("c.json", &scene(e(6.7e15)), &one).is_ok());
-        assert!(check_photon_scale("c.json", &scene(e(6.8e15)), &one).is_err());
+        assert!(check_sample_scale("c.json", &scene(e(6.7e15)), &one).is_ok());
+        assert!(check_sample_scale("c.json", &scene(e(6.8e15)), &one).is_err());
         // A band narrower than 1 nm counts as 1 nm, not as its own width.
         let narrow = photons([1e7, 1e7 + 0.5]);
-        assert!(check_photon_scale("c.json", &scene(e(6.8e15)), &narrow).is_err());
+        assert!(check_sample_scale("c.json", &scene(e(6.8e15)), &narrow).is_err());
         // Each kind's strength: irradiance of a directional light, radiance of a sky.
         let sun = json!({ "type": "directional", "direction": [0, 0, -1], "irradiance": 6.8e15 });
-        assert!(check_photon_scale("c.json", &scene(sun), &one).is_err());
+        assert!(check_sample_scale("c.json", &scene(sun), &one).is_err());
         let sky = json!({ "type": "constant", "radiance": 6.8e15 });
-        assert!(check_photon_scale("c.json", &scene(sky), &one).is_err());
+        assert!(check_sample_scale("c.json", &scene(sky), &one).is_err());
         let sky = json!({ "type": "constant", "radiance": 6.7e15 });
-        assert!(check_photon_scale("c.json", &scene(sky), &one).is_ok());
+        assert!(check_sample_scale("c.json", &scene(sky), &one).is_ok());
         // The band's width, not its ratio: [10⁶, 10⁷] nm is 9·10⁶ nm wide, so the limit is
         // 3.4e38/(5.03e22 · 9e6) = 7.5e8.
+        // Energy: the response's peak times the band's width weighs a sample too (R·width
+        // for a uniformly drawn wavelength), named `spectral`; 3.3e36 over 100 nm fits,
+        // 3.5e36 not, and a strength below 1 does not excuse the weight itself.
+        let energy = |r: f64| {
+            spectral(json!({ "band": [400, 500],
+                "response": { "sampled": { "wavelengths": [400, 500], "values": [r, r] } } }))
+        };
+        assert!(check_sample_scale("c.json", &scene(e(1.0)), &energy(3.3e36)).is_ok());
+        let err = check_sample_scale("c.json", &scene(e(1.0)), &energy(3.5e36)).unwrap_err();
+        assert_eq!(err.field, "spectral");
+        assert!(check_sample_scale("c.json", &scene(e(1e-10)), &energy(3.5e36)).is_err());
+        assert!(check_sample_scale("c.json", &scene(e(1e2)), &energy(3.3e36)).is_err());
         let wide = photons([1e6, 1e7]);
-        assert!(check_photon_scale("c.json", &scene(e(7.4e8)), &wide).is_ok());
-        assert!(check_photon_scale("c.json", &scene(e(7.6e8)), &wide).is_err());
+        assert!(check_sample_scale("c.json", &scene(e(7.4e8)), &wide).is_ok());
+        assert!(check_sample_scale("c.json", &scene(e(7.6e8)), &wide).is_err());
         // A spectrum multiplies the strength: peak 4 moves the one-wavelength limit to 1.69e15.
         let shaped = |s: f64| {
             json!({ "type": "constant", "radiance": s,
                     "spectrum": { "sampled": { "wavelengths": [1, 2e7], "values": [4, 4] } } })
         };
-        assert!(check_photon_scale("c.json", &scene(shaped(1.6e15)), &one).is_ok());
-        assert!(check_photon_scale("c.json", &scene(shaped(1.75e15)), &one).is_err());
+        assert!(check_sample_scale("c.json", &scene(shaped(1.6e15)), &one).is_ok());
+        assert!(check_sample_scale("c.json", &scene(shaped(1.75e15)), &one).is_err());
         // A band refused elsewhere (λ₁ ≤ 0, λ₂ < λ₁) passes here.
         for bad in [[5.0, 1.0], [0.0, 1e7]] {
-            assert!(check_photon_scale("c.json", &scene(e(1e30)), &photons(bad)).is_ok());
+            assert!(check_sample_scale("c.json", &scene(e(1e30)), &photons(bad)).is_ok());
         }
     }
 
