@@ -585,7 +585,11 @@ mod tests {
             &lost,
         );
         assert!(o.estimate.is_nan() && o.non_finite == 32, "{o:?}");
-        assert!(serde_json::to_string(&o).unwrap().contains(r#""estimate":null"#));
+        assert!(
+            serde_json::to_string(&o)
+                .unwrap()
+                .contains(r#""estimate":null"#)
+        );
         o.judge(1e-4, 1);
         assert!(!o.verdict.as_ref().unwrap().passed);
         let o = step(0.5);

@@ -101,8 +101,22 @@ pub fn build(
 ) -> Result<Vec<Case>, InputError> {
     edges
         .windows(2)
-        .map(|w| Case::with_scene(with_bin(desc, w[0], w[1]), path, Some(scene)))
+        .enumerate()
+        .map(|(k, w)| {
+            Case::with_scene(with_bin(desc, w[0], w[1]), path, Some(scene))
+                .map_err(|e| name_the_bins(e, &format!("bin {k} [{}, {}] s", w[0], w[1])))
+        })
         .collect()
+}
+
+/// An error of a case built with `time.bin` set from `time.bins` (a bin, or the whole
+/// span): named as the field the file holds, `time.bins`, with which of its bins.
+pub fn name_the_bins(mut e: InputError, which: &str) -> InputError {
+    if e.field == "time.bin" {
+        e.field = "time.bins".into();
+        e.reason = format!("{which}: {}", e.reason);
+    }
+    e
 }
 
 impl Case {
@@ -208,10 +222,20 @@ mod tests {
                 }),
                 "reference.t1",
             ),
+            // A bin's own check (its width a normal f32) names `time.bins` and the bin,
+            // not the `time.bin` each bin is built with; so does the whole span's.
+            (
+                Box::new(set(vec![1e-30, 1e-30 + 1e-39, 1e-9])),
+                "time.bins: bin 0 [",
+            ),
+            (
+                Box::new(set(vec![2e-38, 2.5e-38, 3e-38])),
+                "time.bins: the whole span: its width",
+            ),
         ] {
             let e = with(&*edit).expect("refused");
             assert!(
-                e.contains(want) && e.contains("pulsed_disk_transient"),
+                e.contains(want) && e.contains("pulsed_disk_transient") && !e.contains("time.bin:"),
                 "{e}"
             );
         }

@@ -86,7 +86,8 @@ impl Case {
         let f = path.display().to_string();
         if let Some(e) = bins::edges(&f, &desc)? {
             let mut whole =
-                Case::with_scene(bins::with_bin(&desc, e[0], e[e.len() - 1]), path, None)?;
+                Case::with_scene(bins::with_bin(&desc, e[0], e[e.len() - 1]), path, None)
+                    .map_err(|err| bins::name_the_bins(err, "the whole span"))?;
             whole.bins = bins::build(&desc, path, &e, &whole.scene)?;
             whole.desc = desc;
             return Ok(whole);

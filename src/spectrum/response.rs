@@ -209,9 +209,10 @@ mod tests {
         assert_eq!(Response::Photopic.max_in(band(400.0, 700.0)), PHOTOPIC_MAX);
         assert_eq!(Response::Flat.max_in(band(400.0, 700.0)), 1.0);
         assert_eq!(Response::Flat.max_in(band(700.0, 400.0)), 0.0);
-        let table: Spectrum =
-            serde_json::from_value(serde_json::json!({"sampled": {"wavelengths": [400, 500], "values": [1, 3]}}))
-                .unwrap();
+        let table: Spectrum = serde_json::from_value(
+            serde_json::json!({"sampled": {"wavelengths": [400, 500], "values": [1, 3]}}),
+        )
+        .unwrap();
         assert_eq!(Response::Sampled(table).max_in(band(400.0, 450.0)), 2.0);
     }
 

@@ -7,8 +7,9 @@
 //! deterministic factor (Gauss–Legendre quadrature of R, or of R λ/(hc) for photons).
 //! **Time** is sampled only where an emitter moves (uniformly over the shutter) and path
 //! lengths are tracked only when the measurement is time resolved. The *full*
-//! dimensions sample everything (wavelength uniformly over the band or the visible
-//! range, time over the shutter or [0, 1] s) for the soundness proof.
+//! dimensions sample everything for the soundness proof: wavelength with the case's own
+//! sampler and four hero lanes over its band (uniformly over the visible range for a
+//! grey scene without one), time over the shutter or [0, 1] s.
 
 use super::{SpectralDesc, TimeDesc, WavelengthSampling};
 use crate::bsdf::BsdfModel;
