@@ -506,7 +506,7 @@ mod tests {
     #[test]
     fn the_pinhole_maps_pixels_to_directions() {
         let image = render_case("pinhole", PINHOLE, &[(64, 5, None)]).remove(0);
-        assert_eq!((image.width, image.height), (8, 4));
+        assert_eq!((image.width, image.height, image.pixels.len()), (8, 4, 32));
         for (k, p) in image.pixels.iter().enumerate() {
             let (i, j) = (k % 8, k / 8);
             match (i, j) {
