@@ -14,18 +14,24 @@
 //! - several renders (independent seeds): each render's pixel mean is one replicate; the
 //!   estimate is their mean, the error their standard error, judged by Student's t with
 //!   R − 1 degrees of freedom;
-//! - one render: batch means over [`BLOCKS`] contiguous blocks of pixels (row-major),
-//!   t with B − 1 degrees of freedom — valid when blocks are independent, as with
+//! - one render of n pixels: batch means over B = min([`BLOCKS`], n) contiguous blocks of
+//!   pixels (row-major), a block without a finite pixel dropped, t with one degree of
+//!   freedom fewer than the blocks kept — valid when blocks are independent, as with
 //!   per-pixel seeding; independent renders are the safer choice;
 //! - one render of one pixel has no error to estimate: bad input.
+//!
+//! **A case no sensor measures** (a geometric integral, an emitter's power or intensity:
+//! [`crate::export::sensorless`], what `export` refuses for that reason) is bad input
+//! naming `measure`: no pixel mean estimates it.
 //!
 //! **A bad `export.json`** is bad input naming it and the field: a `scale` outside
 //! [`crate::export::SCALE_RANGE`], a `width` or `height` of 0, or more pixels than a render
 //! may have ([`Manifest::check`]).
 //!
-//! **Bad renders** are bad input (exit 2, naming the file): not an EXR, no R, G, B
+//! **Bad renders** are bad input (exit 2, naming the file): empty, not an EXR, no R, G, B
 //! channels, a size other than the export's (or than the first render's), more than
-//! [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels. **Non-finite pixels** (NaN, ±∞) are
+//! [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels, a pixel the file holds no data for (a
+//! block missing, or claiming another block's lines: named by its line). **Non-finite pixels** (NaN, ±∞) are
 //! the renderer's answer, not a malformed file: they are counted and fail the verdict
 //! (exit 1), and the note names the file and the first such pixel. **Negative pixels**
 //! (any of R, G, B below zero: a mean of the three could hide one) are negative radiance,
@@ -67,6 +73,9 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
     let file = path.display().to_string();
     let bad = |r: String| InputError::new(&file, "-", r);
     let len = crate::io::check_input_file(path, crate::io::MAX_ASSET_BYTES).map_err(bad)?;
+    if len == 0 {
+        return Err(bad("the file is empty (0 bytes), not an EXR".into()));
+    }
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|e| bad(format!("not a readable EXR: {e}")))?;
     let Some(header) = meta.headers.first() else {
@@ -100,16 +109,20 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
             names.join(", ")
         )));
     }
+    // Every pixel starts unwritten (NaN, and `written` false): the reader, not pedantic,
+    // accepts a chunk table whose blocks skip a line (two blocks claiming the same y), and
+    // a pixel it never wrote once counted as 0, a wrong answer from a malformed file.
     let image = read_first_rgba_layer_from_file(
         path,
-        move |res, _| -> (usize, Vec<f64>, Negative) {
+        move |res, _| -> (usize, Vec<f64>, Vec<bool>, Negative) {
             let n = res.width().saturating_mul(res.height()).min(max);
-            (res.width(), vec![0.0; n], (0, None))
+            (res.width(), vec![f64::NAN; n], vec![false; n], (0, None))
         },
-        |(w, data, negative), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+        |(w, data, written, negative), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
             let i = pos.y() * *w + pos.x();
-            if let Some(v) = data.get_mut(i) {
+            if let (Some(v), Some(seen)) = (data.get_mut(i), written.get_mut(i)) {
                 *v = (r as f64 + g as f64 + b as f64) / 3.0;
+                *seen = true;
             }
             if r < 0.0 || g < 0.0 || b < 0.0 {
                 negative.0 += 1;
@@ -121,7 +134,16 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
         },
     )
     .map_err(|e| bad(format!("cannot read the EXR: {e}")))?;
-    let (_, pixels, negative) = image.layer_data.channel_data.pixels;
+    let (_, pixels, written, negative) = image.layer_data.channel_data.pixels;
+    let missing = written.iter().filter(|&&seen| !seen).count();
+    if let Some(i) = written.iter().position(|&seen| !seen) {
+        return Err(bad(format!(
+            "line {} of {h} has no pixel data ({missing} pixels missing, the first at ({}, {})): a block of the file is missing or claims another's lines",
+            i / w,
+            i % w,
+            i / w
+        )));
+    }
     Ok(Render {
         width: w,
         height: h,
@@ -339,6 +361,7 @@ impl Judgement {
                 tests,
             );
             self.z = Some(v.z);
+            let v = in_renderer_terms(v);
             let mut v = self.fail_negative(v);
             // A renderer's sample count is its own choice, outside the proof's
             // conditions: a pass that cannot see 0.5 % is marked weak, not failed.
@@ -400,6 +423,24 @@ impl Judgement {
     }
 }
 
+/// A verdict's reason in a foreign renderer's terms: the engine's wording names
+/// lightproof's 65536-bounce guard (a cause of +Inf no other renderer has) and, for an
+/// exact failure, asks for more samples, which `judge` does not take. A non-finite count
+/// comes first in every failed verdict, so it is the whole reason.
+fn in_renderer_terms(mut v: Verdict) -> Verdict {
+    if v.non_finite > 0 {
+        v.reason = Some(format!(
+            "{} non-finite pixels (NaN or Inf): the renderer's answer is not a number",
+            v.non_finite
+        ));
+    } else if let Some(r) = &mut v.reason
+        && let Some(head) = r.strip_suffix(crate::stats::hypothesis::MORE_SAMPLES)
+    {
+        *r = format!("{head}judge more renders, each with seeds of its own, to tell");
+    }
+    v
+}
+
 /// Judge renders of one case file (a family of one test at `alpha`). When the case is
 /// the `case.json` of an export folder (its `export.json` names it), the export's scale
 /// and render size apply; a case whose pixels are not the reference itself (a flux,
@@ -410,7 +451,7 @@ pub fn judge_case(
     renderer: &str,
     alpha: f64,
 ) -> Result<Judgement, Error> {
-    let case = Case::load(case_file)?;
+    let case = load_case(case_file)?;
     let manifest = export_manifest(case_file)?;
     let (scale, size) = match &manifest {
         Some(m) => (m.scale, Some((m.width, m.height))),
@@ -438,16 +479,43 @@ pub fn judge_case(
     Ok(j)
 }
 
-/// The manifest of the export folder holding `case_file`, if its `export.json` names it.
+/// Load a case a render can measure: one `export` refuses for want of a renderer sensor
+/// ([`crate::export::sensorless`]: a geometric integral, an emitter's power or intensity)
+/// is bad input naming `measure`, since its reference is no pixel mean's expected value.
+fn load_case(case_file: &Path) -> Result<Case, Error> {
+    let case = Case::load(case_file)?;
+    if let Some(why) = crate::export::sensorless(&case.desc.measure) {
+        return Err(InputError::new(
+            case_file.display().to_string(),
+            "measure",
+            format!(
+                "{why}: a render's pixels cannot measure it (`lightproof export` refuses it too)"
+            ),
+        )
+        .into());
+    }
+    Ok(case)
+}
+
+/// The manifest of the export folder holding `case_file`, if its `export.json` names it
+/// (its `case`). One that names another file is not this case's and is not checked: only
+/// its `case` is read (a file that is not JSON at all is bad input, since it may be).
 fn export_manifest(case_file: &Path) -> Result<Option<Manifest>, InputError> {
     let dir = case_file.parent().unwrap_or(Path::new("."));
     let path = dir.join("export.json");
     if !path.is_file() {
         return Ok(None);
     }
-    let m = read_manifest(&path)?;
-    let own = case_file.file_name().is_some_and(|n| *n == *m.case);
-    Ok(own.then_some(m))
+    let v: serde_json::Value = read_json(&path)?;
+    let own = v
+        .get("case")
+        .and_then(|c| c.as_str())
+        .zip(case_file.file_name())
+        .is_some_and(|(c, n)| *n == *c);
+    if !own {
+        return Ok(None);
+    }
+    read_manifest(&path).map(Some)
 }
 
 /// A judged suite: every rendered case, judged as one Šidák family, and the cases that
@@ -480,6 +548,54 @@ fn read_manifest(path: &Path) -> Result<Manifest, InputError> {
     Ok(m)
 }
 
+/// A suite's case ids are folders inside it, each listed once: an absolute id or one with
+/// a `..` would judge files outside the suite, and a repeated one would count its renders
+/// twice in the family (bad input naming `suite.json` and the index).
+fn check_ids(file: &Path, ids: &[String]) -> Result<(), InputError> {
+    use std::path::Component;
+    for (i, id) in ids.iter().enumerate() {
+        let field = format!("cases[{i}]");
+        let bad = |why: String| InputError::new(file.display().to_string(), &field, why);
+        let outside = Path::new(id).components().any(|c| {
+            matches!(
+                c,
+                Component::ParentDir | Component::RootDir | Component::Prefix(_)
+            )
+        });
+        if outside || id.is_empty() {
+            return Err(bad(format!(
+                "`{id}` is not a folder inside the suite (ids are relative paths without `..`)"
+            )));
+        }
+        if let Some(j) = ids[..i].iter().position(|x| x == id) {
+            return Err(bad(format!("`{id}` is listed twice (also cases[{j}])")));
+        }
+    }
+    Ok(())
+}
+
+/// The renders of a suite's case: the `.exr` files (any case: `.EXR` too) of its `renders`
+/// folder, hidden ones (`.name`) left out. No folder is a case not yet rendered (empty);
+/// one that cannot be listed, or a file in its place, is bad input naming it (it once
+/// read as "not rendered").
+fn list_renders(folder: &Path) -> Result<Vec<PathBuf>, InputError> {
+    let bad = |why: String| InputError::new(folder.display().to_string(), "-", why);
+    match std::fs::metadata(folder) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(bad(format!("cannot read the renders folder: {e}"))),
+        Ok(m) if !m.is_dir() => {
+            return Err(bad("a file, not the folder of the case's renders".into()));
+        }
+        Ok(_) => {}
+    }
+    crate::io::collect_files(&[folder.to_path_buf()], false, |p| {
+        p.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr"))
+            && !p
+                .file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+    })
+}
+
 /// Judge every rendered case of an exported suite folder (`suite.json`), as one family.
 pub fn judge_suite(
     dir: &Path,
@@ -487,18 +603,13 @@ pub fn judge_suite(
     alpha: f64,
 ) -> Result<SuiteJudgement, Error> {
     let suite: Suite = read_json(&dir.join("suite.json"))?;
+    check_ids(&dir.join("suite.json"), &suite.cases)?;
     let mut judgements = Vec::new();
     let mut not_rendered = Vec::new();
     for id in &suite.cases {
         let d = dir.join(id);
         let manifest = read_manifest(&d.join("export.json"))?;
-        let renders = crate::io::collect_files(&[d.join("renders")], false, |p| {
-            p.extension().is_some_and(|x| x == "exr")
-                && !p
-                    .file_name()
-                    .is_some_and(|n| n.to_string_lossy().starts_with('.'))
-        })
-        .unwrap_or_default();
+        let renders = list_renders(&d.join("renders"))?;
         if renders.is_empty() {
             not_rendered.push(id.clone());
             continue;
@@ -509,7 +620,7 @@ pub fn judge_suite(
                 .and_then(|v| v.get("renderer").and_then(|r| r.as_str()).map(String::from))
                 .unwrap_or_else(|| manifest.renderer.name().to_string())
         });
-        let case = Case::load(&d.join(&manifest.case))?;
+        let case = load_case(&d.join(&manifest.case))?;
         let sample = sample(&renders, Some((manifest.width, manifest.height)))?;
         judgements.push(Judgement::new(
             &case,
@@ -745,8 +856,9 @@ mod tests {
         let v = j.verdict.as_ref().unwrap();
         let why = v.reason.as_deref().unwrap_or_default();
         assert!(
-            why.starts_with("1 non-finite samples")
-                && why.ends_with("; 2 pixels with a negative channel (negative radiance)"),
+            why.starts_with(
+                "1 non-finite pixels (NaN or Inf): the renderer's answer is not a number"
+            ) && why.ends_with("; 2 pixels with a negative channel (negative radiance)"),
             "{why}"
         );
         assert!(
@@ -820,6 +932,220 @@ mod tests {
         assert!(!j.passed());
         j.sample.negative = 0;
         assert!(j.passed());
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    fn case(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("analytic/cases")
+            .join(path)
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("lightproof-judge-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// An EXR whose block of line 1 claims line 0 (the reader, not pedantic, takes it)
+    /// leaves line 1 unwritten: refused, naming the line, not read as pixels of 0 (four
+    /// renders 14 % high, each missing a line of 8, once passed exactly). An empty file
+    /// says it is empty.
+    #[test]
+    fn a_render_missing_a_line_is_refused() {
+        use exr::prelude::*;
+        let dir = scratch("line");
+        let path = dir.join("dup.exr");
+        let v = 16.0f32 / 7.0;
+        Image::from_encoded_channels(
+            (8, 8),
+            Encoding::UNCOMPRESSED,
+            SpecificChannels::rgb(|_: Vec2<usize>| (v, v, v)),
+        )
+        .write()
+        .to_file(&path)
+        .unwrap();
+        let whole = read_render(&path).unwrap();
+        assert!(whole.pixels.iter().all(|&p| p == v as f64));
+        // The offset table (8 blocks of one line) ends where the first block starts.
+        let mut bytes = std::fs::read(&path).unwrap();
+        let at = |b: &[u8], i: usize| u64::from_le_bytes(b[i..i + 8].try_into().unwrap()) as usize;
+        let table = (0..bytes.len() - 8)
+            .find(|&i| at(&bytes, i) == i + 64)
+            .unwrap();
+        let block = at(&bytes, table + 8);
+        assert_eq!(bytes[block..block + 4], 1i32.to_le_bytes());
+        bytes[block..block + 4].copy_from_slice(&0i32.to_le_bytes());
+        std::fs::write(&path, &bytes).unwrap();
+        let e = read_render(&path).err().unwrap();
+        assert!(
+            e.file.ends_with("dup.exr")
+                && e.reason.starts_with(
+                    "line 1 of 8 has no pixel data (8 pixels missing, the first at (0, 1))"
+                ),
+            "{e}"
+        );
+        let empty = dir.join("empty.exr");
+        std::fs::write(&empty, b"").unwrap();
+        let e = read_render(&empty).err().unwrap();
+        assert_eq!(e.reason, "the file is empty (0 bytes), not an EXR", "{e}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    /// A case `export` refuses for want of a renderer sensor (an emitter's power or
+    /// intensity, a geometric integral) is refused naming `measure`, however close its
+    /// pixels (a power case once passed against pixel means); spectral and time-resolved
+    /// cases of a measure a sensor has are judged as before.
+    #[test]
+    fn cases_without_a_renderer_sensor_are_refused() {
+        let dir = scratch("sensor");
+        let renders = [
+            render(&dir, "a.exr", |_| {}),
+            render(&dir, "bb.exr", |_| {}),
+        ];
+        for c in [
+            "power/disk.json",
+            "intensity/rectangle_0.json",
+            "solid_angle/triangle.json",
+        ] {
+            let e = judge_case(&case(c), &renders, "r", 1e-4).unwrap_err();
+            let Error::Input(e) = e else {
+                panic!("{c}: {e}")
+            };
+            assert!(
+                e.file.ends_with(c)
+                    && e.field == "measure"
+                    && e.reason.contains("a render's pixels cannot measure it"),
+                "{e}"
+            );
+        }
+        for c in [
+            "time/pulsed_disk_bin.json",
+            "spectral/blackbody_total_radiance.json",
+        ] {
+            let j = judge_case(&case(c), &renders, "r", 1e-4);
+            assert!(j.is_ok(), "{c}: {:?}", j.err());
+        }
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    /// A foreign renderer's failure is told in its terms: non-finite pixels without
+    /// lightproof's bounce guard, and renders that agree exactly yet miss the reference
+    /// ask for more renders, not more samples.
+    #[test]
+    fn failures_are_told_in_the_renderers_terms() {
+        let dir = scratch("terms");
+        let nan = [
+            render(&dir, "a.exr", |_| {}),
+            render(&dir, "bb.exr", |px| px[3] = [f32::INFINITY; 3]),
+        ];
+        let j = judge_case(&furnace(), &nan, "r", 1e-4).unwrap();
+        let why = j.verdict.as_ref().unwrap().reason.clone().unwrap();
+        assert_eq!(
+            why,
+            "1 non-finite pixels (NaN or Inf): the renderer's answer is not a number"
+        );
+        let flat = |name| render(&dir, name, |px| px.iter_mut().for_each(|p| *p = [2.5; 3]));
+        let j = judge_case(&furnace(), &[flat("c.exr"), flat("dd.exr")], "r", 1e-4).unwrap();
+        let why = j.verdict.as_ref().unwrap().reason.clone().unwrap();
+        assert!(
+            !j.passed()
+                && why.starts_with("no variance in 2 samples")
+                && why.ends_with("judge more renders, each with seeds of its own, to tell"),
+            "{why}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    /// A suite whose `suite.json` lists an id twice, an absolute id or one leaving the
+    /// folder is refused naming `cases[i]`; a file in place of a `renders` folder is an
+    /// error, not "not rendered"; renders named `.EXR` are judged.
+    #[test]
+    fn a_suites_ids_and_renders_are_checked() {
+        let dir = scratch("suite");
+        let c = dir.join("c");
+        std::fs::create_dir_all(c.join("renders")).unwrap();
+        std::fs::copy(furnace(), c.join("case.json")).unwrap();
+        let manifest = Manifest {
+            renderer: crate::export::Target::Mitsuba,
+            source: "f.json".into(),
+            name: "furnace".into(),
+            case: "case.json".into(),
+            scene: "scene.xml".into(),
+            sensor: "camera_inside".into(),
+            width: 8,
+            height: 8,
+            scale: 1.0,
+            conventions: vec![],
+        };
+        std::fs::write(
+            c.join("export.json"),
+            serde_json::to_string(&manifest).unwrap(),
+        )
+        .unwrap();
+        render(&c.join("renders"), "000.EXR", |_| {});
+        render(&c.join("renders"), "001.exr", |_| {});
+        let suite = |ids: &[&str]| {
+            let doc = serde_json::json!({"renderer": "mitsuba", "cases": ids, "refused": []});
+            std::fs::write(dir.join("suite.json"), doc.to_string()).unwrap();
+            judge_suite(&dir, None, 1e-4)
+        };
+        let s = suite(&["c"]).unwrap();
+        assert_eq!(s.judgements[0].sample.renders.len(), 2);
+        assert!(s.judgements[0].passed());
+        for (ids, field, why) in [
+            (&["c", "c"][..], "cases[1]", "listed twice (also cases[0])"),
+            (
+                &["c", "../c"][..],
+                "cases[1]",
+                "not a folder inside the suite",
+            ),
+            (&["/tmp"][..], "cases[0]", "not a folder inside the suite"),
+            (
+                &["c/x/../../c"][..],
+                "cases[0]",
+                "not a folder inside the suite",
+            ),
+        ] {
+            let Err(Error::Input(e)) = suite(ids) else {
+                panic!("{ids:?} accepted")
+            };
+            assert!(
+                e.file.ends_with("suite.json") && e.field == field && e.reason.contains(why),
+                "{ids:?}: {e}"
+            );
+        }
+        std::fs::remove_dir_all(c.join("renders")).unwrap();
+        std::fs::write(c.join("renders"), b"").unwrap();
+        let Err(Error::Input(e)) = suite(&["c"]) else {
+            panic!("a file for renders/ accepted")
+        };
+        assert!(
+            e.file.ends_with("renders") && e.reason.contains("not the folder"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    /// An `export.json` beside a case is the case's only when its `case` names the file:
+    /// one naming another case is not checked (its bad numbers are not this case's).
+    #[test]
+    fn only_the_cases_own_export_json_is_read() {
+        let dir = scratch("own");
+        std::fs::copy(furnace(), dir.join("mine.json")).unwrap();
+        let other = serde_json::json!({"case": "other.json", "width": 0, "scale": -1});
+        std::fs::write(dir.join("export.json"), other.to_string()).unwrap();
+        let renders = [
+            render(&dir, "a.exr", |_| {}),
+            render(&dir, "bb.exr", |_| {}),
+        ];
+        let j = judge_case(&dir.join("mine.json"), &renders, "r", 1e-4);
+        assert!(j.is_ok_and(|j| j.passed()));
+        let mine = serde_json::json!({"case": "mine.json", "width": 0, "scale": -1});
+        std::fs::write(dir.join("export.json"), mine.to_string()).unwrap();
+        assert!(judge_case(&dir.join("mine.json"), &renders, "r", 1e-4).is_err());
         let _ = std::fs::remove_dir_all(dir);
     }
 }

@@ -247,9 +247,17 @@ impl Manifest {
             }
         }
         if self.width.checked_mul(self.height).is_none_or(|n| n > max) {
+            // The culprit where one alone is too large, else the product.
+            let field = if self.width > max {
+                "width"
+            } else if self.height > max {
+                "height"
+            } else {
+                "width × height"
+            };
             return Err(InputError::new(
                 file,
-                "width",
+                field,
                 format!(
                     "width × height = {} × {} is more than {max} pixels, the most a render may have",
                     self.width, self.height
@@ -369,14 +377,35 @@ pub fn probe(desc: &CaseDesc) -> Result<Probe, Refusal> {
         MeasureDesc::SolidAngle { .. }
         | MeasureDesc::ProjectedSolidAngle { .. }
         | MeasureDesc::Microfacet { .. }
-        | MeasureDesc::MeanPathLength { .. } => {
-            refuse("a geometric integral, not light a renderer's sensor measures")
-        }
-        MeasureDesc::Power { .. } | MeasureDesc::Intensity { .. } => {
-            refuse("power and intensity of an emitter have no renderer sensor")
-        }
+        | MeasureDesc::MeanPathLength { .. }
+        | MeasureDesc::Power { .. }
+        | MeasureDesc::Intensity { .. } => Err(sensorless(&desc.measure)
+            .unwrap_or_else(|| Refusal("no renderer sensor measures it".into()))),
         MeasureDesc::Flux { shape, view_factor } => flux(&desc.scene, *shape, *view_factor),
     }
+}
+
+/// Why no renderer's sensor measures `measure` (a geometric integral, an emitter's power
+/// or intensity), or `None` where one does. [`probe`] refuses these, and `judge` too: a
+/// render's pixels are light at a sensor, so their mean is never such a quantity, and a
+/// comparison of it with the case's reference is meaningless (it once passed).
+pub fn sensorless(measure: &MeasureDesc) -> Option<Refusal> {
+    let why = match measure {
+        MeasureDesc::Radiance { .. }
+        | MeasureDesc::Irradiance { .. }
+        | MeasureDesc::Albedo { .. }
+        | MeasureDesc::Flux { .. } => return None,
+        MeasureDesc::SolidAngle { .. }
+        | MeasureDesc::ProjectedSolidAngle { .. }
+        | MeasureDesc::Microfacet { .. }
+        | MeasureDesc::MeanPathLength { .. } => {
+            "a geometric integral, not light a renderer's sensor measures"
+        }
+        MeasureDesc::Power { .. } | MeasureDesc::Intensity { .. } => {
+            "power and intensity of an emitter have no renderer sensor"
+        }
+    };
+    Some(Refusal(why.into()))
 }
 
 /// The flux probe of receiver `shape`: its area and the scale from the reference to the
@@ -996,7 +1025,8 @@ mod tests {
     /// `export.json`'s numbers are checked at their limits: a scale at either end of
     /// [`SCALE_RANGE`] and a render of 1 × 1 or of exactly the pixel limit pass; a scale
     /// just outside, 0, negative or +∞, a width or height of 0 and one pixel more than
-    /// the limit (or a product that overflows) are named.
+    /// the limit (or a product that overflows) are named, by the field too large alone
+    /// (a height of 2⁶⁴ − 1 once blamed the width), else as `width × height`.
     #[test]
     fn a_manifest_the_judge_cannot_use_is_named() {
         let ok = Manifest {
@@ -1026,7 +1056,8 @@ mod tests {
             edit(&mut m, max);
             assert!(m.check("export.json").is_ok(), "{m:?}");
         }
-        let bad: [(Edit, &str); 11] = [
+        // Too many pixels blames the field too large alone, else the product.
+        let bad: [(Edit, &str); 12] = [
             (|m, _| m.scale = 0.0, "scale"),
             (|m, _| m.scale = -1.0, "scale"),
             (|m, _| m.scale = 1e-320, "scale"),
@@ -1035,9 +1066,13 @@ mod tests {
             (|m, _| m.width = 0, "width"),
             (|m, _| m.height = 0, "height"),
             (|m, max| (m.width, m.height) = (max + 1, 1), "width"),
-            (|m, max| (m.width, m.height) = (1, max + 1), "width"),
-            (|m, max| (m.width, m.height) = (max / 2, 3), "width"),
+            (|m, max| (m.width, m.height) = (1, max + 1), "height"),
+            (
+                |m, max| (m.width, m.height) = (max / 2, 3),
+                "width × height",
+            ),
             (|m, _| (m.width, m.height) = (usize::MAX, 2), "width"),
+            (|m, _| (m.width, m.height) = (2, usize::MAX), "height"),
         ];
         for (edit, field) in bad {
             let mut m = ok.clone();

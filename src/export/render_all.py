@@ -25,12 +25,25 @@ import os
 import sys
 
 
+def positive(text):
+    """An integer of at least 1 (a --pass-spp of 0 once divided by zero)."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError("must be a positive integer, got %r" % text)
+    return n
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--variant", default="scalar_rgb", help="Mitsuba variant (default scalar_rgb)")
-    p.add_argument("--renders", type=int, default=16, help="independent renders per case (seeds 0..n-1)")
+    p.add_argument("--renders", type=int, default=16,
+                   help="independent renders per case (render k: seeds k*passes+q, one per pass q)")
     p.add_argument("--samples", type=int, default=65536, help="paths per render (spp = samples / pixels)")
-    p.add_argument("--pass-spp", type=int, default=256, help="samples per pixel of one Mitsuba pass (float32 film sums)")
+    p.add_argument("--pass-spp", type=positive, default=256,
+                   help="samples per pixel of one Mitsuba pass (float32 film sums)")
     p.add_argument("--only", default=None, help="render only case ids containing this text")
     p.add_argument("--threads", type=int, default=None, help="worker threads (default: all cores)")
     args = p.parse_args()

@@ -214,6 +214,10 @@ pub(crate) fn non_finite_reason(non_finite: u64) -> String {
     )
 }
 
+/// The advice that ends an exact verdict's failure (lightproof's own engine: its sample
+/// count is the run's); `judge` puts its own in its place (a renderer's renders).
+pub(crate) const MORE_SAMPLES: &str = "run more samples to tell";
+
 /// Why an estimate or its standard error cannot be judged: finite samples whose moments
 /// overflowed f64 (a mean of ±∞ or NaN, Σ(x − x̄)² = ∞) or a standard error that is NaN,
 /// infinite or negative. A statistic computed from them would read NaN as "no evidence
@@ -491,7 +495,7 @@ impl MeanTest {
             Some(format!(
                 "no variance in {count} samples, yet off by {excess:.3e}, beyond the f32 error bound {tolerance:.3e} (γ{} · |μ|): \
                  the estimator is biased, or its integrand varies only where none of the samples fell \
-                 (a region of probability {:.1e} is missed by all of them once in 20 runs): run more samples to tell",
+                 (a region of probability {:.1e} is missed by all of them once in 20 runs): {MORE_SAMPLES}",
                 EXACT_OPERATIONS,
                 unseen_mass(count)
             ))

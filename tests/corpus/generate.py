@@ -958,6 +958,21 @@ entry("judge_case_bad", "baseline", ["judge", "{corpus}/cases/emission_radiance_
       "scene.shapes[0].emission.radiance")
 entry("judge_no_render", "baseline", ["judge", J], 2, "RENDER.exr")
 entry("judge_suite_empty", "baseline", ["judge", "--suite", "{empty_dir}"], 2, "suite.json")
+# A render whose block of line 1 claims line 0 (render_ok.exr otherwise): the reader takes
+# it and line 1 was once read as pixels of 0; an empty file says it is empty.
+entry("judge_missing_line", "wrong", ["judge", J, a("render_ok.exr"), a("render_missing_line.exr")], 2,
+      "render_missing_line.exr", "line 1 of 2 has no pixel data")
+entry("judge_empty_render", "unclear", ["judge", J, a("render_ok.exr"), "{corpus}/assets/render_empty.exr"], 2,
+      "render_empty.exr", "the file is empty")
+# Cases no renderer's sensor measures (export refuses them): an emitter's power (with a
+# reference, once judged against the pixel means and passed) and a solid angle.
+SPHERE_AREA = 4 * 3.141592653589793
+case("judge_power_case", "wrong",
+     dict(POWER, reference={"closed_form": "lambertian_power", "radiance": 1, "area": SPHERE_AREA}), [], 2,
+     "measure", "power and intensity of an emitter have no renderer sensor", cmd="judge",
+     extra=[a("render_ok.exr"), a("render_ok.exr")])
+case("judge_solid_angle_case", "wrong", SOLID, [], 2, "measure", "a geometric integral", cmd="judge",
+     extra=[a("render_ok.exr"), a("render_ok.exr")])
 # export.json as an export writes it (verify_valid's case, 4 × 2 pixels, scale 1), and with
 # numbers no export writes: a scale of 0 or 1e-320 once printed `± inf`, -1 a negative
 # estimate; a width of 0 blamed the render for its size.
@@ -978,18 +993,31 @@ export_case("judge_export_scale_negative", "wrong", {"scale": -1}, 2, "scale")
 export_case("judge_export_scale_e308", "wrong", {"scale": 1e308}, 2, "scale")
 export_case("judge_export_width_zero", "wrong", {"width": 0}, 2, "width")
 export_case("judge_export_height_zero", "wrong", {"height": 0}, 2, "height")
-export_case("judge_export_pixels_over_limit", "wrong", {"width": 8192, "height": 8193}, 2, "width", "width × height")
+export_case("judge_export_pixels_over_limit", "wrong", {"width": 8192, "height": 8193}, 2, "width × height",
+            "width × height")
 export_case("judge_export_width_huge", "wrong", {"width": 2**63, "height": 2}, 2, "width", "width × height")
+# The height alone too large once blamed the width.
+export_case("judge_export_height_huge", "wrong", {"width": 2, "height": 2**63}, 2, "height", "width × height")
 # The same check for a suite (one case `c` with two renders, render_ok.exr's copies,
 # written below): valid, and with a negative scale.
-SUITES = {"judge_suite_valid": 1.0, "judge_suite_scale_negative": -1}
-for name, scale in SUITES.items():
-    write("export/%s/suite.json" % name, json.dumps({"renderer": "mitsuba", "cases": ["c"], "refused": []}))
+# Its ids: one listed twice (its renders once counted twice in the family), and ids leaving
+# the suite folder (`..`, absolute) are refused naming cases[i].
+SUITES = {"judge_suite_valid": (1.0, ["c"]), "judge_suite_scale_negative": (-1, ["c"]),
+          "judge_suite_duplicate_id": (1.0, ["c", "c"]), "judge_suite_id_parent": (1.0, ["c", "../judge_suite_valid/c"]),
+          "judge_suite_id_absolute": (1.0, ["/tmp"])}
+for name, (scale, ids) in SUITES.items():
+    write("export/%s/suite.json" % name, json.dumps({"renderer": "mitsuba", "cases": ids, "refused": []}))
     write("export/%s/c/export.json" % name, json.dumps(dict(MANIFEST, scale=scale), indent=1))
     write("export/%s/c/case.json" % name, VERIFY_VALID)
 entry("judge_suite_valid", "baseline", ["judge", "--suite", "{corpus}/export/judge_suite_valid"], "valid")
 entry("judge_suite_scale_negative", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_scale_negative"], 2,
       "scale", "c/export.json: scale: ")
+entry("judge_suite_duplicate_id", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_duplicate_id"], 2,
+      "cases[1]", "suite.json: cases[1]: `c` is listed twice")
+entry("judge_suite_id_parent", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_id_parent"], 2,
+      "cases[1]", "not a folder inside the suite")
+entry("judge_suite_id_absolute", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_id_absolute"], 2,
+      "cases[0]", "not a folder inside the suite")
 
 # ---------------------------------------------------------------- export
 entry("export_valid", "baseline", ["export", V, "--to", "mitsuba", "--out", "{tmp}/x"], "valid", no_leftovers=True)
@@ -1072,6 +1100,11 @@ if __name__ == "__main__":
     # offsets) is longer than the file.
     write("assets/render_header_only.exr", exr(4, 2, [], claim=(8000, 8000), offsets=False))
     write("assets/render_truncated.exr", exr(4, 2, ok)[:-20])
+    missing = bytearray(exr(4, 2, ok))
+    second = struct.unpack_from("<Q", missing, len(exr(4, 2, ok, offsets=False)) + 8)[0]
+    struct.pack_into("<i", missing, second, 0)
+    write("assets/render_missing_line.exr", bytes(missing))
+    write("assets/render_empty.exr", b"")
     write("assets/env_ok.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 8))
     write("assets/env_negative_channel.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 7 + [(-1.0, 2.0, 2.0)]))
     write("assets/env_huge_header.exr", exr(1, 1, [], claim=(200000, 200000), offsets=False))

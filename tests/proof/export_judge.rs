@@ -509,7 +509,7 @@ fn flux_is_judged_as_mean_irradiance() {
 
 /// The peers' drivers run without a peer installed as far as they can: Mitsuba's
 /// `render_all.py` parses (its `--help`, which imports Mitsuba only once it renders) and
-/// refuses `--renders 1` before it needs Mitsuba; pbrt's `render_all.sh` passes `sh -n`
+/// refuses `--renders 1` and `--pass-spp 0` before it needs Mitsuba; pbrt's `render_all.sh` passes `sh -n`
 /// and stops, naming it, when `PBRT` names no program. So a default `cargo test`
 /// catches a driver broken by an edit, not only the opt-in peer tests below.
 #[test]
@@ -540,6 +540,14 @@ fn the_peer_drivers_parse_and_refuse_without_a_peer() {
                 !one.status.success() && text(&one).contains("--renders must be at least 2"),
                 "{}",
                 text(&one)
+            );
+            // A pass of 0 samples is refused by the parser (it once divided by zero).
+            let zero = py(&["--pass-spp", "0"]).unwrap();
+            assert!(
+                zero.status.code() == Some(2)
+                    && text(&zero).contains("--pass-spp: must be a positive integer, got '0'"),
+                "{}",
+                text(&zero)
             );
         } else {
             let script = out_dir.join("render_all.sh");
