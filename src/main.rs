@@ -110,14 +110,15 @@ enum Command {
         #[arg(long, default_value = "reports")]
         out: PathBuf,
         /// Stop, writing everything, before the predicted end of the next point passes
-        /// this many wall seconds.
+        /// this many wall seconds (a series' first point is predicted free: it always
+        /// starts).
         #[arg(long, allow_negative_numbers = true, value_parser = parse_budget)]
         budget: Option<f64>,
         /// Largest sweep point, 256 to 2^40 (rounded down to a power of two).
-        #[arg(long, default_value_t = lightproof::report::DEFAULT_MAX_SAMPLES, allow_negative_numbers = true, value_parser = parse_samples)]
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MAX_SAMPLES, allow_negative_numbers = true, value_parser = parse_max_samples)]
         max_samples: u64,
         /// Smallest sweep point, 256 to 2^40 (rounded up to a power of two).
-        #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES, allow_negative_numbers = true, value_parser = parse_samples)]
+        #[arg(long, default_value_t = lightproof::report::DEFAULT_MIN_SAMPLES, allow_negative_numbers = true, value_parser = parse_min_samples)]
         min_samples: u64,
         /// Base seed.
         #[arg(long, env = "LIGHTPROOF_SEED", default_value_t = DEFAULT_SEED, allow_negative_numbers = true, value_parser = parse_seed)]
@@ -218,6 +219,27 @@ fn parse_samples(s: &str) -> Result<u64, String> {
         lightproof::case::MIN_SAMPLES,
         lightproof::case::MAX_SAMPLES,
         "2^40 (at least two per batch of 128; rounded up to a multiple of 128)",
+    )
+}
+
+/// `report --max-samples`: the sweep's points are powers of two, so it rounds down to one
+/// (not to a multiple of 128, as [`parse_samples`] says for `verify` and `estimate`).
+fn parse_max_samples(s: &str) -> Result<u64, String> {
+    count_in(
+        s,
+        lightproof::case::MIN_SAMPLES,
+        lightproof::case::MAX_SAMPLES,
+        "2^40 (at least two per batch of 128; rounded down to a power of two)",
+    )
+}
+
+/// `report --min-samples`: rounded up to a power of two.
+fn parse_min_samples(s: &str) -> Result<u64, String> {
+    count_in(
+        s,
+        lightproof::case::MIN_SAMPLES,
+        lightproof::case::MAX_SAMPLES,
+        "2^40 (at least two per batch of 128; rounded up to a power of two)",
     )
 }
 

@@ -131,9 +131,10 @@ pub fn markdown(index: &Index) -> String {
         run.started
     ));
     s.push_str(&format!(
-        "Times are core-seconds to reach {}% relative RMS error with the most efficient \
-         estimator / sampler; *extrapolated* times follow the fitted rate past the largest \
-         point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo; σ = 0: a zero-variance \
+        "Times are core-seconds to reach {}% relative error with the most efficient \
+         estimator / sampler: the RMS error over |reference| for a case with a reference, \
+         the standard error over |estimate| at the largest point for one without; \
+         *extrapolated* times follow the fitted rate past the largest point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo; σ = 0: a zero-variance \
          estimator, exact up to f32 rounding). Runner-up: how many times longer the next best \
          series takes.",
         HEADLINE * 100.0

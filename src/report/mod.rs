@@ -19,11 +19,14 @@
 //! **A series** (one estimator × sampler) fits ln e = a + b ln N and ln e = a′ + b′ ln t
 //! by least squares (slope standard error from the residuals, see [`crate::stats::slope`]),
 //! where e is the RMS error when the case has a reference and the standard error
-//! otherwise; reports the efficiency 1/(σ̂² t) at its largest point (σ̂ the standard error,
-//! t its core-seconds: the inverse of the work-variance product, Veach 1997 §2.4); and
-//! the time to reach 1%, 0.1% and 0.01% relative error, measured (the cheapest point
-//! whose e/|ref| is at or below the target) or extrapolated along the fit,
-//! N* = exp((ln(ε |ref|) − a)/b), t* = N* · t_last/N_last, and marked so.
+//! otherwise; fits the cost line t̂(N) = t₀ + c·N through the core-seconds
+//! ([`analysis::summarize`]); reports the efficiency 1/(σ̂² t̂) at its largest point (σ̂
+//! the standard error, t̂ its fitted core-seconds: the inverse of the work-variance
+//! product, Veach 1997 §2.4); and the time to reach 1%, 0.1% and 0.01% relative error
+//! along the fits, N* = exp((ln(ε |ref|) − a)/b) (not below the first point) and
+//! t* = t̂(N*) (N*·c′ without a cost line, c′ the largest point's core-seconds per
+//! sample), marked extrapolated when N* lies past the sweep; a series whose error does
+//! not fall takes the cheapest point with e/|ref| ≤ ε, at its fitted time.
 //!
 //! **A case** names its most efficient series: the least time to 0.1% relative error
 //! (for a rate of −½ this is exactly the highest 1/(σ²t)), with the ratios of time and
@@ -287,7 +290,8 @@ pub struct Series {
     pub fit_seconds: Option<Fit>,
     /// 1/(σ̂² t) at the largest point (null when σ̂ = 0).
     pub efficiency: Option<f64>,
-    /// Core-seconds per sample at the largest point.
+    /// c of `fit_cost`, the fitted core-seconds per sample; without a cost line, the
+    /// largest point's core-seconds over its N.
     pub seconds_per_sample: Option<f64>,
     /// Cost of each target of [`TARGETS`].
     pub time_to: Vec<TimeTo>,

@@ -13,7 +13,8 @@
 //! job array or a Kubernetes indexed Job. No scheduler of our own.
 
 use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
-use super::store::{check_header, files_in, write_json};
+use super::store::{MERGE_ADVICE, check_header, files_in, write_json};
+use super::sweep::point_seed;
 use super::{
     BATCHES, CaseInfo, CaseReport, ErrorMeasure, Kind, RunInfo, Series, Settings, ShardRun, Status,
 };
@@ -326,12 +327,12 @@ pub struct ShardPartial {
     pub cases: Vec<ShardCase>,
 }
 
-/// Read a partial file.
-pub fn read_partial(path: &Path) -> Result<ShardPartial, InputError> {
+/// Read a partial file; `advice` is for a file of another format (see [`check_header`]).
+pub fn read_partial(path: &Path, advice: &str) -> Result<ShardPartial, InputError> {
     let file = path.display().to_string();
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(&file, "-", e))?;
-    check_header(&file, &text, Kind::Shard)?;
+    check_header(&file, &text, Kind::Shard, advice)?;
     let partial: ShardPartial = parse_json(&file, &text)?;
     check_settings(&file, &partial.settings)?;
     check_batches(&file, &partial)?;
@@ -649,6 +650,11 @@ fn check_complete(count: u32, seen: &BTreeMap<u32, &Path>) -> Result<(), InputEr
 
 /// One series merged from every shard's batches: the points whose 128 batches are all
 /// present, in batch order.
+///
+/// Every batch must come from the shard that owns it ([`Shard::owner`]), once, in a point
+/// whose seed is [`point_seed`] of the series seed, which every shard shares: before,
+/// a partial carrying another shard's batch (or one twice) merged without a word, the
+/// first file read winning, into a report no run computes.
 fn merge_series(
     partials: &[(PathBuf, ShardPartial)],
     settings: &Settings,
@@ -657,10 +663,12 @@ fn merge_series(
     s: &ShardSeries,
     measure: ErrorMeasure,
 ) -> Result<Series, InputError> {
-    // Batches of every point, from every shard.
-    let mut by_samples: BTreeMap<u64, (u64, Vec<BatchRecord>)> = BTreeMap::new();
+    // Per N, a slot per batch: the record and the index of the partial it came from.
+    let mut by_samples: BTreeMap<u64, Vec<Option<(BatchRecord, usize)>>> = BTreeMap::new();
     let mut cut = false;
-    for (path, p) in partials {
+    for (fi, (path, p)) in partials.iter().enumerate() {
+        let file = path.display().to_string();
+        let at = format!("cases[{ci}].series[{si}]");
         let ps = p
             .cases
             .get(ci)
@@ -668,34 +676,88 @@ fn merge_series(
             .and_then(|c| c.series.get(si))
             .filter(|x| x.estimator == s.estimator && x.sampler == s.sampler)
             .ok_or_else(|| {
-                InputError::new(
-                    path.display().to_string(),
-                    format!("cases[{ci}].series[{si}]"),
-                    "does not match the plan of the other shards",
-                )
+                InputError::new(&file, &at, "does not match the plan of the other shards")
             })?;
+        if ps.seed != s.seed {
+            return Err(InputError::new(
+                &file,
+                format!("{at}.seed"),
+                format!(
+                    "series seed {}, but {} has {}: the shards of a sweep share it",
+                    ps.seed,
+                    partials[0].0.display(),
+                    s.seed
+                ),
+            ));
+        }
         cut |= ps.status == Status::BudgetCut;
-        for pt in &ps.points {
-            let e = by_samples.entry(pt.samples).or_insert((pt.seed, vec![]));
-            e.1.extend_from_slice(&pt.batches);
+        for (pi, pt) in ps.points.iter().enumerate() {
+            let at = format!("{at}.points[{pi}]");
+            // N is a power of two (`check_batches`): k is its exponent.
+            let k = pt.samples.trailing_zeros();
+            let seed = point_seed(s.seed, k);
+            if pt.seed != seed {
+                return Err(InputError::new(
+                    &file,
+                    format!("{at}.seed"),
+                    format!(
+                        "{} is not the seed of the point of {} samples, {seed} (from the series seed {})",
+                        pt.seed, pt.samples, s.seed
+                    ),
+                ));
+            }
+            let slots = by_samples
+                .entry(pt.samples)
+                .or_insert_with(|| vec![None; BATCHES as usize]);
+            for (bi, b) in pt.batches.iter().enumerate() {
+                let field = format!("{at}.batches[{bi}].batch");
+                let owner = Shard::owner(p.shard.count, s.seed, k, b.batch);
+                if owner != p.shard.index {
+                    return Err(InputError::new(
+                        &file,
+                        field,
+                        format!(
+                            "batch {} of this point is shard {owner}'s, not this shard's ({} of {})",
+                            b.batch, p.shard.index, p.shard.count
+                        ),
+                    ));
+                }
+                // `check_batches` keeps the index below BATCHES.
+                let slot = &mut slots[b.batch as usize];
+                if let Some((_, other)) = slot {
+                    let where_ = if *other == fi {
+                        "earlier in this file".to_string()
+                    } else {
+                        format!("in {}", partials[*other].0.display())
+                    };
+                    return Err(InputError::new(
+                        &file,
+                        field,
+                        format!("batch {} is present twice: also {where_}", b.batch),
+                    ));
+                }
+                *slot = Some((*b, fi));
+            }
         }
     }
     let mut points = vec![];
     for k in settings.exponents() {
-        let Some((seed, mut recs)) = by_samples.remove(&(1u64 << k)) else {
+        let Some(slots) = by_samples.remove(&(1u64 << k)) else {
             continue;
         };
-        recs.sort_by_key(|r| r.batch);
-        recs.dedup_by_key(|r| r.batch);
-        if recs.len() as u64 != BATCHES || recs.iter().enumerate().any(|(i, r)| r.batch != i as u64)
-        {
+        // In batch order; a point some shard did not finish is left out.
+        let Some(recs) = slots
+            .into_iter()
+            .map(|x| x.map(|(r, _)| r))
+            .collect::<Option<Vec<BatchRecord>>>()
+        else {
             continue;
-        }
+        };
         let accs: Vec<Accumulator> = recs.iter().map(|r| r.accumulator()).collect();
         let seconds = recs.iter().map(|r| r.seconds).sum();
         points.push(point_from_batches(
             1 << k,
-            seed,
+            point_seed(s.seed, k),
             &accs,
             seconds,
             None,
@@ -737,9 +799,19 @@ pub fn merge(
 ) -> Result<super::publish::Summary, Error> {
     let t0 = std::time::Instant::now();
     let files = files_in(inputs, is_partial_name)?;
+    if files.is_empty() {
+        // Only folders find nothing (a file given is read whatever its name): name them.
+        let searched: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
+        return Err(InputError::new(
+            searched.join(", "),
+            "-",
+            "no shard partial files (shard-K-of-N.json) directly in it (sub-folders are not searched)",
+        )
+        .into());
+    }
     let partials = files
         .iter()
-        .map(|f| Ok((f.clone(), read_partial(f)?)))
+        .map(|f| Ok((f.clone(), read_partial(f, MERGE_ADVICE)?)))
         .collect::<Result<Vec<_>, InputError>>()?;
     let run = super::machine::run_info(threads, None);
     let mut reports = merge_partials(&partials, run)?;

@@ -76,12 +76,20 @@ pub fn read_case_report(path: &Path) -> Result<Option<CaseReport>, InputError> {
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(path.display().to_string(), "-", e))?;
     let file = path.display().to_string();
-    check_header(&file, &text, Kind::Case)?;
+    check_header(&file, &text, Kind::Case, OUTPUT_ADVICE)?;
     parse_json(&file, &text).map(Some)
 }
 
-/// Check the `format` and `kind` of a JSON text before parsing it whole.
-pub fn check_header(file: &str, text: &str, kind: Kind) -> Result<(), InputError> {
+/// What to do about a foreign file in the output folder: it is never overwritten.
+pub const OUTPUT_ADVICE: &str = "move it or choose another --out";
+
+/// What to do about a foreign file given to `merge`: it reads only shard partials.
+pub const MERGE_ADVICE: &str =
+    "merge reads the shard-K-of-N.json files that `report --shard K/N` writes";
+
+/// Check the `format` and `kind` of a JSON text before parsing it whole; a file of
+/// another format gets `advice` (whether it is an input or in the way of an output).
+pub fn check_header(file: &str, text: &str, kind: Kind, advice: &str) -> Result<(), InputError> {
     let v: serde_json::Value = parse_json(file, text)?;
     let format = v.get("format").and_then(|f| f.as_str());
     if format != Some(FORMAT) {
@@ -89,7 +97,7 @@ pub fn check_header(file: &str, text: &str, kind: Kind) -> Result<(), InputError
             file,
             "format",
             format!(
-                "not a lightproof report file (expected `{FORMAT}`, got {}); move it or choose another --out",
+                "not a lightproof report file (expected `{FORMAT}`, got {}); {advice}",
                 format.map_or("none".to_string(), |f| format!("`{f}`"))
             ),
         ));
@@ -142,5 +150,22 @@ mod tests {
             "irradiance.disk_on_axis.json"
         );
         assert_eq!(plot_file("a b/c"), "a_b.c.svg");
+    }
+
+    /// A key the schema does not allow in `fit_cost` is refused, naming it, as anywhere
+    /// else in a report (before, `CostFit` alone took unknown keys without a word).
+    #[test]
+    fn an_unknown_key_in_fit_cost_is_refused() {
+        let example =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("reports/examples/disk_on_axis.json");
+        let text = std::fs::read_to_string(&example).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert!(parse_json::<CaseReport>("r.json", &text).is_ok());
+        v["series"][0]["fit_cost"]["extra"] = 1.into();
+        let e = parse_json::<CaseReport>("r.json", &v.to_string()).unwrap_err();
+        assert!(
+            e.field.starts_with("series[0].fit_cost") && e.reason.contains("extra"),
+            "{e}"
+        );
     }
 }

@@ -30,7 +30,7 @@ use super::shard::{
     BatchRecord, Shard, ShardCase, ShardPartial, ShardPoint, ShardSeries, error_measure,
     read_partial, write_partial,
 };
-use super::store::{case_id, digest, read_case_report, report_file, write_json};
+use super::store::{OUTPUT_ADVICE, case_id, digest, read_case_report, report_file, write_json};
 use super::{
     BATCHES, CaseInfo, CaseReport, FORMAT, Kind, Point, RunInfo, Series, Settings, Status,
 };
@@ -306,7 +306,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     if !opts.fresh {
         resumed = match opts.shard {
             None => resume_reports(&opts.out, &settings, &mut cases, threads, &mut notes)?,
-            Some(sh) => resume_partial(&opts.out, sh, &plan, &mut cases, threads, &mut notes)?,
+            Some(sh) => resume_partial(&opts.out, sh, &settings, &mut cases, threads, &mut notes)?,
         };
     }
     let mut run = run_info(threads, opts.budget);
@@ -688,6 +688,31 @@ fn same_build(run: &RunInfo) -> bool {
     run.lightproof_version == VERSION && run.git_revision == GIT_REVISION
 }
 
+/// Earlier points a resumed run leaves out of what it writes: those outside a narrower
+/// sweep (a smaller `--max-samples`, a larger `--min-samples`, fewer samplers or
+/// estimators). The files are rewritten without them, so the user is told.
+#[derive(Default)]
+struct Dropped {
+    /// Points.
+    points: u64,
+    /// Whole series (their points counted in `points`).
+    series: u64,
+}
+
+impl Dropped {
+    /// The note on stderr, if anything is dropped.
+    fn note(&self, out: &Path) -> Option<String> {
+        (self.points > 0 || self.series > 0).then(|| {
+            format!(
+                "{}: {} earlier point(s), {} whole series among them, lie outside this sweep's --min-samples/--max-samples, --sampler and --estimator and are dropped from what it writes",
+                out.display(),
+                self.points,
+                self.series
+            )
+        })
+    }
+}
+
 /// Take back the points of earlier case reports; returns how many.
 fn resume_reports(
     out: &Path,
@@ -697,6 +722,7 @@ fn resume_reports(
     notes: &mut Vec<String>,
 ) -> Result<u64, InputError> {
     let mut kept = 0;
+    let mut dropped = Dropped::default();
     for c in cases.iter_mut() {
         let path = out.join(report_file(&c.id));
         let Some(old) = read_case_report(&path)? else {
@@ -715,12 +741,14 @@ fn resume_reports(
             notes.push(format!("{}: {why}; swept afresh", path.display()));
             continue;
         }
-        for s in &mut c.series {
-            let Some(os) = old
+        for os in &old.series {
+            let Some(s) = c
                 .series
-                .iter()
-                .find(|o| o.estimator == s.est && o.sampler == s.sampler && o.seed == s.seed)
+                .iter_mut()
+                .find(|s| os.estimator == s.est && os.sampler == s.sampler && os.seed == s.seed)
             else {
+                dropped.series += 1;
+                dropped.points += os.points.len() as u64;
                 continue;
             };
             for p in &os.points {
@@ -733,18 +761,26 @@ fn resume_reports(
                     s.wall.insert(k, p.seconds / threads as f64);
                     s.done.insert(k, p.clone());
                     kept += 1;
+                } else {
+                    dropped.points += 1;
                 }
             }
         }
     }
+    notes.extend(dropped.note(out));
     Ok(kept)
 }
 
 /// Take back the batches of this shard's earlier partial file; returns the points kept.
+///
+/// The file is resumed when its plan is this one but for `--min-samples` and
+/// `--max-samples` (same cases, series, seed and build), so a larger `--max-samples`
+/// extends a shard as it does a single run; each point is still checked (its N in this
+/// sweep, its seed, exactly this shard's batches).
 fn resume_partial(
     out: &Path,
     shard: Shard,
-    plan: &str,
+    settings: &Settings,
     cases: &mut [CaseState],
     threads: usize,
     notes: &mut Vec<String>,
@@ -753,8 +789,13 @@ fn resume_partial(
     if !path.exists() {
         return Ok(0);
     }
-    let old = read_partial(&path)?;
-    if old.plan != plan || old.shard != shard || !same_build(&old.run) {
+    let old = read_partial(&path, OUTPUT_ADVICE)?;
+    let same_range = Settings {
+        min_samples: old.settings.min_samples,
+        max_samples: old.settings.max_samples,
+        ..settings.clone()
+    };
+    if old.plan != plan_digest(&same_range, cases) || old.shard != shard || !same_build(&old.run) {
         notes.push(format!(
             "{}: another sweep or build; run afresh",
             path.display()
@@ -762,6 +803,7 @@ fn resume_partial(
         return Ok(0);
     }
     let mut kept = 0;
+    let mut dropped = Dropped::default();
     for (c, oc) in cases.iter_mut().zip(&old.cases) {
         for (s, os) in c.series.iter_mut().zip(&oc.series) {
             for p in &os.points {
@@ -778,10 +820,13 @@ fn resume_partial(
                     s.wall.insert(k, secs / threads as f64);
                     s.parts.insert(k, p.clone());
                     kept += 1;
+                } else {
+                    dropped.points += 1;
                 }
             }
         }
     }
+    notes.extend(dropped.note(&path));
     Ok(kept)
 }
 

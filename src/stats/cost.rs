@@ -20,7 +20,11 @@
 use serde::{Deserialize, Serialize};
 
 /// A fitted cost line t = t₀ + c·N.
+///
+/// Unknown fields are refused, as `reports/schema.json` says (`additionalProperties:
+/// false`) and every other part of a report does.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CostFit {
     /// Fixed cost t₀ in seconds (≥ 0).
     pub t0: f64,

@@ -291,6 +291,153 @@ fn merged_shards_equal_the_single_run_whatever_the_threads() {
     let _ = std::fs::remove_dir_all(out);
 }
 
+/// A shard set tampered with is refused, naming the file and the field: a partial that
+/// carries a batch another shard owns, a batch twice, a point seed that is not the one
+/// its series seed gives, a series seed that differs between shards. Before, the merge
+/// took the first file's copy of a batch and wrote a report no run computes.
+#[test]
+fn a_tampered_shard_set_is_refused_naming_file_and_field() {
+    let out = tmp("tampered");
+    let shards = out.join("shards");
+    for k in 0..2 {
+        let mut o = options(vec![disk_case()], &shards, 512);
+        o.samplers = vec![SamplerKind::Independent];
+        o.shard = Some(Shard { index: k, count: 2 });
+        sweep(&o);
+    }
+    let name = |k: usize| format!("shard-{k}-of-2.json");
+    let original: Vec<Value> = (0..2).map(|k| read(&shards.join(name(k)))).collect();
+    merge(std::slice::from_ref(&shards), &out.join("ok"), 1).unwrap_or_else(|e| panic!("{e}"));
+    let at = "cases[0].series[0]";
+    fn points(v: &mut Value) -> &mut Vec<Value> {
+        v["cases"][0]["series"][0]["points"][1]["batches"]
+            .as_array_mut()
+            .unwrap()
+    }
+    type Tamper = Box<dyn Fn(&mut [Value]) -> (usize, String, &'static str)>;
+    let tampers: Vec<Tamper> = vec![
+        // Shard 0 carries a batch of shard 1 (which has it too), with another mean.
+        Box::new(move |v| {
+            let mut b = points(&mut v[1])[0].clone();
+            b["mean"] = (b["mean"].as_f64().unwrap() + 1.0).into();
+            let p = points(&mut v[0]);
+            p.push(b);
+            let n = p.len() - 1;
+            (0, format!("{at}.points[1].batches[{n}].batch"), "shard 1's")
+        }),
+        // Shard 0 carries one of its own batches twice.
+        Box::new(move |v| {
+            let p = points(&mut v[0]);
+            p.push(p[0].clone());
+            let n = p.len() - 1;
+            (
+                0,
+                format!("{at}.points[1].batches[{n}].batch"),
+                "present twice",
+            )
+        }),
+        // Shard 1's point seed is not the one its series seed gives.
+        Box::new(move |v| {
+            let pt = &mut v[1]["cases"][0]["series"][0]["points"][1];
+            pt["seed"] = (pt["seed"].as_u64().unwrap() ^ 1).into();
+            (1, format!("{at}.points[1].seed"), "is not the seed")
+        }),
+        // Shard 1's series seed differs from shard 0's.
+        Box::new(move |v| {
+            let s = &mut v[1]["cases"][0]["series"][0];
+            s["seed"] = (s["seed"].as_u64().unwrap() ^ 1).into();
+            (1, format!("{at}.seed"), "series seed")
+        }),
+    ];
+    let mut wrong = vec![];
+    for (i, tamper) in tampers.iter().enumerate() {
+        let dir = out.join(format!("t{i}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut v = original.clone();
+        let (file, field, reason) = tamper(&mut v);
+        for (k, x) in v.iter().enumerate() {
+            std::fs::write(dir.join(name(k)), serde_json::to_string(x).unwrap()).unwrap();
+        }
+        let path = dir.join(name(file)).display().to_string();
+        match merge(std::slice::from_ref(&dir), &out.join("bad"), 1) {
+            Ok(_) => wrong.push(format!("tamper {i}: merged")),
+            Err(e) => {
+                let e = e.to_string();
+                if !(e.contains(&path) && e.contains(&field) && e.contains(reason)) {
+                    wrong.push(format!(
+                        "tamper {i}: expected {path}, {field}, `{reason}` in: {e}"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:#?}");
+    // The command exits 2 with the file and field on one line.
+    let o = Command::new(env!("CARGO_BIN_EXE_lightproof"))
+        .args(["merge", out.join("t0").to_str().unwrap(), "--out"])
+        .arg(out.join("bad"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("shard-0-of-2.json") && err.contains("batches["),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// A rerun with a larger `--max-samples` resumes a shard's partial as it does a single
+/// run's reports (before, the plan digest held the settings, so the shard ran afresh);
+/// a narrower rerun says on stderr how many earlier points and series it drops from
+/// what it writes.
+#[test]
+fn a_shard_extends_and_a_narrower_rerun_says_what_it_drops() {
+    let out = tmp("extend");
+    let dropped = |s: &Summary| -> Vec<String> {
+        s.notes
+            .iter()
+            .filter(|n| n.contains("dropped"))
+            .cloned()
+            .collect()
+    };
+    let shard = |max: u64| {
+        let mut o = options(vec![disk_case()], &out.join("shard"), max);
+        (o.samplers, o.estimators) = (vec![SamplerKind::Independent], vec![Estimator::Light]);
+        o.shard = Some(Shard { index: 0, count: 2 });
+        sweep(&o)
+    };
+    let s = shard(512);
+    assert_eq!((s.computed, s.resumed), (2, 0));
+    let s = shard(1024);
+    assert_eq!((s.computed, s.resumed), (1, 2), "{:?}", s.notes);
+    assert!(dropped(&s).is_empty(), "{:?}", s.notes);
+    let s = shard(256);
+    assert_eq!((s.computed, s.resumed), (0, 1), "{:?}", s.notes);
+    let d = dropped(&s);
+    assert!(
+        d.len() == 1 && d[0].contains("2 earlier point(s), 0 whole series"),
+        "{d:?}"
+    );
+    // A single run: two samplers to 512, then one sampler to 256 drops the other
+    // sampler's series (2 points) and the kept series' point of 512.
+    let single = |max: u64, samplers: Vec<SamplerKind>| {
+        let mut o = options(vec![disk_case()], &out.join("single"), max);
+        (o.samplers, o.estimators) = (samplers, vec![Estimator::Light]);
+        sweep(&o)
+    };
+    single(512, vec![SamplerKind::Independent, SamplerKind::Sobol]);
+    let s = single(256, vec![SamplerKind::Independent]);
+    assert_eq!((s.computed, s.resumed), (0, 1), "{:?}", s.notes);
+    let d = dropped(&s);
+    assert!(
+        d.len() == 1 && d[0].contains("3 earlier point(s), 1 whole series"),
+        "{d:?}"
+    );
+    assert_eq!(s.reports[0].series.len(), 1);
+    let _ = std::fs::remove_dir_all(out);
+}
+
 #[test]
 fn a_killed_run_leaves_valid_json_and_resumes() {
     let out = tmp("killed");
@@ -668,6 +815,7 @@ fn bad_input_exits_2_with_one_line() {
         );
         assert!(!err.contains("panicked"), "{err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
+        err.into_owned()
     };
     let out = tmp("bad");
     let o = out.to_str().unwrap();
@@ -691,7 +839,27 @@ fn bad_input_exits_2_with_one_line() {
         &["report", "no/such/case.json", "--out", o],
         "no/such/case.json",
     );
-    bad(&["merge", o, "--out", o], "no shard partial files");
+    // Each message is true of the command: `report` rounds to powers of two (`verify`
+    // and `estimate` to multiples of 128); an empty folder given to `merge` is named; a
+    // file that is not a partial gets advice about merge's input, not about --out.
+    bad(
+        &["report", c, "--out", o, "--max-samples", "255"],
+        "rounded down to a power of two",
+    );
+    bad(
+        &["report", c, "--out", o, "--min-samples", "255"],
+        "rounded up to a power of two",
+    );
+    bad(
+        &["verify", c, "--samples", "255"],
+        "rounded up to a multiple of 128",
+    );
+    bad(
+        &["merge", o, "--out", o],
+        &format!("{o}: no shard partial files"),
+    );
+    let err = bad(&["merge", c, "--out", o], "`report --shard K/N` writes");
+    assert!(!err.contains("--out"), "{err}");
     // A foreign file where a report would go is not overwritten.
     std::fs::write(out.join("disk_on_axis.json"), "{\"mine\": true}").unwrap();
     bad(&["report", c, "--out", o], "not a lightproof report file");
