@@ -63,6 +63,14 @@ impl SpectralIor {
                     bsdf.name()
                 ));
             }
+            // A rough dielectric's index stays MIN_ETA_GAP from 1 at every wavelength.
+            let gap = crate::bsdf::rough_dielectric::MIN_ETA_GAP;
+            if matches!(bsdf, Bsdf::RoughDielectric(_)) && lo < 1.0 + gap && hi > 1.0 - gap {
+                return Err(format!(
+                    "eta: the index spans [{lo}, {hi}] over [{}, {}] nm, within {gap:e} of 1 somewhere: a rough dielectric does not resolve an interface that weak (see its `eta`)",
+                    band.min, band.max
+                ));
+            }
         }
         if let Some(k) = &self.k {
             if !takes_k {

@@ -421,6 +421,11 @@ case("response_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400
 case("spectrum_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400, 500]),
      ("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [400, 500], "values": [3e38, 3e38]}})],
      2, "spectral", "overflows f32")
+# A rough dielectric with η at or near 1: every sample was lost at η = 1 (a delta
+# transmission) and, within 1e-5, albedos read up to 33% low or 0. Refused, naming `eta`.
+for name, eta in [("rough_dielectric_eta_1", 1), ("rough_dielectric_eta_near_1", 1.00001)]:
+    case(name, "wrong", ALBEDO, [("measure.albedo.bsdf", {"type": "rough_dielectric", "alpha": 0.3, "eta": eta})],
+         2, "measure.albedo.bsdf.eta", "from 1")
 sweep("wavelength", SPECTRAL, "spectral.wavelength", "spectral.wavelength", ALL2,
       edits=[("spectral", {"wavelength": 550})])
 # The shutter's end: -1 puts it before its start [-0.5, ...].
