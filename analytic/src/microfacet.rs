@@ -118,8 +118,16 @@ pub fn lambda(dist: Distribution, alpha: f64, cos_theta: f64) -> f64 {
     let tan = (1.0 - c * c).sqrt() / c;
     let at = alpha * tan;
     match dist {
-        // (√(1 + α² tan²) − 1)/2 without cancellation.
-        Distribution::Ggx => at * at / (2.0 * (1.0 + (1.0 + at * at).sqrt())),
+        // (√(1 + α² tan²) − 1)/2 without cancellation below at = 1; above, as
+        // (hypot(1, at) − 1)/2, which cancels at most one bit and whose square root does
+        // not overflow where at² would (a cosine below ~10⁻¹⁵⁴ gave ∞/∞ = NaN).
+        Distribution::Ggx => {
+            if at > 1.0 {
+                (at.hypot(1.0) - 1.0) / 2.0
+            } else {
+                at * at / (2.0 * (1.0 + (1.0 + at * at).sqrt()))
+            }
+        }
         Distribution::Beckmann => {
             if at == 0.0 {
                 return 0.0;
@@ -680,6 +688,17 @@ mod tests {
         // GGX: (√(1 + α² tan²) − 1)/2 at tan = 1, α = 1.
         let l = lambda(Distribution::Ggx, 1.0, 0.5f64.sqrt());
         assert!((l - (2f64.sqrt() - 1.0) / 2.0).abs() < 1e-15);
+        // GGX switches form at α tan θ = 1: both sides agree, and far past it, where
+        // (α tan θ)² overflows (cos θ < ~10⁻¹⁵⁴ gave NaN), Λ is (α tan θ − 1)/2 to
+        // rounding: α/(2 cos θ) − 1/2 for cos θ = 10⁻²⁰⁰, 10⁻³⁰⁰.
+        let ggx_at = |at: f64| lambda(Distribution::Ggx, 1.0, 1.0 / (1.0 + at * at).sqrt());
+        let (below, above) = (ggx_at(1.0 - 1e-12), ggx_at(1.0 + 1e-12));
+        assert!((below - above).abs() < 1e-11 * below, "{below} {above}");
+        for c in [1e-200, 1e-300] {
+            let l = lambda(Distribution::Ggx, 0.5, c);
+            let want = 0.5 / (2.0 * c) - 0.5;
+            assert!((l / want - 1.0).abs() < 1e-15, "cos {c}: {l} vs {want}");
+        }
     }
 
     /// D pinned by hand: 1/(π α²) at the pole for both; at tan θm = α (θm = atan α),

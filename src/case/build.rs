@@ -194,6 +194,43 @@ fn flux(f: &str, scene: &Scene, shape: usize, view_factor: bool) -> Result<Measu
     })
 }
 
+/// A view factor is geometry: the flux the receiver gets straight from a grey, steady
+/// emitter, over π L A. A case that measures something else under that name is refused,
+/// naming `measure.flux.view_factor`: a `spectral` section (a band integrated F over its
+/// width: 60 for F = 0.2 over 300 nm), a time `bin` or `bins` (F times the bin's width),
+/// or a scene whose light can scatter before it arrives (a material that is not black,
+/// without `max_depth` 1: C-14's rectangles of albedo 0.9 read 0.216 for F = 0.200).
+pub fn check_view_factor(f: &str, desc: &CaseDesc, scene: &Scene) -> Result<(), InputError> {
+    let MeasureDesc::Flux {
+        view_factor: true, ..
+    } = desc.measure
+    else {
+        return Ok(());
+    };
+    let timed = desc
+        .time
+        .as_ref()
+        .is_some_and(|t| t.bin.is_some() || t.bins.is_some());
+    let scatters = scene.shapes.iter().any(|s| {
+        s.material
+            .is_some_and(|m| !crate::bsdf::ModelFacts::is_black(&scene.materials[m].bsdf))
+    });
+    let why = if desc.spectral.is_some() {
+        Some("a view factor is not spectral: leave out the `spectral` section")
+    } else if timed {
+        Some("a view factor is not time resolved: leave out `time.bin` and `time.bins`")
+    } else if scatters && desc.max_depth != Some(1) {
+        Some(
+            "a material here scatters light, which would add interreflections to the view factor: make every material black, or give `max_depth` 1 (direct light only)",
+        )
+    } else {
+        None
+    };
+    why.map_or(Ok(()), |w| {
+        Err(InputError::new(f, "measure.flux.view_factor", w))
+    })
+}
+
 /// The measurement in engine coordinates (rebased on `origin`).
 pub fn measure(
     f: &str,
@@ -944,7 +981,9 @@ mod tests {
             origin,
             epoch(d),
         )?;
-        measure("c.json", &d.measure, &scene, origin)
+        let m = measure("c.json", &d.measure, &scene, origin)?;
+        check_view_factor("c.json", d, &scene)?;
+        Ok(m)
     }
 
     fn field(m: serde_json::Value, extra: serde_json::Value) -> String {
@@ -1167,6 +1206,53 @@ mod tests {
         let e = view_factor(json!({"radiance": 1}), json!({"velocity": [0, 0, 1]})).unwrap_err();
         assert_eq!(e.field, "measure.flux.shape");
         assert!(e.reason.contains("moving receiver"), "{e}");
+        // Geometry only: no spectral section, no time bin, no light scattered on the way
+        // unless `max_depth` is 1 (a black material or a shutter changes nothing).
+        let case = |scene_extra: serde_json::Value, extra: serde_json::Value| {
+            let mut d = json!({
+                "scene": {"shapes": [
+                    {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                                  "radius": 1}, "emission": {"radiance": 1}},
+                    {"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                  "radius": 0.5}, "material": "m"}],
+                    "materials": {"m": {"type": "lambertian", "albedo": 0}}},
+                "measure": {"flux": {"shape": 1, "view_factor": true}}
+            });
+            for (k, x) in scene_extra.as_object().unwrap() {
+                d["scene"]["materials"]["m"][k] = x.clone();
+            }
+            for (k, x) in extra.as_object().unwrap() {
+                d[k] = x.clone();
+            }
+            built(&desc(d)).map(|_| ()).map_err(|e| {
+                assert_eq!(e.field, "measure.flux.view_factor");
+                e.reason
+            })
+        };
+        assert!(case(json!({}), json!({})).is_ok());
+        assert!(case(json!({}), json!({"time": {"shutter": [0, 1]}})).is_ok());
+        let grey = json!({"albedo": 0.9});
+        assert!(case(grey.clone(), json!({"max_depth": 1})).is_ok());
+        assert!(
+            case(grey.clone(), json!({}))
+                .unwrap_err()
+                .contains("scatters")
+        );
+        assert!(
+            case(grey, json!({"max_depth": 2}))
+                .unwrap_err()
+                .contains("scatters")
+        );
+        let spectral = json!({"spectral": {"band": [400, 700]}});
+        assert!(
+            case(json!({}), spectral)
+                .unwrap_err()
+                .contains("not spectral")
+        );
+        for time in [json!({"bin": [0, 1e-9]}), json!({"bins": [0, 1e-9, 2e-9]})] {
+            let e = case(json!({}), json!({ "time": time })).unwrap_err();
+            assert!(e.contains("not time resolved"), "{e}");
+        }
     }
     #[test]
     fn one_wavelength_is_checked_as_the_nanometre_above_it() {

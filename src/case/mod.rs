@@ -120,6 +120,7 @@ impl Case {
             }
         };
         let measure = build::measure(f, &desc.measure, &scene, origin)?;
+        build::check_view_factor(f, &desc, &scene)?;
         build::check_estimators(f, &desc, &measure)?;
         build::check_samples(f, &desc)?;
         let reference = build::reference(f, &desc)?;

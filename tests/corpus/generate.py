@@ -738,6 +738,12 @@ sweep("flux_shape", FLUX, "measure.flux.shape", "measure.flux.shape", ALL2, fiel
 case("flux_receiver_degenerate", "wrong", FLUX, [("scene.shapes.1.geometry.edge_v", [2, 0, 0])], 2,
      "scene.shapes[1].geometry")
 case("flux_receiver_is_emitter", "wrong", FLUX, [("measure.flux.shape", 0)], 2, "measure.flux.view_factor")
+# A view factor is geometry: a band read F × its width (60 for 0.2), a bin F × its width,
+# and reflective shapes added interreflections (0.216 for 0.200). Refused.
+case("flux_view_factor_spectral", "wrong", FLUX, [("spectral", {"band": [400, 700]})], 2,
+     "measure.flux.view_factor", "not spectral")
+case("flux_view_factor_reflective", "wrong", FLUX, [("scene.materials", {"w": {"type": "lambertian", "albedo": 0.9}}),
+     ("scene.shapes.1.material", "w")], 2, "measure.flux.view_factor", "scatters")
 case("flux_view_factor_two_sided", "wrong", FLUX, [("scene.shapes.0.emission.two_sided", True)], 2,
      "measure.flux.view_factor")
 case("flux_view_factor_two_emitters", "wrong", FLUX, [("scene.shapes.1.emission", {"radiance": 1})], 2,
