@@ -231,6 +231,40 @@ pub fn check_view_factor(f: &str, desc: &CaseDesc, scene: &Scene) -> Result<(), 
     })
 }
 
+/// An irradiance receiver just outside a still sphere light, within the `f32` error
+/// bound of its surface: there it cannot be told from a point on the sphere, which light
+/// sampling treats as such (by area over the whole sphere, where the receiver sees a cap
+/// of relative area ~gap/2r), so `light` read 0 for ≈ πL (a gap of 9.5·10⁻⁷ r) while
+/// `bsdf` and `mis` were right. Refused, naming `measure.irradiance.at` and the least gap.
+pub fn check_receiver_clear_of_sphere_lights(
+    f: &str,
+    measure: &Measure,
+    scene: &Scene,
+) -> Result<(), InputError> {
+    let Measure::Irradiance { at, .. } = *measure else {
+        return Ok(());
+    };
+    for (k, s) in scene.shapes.iter().enumerate() {
+        if s.emitter.is_none() || s.velocity != glam::Vec3::ZERO {
+            continue;
+        }
+        for prim in &scene.prims()[s.prims.clone()] {
+            if let crate::scene::shape::Primitive::Sphere { center, radius } = *prim
+                && let Some(band) = crate::scene::emitter::just_outside_sphere(at, center, radius)
+            {
+                return Err(InputError::new(
+                    f,
+                    "measure.irradiance.at",
+                    format!(
+                        "lies within {band:e} of the surface of sphere light scene.shapes[{k}] (radius {radius}), the f32 error bound of a point on it: indistinguishable from a point of the sphere, which sees none of its light; place the receiver at least {band:e} away, or on the sphere"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The measurement in engine coordinates (rebased on `origin`).
 pub fn measure(
     f: &str,
@@ -983,6 +1017,7 @@ mod tests {
         )?;
         let m = measure("c.json", &d.measure, &scene, origin)?;
         check_view_factor("c.json", d, &scene)?;
+        check_receiver_clear_of_sphere_lights("c.json", &m, &scene)?;
         Ok(m)
     }
 
@@ -1176,6 +1211,44 @@ mod tests {
             "scene": d,
             "measure": {"flux": {"shape": 1, "view_factor": true}}
         })))
+    }
+
+    /// A receiver 4 ulps (4.8·10⁻⁷) above a sphere light of radius 0.5 lies within the
+    /// band of its surface's error bound (7.2·10⁻⁷ here) and is refused, naming
+    /// `measure.irradiance.at`; 8 ulps above, on the sphere, inside it, beside a sphere
+    /// that does not emit, or measuring radiance there, it is taken.
+    #[test]
+    fn a_receiver_within_a_sphere_lights_error_bound_is_refused() {
+        let case = |z: f64, emits: bool, measure: &str| {
+            let mut sphere = json!({"geometry": {"type": "sphere", "center": [0.25, -0.125, 0.5], "radius": 0.5}});
+            if emits {
+                sphere["emission"] = json!({"radiance": 1});
+            }
+            let dir = if measure == "irradiance" {
+                "normal"
+            } else {
+                "direction"
+            };
+            built(&desc(json!({
+                "scene": {"shapes": [sphere, {"geometry": {"type": "disk", "center": [9, 9, 9], "normal": [0, 0, 1], "radius": 1},
+                          "emission": {"radiance": 1}}]},
+                "measure": { measure: {"at": [0.25, -0.125, z], dir: [0, 0, -1]} }
+            })))
+        };
+        let ulp = 2f64.powi(-23);
+        let e = case(1.0 + 4.0 * ulp, true, "irradiance").unwrap_err();
+        assert_eq!(e.field, "measure.irradiance.at");
+        assert!(e.reason.contains("scene.shapes[0]"), "{e}");
+        assert!(case(1.0 + ulp, true, "irradiance").is_err());
+        for ok in [
+            case(1.0 + 8.0 * ulp, true, "irradiance"),
+            case(1.0, true, "irradiance"),
+            case(0.9, true, "irradiance"),
+            case(1.0 + 4.0 * ulp, false, "irradiance"),
+            case(1.0 + 4.0 * ulp, true, "radiance"),
+        ] {
+            assert!(ok.is_ok(), "{ok:?}");
+        }
     }
 
     #[test]

@@ -282,6 +282,20 @@ fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
                         * (center.abs().max_element() + p.abs().max_element()) as f64)
 }
 
+/// Whether `p` lies outside the sphere (|p − c| > r in `f64`) yet within its band
+/// ([`outside_sphere_band`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a point
+/// there is sampled as one on the sphere (by area), which sees almost none of the
+/// light a receiver hovering that close gets (≈ πL). A case's receiver there is refused
+/// (`case::build::check_receiver_clear_of_sphere_lights`).
+pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<f64> {
+    let d = (p.as_dvec3() - center.as_dvec3()).length();
+    (d > radius as f64 && !outside_sphere_band(p, center, radius)).then(|| {
+        4.0 * (crate::math::gamma(5) as f64 * radius as f64
+            + crate::math::gamma(1) as f64
+                * (center.abs().max_element() + p.abs().max_element()) as f64)
+    })
+}
+
 /// Choose the sampling strategy for primitive `prim` seen from `p`. Deterministic in
 /// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
 pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {

@@ -738,6 +738,13 @@ sweep("flux_shape", FLUX, "measure.flux.shape", "measure.flux.shape", ALL2, fiel
 case("flux_receiver_degenerate", "wrong", FLUX, [("scene.shapes.1.geometry.edge_v", [2, 0, 0])], 2,
      "scene.shapes[1].geometry")
 case("flux_receiver_is_emitter", "wrong", FLUX, [("measure.flux.shape", 0)], 2, "measure.flux.view_factor")
+# A receiver 4 ulps above a sphere light (within its surface's error bound): light
+# sampling took it for a point of the sphere and read 0 for pi L. Refused.
+case("receiver_in_sphere_light_band", "wrong", DISK, [
+     ("scene.shapes", [{"geometry": {"type": "sphere", "center": [0.25, -0.125, 0.5], "radius": 0.5},
+                        "emission": {"radiance": 1}}]),
+     ("measure.irradiance.at", [0.25, -0.125, 1.0000004768371582]),
+     ("measure.irradiance.normal", [0, 0, -1])], 2, "measure.irradiance.at", "error bound")
 # A view factor is geometry: a band read F × its width (60 for 0.2), a bin F × its width,
 # and reflective shapes added interreflections (0.216 for 0.200). Refused.
 case("flux_view_factor_spectral", "wrong", FLUX, [("spectral", {"band": [400, 700]})], 2,
