@@ -664,7 +664,7 @@ impl Builder<'_> {
     }
 
     /// A sphere's cap: (axis as placed, cos θmax, 1 − cos θmax), or `None` for the
-    /// whole sphere (no `theta_max`, or 180° and no axis needed).
+    /// whole sphere (no `theta_max`; 180° is a cap that covers it all, as exact).
     fn cap(
         &self,
         gf: &str,
