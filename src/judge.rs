@@ -1087,6 +1087,9 @@ mod tests {
         .unwrap();
         render(&c.join("renders"), "000.EXR", |_| {});
         render(&c.join("renders"), "001.exr", |_| {});
+        // Neither a hidden render nor a file of another kind is a render.
+        render(&c.join("renders"), ".002.exr", |_| {});
+        std::fs::write(c.join("renders").join("notes.txt"), b"not a render").unwrap();
         let suite = |ids: &[&str]| {
             let doc = serde_json::json!({"renderer": "mitsuba", "cases": ids, "refused": []});
             std::fs::write(dir.join("suite.json"), doc.to_string()).unwrap();
@@ -1118,6 +1121,15 @@ mod tests {
             );
         }
         std::fs::remove_dir_all(c.join("renders")).unwrap();
+        // No renders folder yet: a case not rendered (here the only one, so the suite
+        // has nothing to judge), not an error about the folder.
+        let Err(Error::Input(e)) = suite(&["c"]) else {
+            panic!("a suite without renders judged")
+        };
+        assert!(
+            e.reason.contains("no case of the suite has renders yet"),
+            "{e}"
+        );
         std::fs::write(c.join("renders"), b"").unwrap();
         let Err(Error::Input(e)) = suite(&["c"]) else {
             panic!("a file for renders/ accepted")
@@ -1126,6 +1138,17 @@ mod tests {
             e.file.ends_with("renders") && e.reason.contains("not the folder"),
             "{e}"
         );
+        // A renders folder that cannot be read (a link to itself) is an error, not
+        // "not rendered".
+        std::fs::remove_file(c.join("renders")).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("renders", c.join("renders")).unwrap();
+            let Err(Error::Input(e)) = suite(&["c"]) else {
+                panic!("an unreadable renders/ accepted")
+            };
+            assert!(e.reason.contains("cannot read the renders folder"), "{e}");
+        }
         let _ = std::fs::remove_dir_all(dir);
     }
 

@@ -1057,7 +1057,7 @@ mod tests {
             assert!(m.check("export.json").is_ok(), "{m:?}");
         }
         // Too many pixels blames the field too large alone, else the product.
-        let bad: [(Edit, &str); 12] = [
+        let bad: [(Edit, &str); 14] = [
             (|m, _| m.scale = 0.0, "scale"),
             (|m, _| m.scale = -1.0, "scale"),
             (|m, _| m.scale = 1e-320, "scale"),
@@ -1071,6 +1071,9 @@ mod tests {
                 |m, max| (m.width, m.height) = (max / 2, 3),
                 "width × height",
             ),
+            // One side at the limit is not the culprit alone: the product is.
+            (|m, max| (m.width, m.height) = (max, 2), "width × height"),
+            (|m, max| (m.width, m.height) = (2, max), "width × height"),
             (|m, _| (m.width, m.height) = (usize::MAX, 2), "width"),
             (|m, _| (m.width, m.height) = (2, usize::MAX), "height"),
         ];
