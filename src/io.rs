@@ -138,7 +138,8 @@ pub fn write_exr_atomic(
     })
 }
 
-/// An output file `out` that cannot be written: a folder above it that cannot be one
+/// An output file `out` that cannot be written: a name that ends in a separator (a
+/// folder's name), a folder above it that cannot be one
 /// ([`crate::error::IoError::check_output_folder`]), `out` itself an existing folder, or a folder
 /// that refuses a new file (read-only, `/proc`), found by creating and removing an
 /// empty `.NAME.probePID` in the nearest existing folder on the way. Checked before a
@@ -149,6 +150,19 @@ pub fn check_output_file(out: &Path) -> Result<(), crate::error::IoError> {
         path: out.display().to_string(),
         reason: format!("cannot write: {why}"),
     };
+    // `file_name` ignores a trailing `/` (and `/.`): `--json newdir/` passed this check
+    // and failed only at the rename, after the whole run.
+    let text = out.as_os_str().to_string_lossy();
+    let last = out.components().next_back();
+    if text.ends_with(std::path::is_separator)
+        || text.ends_with("/.")
+        || !matches!(last, Some(std::path::Component::Normal(_)))
+    {
+        return Err(fail(format!(
+            "`{}` names a folder (it ends in a separator, `.` or `..`), not a file",
+            out.display()
+        )));
+    }
     if let Some(why) = crate::error::not_a_folder(out) {
         return Err(fail(why));
     }
@@ -175,6 +189,101 @@ pub fn check_output_file(out: &Path) -> Result<(), crate::error::IoError> {
     };
     probe_new_file(dir, &name)
         .map_err(|e| fail(format!("`{}` takes no new file ({e})", dir.display())))
+}
+
+/// A path as the system would resolve it once written: the nearest existing folder on
+/// its way made canonical (links and `..` resolved), then the rest as given, so that an
+/// output that does not exist yet can be compared with the inputs.
+fn resolved(path: &Path) -> Option<PathBuf> {
+    let mut rest = Vec::new();
+    for a in path.ancestors() {
+        let a = if a.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            a
+        };
+        if let Ok(c) = a.canonicalize() {
+            return Some(rest.iter().rev().fold(c, |p: PathBuf, n| p.join(n)));
+        }
+        rest.push(a.file_name()?.to_os_string());
+    }
+    None
+}
+
+/// Refuse an output file `out` (the command's `flag`) that is one of the input `files`
+/// (the same file once both are canonical: an output that does not exist yet is none of
+/// them), or that is a `.json` file inside one of the input `folders`, which are read
+/// through their sub-folders: `verify in.json --json in.json` replaced the case file
+/// with the verdict, and a verdict written into a catalog is read as a case next run.
+/// Bad input (exit 2), told before any work.
+pub fn refuse_output_on_input(
+    flag: &str,
+    out: &Path,
+    files: &[PathBuf],
+    folders: &[PathBuf],
+) -> Result<(), InputError> {
+    let refuse =
+        |why: String| InputError::new("<command line>", flag, format!("`{}` {why}", out.display()));
+    if let Ok(o) = out.canonicalize()
+        && let Some(f) = files
+            .iter()
+            .find(|f| f.canonicalize().is_ok_and(|f| f == o))
+    {
+        return Err(refuse(format!(
+            "is the input file `{}`: writing it would destroy the input",
+            f.display()
+        )));
+    }
+    let json = out.extension().is_some_and(|x| x == "json");
+    if let (true, Some(o)) = (json, resolved(out))
+        && let Some(d) = folders
+            .iter()
+            .find(|d| d.canonicalize().is_ok_and(|d| o.starts_with(d)))
+    {
+        return Err(refuse(format!(
+            "lies inside the input folder `{}`, read through its sub-folders: it would be read as a case file on the next run",
+            d.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuse an output folder `out` (the command's `flag`) that is, or lies inside, one of
+/// the input `folders` (its JSON files would be read as cases on the next run), or that
+/// holds one of the input `files` itself, where the command writes its own files
+/// (`report reports/x.json` wrote its report `reports/x.json` over the case; a folder
+/// further down is not written flat, and is let be). Bad input (exit 2), told before
+/// any work.
+pub fn refuse_output_folder_on_input(
+    flag: &str,
+    out: &Path,
+    files: &[PathBuf],
+    folders: &[PathBuf],
+) -> Result<(), InputError> {
+    let Some(o) = resolved(out) else {
+        return Ok(());
+    };
+    let refuse =
+        |why: String| InputError::new("<command line>", flag, format!("`{}` {why}", out.display()));
+    if let Some(d) = folders
+        .iter()
+        .find(|d| d.canonicalize().is_ok_and(|d| o.starts_with(d)))
+    {
+        return Err(refuse(format!(
+            "is or lies inside the input folder `{}`, read through its sub-folders: the files written there would be read as case files on the next run",
+            d.display()
+        )));
+    }
+    if let Some(f) = files.iter().find(|f| {
+        f.canonicalize()
+            .is_ok_and(|f| f.parent().is_some_and(|p| p == o))
+    }) {
+        return Err(refuse(format!(
+            "holds the input file `{}`, which a file written there could replace",
+            f.display()
+        )));
+    }
+    Ok(())
 }
 
 /// An output folder `out` that cannot be written: a folder on the way that cannot be one
@@ -298,6 +407,18 @@ mod tests {
             assert!(check_output_file(&ok).is_ok(), "{}", ok.display());
         }
         assert!(check_output_file(std::path::Path::new("bare-name.json")).is_ok());
+        // A name ending in a separator names a folder, existing or not.
+        for folder in [dir.join("newdir/"), dir.join("x.exr/"), dir.join("x.exr/.")] {
+            let p = std::path::PathBuf::from(format!("{}/", folder.display()));
+            for p in [folder.clone(), p] {
+                assert!(
+                    reason(&p).contains("names a folder (it ends in a separator"),
+                    "{}",
+                    p.display()
+                );
+            }
+        }
+        assert!(reason(std::path::Path::new("..")).contains("names a folder"));
         let left: Vec<_> = std::fs::read_dir(&dir)
             .unwrap()
             .flatten()
@@ -305,6 +426,47 @@ mod tests {
             .collect();
         assert_eq!(left, vec![std::ffi::OsString::from("afile")]);
         assert!(!dir.join("new").exists(), "the check creates no folder");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// An output that is an input file (by another name too), or a `.json` output inside
+    /// an input folder, is refused naming the flag, the path and the input; a new file
+    /// elsewhere, or one that is not JSON inside the folder, passes. An output folder is
+    /// refused inside an input folder and around an input file.
+    #[test]
+    fn an_output_on_an_input_is_refused() {
+        let dir = std::env::temp_dir().join(format!("lightproof-io-clash-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("cases/sub")).unwrap();
+        let case = dir.join("in.json");
+        std::fs::write(&case, b"{}").unwrap();
+        let files = [case.clone()];
+        let folders = [dir.join("cases")];
+        let file = |out: &Path| refuse_output_on_input("--json", out, &files, &folders);
+        let e = file(&dir.join("cases/../in.json")).unwrap_err();
+        assert_eq!(
+            (e.file.as_str(), e.field.as_str()),
+            ("<command line>", "--json")
+        );
+        assert!(e.reason.contains("is the input file"), "{e}");
+        for inside in [
+            "cases/v.json",
+            "cases/new/deeper/v.json",
+            "cases/sub/../v.json",
+        ] {
+            let e = file(&dir.join(inside)).unwrap_err();
+            assert!(e.reason.contains("lies inside the input folder"), "{e}");
+        }
+        for ok in ["v.json", "cases/v.html", "casesx/v.json"] {
+            assert!(file(&dir.join(ok)).is_ok(), "{ok}");
+        }
+        let folder = |out: &Path| refuse_output_folder_on_input("--out", out, &files, &folders);
+        for bad in ["cases", "cases/sub/rep", "."] {
+            assert!(folder(&dir.join(bad)).is_err(), "{bad}");
+        }
+        for ok in ["reports", ".."] {
+            assert!(folder(&dir.join(ok)).is_ok(), "{ok}");
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

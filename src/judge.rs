@@ -660,6 +660,16 @@ pub fn run(
     json: bool,
     alpha: f64,
 ) -> Result<(String, bool), Error> {
+    let usage = |why: String| Error::from(InputError::new("<command line>", "judge", why));
+    // A blank name would label the renderer's row and JSON with nothing.
+    if let Some(r) = renderer.filter(|r| r.trim().is_empty()) {
+        return Err(InputError::new(
+            "<command line>",
+            "--renderer",
+            format!("must name the renderer, got `{r}` (leave it out for `renderer`)"),
+        )
+        .into());
+    }
     let (judgements, summary, doc) = match (suite, files) {
         (Some(dir), []) => {
             let s = judge_suite(dir, renderer, alpha)?;
@@ -675,7 +685,19 @@ pub fn run(
             let doc = serde_json::to_value(&s).unwrap_or_default();
             (s.judgements, summary, doc)
         }
-        (None, [case, renders @ ..]) if !renders.is_empty() => {
+        // The usage, each way it can be missed: nothing, a case without renders, both.
+        (None, []) => {
+            return Err(usage(
+                "give CASE.json RENDER.exr... or --suite DIR: none was given".into(),
+            ));
+        }
+        (None, [case]) => {
+            return Err(usage(format!(
+                "give CASE.json RENDER.exr... or --suite DIR: `{}` has no renders after it",
+                case.display()
+            )));
+        }
+        (None, [case, renders @ ..]) => {
             let j = judge_case(case, renders, renderer.unwrap_or("renderer"), alpha)?;
             let summary = format!(
                 "\n{}  ({}: {} renders; {})\n",
@@ -695,13 +717,10 @@ pub fn run(
             let doc = serde_json::to_value(&j).unwrap_or_default();
             (vec![j], summary, doc)
         }
-        _ => {
-            return Err(InputError::new(
-                "<command line>",
-                "judge",
-                "give CASE.json RENDER.exr... or --suite DIR (not both)",
-            )
-            .into());
+        (Some(_), [_, ..]) => {
+            return Err(usage(
+                "give CASE.json RENDER.exr... or --suite DIR, not both".into(),
+            ));
         }
     };
     let passed = judgements.iter().all(Judgement::passed);
@@ -816,13 +835,30 @@ mod tests {
         assert_eq!(doc["verdict"]["passed"], true, "{doc}");
         let (table, _) = run(&files, None, None, false, 1e-4).unwrap();
         assert!(table.contains("(renderer: 1 renders;"), "{table}");
-        // A case without renders, or a suite with files besides: the usage, not a verdict.
-        for (files, suite) in [(&files[..1], None), (&files[..], Some(dir.as_path()))] {
+        // Nothing, a case without renders, or a suite with files besides: the usage, not
+        // a verdict, each told as it was missed.
+        for (files, suite, why) in [
+            (&files[..0], None, ": none was given"),
+            (&files[..1], None, "has no renders after it"),
+            (&files[..], Some(dir.as_path()), ", not both"),
+        ] {
             let err = run(files, suite, None, false, 1e-4)
                 .unwrap_err()
                 .to_string();
             assert!(
-                err.contains("give CASE.json RENDER.exr... or --suite DIR"),
+                err.starts_with(
+                    "<command line>: judge: give CASE.json RENDER.exr... or --suite DIR"
+                ) && err.contains(why),
+                "{err}"
+            );
+        }
+        // A blank renderer name is refused, naming the flag.
+        for blank in ["", "  "] {
+            let err = run(&files, None, Some(blank), false, 1e-4)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with("<command line>: --renderer: must name the renderer"),
                 "{err}"
             );
         }

@@ -34,7 +34,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run case files or folders (default: the whole catalog) and the chi-square suites.
+    /// Run case files or folders (default: the whole catalog, then the chi-square suites,
+    /// which run only when no PATH is given).
     Verify {
         /// Case files or folders.
         paths: Vec<PathBuf>,
@@ -55,7 +56,7 @@ enum Command {
         /// Write the verdict page (one self-contained HTML file) to this file.
         #[arg(long)]
         html: Option<PathBuf>,
-        /// Skip the chi-square suites.
+        /// Skip the chi-square suites (they run only when no PATH is given).
         #[arg(long)]
         no_chi2: bool,
         /// Print each case's name and what it teaches under its rows.
@@ -390,9 +391,13 @@ fn quiet_on_broken_pipe() {
     }
 }
 
-/// Parse the command line; a usage error is one line on stderr and exit status 2.
+/// Parse the command line; a usage error is one line on stderr and exit status 2. Help
+/// and the version go to stdout, which that cannot be written (`--help > /dev/full`)
+/// exits 3 as every other output does ([`write_stdout`]); help on stderr (a command with
+/// its arguments missing) keeps its status whatever becomes of the text.
 fn parse_cli() -> Result<Cli, ExitCode> {
     use clap::error::ErrorKind;
+    use std::io::Write as _;
     match Cli::try_parse() {
         Ok(cli) => Ok(cli),
         Err(e)
@@ -403,8 +408,14 @@ fn parse_cli() -> Result<Cli, ExitCode> {
                     | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
             ) =>
         {
-            let _ = e.print();
-            Err(ExitCode::from(e.exit_code().clamp(0, 255) as u8))
+            let printed = e.print().and_then(|()| std::io::stdout().flush());
+            match printed {
+                Err(why) if !e.use_stderr() => {
+                    say!("error: <stdout>: cannot write: {why}");
+                    Err(ExitCode::from(3))
+                }
+                Ok(()) | Err(_) => Err(ExitCode::from(e.exit_code().clamp(0, 255) as u8)),
+            }
         }
         Err(e) => Err(usage_error(&e)),
     }
@@ -414,11 +425,24 @@ fn parse_cli() -> Result<Cli, ExitCode> {
 /// `LIGHTPROOF_SEED` (the default `--seed`, which clap reads) is named: clap's own message
 /// says only "invalid UTF-8 was detected in one or more arguments".
 fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
     let seed = std::env::var_os("LIGHTPROOF_SEED");
-    match seed.as_deref().filter(|v| v.to_str().is_none()) {
-        Some(v) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => say!(
+    // A bad `--seed` that no argument gave came from the variable: clap blames the flag.
+    let seed_flag = matches!(e.get(ContextKind::InvalidArg),
+        Some(ContextValue::String(a)) if a.starts_with("--seed"));
+    let from_env = e.kind() == ErrorKind::ValueValidation
+        && seed_flag
+        && !std::env::args_os()
+            .skip(1)
+            .any(|a| a == "--seed" || a.to_string_lossy().starts_with("--seed="));
+    match seed.as_deref().map(|v| (v, v.to_str())) {
+        Some((v, None)) if e.kind() == ErrorKind::InvalidUtf8 => say!(
             "error: <environment>: LIGHTPROOF_SEED: is not UTF-8 text, got {:?} (it is the default --seed)",
             v.to_string_lossy()
+        ),
+        Some((_, Some(text))) if from_env => say!(
+            "error: <environment>: LIGHTPROOF_SEED: {} (it is the default --seed; an empty one counts as unset)",
+            parse_seed(text).err().unwrap_or_default()
         ),
         _ => {
             let text = e.render().to_string();
@@ -446,8 +470,20 @@ fn command_or_verify(cli: Cli) -> Result<Command, clap::Error> {
     }
 }
 
+/// An empty `LIGHTPROOF_SEED` counts as unset (`LIGHTPROOF_SEED= lightproof`: the
+/// default seed), as users of pbrt and Mitsuba expect of an empty variable; clap would
+/// read it as `--seed ''`, an error.
+fn empty_seed_is_unset() {
+    if std::env::var_os("LIGHTPROOF_SEED").is_some_and(|v| v.is_empty()) {
+        // SAFETY: called first in `main`, before any thread starts, so nothing reads or
+        // writes the environment meanwhile.
+        unsafe { std::env::remove_var("LIGHTPROOF_SEED") };
+    }
+}
+
 fn main() -> ExitCode {
     quiet_on_broken_pipe();
+    empty_seed_is_unset();
     let cli = match parse_cli() {
         Ok(cli) => cli,
         Err(code) => return code,
@@ -513,6 +549,16 @@ fn require_cases(paths: &[PathBuf]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Refuse an `--out` folder that is, or lies inside, an input folder (what is written
+/// there would be read as cases on the next run), or that holds an input case file (a
+/// report or an exported `case.json` could replace it).
+fn refuse_folder_on_input(out: &Path, paths: &[PathBuf]) -> Result<(), Failure> {
+    let files = collect_cases(paths)?;
+    let folders: Vec<PathBuf> = paths.iter().filter(|p| p.is_dir()).cloned().collect();
+    lightproof::io::refuse_output_folder_on_input("--out", out, &files, &folders)?;
+    Ok(())
+}
+
 fn dispatch(command: Command) -> Result<(), Failure> {
     match command {
         Command::Verify {
@@ -565,12 +611,14 @@ fn dispatch(command: Command) -> Result<(), Failure> {
                 Some(s) => Some(lightproof::report::shard::parse_shard(s)?),
             };
             require_cases(&paths)?;
+            let paths = if paths.is_empty() {
+                vec![default_catalog()]
+            } else {
+                paths
+            };
+            refuse_folder_on_input(&out, &paths)?;
             let opts = lightproof::report::sweep::Options {
-                paths: if paths.is_empty() {
-                    vec![default_catalog()]
-                } else {
-                    paths
-                },
+                paths,
                 out,
                 budget,
                 min_samples,
@@ -599,6 +647,12 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             exposure,
         } => {
             lightproof::render::check_output_name(&output)?;
+            lightproof::io::refuse_output_on_input(
+                "-o",
+                &output,
+                &lightproof::render::input_files(&scene)?,
+                &[],
+            )?;
             lightproof::io::check_output_file(&output)?;
             let t0 = std::time::Instant::now();
             let image = lightproof::render::render_file(&scene, spp, seed, max_depth)?;
@@ -646,6 +700,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             };
             if all {
                 require_cases(&paths)?;
+                refuse_folder_on_input(&out, &paths)?;
             }
             outln!("{}", lightproof::export::run(&paths, all, to, &out)?)?;
             Ok(())
@@ -676,15 +731,23 @@ fn verify(
     no_chi2: bool,
     verbose: bool,
 ) -> Result<(), Failure> {
-    for out in json.iter().chain(&html) {
-        lightproof::io::check_output_file(out)?;
-    }
     let whole = paths.is_empty();
     let paths = if whole {
         vec![default_catalog()]
     } else {
         paths
     };
+    let files = collect_cases(&paths)?;
+    // An output on an input (`verify in.json --json in.json`) is refused before any work.
+    let folders: Vec<PathBuf> = paths.iter().filter(|p| p.is_dir()).cloned().collect();
+    for (flag, out) in [("--json", &json), ("--html", &html)] {
+        if let Some(out) = out {
+            lightproof::io::refuse_output_on_input(flag, out, &files, &folders)?;
+        }
+    }
+    for out in json.iter().chain(&html) {
+        lightproof::io::check_output_file(out)?;
+    }
     // Each case's file id: its path under the folder given, without `.json`.
     let mut ids = std::collections::BTreeMap::new();
     for p in &paths {
@@ -694,7 +757,6 @@ fn verify(
                 .or_insert_with(|| lightproof::report::store::case_id(root, &f));
         }
     }
-    let files = collect_cases(&paths)?;
     let cases: Vec<Case> = files
         .iter()
         .map(|f| Case::load(f))
@@ -904,7 +966,11 @@ fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(),
         .split(',')
         .map(|s| s.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|_| Failure::Input(format!("--wo: expected θ,φ in degrees, got `{wo}`")))?;
+        .map_err(|_| {
+            Failure::Input(format!(
+                "<command line>: --wo: expected θ,φ in degrees, got `{wo}`"
+            ))
+        })?;
     if parts.len() != 2 || parts.iter().any(|x| !x.is_finite()) {
         return Err(Failure::Input(format!(
             "<command line>: --wo: expected two finite numbers θ,φ in degrees, got `{wo}`"

@@ -57,6 +57,20 @@ pub struct Rendered {
     pub cut_at_guard: u64,
 }
 
+/// The files a render of `path` reads: the scene file and its external files (OBJ
+/// meshes, environment maps, [`crate::scene::load::SceneDesc::external_files`]), for refusing
+/// an output that would replace one (`render -o env.exr` of a scene lit by `env.exr`).
+pub fn input_files(path: &Path) -> Result<Vec<std::path::PathBuf>, InputError> {
+    let file = path.display().to_string();
+    let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
+        .map_err(|e| InputError::new(&file, "-", e))?;
+    let desc: CaseDesc = parse_json(&file, &text)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut files = vec![path.to_path_buf()];
+    files.extend(desc.scene.external_files().iter().map(|f| base.join(f)));
+    Ok(files)
+}
+
 /// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
 /// scatterings (`None`: the plan's bound, else cut at the guard of [`MAX_DEPTH`] with
 /// Russian roulette where more bounces can contribute, each such cut counted).

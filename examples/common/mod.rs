@@ -32,14 +32,20 @@ pub fn samples_at_least(default: u64, min: u64, why: &str) -> u64 {
     }
 }
 
-/// The count `arg` asks for (`default` without one): an integer (`_` allowed) of at
-/// least `min`, or the message saying why not.
+/// The count `arg` asks for (`default` without one): an integer (`_` allowed) from
+/// `min` to the command line's most, [`lightproof::case::MAX_SAMPLES`] = 2^40 (more
+/// would run for days, or overflow a count derived from it), or the message saying why
+/// not.
 pub fn parse_count(arg: Option<&str>, default: u64, min: u64) -> Result<u64, String> {
     let Some(a) = arg else {
         return Ok(default);
     };
+    let max = lightproof::case::MAX_SAMPLES;
     match a.replace('_', "").parse::<u64>() {
-        Ok(n) if n >= min => Ok(n),
+        Ok(n) if (min..=max).contains(&n) => Ok(n),
+        Ok(n) if n > max => Err(format!(
+            "count too large: {n} > {max} (2^40), the most this example runs (usage: cargo run --release --example <NAME> -- [SAMPLES ≤ 2^40])"
+        )),
         Ok(n) => Err(format!(
             "count too small: {n} < {min}, the least this example runs (usage: cargo run --release --example <NAME> -- [SAMPLES ≥ {min}])"
         )),

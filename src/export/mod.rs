@@ -743,6 +743,14 @@ pub fn export_case(case_file: &Path, target: Target, dir: &Path) -> Result<Manif
     files.push(("case.json".into(), text.into_bytes()));
     let json = serde_json::to_string_pretty(&manifest).unwrap_or_default();
     files.push(("export.json".into(), json.into_bytes()));
+    // A file written over the case itself (`export scene.json --to lightproof --out .`
+    // wrote the exported scene over the case) is refused before anything is written;
+    // the suite's own files land beside a single case's.
+    let input = [case_file.to_path_buf()];
+    let suite_files = ["suite.json", "cases.txt", "render_all.py", "render_all.sh"];
+    for name in files.iter().map(|(n, _)| n.as_str()).chain(suite_files) {
+        crate::io::refuse_output_on_input("--out", &dir.join(name), &input, &[])?;
+    }
     for (name, bytes) in &files {
         let path = dir.join(name);
         crate::io::write_atomic(&path, bytes)

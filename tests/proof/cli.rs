@@ -1174,3 +1174,266 @@ fn links_to_folders_are_not_followed() {
     assert!(seconds < 30.0, "{seconds:.1}s");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An output that is an input is refused before any work, naming the flag, the path and
+/// the input, and the input is left as it was: `verify in.json --json in.json` replaced
+/// the case with the verdict; a `.json` written inside a folder `verify` reads would be
+/// read as a case next run; `report`'s flat `--out` holding the case file would get its
+/// report over it; `export` and `render` would write over their own input.
+#[test]
+fn an_output_on_an_input_is_refused_before_any_work() {
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-clash-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("cases")).unwrap();
+    let case = dir.join("in.json");
+    std::fs::write(&case, GOOD).unwrap();
+    std::fs::write(dir.join("cases/case.json"), GOOD).unwrap();
+    // The scene of a render by an image's name: `render` reads what it is given.
+    let scene = dir.join("scene.exr");
+    std::fs::write(
+        &scene,
+        GOOD.replace(
+            "\"measure\"",
+            "\"camera\": { \"position\": [0, 0, 0], \"look_at\": [0, 0, 1], \"up\": [0, 1, 0], \"fov_degrees\": 40, \"width\": 4, \"height\": 4 }, \"measure\"",
+        ),
+    )
+    .unwrap();
+    let runs: [(&[&str], &str, &str); 8] = [
+        (
+            &["verify", "in.json", "--json", "in.json"],
+            "--json: `in.json`",
+            "is the input file `in.json`",
+        ),
+        (
+            &["verify", "in.json", "--html", "./in.json"],
+            "--html: `./in.json`",
+            "is the input file",
+        ),
+        (
+            &["verify", "cases", "--json", "cases/new/v.json"],
+            "--json: `cases/new/v.json`",
+            "lies inside the input folder `cases`",
+        ),
+        (
+            &["report", "cases", "--out", "cases/rep"],
+            "--out: `cases/rep`",
+            "inside the input folder `cases`",
+        ),
+        (
+            &["report", "in.json", "--out", "."],
+            "--out: `.`",
+            "holds the input file `in.json`",
+        ),
+        (
+            &[
+                "export",
+                "cases/case.json",
+                "--to",
+                "mitsuba",
+                "--out",
+                "cases",
+            ],
+            "--out: `cases/case.json`",
+            "is the input file",
+        ),
+        (
+            &[
+                "export", "--all", "cases", "--to", "mitsuba", "--out", "cases/x",
+            ],
+            "--out: `cases/x`",
+            "inside the input folder `cases`",
+        ),
+        (
+            &["render", "scene.exr", "--spp", "1", "-o", "scene.exr"],
+            "-o: `scene.exr`",
+            "is the input file `scene.exr`",
+        ),
+    ];
+    for (args, what, why) in runs {
+        let out = bin().args(args).current_dir(&dir).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.starts_with(&format!("error: <command line>: {what} ")) && err.contains(why),
+            "{args:?}: {err}"
+        );
+        assert_eq!(std::fs::read_to_string(&case).unwrap(), GOOD, "{args:?}");
+        assert_eq!(
+            std::fs::read_to_string(dir.join("cases/case.json")).unwrap(),
+            GOOD,
+            "{args:?}"
+        );
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name())
+            .collect();
+        assert_eq!(names.len(), 3, "{args:?}: nothing written: {names:?}");
+        assert_eq!(
+            std::fs::read_dir(dir.join("cases")).unwrap().count(),
+            1,
+            "{args:?}"
+        );
+    }
+    // A verdict beside the case, or HTML in the folder, is written.
+    for args in [
+        &["verify", "in.json", "--samples", "256", "--json", "v.json"][..],
+        &[
+            "verify",
+            "cases",
+            "--samples",
+            "256",
+            "--html",
+            "cases/v.html",
+        ][..],
+    ] {
+        let out = bin().args(args).current_dir(&dir).output().unwrap();
+        assert_ne!(
+            out.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An output file named with a trailing separator names a folder: refused before the
+/// work (exit 3, as a folder in its place is), where it once failed at the rename after
+/// the whole run, and no folder is made.
+#[test]
+fn an_output_file_ending_in_a_separator_is_refused_before_any_work() {
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-slash-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("in.json"), GOOD).unwrap();
+    for args in [
+        &["verify", "in.json", "--json", "newdir/"][..],
+        &["verify", "in.json", "--html", "page.html/"][..],
+        &["render", "in.json", "-o", "x.exr/"][..],
+    ] {
+        let t0 = std::time::Instant::now();
+        let out = bin().args(args).current_dir(&dir).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "{args:?}: {err}");
+        assert!(err.contains("names a folder"), "{args:?}: {err}");
+        assert!(
+            t0.elapsed().as_secs_f64() < 5.0,
+            "{args:?}: before the work"
+        );
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "{args:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `LIGHTPROOF_SEED` that is no seed is named as the variable, not as a `--seed` no one
+/// gave (an explicit `--seed` wins over it); an empty one counts as unset: the default
+/// seed, as with no variable.
+#[test]
+fn a_seed_variable_that_is_no_number_is_named_and_an_empty_one_is_unset() {
+    let case = tmp("seed_abc.json", GOOD);
+    let run = |seed: Option<&str>, args: &[&str]| {
+        let mut c = bin();
+        c.args(args).arg(&case).env_remove("LIGHTPROOF_SEED");
+        if let Some(s) = seed {
+            c.env("LIGHTPROOF_SEED", s);
+        }
+        c.output().unwrap()
+    };
+    let out = run(Some("abc"), &["estimate", "--samples", "256"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: <environment>: LIGHTPROOF_SEED: must be a whole number")
+            && err.contains("got `abc`")
+            && !err.contains("'--seed"),
+        "{err}"
+    );
+    // The flag's own bad value is still the flag's.
+    let out = run(
+        Some("abc"),
+        &["estimate", "--samples", "256", "--seed", "x"],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("'--seed <SEED>'") && err.contains("got `x`"),
+        "{err}"
+    );
+    // An explicit --seed wins over the variable.
+    succeeds(
+        bin()
+            .args(["estimate", "--samples", "256", "--seed", "5"])
+            .arg(&case)
+            .env("LIGHTPROOF_SEED", "abc"),
+    );
+    let seed_of = |o: std::process::Output| -> serde_json::Value {
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()["estimate"].clone()
+    };
+    assert_eq!(
+        seed_of(run(Some(""), &["estimate", "--samples", "256"])),
+        seed_of(run(None, &["estimate", "--samples", "256"]))
+    );
+}
+
+/// Help and the version written to a standard output that cannot be written exit 3, as
+/// every other output does (they exited 0); `verify --help` says when the chi-square
+/// suites run.
+#[cfg(target_os = "linux")]
+#[test]
+fn help_that_cannot_be_written_exits_3() {
+    for args in [
+        &["--help"][..],
+        &["--version"],
+        &["verify", "--help"],
+        &["help"],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = bin().args(args).stdout(full).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: <stdout>: cannot write:"),
+            "{args:?}: {err}"
+        );
+    }
+    let help = succeeds(bin().args(["verify", "--help"]));
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains("which run only when no PATH is given"),
+        "{help}"
+    );
+}
+
+/// Every `--wo` refusal names its source as the other flags' do, `<command line>: --wo:`
+/// (the one for text that is no number once lacked it), before any sampling.
+#[test]
+fn every_wo_refusal_names_the_command_line() {
+    for wo in ["", "up", "30", "200,0"] {
+        let out = bin()
+            .args([
+                "chi2",
+                r#"{"type":"lambertian","albedo":0.5}"#,
+                "--wo",
+                wo,
+                "--out",
+            ])
+            .arg(std::env::temp_dir().join(format!("lightproof-cli-wo-{}", std::process::id())))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{wo:?}: {err}");
+        assert!(
+            err.starts_with("error: <command line>: --wo: "),
+            "{wo:?}: {err}"
+        );
+    }
+}

@@ -138,6 +138,13 @@ fn every_example_runs_and_passes() {
             && bsdf.contains("= a_white [bsdf]"),
         "{bsdf}"
     );
+    // The bound for every model, the Lambertian too (README.md: "for diffuse and
+    // rough-conductor BSDFs"): 3 models × 2 angles × 2 estimators.
+    assert_eq!(
+        bsdf.lines().filter(|l| l.contains("≤ 1 [")).count(),
+        12,
+        "{bsdf}"
+    );
     for line in bsdf.lines().filter(|l| l.contains("≤ 1 [")) {
         assert!(
             line.contains(" bound ") && !line.contains(" exact "),
@@ -290,6 +297,12 @@ fn examples_refuse_a_count_below_their_minimum() {
         parse_count(Some("4095"), 7, 4096)
             .unwrap_err()
             .starts_with("count too small")
+    );
+    // The command line's most, 2^40 (the library's `case::MAX_SAMPLES`), and no more.
+    assert_eq!(parse_count(Some("1099511627776"), 7, 256), Ok(1 << 40));
+    assert_eq!(
+        parse_count(Some("1099511627777"), 7, 256),
+        Err("count too large: 1099511627777 > 1099511627776 (2^40), the most this example runs (usage: cargo run --release --example <NAME> -- [SAMPLES ≤ 2^40])".to_string())
     );
     assert!(
         parse_count(Some("many"), 7, 256)
