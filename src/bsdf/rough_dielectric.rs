@@ -364,6 +364,12 @@ mod tests {
         let e = cauchy(1.00005).validate(&bsdf, visible).unwrap_err();
         assert!(e.contains("within 1e-4 of 1"), "{e}");
         assert!(cauchy(1.0002).validate(&bsdf, visible).is_ok());
+        // The band's ends exactly MIN_ETA_GAP from 1 (in f32) are taken, as the
+        // constant index is by `validate`.
+        for a in [1.0 + MIN_ETA_GAP, 1.0 - MIN_ETA_GAP] {
+            assert!(check_eta_gap(a).is_ok(), "{a}");
+            assert!(cauchy(a as f64).validate(&bsdf, visible).is_ok(), "{a}");
+        }
         let smooth = super::super::Bsdf::Dielectric(super::super::Dielectric::new(1.5));
         assert!(cauchy(1.00005).validate(&smooth, visible).is_ok());
     }

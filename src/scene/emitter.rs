@@ -838,6 +838,24 @@ pub fn area_distribution(prims: &[Primitive]) -> Distribution1D {
 mod tests {
     use super::*;
 
+    /// The band just outside a sphere: a viewer 4 ulps above the top of a sphere of
+    /// radius 0.5 centred at (0.25, −0.125, 0.5) is in it, with the width 4(γ₅ r +
+    /// γ₁(‖c‖∞ + ‖p‖∞)); one 64 ulps above, inside, or on the sphere is not.
+    #[test]
+    fn the_band_just_outside_a_sphere() {
+        let c = Vec3::new(0.25, -0.125, 0.5);
+        let at = |z: f32| just_outside_sphere(Vec3::new(0.25, -0.125, z), c, 0.5);
+        let ulp = f32::EPSILON;
+        let p = Vec3::new(0.25, -0.125, 1.0 + 4.0 * ulp);
+        let want = 4.0
+            * (crate::math::gamma(5) as f64 * 0.5
+                + crate::math::gamma(1) as f64 * (0.5 + p.z) as f64);
+        assert_eq!(at(p.z), Some(want));
+        for z in [1.0 + 64.0 * ulp, 1.0, 0.9, 0.0] {
+            assert_eq!(at(z), None, "{z}");
+        }
+    }
+
     /// R = |e₁||e₂|/|e₁ × e₂| is scale-invariant, and so is the strategy it picks: from
     /// 10⁻¹⁸ to 10¹⁸ it equals the unit triangle's to f32 rounding (the plain formula gave
     /// ∞ below ~10⁻¹⁰, area sampling, and 0 above ~10⁹, no tilt in the error bound).
