@@ -154,7 +154,15 @@ fn arb_variant(kind: &Bsdf) -> BoxedStrategy<Bsdf> {
                 })
             })
             .boxed(),
-        Bsdf::RoughDielectric(_) => (log_range(1e-4, 1.0), arb_eta(), arb_distribution())
+        // η within MIN_ETA_GAP of 1 is refused for a rough dielectric (its lobe is not
+        // resolved there): the strategy keeps to what `validate` accepts.
+        Bsdf::RoughDielectric(_) => (
+            log_range(1e-4, 1.0),
+            arb_eta().prop_filter("|η − 1| ≥ MIN_ETA_GAP", |e| {
+                (e - 1.0).abs() >= lightproof::bsdf::rough_dielectric::MIN_ETA_GAP
+            }),
+            arb_distribution(),
+        )
             .prop_map(|(a, e, (d, m))| {
                 Bsdf::RoughDielectric(RoughDielectric {
                     alpha: a,
@@ -328,7 +336,8 @@ fn degenerate_models(kind: &Bsdf) -> Vec<Bsdf> {
         Bsdf::RoughDielectric(_) => {
             for alpha in alphas {
                 for dist in dists {
-                    for eta in [1.0, 1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
+                    // 1.0001 and 0.9999: the least |η − 1| it accepts (MIN_ETA_GAP).
+                    for eta in [1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
                         models.push(Bsdf::RoughDielectric(RoughDielectric {
                             alpha,
                             eta,
