@@ -195,6 +195,7 @@ pub fn check_output_file(out: &Path) -> Result<(), crate::error::IoError> {
 /// its way made canonical (links and `..` resolved), then the rest as given, so that an
 /// output that does not exist yet can be compared with the inputs.
 fn resolved(path: &Path) -> Option<PathBuf> {
+    use std::path::Component;
     let mut rest = Vec::new();
     for a in path.ancestors() {
         let a = if a.as_os_str().is_empty() {
@@ -203,9 +204,23 @@ fn resolved(path: &Path) -> Option<PathBuf> {
             a
         };
         if let Ok(c) = a.canonicalize() {
-            return Some(rest.iter().rev().fold(c, |p: PathBuf, n| p.join(n)));
+            // The part that does not exist has no links: its `..` and `.` are lexical
+            // (`newdir/../cases/v.json` is `cases/v.json`; it once resolved to nothing,
+            // and the output escaped the check).
+            let mut p = c;
+            for n in rest.iter().rev() {
+                match n {
+                    Component::ParentDir => {
+                        p.pop();
+                    }
+                    Component::CurDir => {}
+                    Component::Normal(n) => p.push(n),
+                    Component::RootDir | Component::Prefix(_) => return None,
+                }
+            }
+            return Some(p);
         }
-        rest.push(a.file_name()?.to_os_string());
+        rest.push(a.components().next_back()?);
     }
     None
 }
@@ -453,15 +468,23 @@ mod tests {
             "cases/v.json",
             "cases/new/deeper/v.json",
             "cases/sub/../v.json",
+            // Through a folder that does not exist: `..` is lexical there.
+            "newdir/../cases/v.json",
+            "newdir/./../cases/new/v.json",
         ] {
             let e = file(&dir.join(inside)).unwrap_err();
             assert!(e.reason.contains("lies inside the input folder"), "{e}");
         }
-        for ok in ["v.json", "cases/v.html", "casesx/v.json"] {
+        for ok in [
+            "v.json",
+            "cases/v.html",
+            "casesx/v.json",
+            "cases/../newdir/v.json",
+        ] {
             assert!(file(&dir.join(ok)).is_ok(), "{ok}");
         }
         let folder = |out: &Path| refuse_output_folder_on_input("--out", out, &files, &folders);
-        for bad in ["cases", "cases/sub/rep", "."] {
+        for bad in ["cases", "cases/sub/rep", ".", "newdir/../cases"] {
             assert!(folder(&dir.join(bad)).is_err(), "{bad}");
         }
         for ok in ["reports", ".."] {

@@ -567,7 +567,20 @@ fn check_ids(file: &Path, ids: &[String]) -> Result<(), InputError> {
                 "`{id}` is not a folder inside the suite (ids are relative paths without `..`)"
             )));
         }
-        if let Some(j) = ids[..i].iter().position(|x| x == id) {
+        // The same folder however written (`c`, `./c`, `c/`): compared by its names.
+        let folder = |x: &str| -> Vec<std::ffi::OsString> {
+            Path::new(x)
+                .components()
+                .filter_map(|c| match c {
+                    Component::Normal(n) => Some(n.to_os_string()),
+                    Component::CurDir
+                    | Component::ParentDir
+                    | Component::RootDir
+                    | Component::Prefix(_) => None,
+                })
+                .collect()
+        };
+        if let Some(j) = ids[..i].iter().position(|x| folder(x) == folder(id)) {
             return Err(bad(format!("`{id}` is listed twice (also cases[{j}])")));
         }
     }
@@ -1136,6 +1149,12 @@ mod tests {
         assert!(s.judgements[0].passed());
         for (ids, field, why) in [
             (&["c", "c"][..], "cases[1]", "listed twice (also cases[0])"),
+            (
+                &["c", "./c"][..],
+                "cases[1]",
+                "listed twice (also cases[0])",
+            ),
+            (&["c/", "c"][..], "cases[1]", "listed twice (also cases[0])"),
             (
                 &["c", "../c"][..],
                 "cases[1]",
