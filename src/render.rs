@@ -139,6 +139,15 @@ pub fn render_file(
     )?;
     // The time section places moving objects (at the shutter's start): checked first.
     crate::case::build::check_spectral_and_time(&file, &desc)?;
+    // One image is one bin: a histogram's edges would have rendered its whole span
+    // without a word.
+    if desc.time.as_ref().is_some_and(|t| t.bins.is_some()) {
+        return Err(InputError::new(
+            &file,
+            "time.bins",
+            "an image shows one arrival-time bin: give `time.bin` [t₁, t₂] to render one of them",
+        ));
+    }
     let scene = desc.scene.build(
         &file,
         "scene",
@@ -567,6 +576,17 @@ mod tests {
             .remove(0)
             .pixels;
         assert_eq!(px[0], [0.75; 3]);
+        // A histogram's edges are no one image: refused, naming `time.bins`.
+        let histogram = PINHOLE.replace(
+            r#""estimators""#,
+            r#""time": {"bins": [0, 0.25, 0.5]}, "estimators""#,
+        );
+        let dir = std::env::temp_dir().join(format!("lightproof-bins-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("case.json"), histogram).unwrap();
+        let e = render_file(&dir.join("case.json"), 1, 1, None).unwrap_err();
+        assert_eq!(e.field, "time.bins");
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     /// Render the case text `case` once per (spp, seed, max_depth) in `runs`, from a file
