@@ -87,10 +87,10 @@ pub fn point_from_batches(
     reference: Option<f64>,
 ) -> Point {
     let bm = BatchMeans::from_batches(batches.to_vec());
-    let estimate = bm.total.mean;
-    let (abs_error, rel_error, rms_error) = match reference {
+    let estimate = (bm.total.count > 0).then_some(bm.total.mean);
+    let (abs_error, rel_error, rms_error) = match reference.zip(estimate) {
         None => (None, None, None),
-        Some(r) => {
+        Some((r, estimate)) => {
             let abs = (estimate - r).abs();
             let means: Vec<f64> = bm
                 .batches
@@ -132,11 +132,12 @@ pub fn error_of(p: &Point, measure: ErrorMeasure) -> Option<f64> {
     }
 }
 
-/// The scale of relative errors: |reference|, else |estimate| at the largest point.
-fn scale(series: &Series, reference: Option<f64>) -> Option<f64> {
+/// The scale of relative errors: |reference|, else |estimate| at the largest point
+/// (none where that point has no estimate).
+pub(crate) fn scale(series: &Series, reference: Option<f64>) -> Option<f64> {
     let s = match reference {
         Some(r) => r.abs(),
-        None => series.points.last()?.estimate.abs(),
+        None => series.points.last()?.estimate?.abs(),
     };
     (s > 0.0 && s.is_finite()).then_some(s)
 }
@@ -324,7 +325,7 @@ mod tests {
                 .map(|&(n, e, t)| Point {
                     samples: n,
                     seed: 0,
-                    estimate: 1.0,
+                    estimate: Some(1.0),
                     std_error: Some(e),
                     plain_std_error: Some(e),
                     rms_error: Some(e),
@@ -522,7 +523,28 @@ mod tests {
         );
         assert_eq!(e.rms_error, p.rms_error);
         assert_eq!(p.abs_error, Some(0.0));
-        assert_eq!(p.estimate, 2.0);
+        assert_eq!(p.estimate, Some(2.0));
+    }
+
+    /// A point whose every sample is non-finite has no mean: its estimate and its errors
+    /// against the reference are null (the estimate read 0.0 and the error |reference|,
+    /// numbers no run computed), and with no reference the series has no scale.
+    #[test]
+    fn a_point_without_a_finite_sample_has_no_estimate() {
+        let nan = |n: usize| {
+            let mut a = Accumulator::new();
+            (0..n).for_each(|_| a.push(f64::NAN));
+            a
+        };
+        for reference in [Some(2.0), None] {
+            let p = point_from_batches(4, 0, &[nan(2), nan(2)], 1.0, None, reference);
+            assert_eq!(p.estimate, None);
+            assert_eq!((p.abs_error, p.rel_error, p.rms_error), (None, None, None));
+            assert_eq!(p.non_finite, 4);
+            let mut s = series(&[(256, 0.02, 1e-4)]);
+            s.points = vec![p];
+            assert_eq!(scale(&s, reference), reference);
+        }
     }
 
     /// A bias counts beyond what chance explains: batches that agree exactly (no

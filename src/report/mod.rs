@@ -208,8 +208,8 @@ pub struct Point {
     pub samples: u64,
     /// Its seed.
     pub seed: u64,
-    /// Mean of the samples.
-    pub estimate: f64,
+    /// Mean of the finite samples; `None` (null) when none is finite: there is no mean.
+    pub estimate: Option<f64>,
     /// Batch-means standard error.
     pub std_error: Option<f64>,
     /// Plain standard error √(s²/N) (valid for independent samples only).

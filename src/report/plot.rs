@@ -10,7 +10,7 @@
 //! 3. **Ranking**: core-seconds to 0.1% per series (from the fits), fastest first,
 //!    extrapolated times drawn pale.
 
-use super::analysis::error_of;
+use super::analysis::{error_of, scale};
 use super::{CaseReport, TARGETS};
 use crate::sampling::SamplerKind;
 use crate::transport::Estimator;
@@ -37,13 +37,7 @@ fn curves(r: &CaseReport) -> Vec<Curve> {
     r.series
         .iter()
         .filter_map(|s| {
-            let scale = match r.case.reference {
-                Some(x) => x.abs(),
-                None => s.points.last()?.estimate.abs(),
-            };
-            if !(scale > 0.0 && scale.is_finite()) {
-                return None;
-            }
+            let scale = scale(s, r.case.reference)?;
             let pts: Vec<Pt> = s
                 .points
                 .iter()

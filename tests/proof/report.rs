@@ -389,8 +389,8 @@ fn a_tampered_shard_set_is_refused_naming_file_and_field() {
 
 /// A rerun with a larger `--max-samples` resumes a shard's partial as it does a single
 /// run's reports (before, the plan digest held the settings, so the shard ran afresh);
-/// a narrower rerun says on stderr how many earlier points and series it drops from
-/// what it writes.
+/// so does one with another `--min-samples`; a narrower rerun says on stderr how many
+/// earlier points and series it drops from what it writes.
 #[test]
 fn a_shard_extends_and_a_narrower_rerun_says_what_it_drops() {
     let out = tmp("extend");
@@ -401,19 +401,31 @@ fn a_shard_extends_and_a_narrower_rerun_says_what_it_drops() {
             .cloned()
             .collect()
     };
-    let shard = |max: u64| {
+    let shard_from = |min: u64, max: u64| {
         let mut o = options(vec![disk_case()], &out.join("shard"), max);
         (o.samplers, o.estimators) = (vec![SamplerKind::Independent], vec![Estimator::Light]);
+        o.min_samples = min;
         o.shard = Some(Shard { index: 0, count: 2 });
         sweep(&o)
     };
+    let shard = |max: u64| shard_from(DEFAULT_MIN_SAMPLES, max);
+    assert_eq!(DEFAULT_MIN_SAMPLES, 256);
     let s = shard(512);
     assert_eq!((s.computed, s.resumed), (2, 0));
     let s = shard(1024);
     assert_eq!((s.computed, s.resumed), (1, 2), "{:?}", s.notes);
     assert!(dropped(&s).is_empty(), "{:?}", s.notes);
+    // Another `--min-samples` resumes too: the points of 512 and 1024 are kept and the
+    // one of 256, now below the sweep, is dropped with a note.
+    let s = shard_from(512, 1024);
+    assert_eq!((s.computed, s.resumed), (0, 2), "{:?}", s.notes);
+    let d = dropped(&s);
+    assert!(
+        d.len() == 1 && d[0].contains("1 earlier point(s), 0 whole series"),
+        "{d:?}"
+    );
     let s = shard(256);
-    assert_eq!((s.computed, s.resumed), (0, 1), "{:?}", s.notes);
+    assert_eq!((s.computed, s.resumed), (1, 0), "{:?}", s.notes);
     let d = dropped(&s);
     assert!(
         d.len() == 1 && d[0].contains("2 earlier point(s), 0 whole series"),
