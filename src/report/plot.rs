@@ -332,3 +332,47 @@ fn ranking_panel(area: &Area, r: &CaseReport) -> DrawResult {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::ErrorMeasure;
+
+    /// Every series with positive errors is a curve of all its points, scaled by the
+    /// reference; without a reference the scale is the last point's estimate, and a
+    /// series whose last point has none (no finite sample) is left out, not drawn at a
+    /// scale of 0.
+    #[test]
+    fn the_curves_are_the_series_scaled() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reports/examples/disk_on_axis.json");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut r: CaseReport = crate::error::parse_json("r.json", &text).unwrap();
+        let reference = r.case.reference.unwrap();
+        let c = curves(&r);
+        assert_eq!(c.len(), r.series.len());
+        for (curve, s) in c.iter().zip(&r.series) {
+            assert_eq!((curve.0, curve.1), (s.estimator, s.sampler));
+            assert_eq!(curve.2.len(), s.points.len());
+            let p = &s.points[0];
+            assert_eq!(
+                curve.2[0].3,
+                error_of(p, r.error_measure).unwrap() / reference
+            );
+        }
+        r.case.reference = None;
+        r.error_measure = ErrorMeasure::StdError;
+        r.series[0].points.last_mut().unwrap().estimate = None;
+        let c = curves(&r);
+        assert_eq!(c.len(), r.series.len() - 1);
+        assert_eq!(
+            (c[0].0, c[0].1),
+            (r.series[1].estimator, r.series[1].sampler)
+        );
+        let s = &r.series[1];
+        let p = &s.points[0];
+        let last = s.points.last().unwrap().estimate.unwrap().abs();
+        assert_eq!(c[0].2[0].3, p.std_error.unwrap() / last);
+        assert!(svg(&r).is_ok());
+    }
+}
