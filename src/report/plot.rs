@@ -341,7 +341,8 @@ mod tests {
     /// Every series with positive errors is a curve of all its points, scaled by the
     /// reference; without a reference the scale is the last point's estimate, and a
     /// series whose last point has none (no finite sample) is left out, not drawn at a
-    /// scale of 0.
+    /// scale of 0; a point that a log axis cannot show (zero error, infinite time) is left
+    /// out.
     #[test]
     fn the_curves_are_the_series_scaled() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -374,5 +375,12 @@ mod tests {
         let last = s.points.last().unwrap().estimate.unwrap().abs();
         assert_eq!(c[0].2[0].3, p.std_error.unwrap() / last);
         assert!(svg(&r).is_ok());
+        // A point with a zero error or an infinite time has no place on a log axis.
+        assert!(r.series[1].fit_cost.is_some());
+        r.series[1].points[0].std_error = Some(0.0);
+        r.series[1].points[1].seconds = f64::INFINITY;
+        let c = curves(&r);
+        assert_eq!(c[0].2.len(), r.series[1].points.len() - 2);
+        assert_eq!(c[0].2[0].0, r.series[1].points[2].samples as f64);
     }
 }
