@@ -126,7 +126,10 @@ fn est_name(e: Estimator) -> &'static str {
         Estimator::Uniform => "uniform directions",
         Estimator::Cosine => "cosine directions",
         Estimator::Area => "uniform area",
-        other => other.name(),
+        // Path-tracer strategies: no direct measurement of this example takes them.
+        e @ (Estimator::Light | Estimator::Bsdf | Estimator::Mis | Estimator::MisBalance) => {
+            e.name()
+        }
     }
 }
 

@@ -21,6 +21,7 @@
 use lightproof::case::Case;
 use lightproof::stats::Verdict;
 use lightproof::transport::Estimator;
+use lightproof_analytic::radiometry::{isotropic_point_power, lambertian_sphere_intensity};
 use plotters::prelude::*;
 use serde_json::json;
 use std::f64::consts::PI;
@@ -70,7 +71,7 @@ fn main() {
         &c,
         Estimator::Uniform,
         n,
-        4.0 * PI * 2.0,
+        isotropic_point_power(2.0),
     );
 
     println!("\nLambertian disk, radius 0.5 m, L = 2 W/(m²·sr):");
@@ -127,7 +128,7 @@ fn main() {
             &c,
             Estimator::Area,
             n,
-            radiance * area,
+            lambertian_sphere_intensity(radiance, radius),
         );
     }
 

@@ -14,6 +14,14 @@
 //!   For the Lambertian model a = ρ exactly; a single-scattering microfacet model loses
 //!   the light that would scatter between microfacets, more so the rougher it is.
 //!
+//! Both are laws of reflection. A BSDF that transmits into a medium of another index
+//! (a rough dielectric, last) is not symmetric: radiance crossing into the denser side is
+//! compressed into a narrower cone and grows by (η_o/η_i)² (basic radiance L/η² is what
+//! stays constant), so reciprocity reads f(ωi → ωo)/η_o² = f(ωo → ωi)/η_i², η the index
+//! on each direction's side (Veach 1997, eq. 5.14). The albedo a(ωo) of a direction
+//! inside the glass can then exceed 1 without creating energy: the bound holds for the
+//! power scattered from one incident beam, ∫ f(ωi → ωo) |cos θo| dωo ≤ 1.
+//!
 //! A bound alone would pass an engine that lost half the energy, so each albedo is also
 //! checked two-sided against `lightproof_analytic`: ρ for the Lambertian, the
 //! Cook–Torrance integral ∫ F D G2/(4 cos θo) dωi by quadrature over half vectors for
@@ -53,6 +61,9 @@ const ROUGH_CONDUCTOR: &str =
 /// loses is the light that would have bounced between microfacets.
 const WHITE_ROUGH_CONDUCTOR: &str =
     r#"{ "type": "rough_conductor", "alpha": 1.0, "fresnel": "none" }"#;
+/// A rough glass surface (GGX, α = 0.3, η = 1.5 below the surface): reflection and
+/// transmission, reciprocal with the η² rule.
+const ROUGH_DIELECTRIC: &str = r#"{ "type": "rough_dielectric", "alpha": 0.3, "eta": 1.5 }"#;
 
 /// The directional albedo a(θo) of a model from `lightproof_analytic` (never the
 /// engine), with the formula it evaluates (its name in the verdict lines is the text
@@ -89,7 +100,7 @@ const ALBEDO_SAMPLES: u64 = 8;
 fn main() {
     let n = samples(1 << 19);
     println!(
-        "6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi);  albedo ∫ f cos θi dωi ≤ 1"
+        "6. BSDF f(ωi → ωo) = dLo(ωo) / dE(ωi) [1/sr];  Lo = ∫ f Li cos θi dωi;  reciprocity f(ωi→ωo) = f(ωo→ωi) (transmission: f(ωi→ωo)/ηo² = f(ωo→ωi)/ηi²);  albedo ∫ f cos θi dωi ≤ 1"
     );
     print_rule(&format!(
         "{n} samples per estimate, {} per BSDF-sampled albedo (cheap: no scene)",
@@ -239,6 +250,7 @@ fn main() {
             }
         }
     }
+    ok &= transmission(n);
     // The picture: a(θo) of each model from normal incidence to grazing.
     let curves: Vec<Curve> = models
         .iter()
@@ -249,6 +261,49 @@ fn main() {
         Err(e) => println!("\n(could not write the plot: {e})"),
     }
     finish(ok);
+}
+
+/// Reciprocity of a transmitting BSDF: f(ωi → ωo)/η_o² = f(ωo → ωi)/η_i². One pair
+/// shown (straight through a facet facing the normal: ωo 30° above in air, ωi 19.47° below
+/// in the glass, sin θ = sin 30°/1.5), where f itself differs by η² = 2.25 between the two
+/// ways, then many pairs checked by `lightproof::bsdf::contract::check_reciprocity`.
+fn transmission(n: u64) -> bool {
+    let bsdf = Bsdf::from_json(ROUGH_DIELECTRIC).unwrap();
+    let eta = bsdf.eta_inside();
+    println!(
+        "\nrough dielectric {ROUGH_DIELECTRIC} (transmits: reciprocity with the η² rule, η = {eta} below the surface, 1 above):"
+    );
+    let (s, c) = (0.5f32, 0.75f32.sqrt());
+    let wo = Vec3::new(s, 0.0, c);
+    let st = s / eta;
+    let wi = Vec3::new(-st, 0.0, -(1.0 - st * st).sqrt());
+    // eval(wo, wi) is f(wi → wo): light from wi (in the glass) leaving towards wo (in air).
+    let (into_air, into_glass) = (bsdf.eval(wo, wi), bsdf.eval(wi, wo));
+    println!(
+        "  f(ωi → ωo) = {into_air:<10.6} f(ωo → ωi) = {into_glass:<10.6} ratio {:.4} = η² (ωo = ({:+.3}, 0, {:.3}) in air, ωi = ({:+.3}, 0, {:.3}) in the glass)",
+        into_glass / into_air,
+        wo.x,
+        wo.z,
+        wi.x,
+        wi.z
+    );
+    println!(
+        "  f(ωi → ωo)/ηo² = {:<10.6} f(ωo → ωi)/ηi² = {:.6}",
+        into_air,
+        into_glass / (eta * eta)
+    );
+    let rec = check_reciprocity(&bsdf, eta, (n / 8).max(1000), 6);
+    println!(
+        "  {:<50} {} pairs compared, worst error / tolerance = {:.3}  verdict {}",
+        "reciprocity f(ωi→ωo)/ηo² = f(ωo→ωi)/ηi²",
+        rec.compared,
+        rec.worst,
+        if rec.passed { "PASS" } else { "FAIL" }
+    );
+    if let Some(why) = &rec.first_failure {
+        println!("      ({why})");
+    }
+    rec.passed
 }
 
 /// A model's name and its albedo (θo in degrees, estimate, standard error).

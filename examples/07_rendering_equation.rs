@@ -24,6 +24,7 @@ use lightproof::case::seed_for;
 use lightproof::sampling::SamplerKind;
 use lightproof::transport::Estimator;
 use lightproof::transport::engine::RunSpec;
+use lightproof_analytic::partial_shapes::closed_enclosure_bounces;
 use plotters::prelude::*;
 
 /// A case file: the radiance inside a closed emitting diffuse sphere.
@@ -67,7 +68,8 @@ fn main() {
             seed,
         };
         let e = case.estimate_with(&plan, Estimator::Mis, &spec);
-        let exact = le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho);
+        // The partial sum from lightproof_analytic (never the example's own arithmetic).
+        let exact = closed_enclosure_bounces(le, rho, k);
         let v = judge_estimate(&e, exact);
         ok &= report(
             &format!("k = {k:<2} bounces: Le (1 − ρ^{}) / (1 − ρ)", k + 1),
@@ -89,7 +91,7 @@ fn main() {
     let v = judge_estimate(&e, exact);
     ok &= report("unbounded (Russian roulette): Le / (1 − ρ)", &v);
 
-    match plot(&points, le / (1.0 - rho), le, rho, v.estimate) {
+    match plot(&points, exact, le, rho, v.estimate) {
         Ok(p) => println!(
             "\nwrote {p} (each bounce adds ρ times the last; the series converges to Le/(1 − ρ))"
         ),
@@ -116,8 +118,7 @@ fn plot(
             .draw()?;
         chart
             .draw_series(LineSeries::new(
-                (0..=points.len() - 1)
-                    .map(|k| (k as f64, le * (1.0 - rho.powi(k as i32 + 1)) / (1.0 - rho))),
+                (0..points.len() as u32).map(|k| (k as f64, closed_enclosure_bounces(le, rho, k))),
                 &BLACK,
             ))?
             .label("Le (1 − ρ^(k+1)) / (1 − ρ)")

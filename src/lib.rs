@@ -46,8 +46,10 @@
 //! | [`verdict`] | error bars, statistical and exact verdicts, outcomes, the Šidák family |
 //! | [`suites`] | the chi-square suite of every warp, shared by the CLI and the tests |
 //! | [`table`] | the verdict table `verify` prints, sized to the terminal |
-//! | [`report`] | convergence reports: sweeps, shards and merging, JSON, plots, index |
-//! | [`render`] | pinhole-camera EXR images |
+//! | [`report`] | convergence reports: sweeps, shards and merging, JSON, plots, index; the verdict page |
+//! | [`render`] | pinhole-camera images (EXR, or 8-bit sRGB PNG) |
+//! | [`export`] | a case as a scene for another renderer (Mitsuba 3, pbrt-v4, lightproof's `render`) |
+//! | [`judge`] | another renderer's EXR renders judged against a case's closed form |
 
 // `!(x > 0.0)` is how this crate rejects NaN together with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

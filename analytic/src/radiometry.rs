@@ -27,6 +27,26 @@ pub fn lambertian_intensity(radiance: f64, area: f64, theta: f64) -> f64 {
     radiance * area * theta.cos().max(0.0)
 }
 
+/// Power of an isotropic point light of intensity I (W/sr).
+///
+/// **Formula.** Φ = 4π I. **Derivation.** Φ = ∫_{S²} I dω, and the whole sphere of
+/// directions is 4π sr. **Source.** pbrt 4th ed. §12.1 (`PointLight::Phi`).
+pub fn isotropic_point_power(intensity: f64) -> f64 {
+    4.0 * PI * intensity
+}
+
+/// Intensity of a uniform Lambertian sphere of radiance L and radius R, the same in
+/// every direction.
+///
+/// **Formula.** I = L π R². **Derivation.** I = dΦ/dω = ∫ L cos θ dA over the hemisphere
+/// facing the direction (θ between a patch's normal and the direction):
+/// L R² ∫₀^{2π} ∫₀^{π/2} cos θ sin θ dθ dφ = L π R², the radiance times the projected
+/// area, a disk of radius R seen from any side. **Source.** Lambert, *Photometria*
+/// (a uniformly bright sphere looks like a flat disk); Born & Wolf §4.8.
+pub fn lambertian_sphere_intensity(radiance: f64, radius: f64) -> f64 {
+    radiance * PI * radius * radius
+}
+
 /// Energy of one photon of vacuum wavelength λ (m).
 ///
 /// **Formula.** E = h c / λ (J). **Source.** Planck–Einstein relation.
@@ -112,6 +132,27 @@ mod tests {
                 1e-14,
             );
         assert!((qi - lambertian_power(2.0, 3.0)).abs() < 1e-11);
+    }
+
+    #[test]
+    fn point_power_and_sphere_intensity_by_quadrature() {
+        // Φ = ∫_{S²} I dω over θ ∈ [0, π], φ ∈ [0, 2π].
+        let sphere = adaptive_2d(|t, _| t.sin(), 0.0, PI, |_| 0.0, |_| 2.0 * PI, 1e-13);
+        assert!((isotropic_point_power(2.0) - 2.0 * sphere).abs() < 1e-11);
+        // I = ∫ L max(0, n·d) dA over the whole sphere, d = +z: dA = R² sin θ dθ dφ.
+        let (l, r) = (2.0, 0.7);
+        let q = adaptive_2d(
+            |t, _| l * t.cos().max(0.0) * r * r * t.sin(),
+            0.0,
+            PI,
+            |_| 0.0,
+            |_| 2.0 * PI,
+            1e-13,
+        );
+        let want = lambertian_sphere_intensity(l, r);
+        assert!((q - want).abs() < 1e-11 * want, "{q} vs {want}");
+        // The same as a facing disk of radius R: its projected area.
+        assert!((want - lambertian_intensity(l, PI * r * r, 0.0)).abs() < 1e-15);
     }
 
     #[test]

@@ -151,6 +151,17 @@ fn every_example_runs_and_passes() {
             "{line}"
         );
     }
+    // 06 teaches reciprocity for transmission too, with the η² rule (f itself is not
+    // symmetric across an interface), on a rough dielectric, and the rule holds.
+    let eta_rule = bsdf
+        .lines()
+        .find(|l| l.contains("reciprocity f(ωi→ωo)/ηo² = f(ωo→ωi)/ηi²"))
+        .unwrap_or_else(|| panic!("06 checks no transmitting BSDF's reciprocity:\n{bsdf}"));
+    assert!(eta_rule.contains("verdict PASS"), "{eta_rule}");
+    assert!(
+        bsdf.contains("rough dielectric ") && bsdf.contains("= η² (ωo"),
+        "{bsdf}"
+    );
     // The case files they save pass `lightproof verify` as README.md says to run it: at
     // the files' own counts every verdict passes and sees a 0.5 % bias (none weak).
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/examples");
