@@ -9,7 +9,7 @@ use lightproof::bsdf::contract::direction;
 use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::error::{Error, InputError, IoError};
 use lightproof::sampling::SamplerKind;
-use lightproof::stats::sidak_alpha;
+use lightproof::stats::{VerdictClass, sidak_alpha};
 use lightproof::transport::Estimator;
 use lightproof::verdict::{Outcome, judge_family};
 use std::path::{Path, PathBuf};
@@ -825,16 +825,27 @@ fn verify(
     let failed = outcomes.iter().filter(|o| !o.passed()).count()
         + chi2_rows.iter().filter(|c| !c.passed).count();
     let total = outcomes.len() + chi2_rows.len();
-    let passed_of = |exact: bool| {
+    // Passes by the class of their verdict; an outcome without a reference has none (it
+    // was estimated, not judged) and is counted apart, never as a statistical pass.
+    let passed_of = |class: VerdictClass| {
         outcomes
             .iter()
-            .filter(|o| o.passed() && o.exact == exact)
+            .filter(|o| o.passed() && o.verdict.as_ref().is_some_and(|v| v.class == class))
             .count()
     };
-    let exact = passed_of(true);
-    let statistical = passed_of(false) + chi2_rows.iter().filter(|c| c.passed).count();
+    let exact = passed_of(VerdictClass::Exact);
+    let statistical =
+        passed_of(VerdictClass::Statistical) + chi2_rows.iter().filter(|c| c.passed).count();
+    let unjudged = match outcomes
+        .iter()
+        .filter(|o| o.passed() && o.verdict.is_none())
+        .count()
+    {
+        0 => String::new(),
+        n => format!(", {n} without a reference: estimated, not judged"),
+    };
     outln!(
-        "\n{} passed ({statistical} statistical, {exact} exact), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|; seed {seed}, {:.1}s)",
+        "\n{} passed ({statistical} statistical, {exact} exact{unjudged}), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|; seed {seed}, {:.1}s)",
         total - failed,
         cases.len(),
         lightproof::stats::exact_relative_tolerance(),

@@ -47,7 +47,13 @@ pub fn verdict_cells(v: Option<&Verdict>, passed: bool) -> [String; 4] {
         Some(v) => [
             format!("{:.6}", v.reference),
             format!("{:+.2}", v.z),
-            format!("{:.3}%", 100.0 * v.detectable_relative_bias),
+            // Relative to the reference, but a zero reference has none: the absolute
+            // bias, in the case's units, without a `%` that would read as relative.
+            if v.reference == 0.0 {
+                format!("{:.2e}", v.detectable_bias)
+            } else {
+                format!("{:.3}%", 100.0 * v.detectable_relative_bias)
+            },
             v.label().into(),
         ],
         None => [
@@ -220,6 +226,36 @@ mod tests {
         assert_eq!(bad.cells[1], "0.500000 (exact)");
         assert_eq!(bad.cells[6], "FAIL");
         assert_eq!(bad.notes, vec!["↳ 3 non-finite samples".to_string()]);
+    }
+
+    /// The detectable bias is relative (a percentage) but for a zero reference, which has
+    /// no relative bias: there it is the absolute one, printed without `%` (it printed
+    /// 0.002 as "0.200%").
+    #[test]
+    fn a_zero_reference_shows_its_detectable_bias_in_absolute_units() {
+        let judged = |reference: f64| {
+            let mut o = outcome(0, SamplerKind::Independent, Some(0.001));
+            o.estimate = reference;
+            o.reference = Some(reference);
+            o.judge(1e-4, 1);
+            o
+        };
+        let zero = judged(0.0);
+        let v = zero.verdict.as_ref().unwrap();
+        let cells = verdict_cells(Some(v), zero.passed());
+        assert_eq!(cells[2], format!("{:.2e}", v.detectable_bias));
+        assert!(
+            !cells[2].contains('%') && cells[2].parse::<f64>().is_ok(),
+            "{cells:?}"
+        );
+        let half = judged(0.5);
+        let v = half.verdict.as_ref().unwrap();
+        let cells = verdict_cells(Some(v), half.passed());
+        assert_eq!(
+            cells[2],
+            format!("{:.3}%", 100.0 * v.detectable_bias / 0.5),
+            "{cells:?}"
+        );
     }
 
     #[test]

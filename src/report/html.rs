@@ -431,9 +431,9 @@ fn calibration(s: &mut String, page: &Page) {
     if !excused.is_empty() {
         let _ = writeln!(
             s,
-            "<p id=\"rounding\">{} passing verdicts have |z| beyond the critical value: their \
-             difference from the reference is within the f32 rounding allowance τ = γ₁₂₈·|reference| \
-             that the null hypothesis grants (their standard error is below τ): {}.</p>",
+            "<p id=\"rounding\">{} passing verdicts have |z| beyond the critical value: the null \
+             hypothesis grants the f32 rounding allowance τ = γ₁₂₈·|reference|, and their difference \
+             from the reference exceeds τ by no more than the critical value's standard errors: {}.</p>",
             excused.len(),
             excused.join(", ")
         );

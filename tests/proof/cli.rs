@@ -655,6 +655,31 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     assert!(!stdout.contains("weak"), "{stdout}");
 }
 
+/// A case without a reference is estimated, not judged: `verify`'s closing line counts its
+/// outcomes apart, never as statistical passes (they were, and the family's k = 2 beside
+/// "4 statistical" said otherwise).
+#[test]
+fn outcomes_without_a_reference_are_not_counted_as_statistical_passes() {
+    let good = tmp("judged.json", GOOD);
+    let free = tmp(
+        "unjudged.json",
+        &GOOD
+            .replace("disk on axis", "disk on axis, no reference")
+            .replace(
+                r#""reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },"#,
+                "",
+            ),
+    );
+    let out = succeeds(bin().arg("verify").arg(&good).arg(&free));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(
+            "4 passed (2 statistical, 0 exact, 2 without a reference: estimated, not judged), 0 failed"
+        ) && stdout.contains("k = 2 at family"),
+        "{stdout}"
+    );
+}
+
 /// `estimate` runs the case's first sampler unless told (a Sobol-only case runs Sobol:
 /// inside the proof), and a sampler the case does not list is outside it: the sphere
 /// light below the horizon by independent sampling sees only ~2.4 % at the case's own
