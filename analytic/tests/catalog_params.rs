@@ -229,8 +229,38 @@ fn check_case(ck: &mut Check<'_>, c: &Value) {
         "sphere_irradiance" => {
             let s = emitters(scene)[0];
             let g = &s["geometry"];
-            let i = irr.unwrap();
-            ck.receiver(r, i);
+            match irr {
+                Some(i) => ck.receiver(r, i),
+                // The radiance of a Lambertian rectangle lit by the sphere, (ρ_d/π)·E: the
+                // camera ray meets the rectangle at `point` (to the rounding of the ray's
+                // f32 direction), `normal` is the rectangle's and `scale` its ρ_d/π.
+                None => {
+                    let ray = &m["radiance"];
+                    let (at, dir) = (v3(&ray["at"]), unit(v3(&ray["direction"])));
+                    let floor = scene["shapes"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .find(|s| s.get("material").is_some())
+                        .unwrap_or_else(|| panic!("{}: no lit surface", ck.case));
+                    let fg = &floor["geometry"];
+                    assert_eq!(fg["type"], "rectangle", "{}", ck.case);
+                    let n = unit(cross(v3(&fg["edge_u"]), v3(&fg["edge_v"])));
+                    let p = v3(&r["point"]);
+                    ck.vec("normal", unit(v3(&r["normal"])), n, TOL);
+                    ck.num(
+                        "point in the plane",
+                        dot(sub(p, v3(&fg["corner"])), n),
+                        0.0,
+                        TOL,
+                    );
+                    ck.num("point on the ray", len(cross(sub(p, at), dir)), 0.0, 1e-7);
+                    let mat = &scene["materials"][floor["material"].as_str().unwrap()];
+                    assert_eq!(mat["type"], "lambertian", "{}", ck.case);
+                    let albedo = f(mat, "albedo") * std::f64::consts::FRAC_1_PI;
+                    ck.num("scale = ρ_d/π", f(r, "scale"), albedo, TOL);
+                }
+            }
             ck.vec("center", v3(&r["center"]), v3(&g["center"]), TOL);
             ck.num("radius", f(r, "radius"), f(g, "radius"), TOL);
             ck.num("radiance", f(r, "radiance"), radiance(s), TOL);

@@ -117,9 +117,10 @@ impl SphereCone {
         self.axis_s * v.x + self.axis_t * v.y + self.axis * v.z
     }
 
-    /// The sampled direction from the viewer and the outward normal at the point it hits,
-    /// both in `f64` and in world space.
-    fn sample_f64(&self, u: Vec2) -> (DVec3, DVec3) {
+    /// The sampled direction from the viewer, the outward normal at the point it hits,
+    /// both in `f64` and in world space, and the distance t = d cos²θmax / (cos θ + s)
+    /// from the viewer to that point (the near root; see the module's notes).
+    fn sample_f64(&self, u: Vec2) -> (DVec3, DVec3, f64) {
         let u0 = (u.x as f64).clamp(0.0, 1.0);
         // 1 − cos θ sampled directly keeps sin²θ = (1 − cos θ)(1 + cos θ) accurate.
         let omc = u0 * self.one_minus_cos_max;
@@ -139,13 +140,28 @@ impl SphereCone {
         let n = self
             .to_world(DVec3::new(sin_a * cos_phi, sin_a * sin_phi, -cos_a))
             .normalize();
-        (w, n)
+        let t = self.radius / self.sin_max * self.cos2_max / (cos_t + s);
+        (w, n, t)
     }
 
     /// A point on the visible cap whose direction from the viewer is uniform in the cone.
     pub fn sample_point(&self, u: Vec2) -> Vec3 {
-        let (_, n) = self.sample_f64(u);
+        let (_, n, _) = self.sample_f64(u);
         (self.center + n * self.radius).as_vec3()
+    }
+
+    /// [`SphereCone::sample_point`] with the unit direction towards it and its distance
+    /// from the viewer, both formed in `f64` before rounding: from a viewer closer to
+    /// the sphere than the rounding of the `f32` points (a floor point 10⁻⁸ below a
+    /// sphere light placed 1.5 from the origin, whose coordinates are 1.2·10⁻⁷ apart)
+    /// q − p would carry no direction at all.
+    pub fn sample_ray(&self, u: Vec2) -> (Vec3, Vec3, f32) {
+        let (w, n, t) = self.sample_f64(u);
+        (
+            (self.center + n * self.radius).as_vec3(),
+            w.normalize().as_vec3(),
+            t as f32,
+        )
     }
 
     /// A direction uniform in the cone (towards [`SphereCone::sample_point`]); `p` is

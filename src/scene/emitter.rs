@@ -210,6 +210,11 @@ pub struct LightSample {
     pub delta: bool,
     /// Index of the emitter in [`crate::scene::Scene::emitters`].
     pub emitter: usize,
+    /// Distance from the viewer to `p` along `wi` where both were formed in `f64` (a
+    /// sphere's cone sample, [`PrimSample::ray`]): the shadow ray then runs along `wi`
+    /// and only another shape ahead of the light's own occludes it
+    /// ([`crate::scene::Scene::visible_at`]). `None`: formed from the points.
+    pub ray_dist: Option<f32>,
 }
 
 /// What an emitter does along the wavelength and time dimensions.
@@ -283,10 +288,11 @@ fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
 }
 
 /// Whether `p` lies outside the sphere (|p − c| > r in `f64`) yet within its band
-/// ([`outside_sphere_band`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a point
-/// there is sampled as one on the sphere (by area), which sees almost none of the
+/// ([`outside_sphere_band`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a free
+/// point there is sampled as one on the sphere (by area), which sees almost none of the
 /// light a receiver hovering that close gets (≈ πL). A case's receiver there is refused
-/// (`case::build::check_receiver_clear_of_sphere_lights`).
+/// (`case::build::check_receiver_clear_of_sphere_lights`); a scattering point of another
+/// shape is known off the sphere and keeps the cone ([`prim_strategy_from`]).
 pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<f64> {
     let d = (p.as_dvec3() - center.as_dvec3()).length();
     (d > radius as f64 && !outside_sphere_band(p, center, radius)).then(|| {
@@ -294,6 +300,24 @@ pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<
             + crate::math::gamma(1) as f64
                 * (center.abs().max_element() + p.abs().max_element()) as f64)
     })
+}
+
+/// [`prim_strategy`] for a viewer that may be known not to lie on `prim`: `off_prim`
+/// says that `p` is a scattering point of another primitive. Such a point is off the
+/// sphere (outside it, or inside where it reads inside) however thin the gap, so the cone
+/// serves it even within the band ([`outside_sphere_band`]), where a free point or a
+/// point of the sphere itself cannot be told from the sphere's surface and is sampled by
+/// area: from a floor point 2.5·10⁻⁷ below a sphere light of radius 0.5 the visible cap
+/// has an area probability near 10⁻⁶, and `light` read 0 for 0.5. Deterministic in
+/// (p, prim, off_prim): the density of a BSDF-sampled direction is recomputed with the
+/// same flag ([`prim_pdf_from`]).
+pub fn prim_strategy_from(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling {
+    match *prim {
+        Primitive::Sphere { center, radius } if off_prim => {
+            SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
+        }
+        _ => prim_strategy(prim, p),
+    }
 }
 
 /// Choose the sampling strategy for primitive `prim` seen from `p`. Deterministic in
@@ -515,20 +539,32 @@ pub struct PrimSample {
     /// the point: a plane's side is the viewer's, which the `f32` point keeps, and an area
     /// sample may lie on either side.
     pub faces_viewer: bool,
+    /// A cone sample's unit direction from the viewer and its distance there, formed in
+    /// `f64` ([`SphereCone::sample_ray`]): a viewer off the sphere by less than the
+    /// points' rounding (a scattering point within the sphere's band) finds no direction
+    /// in q − p. `None`: the caller forms them from the points.
+    pub ray: Option<(Vec3, f32)>,
 }
 
-/// Sample a point of `prim` as seen from `p`.
+/// Sample a point of `prim` as seen from `p` (a free point, or one that may lie on `prim`).
 pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
+    sample_prim_from(prim, p, false, u)
+}
+
+/// [`sample_prim`] by [`prim_strategy_from`]: `off_prim` says that `p` is a point of
+/// another primitive.
+pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> Option<PrimSample> {
     let planar = |q: Vec3, n: Vec3, p_error: Vec3, pdf: f32| PrimSample {
         p: q,
         n,
         p_error,
         density: PrimDensity::SolidAngle(pdf),
         faces_viewer: false,
+        ray: None,
     };
-    match prim_strategy(prim, p) {
+    match prim_strategy_from(prim, p, off_prim) {
         PrimSampling::Cone(c) => {
-            let q = c.sample_point(u);
+            let (q, w, t) = c.sample_ray(u);
             let Primitive::Sphere { center, radius } = *prim else {
                 return None;
             };
@@ -539,6 +575,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
                     + crate::math::gamma(1) * center.abs(),
                 density: PrimDensity::SolidAngle(c.pdf()),
                 faces_viewer: true,
+                ray: Some((w, t)),
             })
         }
         PrimSampling::Rectangle(r) => {
@@ -574,6 +611,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
                 p_error: s.p_error,
                 density: PrimDensity::Area(s.pdf),
                 faces_viewer: false,
+                ray: None,
             })
         }
     }
@@ -581,7 +619,13 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
 
 /// Density in solid angle with which [`sample_prim`] picks the point `q` (normal `n`) from `p`.
 pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
-    match prim_strategy(prim, p) {
+    prim_pdf_from(prim, p, false, q, n)
+}
+
+/// Density in solid angle with which [`sample_prim_from`] picks the point `q` (normal
+/// `n`) from `p` with the same `off_prim`.
+pub fn prim_pdf_from(prim: &Primitive, p: Vec3, off_prim: bool, q: Vec3, n: Vec3) -> f32 {
+    match prim_strategy_from(prim, p, off_prim) {
         PrimSampling::Cone(c) => c.pdf(),
         PrimSampling::Rectangle(r) => r.pdf(),
         PrimSampling::Triangle(t) => t.pdf(),
@@ -699,6 +743,7 @@ impl EmitterKind {
             infinite: true,
             delta,
             emitter: 0,
+            ray_dist: None,
         };
         match self {
             EmitterKind::Point {
@@ -721,6 +766,7 @@ impl EmitterKind {
                     infinite: false,
                     delta: true,
                     emitter: 0,
+                    ray_dist: None,
                 })
             }
             EmitterKind::Spot {
@@ -748,6 +794,7 @@ impl EmitterKind {
                     infinite: false,
                     delta: true,
                     emitter: 0,
+                    ray_dist: None,
                 })
             }
             EmitterKind::Directional {

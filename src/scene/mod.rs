@@ -17,7 +17,7 @@ use crate::math::offset_ray_origin;
 use crate::sampling::distribution::Distribution1D;
 use accel::Accel;
 pub use dispersion::SpectralIor;
-use emitter::{Emitter, EmitterKind, LightSample, prim_pdf, sample_prim};
+use emitter::{Emitter, EmitterKind, LightSample, prim_pdf_from, sample_prim_from};
 use glam::{Vec2, Vec3};
 use shape::{Hit, Primitive};
 use std::ops::Range;
@@ -252,6 +252,23 @@ impl Scene {
         if ls.infinite {
             return self.unoccluded_at(o, ls.wi, f32::INFINITY, t);
         }
+        if let Some(dist) = ls.ray_dist {
+            // A sphere's cone sample: `wi` and `dist` were formed in f64, and the viewer
+            // may lie closer to the sphere than the rounding of either point (a floor point
+            // 10⁻⁸ below a sphere light 1.5 from the origin), where a segment towards the
+            // offset f32 point would point anywhere (and through the floor). The ray along
+            // `wi` is clear unless the first thing it meets before the point is another
+            // shape: the sphere is convex and the point on the cap the viewer sees, so the
+            // sphere itself cannot stand in front of it (a hit on it is the point, within
+            // rounding).
+            let own = match self.emitters.get(ls.emitter).map(|e| &e.kind) {
+                Some(EmitterKind::Area { shape, .. }) => Some(*shape),
+                _ => None,
+            };
+            return self
+                .intersect_at(o, ls.wi, dist * (1.0 - SHADOW_EPSILON), t)
+                .is_none_or(|h| Some(h.shape) == own);
+        }
         let target = if ls.p_error == Vec3::ZERO {
             ls.p
         } else {
@@ -318,10 +335,18 @@ impl Scene {
     }
 
     /// Sample incident light at `p` at time `t`: a moving emitter is sampled from
-    /// p − v t in its rest frame and the sample moved by v t.
-    pub fn sample_light_at(&self, p: Vec3, u_choice: f32, u: Vec2, t: f32) -> Option<LightSample> {
+    /// p − v t in its rest frame and the sample moved by v t. `on`: the primitive `p` lies
+    /// on (a scattering point), `None` for a free point (see [`Scene::sample_light_from`]).
+    pub fn sample_light_at(
+        &self,
+        p: Vec3,
+        on: Option<usize>,
+        u_choice: f32,
+        u: Vec2,
+        t: f32,
+    ) -> Option<LightSample> {
         if !self.moving {
-            return self.sample_light(p, u_choice, u);
+            return self.sample_light_from(p, on, u_choice, u);
         }
         let n = self.emitters.len();
         let k = ((u_choice * n as f32) as usize).min(n.saturating_sub(1));
@@ -330,9 +355,9 @@ impl Scene {
             .get(k)
             .map_or(Vec3::ZERO, |e| e.props.velocity * t);
         if shift == Vec3::ZERO {
-            return self.sample_light(p, u_choice, u);
+            return self.sample_light_from(p, on, u_choice, u);
         }
-        let mut ls = self.sample_light(p - shift, u_choice, u)?;
+        let mut ls = self.sample_light_from(p - shift, on, u_choice, u)?;
         if !ls.infinite {
             ls.p_error += ls.p.abs().max(shift.abs()) * f32::EPSILON;
             ls.p += shift;
@@ -340,9 +365,25 @@ impl Scene {
         Some(ls)
     }
 
-    /// Sample incident light at `p` (uniform choice of emitter, then the emitter's best
-    /// strategy). The returned density includes the choice.
+    /// Sample incident light at the free point `p` (uniform choice of emitter, then the
+    /// emitter's best strategy). The returned density includes the choice.
     pub fn sample_light(&self, p: Vec3, u_choice: f32, u: Vec2) -> Option<LightSample> {
+        self.sample_light_from(p, None, u_choice, u)
+    }
+
+    /// [`Scene::sample_light`] from a point that lies on the primitive `on` (a scattering
+    /// point; `None`: a free point). A point of another primitive is known off a sphere
+    /// light however close it comes, and is served by the sphere's cone where a free point
+    /// within the sphere's band is sampled by area
+    /// ([`emitter::prim_strategy_from`]); [`Scene::light_pdf_surface_at`] takes the
+    /// same `on`.
+    pub fn sample_light_from(
+        &self,
+        p: Vec3,
+        on: Option<usize>,
+        u_choice: f32,
+        u: Vec2,
+    ) -> Option<LightSample> {
         let n = self.emitters.len();
         if n == 0 {
             return None;
@@ -368,14 +409,16 @@ impl Scene {
                 };
                 let prim_index = s.prims.start + local;
                 let prim = &self.prims()[prim_index];
-                let ps = sample_prim(
+                let ps = sample_prim_from(
                     prim,
                     p,
+                    on.is_some_and(|i| i != prim_index),
                     Vec2::new(ux.min(crate::math::ONE_MINUS_EPSILON), u.y),
                 )?;
                 let (q, mut nq) = (ps.p, ps.n);
                 let d = q - p;
-                let dist = d.length();
+                // A cone sample's direction and distance come from f64 ([`PrimSample::ray`]).
+                let dist = ps.ray.map_or_else(|| d.length(), |(_, t)| t);
                 let pdf_w = ps.density.solid_angle(d, dist, nq)?;
                 if s.flip_normals {
                     nq = -nq;
@@ -383,7 +426,7 @@ impl Scene {
                 if !(dist > 0.0) {
                     return None;
                 }
-                let wi = d / dist;
+                let wi = ps.ray.map_or(d / dist, |(w, _)| w);
                 let front = if ps.faces_viewer {
                     !s.flip_normals
                 } else {
@@ -401,6 +444,7 @@ impl Scene {
                     infinite: false,
                     delta: false,
                     emitter: k,
+                    ray_dist: ps.ray.map(|(_, t)| t),
                 }
             }
             e => e.sample_non_area(p, u)?,
@@ -415,11 +459,13 @@ impl Scene {
     /// Density (solid angle, including the emitter choice) with which
     /// [`Scene::sample_light`] would pick the surface point `sh` from `p`.
     pub fn light_pdf_surface(&self, p: Vec3, sh: &SurfaceHit) -> f32 {
-        self.light_pdf_surface_at(p, sh, 0.0)
+        self.light_pdf_surface_at(p, None, sh, 0.0)
     }
 
-    /// [`Scene::light_pdf_surface`] at time `t`: evaluated in the shape's rest frame.
-    pub fn light_pdf_surface_at(&self, p: Vec3, sh: &SurfaceHit, t: f32) -> f32 {
+    /// [`Scene::light_pdf_surface`] at time `t` from a point on the primitive `on`
+    /// (`None`: a free point), as [`Scene::sample_light_from`] samples it: evaluated in
+    /// the shape's rest frame.
+    pub fn light_pdf_surface_at(&self, p: Vec3, on: Option<usize>, sh: &SurfaceHit, t: f32) -> f32 {
         let s = &self.shapes[sh.shape];
         if s.emitter.is_none() {
             return 0.0;
@@ -427,8 +473,13 @@ impl Scene {
         let prim = &self.prims()[sh.prim];
         let n = if s.flip_normals { -sh.hit.n } else { sh.hit.n };
         let shift = s.velocity * t;
-        prim_pdf(prim, p - shift, sh.hit.p - shift, n)
-            * s.prim_choice_pdf(prim)
+        prim_pdf_from(
+            prim,
+            p - shift,
+            on.is_some_and(|i| i != sh.prim),
+            sh.hit.p - shift,
+            n,
+        ) * s.prim_choice_pdf(prim)
             * self.emitter_choice_pdf()
     }
 

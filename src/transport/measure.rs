@@ -394,7 +394,7 @@ fn irradiance<P: Phase>(
             wl.z / PI
         }
     };
-    let mut e = next_event(scene, cfg, phase, p, p_err, &frame, 0.0, s, |wl| {
+    let mut e = next_event(scene, cfg, phase, p, p_err, None, &frame, 0.0, s, |wl| {
         (wl.z.max(0.0), pdf_dir(wl))
     });
     // Continue by cosine (or uniform) sampling unless it can contribute nothing.
@@ -423,6 +423,7 @@ fn irradiance<P: Phase>(
                     pdf,
                     delta: false,
                     length: 0.0,
+                    prim: None,
                 },
                 0,
                 s,

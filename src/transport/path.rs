@@ -117,6 +117,9 @@ pub struct Prev {
     pub delta: bool,
     /// Path length from the sensor to `p` (for time of flight).
     pub length: f32,
+    /// The primitive `p` lies on (`None`: a free point, the sensor or a receiver), for
+    /// the light density of what the next segment finds ([`Scene::light_pdf_surface_at`]).
+    pub prim: Option<usize>,
 }
 
 impl Prev {
@@ -127,13 +130,15 @@ impl Prev {
             pdf: 1.0,
             delta: true,
             length: 0.0,
+            prim: None,
         }
     }
 }
 
 /// Next-event estimation at a point with local frame `frame`: one light sample, weighted.
 /// `f_pdf(wi_local)` returns (f·|cos θi|, BSDF density); `length` is the path length
-/// from the sensor to `p` (for time of flight).
+/// from the sensor to `p` (for time of flight); `on` is the primitive `p` lies on (a
+/// scattering point), `None` for a free point ([`Scene::sample_light_from`]).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn next_event<P: Phase, F>(
@@ -142,6 +147,7 @@ pub fn next_event<P: Phase, F>(
     phase: &P,
     p: Vec3,
     p_error: Vec3,
+    on: Option<usize>,
     frame: &Frame,
     length: f32,
     stream: &mut SampleStream,
@@ -156,7 +162,7 @@ where
     if !scene.has_emitters() {
         return zero;
     }
-    let Some(ls) = scene.sample_light_at(p, uc, u, phase.time()) else {
+    let Some(ls) = scene.sample_light_at(p, on, uc, u, phase.time()) else {
         return zero;
     };
     // Never masked: an emitter radiance or light density that is not a finite,
@@ -188,7 +194,7 @@ where
     let w = cfg.light_weight(&ls, pdf_b);
     let c = fc * w / ls.pdf;
     let dist = if phase.tracks_length() && !ls.infinite {
-        (ls.p - p).length()
+        ls.ray_dist.unwrap_or_else(|| (ls.p - p).length())
     } else {
         0.0
     };
@@ -231,7 +237,7 @@ pub fn trace<P: Phase>(
         // `!= 0`, not `> 0`: a NaN or negative emission must reach the accumulator.
         if le != 0.0 {
             let w = cfg.emission_weight(prev.delta, prev.pdf, || {
-                scene.light_pdf_surface_at(prev.p, &sh, phase.time())
+                scene.light_pdf_surface_at(prev.p, prev.prim, &sh, phase.time())
             });
             let e = scene.shapes[sh.shape].emitter.unwrap_or(0);
             l += beta * phase.emission(scene, e, le * w, length);
@@ -267,6 +273,7 @@ pub fn trace<P: Phase>(
                     phase,
                     sh.hit.p,
                     sh.hit.p_error,
+                    Some(sh.prim),
                     &frame,
                     length,
                     stream,
@@ -298,6 +305,7 @@ pub fn trace<P: Phase>(
             pdf: s.pdf,
             delta: s.lobe.is_delta(),
             length,
+            prim: Some(sh.prim),
         };
         o = Scene::spawn(sh.hit.p, sh.hit.p_error, sh.hit.n, wi);
         d = wi;
@@ -398,6 +406,7 @@ mod tests {
             infinite: false,
             delta,
             emitter: 0,
+            ray_dist: None,
         }
     }
 
@@ -542,6 +551,7 @@ mod tests {
             phase,
             P,
             Vec3::ZERO,
+            None,
             &frame,
             length,
             &mut stream(1),
@@ -596,6 +606,7 @@ mod tests {
             &Grey,
             P,
             Vec3::ZERO,
+            None,
             &frame,
             0.0,
             &mut st,
@@ -678,6 +689,7 @@ mod tests {
                 &Grey,
                 p,
                 Vec3::ZERO,
+                None,
                 &frame,
                 0.0,
                 &mut stream(seed),
@@ -813,6 +825,7 @@ mod tests {
             pdf: (3.0 / (4.0 * PI)) as f32,
             delta: false,
             length: 0.0,
+            prim: None,
         };
         let want = [0.0, 2.0, 1.8, 1.5];
         for (c, w) in all_configs().iter().zip(want) {
@@ -836,6 +849,7 @@ mod tests {
             pdf: p_b as f32,
             delta: false,
             length: 0.0,
+            prim: None,
         };
         let want = [
             0.0,
