@@ -316,7 +316,12 @@ pub fn prim_strategy_from(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSamp
         Primitive::Sphere { center, radius } if off_prim => {
             SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
         }
-        _ => prim_strategy(prim, p),
+        Primitive::Sphere { .. }
+        | Primitive::Rectangle { .. }
+        | Primitive::Triangle { .. }
+        | Primitive::Disk { .. }
+        | Primitive::SphericalCap { .. }
+        | Primitive::Annulus { .. } => prim_strategy(prim, p),
     }
 }
 
@@ -675,6 +680,18 @@ fn area_to_solid_angle_wide(pdf_area: f64, d: Vec3, n: Vec3) -> Option<f32> {
 }
 
 impl EmitterKind {
+    /// The shape an area light emits from; `None` for lights without a surface.
+    pub fn shape(&self) -> Option<usize> {
+        match self {
+            EmitterKind::Area { shape, .. } => Some(*shape),
+            EmitterKind::Point { .. }
+            | EmitterKind::Spot { .. }
+            | EmitterKind::Directional { .. }
+            | EmitterKind::Constant { .. }
+            | EmitterKind::Map(_) => None,
+        }
+    }
+
     /// Its largest strength in its own unit: the radiance of an area light, a constant
     /// sky or a map's brightest pixel, the intensity of a point or spot light, the
     /// irradiance of a directional one (what a spectrum or a photon count multiplies).

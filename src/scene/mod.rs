@@ -261,10 +261,7 @@ impl Scene {
             // shape: the sphere is convex and the point on the cap the viewer sees, so the
             // sphere itself cannot stand in front of it (a hit on it is the point, within
             // rounding).
-            let own = match self.emitters.get(ls.emitter).map(|e| &e.kind) {
-                Some(EmitterKind::Area { shape, .. }) => Some(*shape),
-                _ => None,
-            };
+            let own = self.emitters.get(ls.emitter).and_then(|e| e.kind.shape());
             return self
                 .intersect_at(o, ls.wi, dist * (1.0 - SHADOW_EPSILON), t)
                 .is_none_or(|h| Some(h.shape) == own);
