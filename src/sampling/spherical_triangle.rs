@@ -237,6 +237,10 @@ pub(crate) mod tests {
             ("edge-on 1e-8", Vec3::new(1.0, 1.0, 1e-8), t0, 2e-5),
             ("hemisphere 1e-6", Vec3::new(0.25, 0.25, 1e-6), t0, 1e-3),
             ("hemisphere 1e-8", Vec3::new(0.25, 0.25, 1e-8), t0, 1e-3),
+            // Nearly a hemisphere (Ω > 6.22 sr, pbrt-v4's cap) above an edge and a vertex.
+            ("hemisphere 1e-3", Vec3::new(0.25, 0.25, 1e-3), t0, 1e-3),
+            ("near an edge 1e-5", Vec3::new(0.01, 0.5, 1e-5), t0, 1e-3),
+            ("near a vertex 1e-7", Vec3::new(1e-3, 1e-3, 1e-7), t0, 1e-3),
             ("sliver 1e-5", Vec3::new(0.5, 0.3, 1.0), sliver(1e-5), 2e-5),
             ("sliver 1e-7", Vec3::new(0.5, 0.3, 1.0), sliver(1e-7), 2e-5),
             (
