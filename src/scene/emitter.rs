@@ -311,6 +311,7 @@ pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<
 /// has an area probability near 10⁻⁶, and `light` read 0 for 0.5. Deterministic in
 /// (p, prim, off_prim): the density of a BSDF-sampled direction is recomputed with the
 /// same flag ([`prim_pdf_from`]).
+#[inline]
 pub fn prim_strategy_from(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling {
     match *prim {
         Primitive::Sphere { center, radius } if off_prim => {
@@ -559,6 +560,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
 
 /// [`sample_prim`] by [`prim_strategy_from`]: `off_prim` says that `p` is a point of
 /// another primitive.
+#[inline]
 pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> Option<PrimSample> {
     let planar = |q: Vec3, n: Vec3, p_error: Vec3, pdf: f32| PrimSample {
         p: q,
