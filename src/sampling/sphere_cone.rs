@@ -202,6 +202,39 @@ mod tests {
         (c, (c.as_dvec3() - p.as_dvec3()).length())
     }
 
+    /// A cone sample's ray (`sample_ray`): the unit direction is the one towards the
+    /// point, and p + t w is the point on the sphere, in f64 to the point's own rounding,
+    /// from gaps 10⁻⁶ to 10³ radii and every part of the cone (rim included).
+    #[test]
+    fn a_cone_samples_ray_reaches_its_point() {
+        let p = Vec3::new(0.25, -0.5, 0.75);
+        for (k, gap) in [1e-6, 1e-3, 0.1, 1.0, 1e3].into_iter().enumerate() {
+            let (c, _) = setup(p, Vec3::new(1.0, 2.0, -0.5 + k as f32), gap);
+            let s = SphereCone::new(p, c, 1.0).unwrap();
+            for (u0, u1) in [
+                (0.0, 0.0),
+                (0.5, 0.3),
+                (0.999, 0.7),
+                (1.0, 0.9),
+                (0.25, 0.55),
+            ] {
+                let (q, w, t) = s.sample_ray(Vec2::new(u0, u1));
+                assert_eq!(q, s.sample_point(Vec2::new(u0, u1)));
+                assert!((w.length() - 1.0).abs() < 1e-6, "{w}");
+                let reached = p.as_dvec3() + w.as_dvec3() * t as f64;
+                let off = (reached - q.as_dvec3()).length();
+                // The f32 roundings of w and t (ε·t each) and of q (ε·|q|).
+                let bound = 4.0 * f32::EPSILON as f64 * (t as f64 + q.abs().max_element() as f64);
+                assert!(off <= bound, "gap {gap}, u ({u0}, {u1}): {off} > {bound}");
+                let r = (q.as_dvec3() - c.as_dvec3()).length();
+                assert!(
+                    (r - 1.0).abs()
+                        <= 4.0 * f32::EPSILON as f64 * (1.0 + c.abs().max_element() as f64)
+                );
+            }
+        }
+    }
+
     proptest! {
         #[test]
         fn points_on_sphere_and_visible(u0 in 0.0f32..1.0, u1 in 0.0f32..1.0,
