@@ -47,13 +47,7 @@ pub fn verdict_cells(v: Option<&Verdict>, passed: bool) -> [String; 4] {
         Some(v) => [
             format!("{:.6}", v.reference),
             format!("{:+.2}", v.z),
-            // Relative to the reference, but a zero reference has none: the absolute
-            // bias, in the case's units, without a `%` that would read as relative.
-            if v.reference == 0.0 {
-                format!("{:.2e}", v.detectable_bias)
-            } else {
-                format!("{:.3}%", 100.0 * v.detectable_relative_bias)
-            },
+            v.detectable_bias_text(),
             v.label().into(),
         ],
         None => [

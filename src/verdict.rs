@@ -120,6 +120,17 @@ pub fn judge(
 }
 
 impl Verdict {
+    /// The detectable bias as shown: relative, a percentage; for a zero reference, which
+    /// has no relative bias, the absolute one in the case's units, without a `%` that
+    /// would read as relative (0.002 printed as "0.200%").
+    pub fn detectable_bias_text(&self) -> String {
+        if self.reference == 0.0 {
+            format!("{:.2e}", self.detectable_bias)
+        } else {
+            format!("{:.3}%", 100.0 * self.detectable_relative_bias)
+        }
+    }
+
     /// A passed statistical verdict must be able to see a relative bias of
     /// [`DETECTABLE_BOUND`] (its `detectable_relative_bias`, at 99% power), or the pass
     /// proves nothing: an engine whose variance blew up (a dropped Jacobian that leaves

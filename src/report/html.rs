@@ -561,7 +561,8 @@ fn bias_svg(outcomes: &[Outcome]) -> String {
     let mut b: Vec<f64> = outcomes
         .iter()
         .filter_map(|o| o.verdict.as_ref())
-        .filter(|v| v.class == VerdictClass::Statistical)
+        // Relative biases only: a zero reference's is absolute (in the case's units).
+        .filter(|v| v.class == VerdictClass::Statistical && v.reference != 0.0)
         .map(|v| v.detectable_relative_bias)
         .filter(|b| b.is_finite() && *b > 0.0)
         .collect();
@@ -642,10 +643,9 @@ fn verdict_table(s: &mut String, page: &Page) {
             cell(o.std_error, &num),
             cell(o.reference, &num),
             cell(o.z, &|z| format!("{z:+.2}")),
-            cell(v.map(|v| v.detectable_relative_bias), &|b| format!(
-                "{:.3}%",
-                100.0 * b
-            )),
+            cell(v.map(|v| v.detectable_relative_bias), &|_| v
+                .map(|v| v.detectable_bias_text())
+                .unwrap_or_default()),
             cell(Some(o.seconds), &|t| format!("{t:.2} s")),
         );
     }
@@ -769,6 +769,37 @@ mod tests {
         })
         .unwrap();
         p
+    }
+
+    /// A zero reference's detectable bias is absolute (in the case's units): the table
+    /// shows it without `%` (it showed 0.002 as "0.200%", as `verify`'s table did) and the
+    /// relative-bias plot leaves it out.
+    #[test]
+    fn a_zero_references_bias_is_shown_in_its_own_units() {
+        let mut outcomes = vec![outcome("z.json", 0.0005, Some(0.001), Some(0.0))];
+        let k = judge_family(&mut outcomes, 0, 1e-4);
+        let v = outcomes[0].verdict.clone().unwrap();
+        let dir = std::env::temp_dir().join(format!("lightproof-html0-{}", std::process::id()));
+        let cases = BTreeMap::new();
+        let page = Page {
+            outcomes: &outcomes,
+            cases: &cases,
+            chi2: &[],
+            seed: 7,
+            alpha: 1e-4,
+            tests: k,
+        };
+        let path = dir.join("verdicts.html");
+        write(&path, &page).unwrap();
+        let html = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        let text = format!("{:.2e}", v.detectable_bias);
+        assert!(html.contains(&format!(">{text}</td>")), "no `{text}` cell");
+        assert!(!html.contains(&format!("{:.3}%", 100.0 * v.detectable_relative_bias)));
+        assert!(
+            !bias_svg(&outcomes).contains("<circle"),
+            "plotted as relative"
+        );
     }
 
     #[test]
