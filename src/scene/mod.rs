@@ -587,6 +587,37 @@ mod tests {
     /// on 2¹⁹ samples; it sees a bias of 1% (asserted): a wrong emitter or triangle
     /// choice, a point drawn outside its own cell, or a wrong side moves E by far more.
     #[test]
+    fn a_cone_samples_shadow_ray_is_blocked_by_another_shape() {
+        // Shape 0 (a black square) hides the sphere light (shape 1) from the origin: every
+        // cone sample's ray meets shape 0 first, which is not the light's own shape (a
+        // shadow test that took the first shape for the light's own passed them all).
+        let d: load::SceneDesc = serde_json::from_value(json!({ "shapes": [
+            { "geometry": { "type": "rectangle", "corner": [-2, -2, 1], "edge_u": [4, 0, 0], "edge_v": [0, 4, 0] } },
+            { "geometry": { "type": "sphere", "center": [0, 0, 3], "radius": 0.5 },
+              "emission": { "radiance": 1.0 } }
+        ]}))
+        .unwrap();
+        let scene = d
+            .build(
+                "t.json",
+                "scene",
+                std::path::Path::new("."),
+                DVec3::ZERO,
+                0.0,
+            )
+            .unwrap();
+        let sampler = Sampler::independent(3);
+        for i in 0..256u64 {
+            let mut st = sampler.stream(i);
+            let ls = scene
+                .sample_light_from(Vec3::ZERO, None, st.next_1d(), st.next_2d())
+                .unwrap();
+            assert!(ls.ray_dist.is_some(), "not a cone sample");
+            assert!(!scene.visible_at(Vec3::ZERO, Vec3::ZERO, Vec3::Z, &ls, 0.0));
+        }
+    }
+
+    #[test]
     fn light_samples_estimate_irradiance_from_several_emitters() {
         let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| [a, b, c].map(DVec3::from);
         let mesh = [
