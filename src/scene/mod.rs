@@ -586,6 +586,12 @@ mod tests {
     /// (Lambert) and Lambert's polygon formula per facing triangle. One z test at α = 1e-4
     /// on 2¹⁹ samples; it sees a bias of 1% (asserted): a wrong emitter or triangle
     /// choice, a point drawn outside its own cell, or a wrong side moves E by far more.
+    /// The scene a description builds, rebased on the origin.
+    fn built(d: load::SceneDesc) -> Scene {
+        let here = std::path::Path::new(".");
+        d.build("t.json", "scene", here, DVec3::ZERO, 0.0).unwrap()
+    }
+
     #[test]
     fn a_cone_samples_shadow_ray_is_blocked_by_another_shape() {
         // Shape 0 (a black square) hides the sphere light (shape 1) from the origin: every
@@ -597,15 +603,7 @@ mod tests {
               "emission": { "radiance": 1.0 } }
         ]}))
         .unwrap();
-        let scene = d
-            .build(
-                "t.json",
-                "scene",
-                std::path::Path::new("."),
-                DVec3::ZERO,
-                0.0,
-            )
-            .unwrap();
+        let scene = built(d);
         let sampler = Sampler::independent(3);
         for i in 0..256u64 {
             let mut st = sampler.stream(i);
@@ -637,15 +635,7 @@ mod tests {
               "emission": { "radiance": 3.0 } }
         ]}))
         .unwrap();
-        let scene = d
-            .build(
-                "t.json",
-                "scene",
-                std::path::Path::new("."),
-                DVec3::ZERO,
-                0.0,
-            )
-            .unwrap();
+        let scene = built(d);
         let c = DVec3::new(0.5, 0.3, 2.0);
         let sphere = 2.0 * std::f64::consts::PI * (0.4 / c.length()).powi(2) * c.z / c.length();
         let reference = sphere
