@@ -292,7 +292,7 @@ fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
 /// point there is sampled as one on the sphere (by area), which sees almost none of the
 /// light a receiver hovering that close gets (≈ πL). A case's receiver there is refused
 /// (`case::build::check_receiver_clear_of_sphere_lights`); a scattering point of another
-/// shape is known off the sphere and keeps the cone ([`prim_strategy_from`]).
+/// shape is known off the sphere and keeps the cone ([`prim_strategy`]).
 pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<f64> {
     let d = (p.as_dvec3() - center.as_dvec3()).length();
     (d > radius as f64 && !outside_sphere_band(p, center, radius)).then(|| {
@@ -302,38 +302,24 @@ pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<
     })
 }
 
-/// [`prim_strategy`] for a viewer that may be known not to lie on `prim`: `off_prim`
-/// says that `p` is a scattering point of another primitive. Such a point is off the
-/// sphere (outside it, or inside where it reads inside) however thin the gap, so the cone
-/// serves it even within the band ([`outside_sphere_band`]), where a free point or a
-/// point of the sphere itself cannot be told from the sphere's surface and is sampled by
-/// area: from a floor point 2.5·10⁻⁷ below a sphere light of radius 0.5 the visible cap
-/// has an area probability near 10⁻⁶, and `light` read 0 for 0.5. Deterministic in
-/// (p, prim, off_prim): the density of a BSDF-sampled direction is recomputed with the
-/// same flag ([`prim_pdf_from`]).
+/// Choose the sampling strategy for primitive `prim` seen from `p`; `off_prim` says
+/// that `p` is a scattering point of another primitive. Deterministic in (p, prim,
+/// off_prim), so the density of a BSDF-sampled direction can be recomputed for MIS
+/// ([`prim_pdf_from`] with the same flag).
 #[inline]
-pub fn prim_strategy_from(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling {
+pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling {
     match *prim {
-        Primitive::Sphere { center, radius } if off_prim => {
-            SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
-        }
-        Primitive::Sphere { .. }
-        | Primitive::Rectangle { .. }
-        | Primitive::Triangle { .. }
-        | Primitive::Disk { .. }
-        | Primitive::SphericalCap { .. }
-        | Primitive::Annulus { .. } => prim_strategy(prim, p),
-    }
-}
-
-/// Choose the sampling strategy for primitive `prim` seen from `p`. Deterministic in
-/// (p, prim), so the density of a BSDF-sampled direction can be recomputed for MIS.
-pub fn prim_strategy(prim: &Primitive, p: Vec3) -> PrimSampling {
-    match *prim {
-        // Only a point outside the sphere's band (see [`outside_sphere_band`]) uses the
-        // cone, which is exact however thin the gap beyond it (it works in f64). On or
-        // inside, every point of the sphere is visible and area sampling is exact.
-        Primitive::Sphere { center, radius } if outside_sphere_band(p, center, radius) => {
+        // A point outside the sphere's band (see [`outside_sphere_band`]) uses the cone,
+        // which is exact however thin the gap beyond it (it works in f64). So does a
+        // scattering point of another primitive, known off the sphere however thin the
+        // gap: within the band a free point or a point of the sphere itself cannot be told
+        // from the sphere's surface and is sampled by area (on or inside, every point of
+        // the sphere is visible and area sampling is exact), which from a floor point
+        // 2.5·10⁻⁷ below a sphere light of radius 0.5 draws the visible cap with a
+        // probability near 10⁻⁶: `light` read 0 for 0.5.
+        Primitive::Sphere { center, radius }
+            if off_prim || outside_sphere_band(p, center, radius) =>
+        {
             SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
         }
         Primitive::Rectangle { corner, u, v }
@@ -558,7 +544,7 @@ pub fn sample_prim(prim: &Primitive, p: Vec3, u: Vec2) -> Option<PrimSample> {
     sample_prim_from(prim, p, false, u)
 }
 
-/// [`sample_prim`] by [`prim_strategy_from`]: `off_prim` says that `p` is a point of
+/// [`sample_prim`] by [`prim_strategy`]: `off_prim` says that `p` is a point of
 /// another primitive.
 #[inline]
 pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> Option<PrimSample> {
@@ -570,7 +556,7 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
         faces_viewer: false,
         ray: None,
     };
-    match prim_strategy_from(prim, p, off_prim) {
+    match prim_strategy(prim, p, off_prim) {
         PrimSampling::Cone(c) => {
             let (q, w, t) = c.sample_ray(u);
             let Primitive::Sphere { center, radius } = *prim else {
@@ -633,7 +619,7 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
 /// Density in solid angle with which [`sample_prim_from`] picks the point `q` (normal
 /// `n`) from `p` with the same `off_prim`.
 pub fn prim_pdf_from(prim: &Primitive, p: Vec3, off_prim: bool, q: Vec3, n: Vec3) -> f32 {
-    match prim_strategy_from(prim, p, off_prim) {
+    match prim_strategy(prim, p, off_prim) {
         PrimSampling::Cone(c) => c.pdf(),
         PrimSampling::Rectangle(r) => r.pdf(),
         PrimSampling::Triangle(t) => t.pdf(),
@@ -945,7 +931,11 @@ mod tests {
             );
             assert!(
                 matches!(
-                    prim_strategy(&Primitive::Triangle { p: v }, Vec3::new(0.0, 0.0, -s)),
+                    prim_strategy(
+                        &Primitive::Triangle { p: v },
+                        Vec3::new(0.0, 0.0, -s),
+                        false
+                    ),
                     PrimSampling::Triangle(_)
                 ),
                 "scale {s:e}"
@@ -1367,7 +1357,7 @@ mod tests {
             let v = [off + r3(size), off + r3(size), off + r3(size)];
             let p = r3(scale(k / 343)) - Vec3::Z * scale(k / 7 + 3);
             let prim = Primitive::Triangle { p: v };
-            if !matches!(prim_strategy(&prim, p), PrimSampling::Triangle(_)) {
+            if !matches!(prim_strategy(&prim, p, false), PrimSampling::Triangle(_)) {
                 continue;
             }
             let Some(PrimSample {
@@ -1430,7 +1420,7 @@ mod tests {
             let mid = (v[0] + v[1] + v[2]) / 3.0;
             let p = mid + a.cross(b).normalize_or_zero() * (a.length() / 3.0) + r3(size * 0.1);
             let prim = Primitive::Triangle { p: v };
-            let spherical = matches!(prim_strategy(&prim, p), PrimSampling::Triangle(_));
+            let spherical = matches!(prim_strategy(&prim, p, false), PrimSampling::Triangle(_));
             let m = (v[1].as_dvec3() - v[0].as_dvec3())
                 .cross(v[2].as_dvec3() - v[0].as_dvec3())
                 .normalize();
@@ -1855,7 +1845,7 @@ mod tests {
                 "area",
             ),
         ] {
-            assert_eq!(is(prim_strategy(&prim, p)), want, "{name}");
+            assert_eq!(is(prim_strategy(&prim, p, false)), want, "{name}");
         }
     }
 
@@ -1898,7 +1888,7 @@ mod tests {
             for h in [1e-2f32, 1e-3, 1e-5, 1e-7] {
                 let p = Vec3::new(0.0, 0.0, h);
                 assert!(
-                    matches!(prim_strategy(&prim, p), PrimSampling::Triangle(_)),
+                    matches!(prim_strategy(&prim, p, false), PrimSampling::Triangle(_)),
                     "({x}, {y}, {h:e}): not sampled by solid angle"
                 );
                 let (phi, _) = polygon_moments(p.as_dvec3(), &v.map(|c| c.as_dvec3()));
@@ -2100,7 +2090,7 @@ mod tests {
                 // so that a shadow ray's origin is not pushed off by more.
                 let eps = f32::EPSILON;
                 // (Area sampling's bounds are the shapes' own, tested with them.)
-                let allowed = match (prim_strategy(&prim, p), prim) {
+                let allowed = match (prim_strategy(&prim, p, false), prim) {
                     (PrimSampling::Cone(_), Primitive::Sphere { center, .. }) => {
                         4.0 * eps * (q - center).abs() + eps * center.abs()
                     }

@@ -372,7 +372,7 @@ impl Scene {
     /// point; `None`: a free point). A point of another primitive is known off a sphere
     /// light however close it comes, and is served by the sphere's cone where a free point
     /// within the sphere's band is sampled by area
-    /// ([`emitter::prim_strategy_from`]); [`Scene::light_pdf_surface_at`] takes the
+    /// ([`emitter::prim_strategy`]); [`Scene::light_pdf_surface_at`] takes the
     /// same `on`.
     pub fn sample_light_from(
         &self,
