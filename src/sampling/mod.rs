@@ -16,6 +16,7 @@
 //! | [`spherical_triangle`] | uniform solid angle of a triangle (Arvo 1995) | 1/Ω |
 //! | [`spherical_rectangle`] | uniform solid angle of a rectangle (Ureña et al. 2013) | 1/Ω |
 //! | [`sphere_cone`] | directions towards a sphere seen from a point | 1/(2π(1 − cos θmax)) |
+//! | [`sphere_inside`] | directions from inside a sphere to where they leave it | 1/(4π) |
 //! | [`distribution`] | 1-D and 2-D piecewise-constant densities | f/∫f |
 //!
 //! [`sampler`] holds the sample streams: independent, stratified (Latin hypercube) and
@@ -29,6 +30,7 @@ pub mod hemisphere;
 pub mod sampler;
 pub mod sphere;
 pub mod sphere_cone;
+pub mod sphere_inside;
 pub mod spherical_rectangle;
 pub mod spherical_triangle;
 pub mod triangle;

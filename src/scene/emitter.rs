@@ -11,6 +11,7 @@ use crate::math::{Frame, INV_FOUR_PI, PI, TWO_PI};
 use crate::sampling::distribution::{Distribution1D, Distribution2D};
 use crate::sampling::sphere::uniform_sphere;
 use crate::sampling::sphere_cone::SphereCone;
+use crate::sampling::sphere_inside::SphereInside;
 use crate::sampling::spherical_rectangle::SphericalRectangle;
 use crate::sampling::spherical_triangle::SphericalTriangle;
 use crate::scene::shape::Primitive;
@@ -243,6 +244,8 @@ pub fn spot_falloff(cos_theta: f32, cos_total: f32, cos_start: f32) -> f32 {
 pub enum PrimSampling {
     /// Uniform in the cone of a sphere.
     Cone(SphereCone),
+    /// Uniform over all directions, from inside a sphere.
+    Inside(SphereInside),
     /// Uniform in a spherical rectangle.
     Rectangle(SphericalRectangle),
     /// Uniform in a spherical triangle.
@@ -251,55 +254,80 @@ pub enum PrimSampling {
     Area,
 }
 
-/// Whether the viewer `p` is outside the sphere's cone band: farther from the centre
-/// than the radius plus 4× the error bound of a point on the sphere itself (a hit on it,
-/// error γ₅|p − c| + γ₁|c| per component), which may round to just outside, where the
-/// cone's near root would be the point itself. The band's test is in `f64`; a viewer
-/// inside or on the sphere, |p − c|² ≤ (1 + 8ε) r² in `f32` (ε = 2u = 2⁻²³), is answered
-/// without it, with the same answer: the `f32` |p − c|² is within γ₅ of the exact one
-/// (a rounding per difference, squared, and three for the squares and sums), and the
-/// threshold (1 + 16u) r² within 2u more (r² and the product rounded). The squares of
-/// |p − c|'s components may underflow, an absolute error below 3·2⁻¹⁵⁰ ≤ 3u r² in all
-/// (r² ≥ 2⁻¹²⁶). So the exact |p − c|² is below (1 + 18u)(1 + γ₅) r² + 3u r² <
-/// (1 + 27u) r² < (1 + 4γ₅)² r² ≈ (1 + 40u) r²: inside the band, which reaches at least
-/// r(1 + 4γ₅). A point found on the sphere (within γ₅|p − c| + γ₁|c| of it) mostly
-/// passes, so a light's own surface points (a furnace's, each bounce) skip the `f64`
-/// root. Only where r² is a normal number: a subnormal r² carries an absolute error of
-/// half its step (2⁻¹⁵⁰), which no relative margin covers (r ≈ 1.2·10⁻²²,
-/// |p − c| = 1.017 r reads as inside).
+/// Where a viewer lies with respect to a sphere's band ([`sphere_side`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum SphereSide {
+    /// Farther from the centre than the band reaches: the cone.
+    Outside,
+    /// Within the band: not to be told from a point of the sphere (by area).
+    Band,
+    /// Nearer the centre than the band reaches: directions from inside.
+    Inside,
+}
+
+/// Where the viewer `p` lies with respect to the sphere's band: the points within 4× the
+/// error bound of a point on the sphere itself (a hit on it, error γ₅|p − c| + γ₁|c| per
+/// component) of its surface, |r − |p − c|| ≤ 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) in `f64`
+/// ([`sphere_band`]). Such a point may be a point of the sphere rounded off it, where
+/// the cone's near root, or the way out from inside, would be the point itself.
+///
+/// A viewer with (1 − 8ε) r² ≤ |p − c|² ≤ (1 + 8ε) r² in `f32` (ε = 2u = 2⁻²³) is
+/// answered without the `f64` root, with the same answer: the `f32` |p − c|² is within
+/// γ₅ of the exact one (a rounding per difference, squared, and three for the squares and
+/// sums), and each threshold (1 ± 16u) r² within 2u more (r² and the product rounded).
+/// The squares of |p − c|'s components may underflow, an absolute error below
+/// 3·2⁻¹⁵⁰ ≤ 3u r² in all (r² ≥ 2⁻¹²⁶). So the exact |p − c|² is below
+/// (1 + 18u)(1 + γ₅) r² + 3u r² < (1 + 27u) r² < (1 + 4γ₅)² r² ≈ (1 + 40u) r², and above
+/// (1 − 18u)(1 − γ₅) r² − 3u r² > (1 − 27u) r² > (1 − 4γ₅)² r²: within the band, which
+/// reaches at least r(1 ± 4γ₅). A point found on the sphere (within γ₅|p − c| + γ₁|c| of
+/// it) mostly passes, so a light's own surface points (a furnace's, each bounce) skip the
+/// `f64` root. Only where r² is a normal number: a subnormal r² carries an absolute error
+/// of half its step (2⁻¹⁵⁰), which no relative margin covers (r ≈ 1.2·10⁻²²,
+/// |p − c| = 1.017 r reads as within).
 #[inline]
-fn outside_sphere_band(p: Vec3, center: Vec3, radius: f32) -> bool {
+fn sphere_side(p: Vec3, center: Vec3, radius: f32) -> SphereSide {
     let r2 = radius * radius;
-    let threshold = (1.0 + 8.0 * f32::EPSILON) * r2;
+    let (lo, hi) = (
+        (1.0 - 8.0 * f32::EPSILON) * r2,
+        (1.0 + 8.0 * f32::EPSILON) * r2,
+    );
     // Finite: where r² or the threshold overflows, an overflowed |p − c|² would compare
-    // ∞ ≤ ∞ (a radius of 10²⁰ seen from twice that read as inside).
-    if r2 >= f32::MIN_POSITIVE
-        && threshold.is_finite()
-        && (p - center).length_squared() <= threshold
-    {
-        return false;
+    // ∞ ≤ ∞ (a radius of 10²⁰ seen from twice that read as within).
+    if r2 >= f32::MIN_POSITIVE && hi.is_finite() {
+        let d2 = (p - center).length_squared();
+        if lo <= d2 && d2 <= hi {
+            return SphereSide::Band;
+        }
     }
-    (p.as_dvec3() - center.as_dvec3()).length()
-        > radius as f64
-            + 4.0
-                * (crate::math::gamma(5) as f64 * radius as f64
-                    + crate::math::gamma(1) as f64
-                        * (center.abs().max_element() + p.abs().max_element()) as f64)
+    let d = (p.as_dvec3() - center.as_dvec3()).length();
+    let band = sphere_band(p, center, radius);
+    if d > radius as f64 + band {
+        SphereSide::Outside
+    } else if d < radius as f64 - band {
+        SphereSide::Inside
+    } else {
+        SphereSide::Band
+    }
+}
+
+/// The width of a sphere's band seen from `p`: 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)), four times the
+/// error bound of a point found on the sphere (in `f64`).
+fn sphere_band(p: Vec3, center: Vec3, radius: f32) -> f64 {
+    4.0 * (crate::math::gamma(5) as f64 * radius as f64
+        + crate::math::gamma(1) as f64
+            * (center.abs().max_element() + p.abs().max_element()) as f64)
 }
 
 /// Whether `p` lies outside the sphere (|p − c| > r in `f64`) yet within its band
-/// ([`outside_sphere_band`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a free
+/// ([`sphere_side`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a free
 /// point there is sampled as one on the sphere (by area), which sees almost none of the
 /// light a receiver hovering that close gets (≈ πL). A case's receiver there is refused
 /// (`case::build::check_receiver_clear_of_sphere_lights`); a scattering point of another
 /// shape is known off the sphere and keeps the cone ([`prim_strategy`]).
 pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<f64> {
     let d = (p.as_dvec3() - center.as_dvec3()).length();
-    (d > radius as f64 && !outside_sphere_band(p, center, radius)).then(|| {
-        4.0 * (crate::math::gamma(5) as f64 * radius as f64
-            + crate::math::gamma(1) as f64
-                * (center.abs().max_element() + p.abs().max_element()) as f64)
-    })
+    (d > radius as f64 && sphere_side(p, center, radius) == SphereSide::Band)
+        .then(|| sphere_band(p, center, radius))
 }
 
 /// Choose the sampling strategy for primitive `prim` seen from `p`; `off_prim` says
@@ -309,18 +337,34 @@ pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<
 #[inline]
 pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling {
     match *prim {
-        // A point outside the sphere's band (see [`outside_sphere_band`]) uses the cone,
-        // which is exact however thin the gap beyond it (it works in f64). So does a
-        // scattering point of another primitive, known off the sphere however thin the
-        // gap: within the band a free point or a point of the sphere itself cannot be told
-        // from the sphere's surface and is sampled by area (on or inside, every point of
-        // the sphere is visible and area sampling is exact), which from a floor point
-        // 2.5·10⁻⁷ below a sphere light of radius 0.5 draws the visible cap with a
-        // probability near 10⁻⁶: `light` read 0 for 0.5.
-        Primitive::Sphere { center, radius }
-            if off_prim || outside_sphere_band(p, center, radius) =>
-        {
-            SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
+        // A point outside the sphere's band (see [`sphere_side`]) uses the cone, which is
+        // exact however thin the gap beyond it (it works in f64). So does a scattering
+        // point of another primitive, known off the sphere however thin the gap: within
+        // the band a free point or a point of the sphere itself cannot be told from the
+        // sphere's surface and is sampled by area (on the sphere, every sample has the
+        // same weight: a furnace's bounces), which from a floor point 2.5·10⁻⁷ below a
+        // sphere light of radius 0.5 draws the visible cap with a probability near 10⁻⁶:
+        // `light` read 0 for 0.5. Likewise a point inside beyond the band, or a scattering
+        // point of another primitive inside, draws directions uniformly over the sphere of
+        // directions ([`SphereInside`]): area sampling from there is exact in expectation
+        // but heavy-tailed towards the nearest wall.
+        Primitive::Sphere { center, radius } => {
+            let (cone, inside) = if off_prim {
+                (true, true)
+            } else {
+                match sphere_side(p, center, radius) {
+                    SphereSide::Outside => (true, false),
+                    SphereSide::Band => (false, false),
+                    SphereSide::Inside => (false, true),
+                }
+            };
+            if cone && let Some(c) = SphereCone::new(p, center, radius) {
+                PrimSampling::Cone(c)
+            } else if inside && let Some(s) = SphereInside::new(p, center, radius) {
+                PrimSampling::Inside(s)
+            } else {
+                PrimSampling::Area
+            }
         }
         Primitive::Rectangle { corner, u, v }
             if u.dot(v).abs() <= 1e-6 * u.length() * v.length() =>
@@ -341,11 +385,9 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling 
             }
             _ => PrimSampling::Area,
         },
-        // A sphere seen from too close for the cone's f32 construction, a sheared
-        // parallelogram (no spherical-rectangle warp), a sliver triangle (above
+        // A sheared parallelogram (no spherical-rectangle warp), a sliver triangle (above
         // `SLIVER_RATIO`), every disk, annulus and spherical cap: area sampling.
-        Primitive::Sphere { .. }
-        | Primitive::Rectangle { .. }
+        Primitive::Rectangle { .. }
         | Primitive::Disk { .. }
         | Primitive::SphericalCap { .. }
         | Primitive::Annulus { .. } => PrimSampling::Area,
@@ -524,18 +566,20 @@ pub struct PrimSample {
     pub p_error: Vec3,
     /// Its density.
     pub density: PrimDensity,
-    /// Whether the outward normal faces the viewer by construction: a point the sphere's
-    /// cone drew lies on the cap the viewer sees (found in `f64`). Formed again from the
-    /// `f32` point, the side is lost where the sphere is smaller than the point's rounding
-    /// (radius 10⁻⁸ seen from 2: every sample read as back-facing, the irradiance 0; at
-    /// 10⁻⁶ the silhouette's samples, −0.1%). False where the caller reads the side from
-    /// the point: a plane's side is the viewer's, which the `f32` point keeps, and an area
-    /// sample may lie on either side.
-    pub faces_viewer: bool,
-    /// A cone sample's unit direction from the viewer and its distance there, formed in
-    /// `f64` ([`SphereCone::sample_ray`]): a viewer off the sphere by less than the
-    /// points' rounding (a scattering point within the sphere's band) finds no direction
-    /// in q − p. `None`: the caller forms them from the points.
+    /// Whether the outward normal faces the viewer, where known by construction: a point
+    /// the sphere's cone drew lies on the cap the viewer sees (`Some(true)`, found in
+    /// `f64`), and one drawn from inside the sphere where the ray leaves it
+    /// (`Some(false)`). Formed again from the `f32` point, the side is lost where the
+    /// sphere is smaller than the point's rounding (radius 10⁻⁸ seen from 2: every sample
+    /// read as back-facing, the irradiance 0; at 10⁻⁶ the silhouette's samples, −0.1%).
+    /// `None` where the caller reads the side from the point: a plane's side is the
+    /// viewer's, which the `f32` point keeps, and an area sample may lie on either side.
+    pub faces_viewer: Option<bool>,
+    /// A cone or inside sample's unit direction from the viewer and its distance there,
+    /// formed in `f64` ([`SphereCone::sample_ray`], [`SphereInside::sample_ray`]): a
+    /// viewer off the sphere by less than the points' rounding (a scattering point within
+    /// the sphere's band) finds no direction in q − p. `None`: the caller forms them from
+    /// the points.
     pub ray: Option<(Vec3, f32)>,
 }
 
@@ -553,8 +597,23 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
         n,
         p_error,
         density: PrimDensity::SolidAngle(pdf),
-        faces_viewer: false,
+        faces_viewer: None,
         ray: None,
+    };
+    // A point of a sphere with its ray from the viewer (the cone's, or from inside).
+    let on_sphere = |q: Vec3, n: Vec3, ray: (Vec3, f32), pdf: f32, faces: bool| {
+        let Primitive::Sphere { center, .. } = *prim else {
+            return None;
+        };
+        Some(PrimSample {
+            p: q,
+            n,
+            p_error: crate::math::gamma(5) * (q - center).abs()
+                + crate::math::gamma(1) * center.abs(),
+            density: PrimDensity::SolidAngle(pdf),
+            faces_viewer: Some(faces),
+            ray: Some(ray),
+        })
     };
     match prim_strategy(prim, p, off_prim) {
         PrimSampling::Cone(c) => {
@@ -562,15 +621,11 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
             let Primitive::Sphere { center, radius } = *prim else {
                 return None;
             };
-            Some(PrimSample {
-                p: q,
-                n: (q - center) / radius,
-                p_error: crate::math::gamma(5) * (q - center).abs()
-                    + crate::math::gamma(1) * center.abs(),
-                density: PrimDensity::SolidAngle(c.pdf()),
-                faces_viewer: true,
-                ray: Some((w, t)),
-            })
+            on_sphere(q, (q - center) / radius, (w, t), c.pdf(), true)
+        }
+        PrimSampling::Inside(s) => {
+            let (q, n, w, t) = s.sample_ray(u);
+            on_sphere(q, n, (w, t), s.pdf(), false)
         }
         PrimSampling::Rectangle(r) => {
             let q = r.sample_point(u);
@@ -604,7 +659,7 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
                 n: s.n,
                 p_error: s.p_error,
                 density: PrimDensity::Area(s.pdf),
-                faces_viewer: false,
+                faces_viewer: None,
                 ray: None,
             })
         }
@@ -621,6 +676,7 @@ pub fn prim_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
 pub fn prim_pdf_from(prim: &Primitive, p: Vec3, off_prim: bool, q: Vec3, n: Vec3) -> f32 {
     match prim_strategy(prim, p, off_prim) {
         PrimSampling::Cone(c) => c.pdf(),
+        PrimSampling::Inside(s) => s.pdf(),
         PrimSampling::Rectangle(r) => r.pdf(),
         PrimSampling::Triangle(t) => t.pdf(),
         PrimSampling::Area => {
@@ -962,21 +1018,27 @@ mod tests {
         assert!((mid - 0.5).abs() < 1e-5);
     }
 
-    /// The `f32` shortcut of [`outside_sphere_band`] (a viewer inside or on the sphere
-    /// answers `false` without the `f64` test) gives the `f64` test's answer: viewers on
+    /// The `f32` shortcut of [`sphere_side`] (a viewer with |p − c|² within (1 ± 8ε) r²
+    /// answers `Band` without the `f64` test) gives the `f64` test's answer: viewers on
     /// rays through the centre at |p − c|/r from 0 to 1.5, stepped finely (1.7u) around
-    /// the shortcut's threshold and the band (both near 1), and around √0.98 (the former
-    /// threshold), for radii from 1e-20 to 1e18 and
+    /// the shortcut's thresholds and the band's edges (all near 1), and around √0.98 (a
+    /// former threshold), for radii from 1e-20 to 1e18 and
     /// centres near and far from the origin (where `f32` rounding is coarse).
     #[test]
     fn sphere_band_shortcut_keeps_the_answer() {
-        let band_f64 = |p: Vec3, center: Vec3, radius: f32| {
-            (p.as_dvec3() - center.as_dvec3()).length()
-                > radius as f64
-                    + 4.0
-                        * (crate::math::gamma(5) as f64 * radius as f64
-                            + crate::math::gamma(1) as f64
-                                * (center.abs().max_element() + p.abs().max_element()) as f64)
+        let side_f64 = |p: Vec3, center: Vec3, radius: f32| {
+            let d = (p.as_dvec3() - center.as_dvec3()).length();
+            let band = 4.0
+                * (crate::math::gamma(5) as f64 * radius as f64
+                    + crate::math::gamma(1) as f64
+                        * (center.abs().max_element() + p.abs().max_element()) as f64);
+            if d > radius as f64 + band {
+                SphereSide::Outside
+            } else if d < radius as f64 - band {
+                SphereSide::Inside
+            } else {
+                SphereSide::Band
+            }
         };
         let dirs = [
             Vec3::X,
@@ -986,9 +1048,13 @@ mod tests {
         // A sphere whose r² is subnormal (10·2⁻¹⁴⁹): |p − c|² rounds to 9·2⁻¹⁴⁹ at
         // |p − c| = 1.017 r, "inside" in f32, outside in f64 (found in review).
         let (r, a) = (1.183_764_5e-22f32, 6.953_042e-23f32);
-        assert!(outside_sphere_band(Vec3::splat(a), Vec3::ZERO, r));
-        assert!(band_f64(Vec3::splat(a), Vec3::ZERO, r));
+        assert_eq!(
+            sphere_side(Vec3::splat(a), Vec3::ZERO, r),
+            SphereSide::Outside
+        );
+        assert_eq!(side_f64(Vec3::splat(a), Vec3::ZERO, r), SphereSide::Outside);
         let mut checked = 0;
+        let mut seen = std::collections::BTreeSet::new();
         for radius in [1e-25f32, 1.2e-22, 1e-20, 1e-3, 1.0, 7.5, 1e6, 1e18] {
             for center in [
                 Vec3::ZERO,
@@ -1002,30 +1068,37 @@ mod tests {
                     }
                     for t in ts {
                         let p = center + dir * (radius as f64 * t) as f32;
+                        let side = sphere_side(p, center, radius);
                         assert_eq!(
-                            outside_sphere_band(p, center, radius),
-                            band_f64(p, center, radius),
+                            side,
+                            side_f64(p, center, radius),
                             "r = {radius}, c = {center}, t = {t}"
                         );
+                        seen.insert(format!("{side:?}"));
                         checked += 1;
                     }
                 }
             }
         }
         assert!(checked > 50_000);
+        assert_eq!(seen.len(), 3, "every side met: {seen:?}");
         // Squares beyond f32: r² overflows at 1e20 (and the threshold just below
         // 1.85e19), where an overflowed |p − c|² must not compare ∞ ≤ ∞ (found in review).
         for (radius, p) in [(1e20f32, 2e20f32), (1.844_674_3e19, 1e30)] {
             let p = Vec3::new(p, 0.0, 0.0);
-            assert!(outside_sphere_band(p, Vec3::ZERO, radius), "r = {radius}");
-            assert!(band_f64(p, Vec3::ZERO, radius));
+            assert_eq!(
+                sphere_side(p, Vec3::ZERO, radius),
+                SphereSide::Outside,
+                "r = {radius}"
+            );
+            assert_eq!(side_f64(p, Vec3::ZERO, radius), SphereSide::Outside);
         }
         // The mirror image of the centre, far outside: a shortcut that added the centre
         // instead of subtracting it would call it inside.
         for radius in [1e-3f32, 1.0, 1e6] {
             let center = Vec3::new(3.0, -2.0, 1.0) * radius;
-            assert!(outside_sphere_band(-center, center, radius));
-            assert!(band_f64(-center, center, radius));
+            assert_eq!(sphere_side(-center, center, radius), SphereSide::Outside);
+            assert_eq!(side_f64(-center, center, radius), SphereSide::Outside);
         }
     }
 
@@ -1743,6 +1816,7 @@ mod tests {
     fn strategy_follows_the_geometry() {
         let is = |s: PrimSampling| match s {
             PrimSampling::Cone(_) => "cone",
+            PrimSampling::Inside(_) => "inside",
             PrimSampling::Rectangle(_) => "rectangle",
             PrimSampling::Triangle(_) => "triangle",
             PrimSampling::Area => "area",
@@ -1770,6 +1844,20 @@ mod tests {
                 "sphere from inside",
                 sphere,
                 Vec3::new(0.0, 0.2, 5.5),
+                "inside",
+            ),
+            // 10⁻⁵ inside the wall: beyond the band (2.4·10⁻⁶ + γ₁·10 ≈ 3.0·10⁻⁶).
+            (
+                "sphere from just inside",
+                sphere,
+                Vec3::new(0.0, 0.0, 4.000_01),
+                "inside",
+            ),
+            // 10⁻⁶ inside: within the band.
+            (
+                "sphere from its surface, inside",
+                sphere,
+                Vec3::new(0.0, 0.0, 4.000_001),
                 "area",
             ),
             // Outside, at the mirror image of the centre (|p + c| = 0).
@@ -1846,6 +1934,18 @@ mod tests {
             ),
         ] {
             assert_eq!(is(prim_strategy(&prim, p, false)), want, "{name}");
+        }
+        // A point of another primitive is known off the sphere however close: the cone
+        // from outside and directions from inside, within the band too; exactly on it
+        // (in f64), area.
+        for (z, want) in [
+            (3.999_999, "cone"),
+            (4.000_001, "inside"),
+            (5.0, "inside"),
+            (4.0, "area"),
+        ] {
+            let p = Vec3::new(0.0, 0.0, z);
+            assert_eq!(is(prim_strategy(&sphere, p, true)), want, "z = {z}");
         }
     }
 
@@ -2091,8 +2191,12 @@ mod tests {
                 let eps = f32::EPSILON;
                 // (Area sampling's bounds are the shapes' own, tested with them.)
                 let allowed = match (prim_strategy(&prim, p, false), prim) {
-                    (PrimSampling::Cone(_), Primitive::Sphere { center, .. }) => {
-                        4.0 * eps * (q - center).abs() + eps * center.abs()
+                    (
+                        PrimSampling::Cone(_) | PrimSampling::Inside(_),
+                        Primitive::Sphere { center, .. },
+                    ) => 4.0 * eps * (q - center).abs() + eps * center.abs(),
+                    (PrimSampling::Cone(_) | PrimSampling::Inside(_), _) => {
+                        unreachable!("a sphere's strategies are for spheres")
                     }
                     (PrimSampling::Rectangle(_), Primitive::Rectangle { corner, u, v }) => {
                         4.0 * eps * (corner.abs() + u.abs() + v.abs())

@@ -253,14 +253,14 @@ impl Scene {
             return self.unoccluded_at(o, ls.wi, f32::INFINITY, t);
         }
         if let Some(dist) = ls.ray_dist {
-            // A sphere's cone sample: `wi` and `dist` were formed in f64, and the viewer
-            // may lie closer to the sphere than the rounding of either point (a floor point
-            // 10⁻⁸ below a sphere light 1.5 from the origin), where a segment towards the
-            // offset f32 point would point anywhere (and through the floor). The ray along
-            // `wi` is clear unless the first thing it meets before the point is another
-            // shape: the sphere is convex and the point on the cap the viewer sees, so the
-            // sphere itself cannot stand in front of it (a hit on it is the point, within
-            // rounding).
+            // A sphere's cone or inside sample: `wi` and `dist` were formed in f64, and the
+            // viewer may lie closer to the sphere than the rounding of either point (a
+            // floor point 10⁻⁸ below a sphere light 1.5 from the origin), where a segment
+            // towards the offset f32 point would point anywhere (and through the floor).
+            // The ray along `wi` is clear unless the first thing it meets before the point
+            // is another shape: the sphere is convex and the point on the cap the viewer
+            // sees (or, from inside, where the ray leaves it), so the sphere itself cannot
+            // stand in front of it (a hit on it is the point, within rounding).
             let own = self.emitters.get(ls.emitter).and_then(|e| e.kind.shape());
             return self
                 .intersect_at(o, ls.wi, dist * (1.0 - SHADOW_EPSILON), t)
@@ -414,7 +414,7 @@ impl Scene {
                 )?;
                 let (q, mut nq) = (ps.p, ps.n);
                 let d = q - p;
-                // A cone sample's direction and distance come from f64 ([`PrimSample::ray`]).
+                // A sphere sample's direction and distance come from f64 ([`PrimSample::ray`]).
                 let dist = ps.ray.map_or_else(|| d.length(), |(_, t)| t);
                 let pdf_w = ps.density.solid_angle(d, dist, nq)?;
                 if s.flip_normals {
@@ -424,10 +424,9 @@ impl Scene {
                     return None;
                 }
                 let wi = ps.ray.map_or(d / dist, |(w, _)| w);
-                let front = if ps.faces_viewer {
-                    !s.flip_normals
-                } else {
-                    nq.dot(-wi) > 0.0
+                let front = match ps.faces_viewer {
+                    Some(outward) => outward != s.flip_normals,
+                    None => nq.dot(-wi) > 0.0,
                 };
                 let li = if *two_sided || front { *radiance } else { 0.0 };
                 let p_choice_prim = s.prim_choice_pdf(prim);
@@ -613,6 +612,57 @@ mod tests {
             assert!(ls.ray_dist.is_some(), "not a cone sample");
             assert!(!scene.visible_at(Vec3::ZERO, Vec3::ZERO, Vec3::Z, &ls, 0.0));
         }
+    }
+
+    /// From inside a sphere light, beyond its band, light samples are directions with
+    /// density 1/(4π) reaching the wall where they leave it, lit only where the sphere
+    /// emits inward (`flip_normals`); a square inside hides the samples that cross it
+    /// and no other; within the band (a point of the sphere) sampling stays by area.
+    #[test]
+    fn inside_samples_of_a_sphere_light_leave_it_once() {
+        let scene_with = |flip: bool| {
+            built(
+                serde_json::from_value(json!({ "shapes": [
+                    { "geometry": { "type": "rectangle", "corner": [-0.2, -0.2, 0.5], "edge_u": [0.4, 0, 0], "edge_v": [0, 0.4, 0] } },
+                    { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                      "flip_normals": flip, "emission": { "radiance": 2.0 } }
+                ]}))
+                .unwrap(),
+            )
+        };
+        let (inward, outward) = (scene_with(true), scene_with(false));
+        let sampler = Sampler::independent(5);
+        let p = Vec3::new(0.0, 0.0, 0.3);
+        let (mut lit, mut hidden) = (0, 0);
+        for i in 0..512u64 {
+            let mut st = sampler.stream(i);
+            let (uc, u) = (st.next_1d(), st.next_2d());
+            let ls = inward.sample_light_from(p, None, uc, u).unwrap();
+            let dist = ls.ray_dist.expect("an inside sample carries its ray");
+            assert_eq!(ls.pdf, 1.0 / (4.0 * std::f32::consts::PI));
+            assert!(((p + ls.wi * dist).length() - 1.0).abs() < 1e-6);
+            assert_eq!(ls.li, 2.0, "the inward-emitting wall faces the viewer");
+            // The square at z = 0.5 spans |x|, |y| ≤ 0.2.
+            let t = (0.5 - p.z) / ls.wi.z;
+            let crosses =
+                t > 0.0 && (p.x + t * ls.wi.x).abs() < 0.2 && (p.y + t * ls.wi.y).abs() < 0.2;
+            let visible = inward.visible_at(p, Vec3::ZERO, Vec3::Z, &ls, 0.0);
+            assert_eq!(visible, !crosses, "sample {i}: {:?}", ls.wi);
+            lit += visible as u32;
+            hidden += !visible as u32;
+            let back = outward.sample_light_from(p, None, uc, u).unwrap();
+            assert_eq!(
+                back.li, 0.0,
+                "an outward-emitting sphere does not light its inside"
+            );
+        }
+        assert!(lit > 0 && hidden > 0, "{lit} lit, {hidden} hidden");
+        // A point of the sphere itself (within its band): by area, no ray of its own.
+        let mut st = sampler.stream(0);
+        let ls = inward
+            .sample_light_from(Vec3::new(0.6, 0.0, 0.8), None, st.next_1d(), st.next_2d())
+            .unwrap();
+        assert!(ls.ray_dist.is_none());
     }
 
     #[test]

@@ -774,8 +774,11 @@ fn the_readmes_case_files_pass_verify() {
 
 /// Exit 3 for worker threads that cannot start (README: "3 an output that cannot be
 /// written or worker threads that cannot start"): the address space is capped just above
-/// what the binary needs to start (found by running `--version` under growing caps), so
-/// 16 threads' stacks (2 MiB each) cannot all be mapped. Unix shells only.
+/// what the binary needs to start (found by running `--version` under caps growing by
+/// 1/16), so not one thread's stack (2 MiB) can be mapped. With more room (4 MiB above a
+/// cap found in steps of 1/4, as before) a thread could map its stack but not the signal
+/// stack the standard library gives each thread, and std's own panic message for it
+/// joined ours on stderr in about 1 run in 20. Unix shells only.
 #[cfg(unix)]
 #[test]
 fn worker_threads_that_cannot_start_exit_3() {
@@ -791,13 +794,13 @@ fn worker_threads_that_cannot_start_exit_3() {
     };
     let mut kib = 8 * 1024;
     while !capped(kib, &["--version"]).status.success() {
-        kib += kib / 4;
+        kib += kib / 16;
         assert!(kib < 4 << 20, "--version never ran under a cap up to 4 GiB");
     }
     let case = tmp("threads.json", GOOD);
     let case = case.to_str().unwrap();
     let out = capped(
-        kib + 4 * 1024,
+        kib + 512,
         &["estimate", case, "--threads", "16", "--samples", "1024"],
     );
     let err = String::from_utf8_lossy(&out.stderr);
