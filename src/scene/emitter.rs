@@ -9,6 +9,7 @@
 
 use crate::math::{Frame, INV_FOUR_PI, PI, TWO_PI};
 use crate::sampling::distribution::{Distribution1D, Distribution2D};
+use crate::sampling::hemisphere::cosine_hemisphere;
 use crate::sampling::sphere::uniform_sphere;
 use crate::sampling::sphere_cone::SphereCone;
 use crate::sampling::spherical_rectangle::SphericalRectangle;
@@ -249,6 +250,25 @@ pub enum PrimSampling {
     Triangle(SphericalTriangle),
     /// By area.
     Area,
+    /// A disk or annulus from close by: a fraction `area_weight` of the samples by area,
+    /// the rest along a cosine-distributed direction about `toward` (the unit normal
+    /// from the viewer towards the plane), the point where that ray meets the primitive
+    /// (none where it misses). Mixture density α p_area(ω) + (1 − α) |cos θl|/π, for
+    /// every point of the primitive ([`near_plane`]).
+    AreaOrCosine {
+        /// Unit normal of the plane, from the viewer towards it.
+        toward: Vec3,
+        /// α, a power of two in [1/16, 1/2] ([`area_weight`]).
+        area_weight: f32,
+    },
+    /// A spherical cap from close by, or a sphere from inside near its wall: a fraction
+    /// `area_weight` by area, the rest along a uniform direction of the whole sphere, the
+    /// first point where that ray meets the primitive. Mixture density α p_area(ω) +
+    /// (1 − α)/(4π) ([`near_curved`]).
+    AreaOrSphere {
+        /// α, a power of two in [1/16, 1/2] ([`area_weight`]).
+        area_weight: f32,
+    },
 }
 
 /// Whether the viewer `p` is outside the sphere's cone band: farther from the centre
@@ -317,10 +337,19 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling 
         // the sphere is visible and area sampling is exact), which from a floor point
         // 2.5·10⁻⁷ below a sphere light of radius 0.5 draws the visible cap with a
         // probability near 10⁻⁶: `light` read 0 for 0.5.
-        Primitive::Sphere { center, radius }
-            if off_prim || outside_sphere_band(p, center, radius) =>
-        {
-            SphereCone::new(p, center, radius).map_or(PrimSampling::Area, PrimSampling::Cone)
+        //
+        // Inside the sphere (or where the cone cannot be formed), a viewer nearer its
+        // wall than half the radius but off the band mixes area and direction sampling
+        // ([`near_curved`]): by area alone, its 1/d² peak is drawn almost never.
+        Primitive::Sphere { center, radius } => {
+            if (off_prim || outside_sphere_band(p, center, radius))
+                && let Some(c) = SphereCone::new(p, center, radius)
+            {
+                return PrimSampling::Cone(c);
+            }
+            near_curved(p, center, radius, None).map_or(PrimSampling::Area, |area_weight| {
+                PrimSampling::AreaOrSphere { area_weight }
+            })
         }
         Primitive::Rectangle { corner, u, v }
             if u.dot(v).abs() <= 1e-6 * u.length() * v.length() =>
@@ -341,15 +370,139 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling 
             }
             _ => PrimSampling::Area,
         },
-        // A sphere seen from too close for the cone's f32 construction, a sheared
-        // parallelogram (no spherical-rectangle warp), a sliver triangle (above
-        // `SLIVER_RATIO`), every disk, annulus and spherical cap: area sampling.
-        Primitive::Sphere { .. }
-        | Primitive::Rectangle { .. }
-        | Primitive::Disk { .. }
-        | Primitive::SphericalCap { .. }
-        | Primitive::Annulus { .. } => PrimSampling::Area,
+        // A disk or annulus, or a spherical cap, seen from closer than half its size:
+        // most of the irradiance comes from the spot of about the viewer's distance
+        // under it, which area sampling draws with a probability of about (δ/R)²
+        // (`light` read 5·10⁻⁷ for π under a unit disk at 10⁻⁶). Mixed with direction
+        // sampling, the weight L|cos θ|/p is at most 4πL (8πL for the cap).
+        Primitive::Disk {
+            center,
+            normal,
+            radius,
+        } => near_plane(p, center, normal, 0.0, radius).map_or(
+            PrimSampling::Area,
+            |(toward, area_weight)| PrimSampling::AreaOrCosine {
+                toward,
+                area_weight,
+            },
+        ),
+        Primitive::Annulus {
+            center,
+            normal,
+            inner,
+            radius,
+        } => near_plane(p, center, normal, inner, radius).map_or(
+            PrimSampling::Area,
+            |(toward, area_weight)| PrimSampling::AreaOrCosine {
+                toward,
+                area_weight,
+            },
+        ),
+        Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            cos_max,
+            one_minus_cos,
+        } => near_curved(p, center, radius, Some((axis, cos_max, one_minus_cos)))
+            .map_or(PrimSampling::Area, |area_weight| {
+                PrimSampling::AreaOrSphere { area_weight }
+            }),
+        // A sheared parallelogram (no spherical-rectangle warp): area sampling.
+        Primitive::Rectangle { .. } => PrimSampling::Area,
     }
+}
+
+/// Below this fraction of a planar or curved primitive's size (a disk's or annulus's
+/// outer radius, a cap's base radius R sin θmax, or R past a hemisphere, a sphere's
+/// radius), a viewer's distance to it sends it to the mixtures
+/// [`PrimSampling::AreaOrCosine`] and [`PrimSampling::AreaOrSphere`]. Area sampling's
+/// relative variance per sample grows as about (size/δ)²/3 (a disk seen on its axis from
+/// h: R²/3h²); the mixtures' stays bounded however close (a receiver parallel to a disk:
+/// about α/(1 − α); facing a sphere's wall from inside: about 8/(3(1 − α)) − 1): at
+/// δ = size/2 they are comparable. Farther viewers keep area sampling, and every catalog
+/// case its estimates, bit for bit.
+pub const NEAR_FRACTION: f64 = 0.5;
+
+/// The mixtures' fraction α of area samples at the distance `delta` from a primitive of
+/// size `size`: δ/size rounded down to a power of two, within [1/16, 1/2] (½ at the
+/// switch, [`NEAR_FRACTION`]). Close by, the direction term draws nearly all the
+/// irradiance (a disk's cosine term is the parallel receiver's integrand), and the area
+/// term's samples, mostly far off and of small weight, are few; farther, area sampling
+/// takes over. A power of two, so that u.x/α is exact.
+fn area_weight(delta: f64, size: f64) -> f32 {
+    let x = (delta / size).clamp(1.0 / 16.0, 0.5);
+    (2.0f64).powi(x.log2().floor() as i32) as f32
+}
+
+/// A disk (`inner` = 0) or annulus seen from `p`: the unit vector from `p` towards its
+/// plane and the fraction of area samples ([`area_weight`] of the height over the
+/// footprint, ½ off it) where `p` is nearer the primitive than [`NEAR_FRACTION`] of its outer radius
+/// and off its plane by more than 4× the error bound of a point of the primitive along
+/// the normal (Σᵢ |nᵢ| γ₆ (|cᵢ| + R √(1 − nᵢ²)), the bound of its hits and area samples):
+/// a point there cannot be told from one of the primitive, which sees none of its light,
+/// and keeps area sampling. In `f64`: the distance δ² = h² + (ρ − R)₊² + (r − ρ)₊², h the
+/// height above the plane, ρ the distance from the axis.
+fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Option<(Vec3, f32)> {
+    let (v, n) = (p.as_dvec3() - center.as_dvec3(), normal.as_dvec3());
+    let (big_r, r) = (radius as f64, inner as f64);
+    let h = v.dot(n);
+    let rho = v.cross(n).length();
+    let (out, hole) = ((rho - big_r).max(0.0), (r - rho).max(0.0));
+    let delta2 = h * h + out * out + hole * hole;
+    let g6 = crate::math::gamma(6) as f64;
+    let band: f64 = (0..3)
+        .map(|i| {
+            n[i].abs() * g6 * (center[i].abs() as f64 + big_r * (1.0 - n[i] * n[i]).max(0.0).sqrt())
+        })
+        .sum::<f64>()
+        * 4.0;
+    let near = NEAR_FRACTION * big_r;
+    // Off the footprint (beside the rim, or over the hole) the primitive is seen only
+    // below the elevation h/δ, where the cosine term draws little: half by area there.
+    let weight = if out > 0.0 || hole > 0.0 {
+        0.5
+    } else {
+        area_weight(h.abs(), big_r)
+    };
+    (h.abs() > band && delta2 < near * near && delta2.is_finite())
+        .then(|| (if h > 0.0 { -normal } else { normal }, weight))
+}
+
+/// A sphere (`cap` = `None`) or a spherical cap (its unit axis, cos θmax and 1 − cos θmax)
+/// seen from `p`: whether `p` is nearer the cap than [`NEAR_FRACTION`] of its size (the
+/// base radius R sin θmax, or R past a hemisphere), or, for a whole sphere, inside it and
+/// nearer its wall than that fraction of R (outside, the cone serves), and off the
+/// sphere by more than its band 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) ([`outside_sphere_band`]):
+/// there a point cannot be told from a point of the surface, and keeps area sampling. The
+/// distance to the cap, in `f64`, is | |p − c| − R | where p's direction from the centre
+/// lies in the cap, else the distance to its rim circle.
+fn near_curved(p: Vec3, center: Vec3, radius: f32, cap: Option<(Vec3, f32, f32)>) -> Option<f32> {
+    let v = p.as_dvec3() - center.as_dvec3();
+    let big_r = radius as f64;
+    let d = v.length();
+    let gap = (d - big_r).abs();
+    let band = 4.0
+        * (crate::math::gamma(5) as f64 * big_r
+            + crate::math::gamma(1) as f64
+                * (center.abs().max_element() + p.abs().max_element()) as f64);
+    if !(gap > band && gap.is_finite()) {
+        return None;
+    }
+    let Some((axis, cos_max, one_minus_cos)) = cap else {
+        return (d < big_r && gap < NEAR_FRACTION * big_r).then(|| area_weight(gap, big_r));
+    };
+    let (a, c, omc) = (axis.as_dvec3(), cos_max as f64, one_minus_cos as f64);
+    let sin_max = (omc * (2.0 - omc)).max(0.0).sqrt();
+    let z = v.dot(a);
+    let delta = if c <= -1.0 || z >= d * c {
+        gap
+    } else {
+        let rho = v.cross(a).length();
+        (z - big_r * c).hypot(rho - big_r * sin_max)
+    };
+    let size = if c >= 0.0 { big_r * sin_max } else { big_r };
+    (delta < NEAR_FRACTION * size).then(|| area_weight(delta, size))
 }
 
 /// Intersection of the line p + t w with the plane of a planar primitive.
@@ -608,7 +761,67 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
                 ray: None,
             })
         }
+        PrimSampling::AreaOrCosine {
+            toward,
+            area_weight,
+        } => sample_mixture(prim, p, u, area_weight, true, |v| {
+            Frame::from_z(toward).to_world(cosine_hemisphere(v))
+        }),
+        PrimSampling::AreaOrSphere { area_weight } => {
+            sample_mixture(prim, p, u, area_weight, false, uniform_sphere)
+        }
     }
+}
+
+/// A sample of the mixtures [`PrimSampling::AreaOrCosine`] (`cosine`) and
+/// [`PrimSampling::AreaOrSphere`]: u.x < α draws a point by area, else the point where
+/// the ray from `p` along `direction` meets `prim` (the primitive's own intersection:
+/// its point, normal and error bound; `None` where it misses), u.x stretched back to
+/// [0, 1). Its density is [`mixture_pdf`] at the point, the one [`prim_pdf_from`] gives
+/// there; `None` where that overflows `f32` (the area term of a point seen edge-on from
+/// far: its contribution is then below L/`f32::MAX`, as for [`PrimDensity::solid_angle`]).
+fn sample_mixture(
+    prim: &Primitive,
+    p: Vec3,
+    u: Vec2,
+    area_weight: f32,
+    cosine: bool,
+    direction: impl Fn(Vec2) -> Vec3,
+) -> Option<PrimSample> {
+    let (q, n, p_error) = if u.x < area_weight {
+        let s = prim.sample_area(Vec2::new(u.x / area_weight, u.y));
+        (s.p, s.n, s.p_error)
+    } else {
+        let ux = ((u.x - area_weight) / (1.0 - area_weight)).min(crate::math::ONE_MINUS_EPSILON);
+        let hit = prim.intersect(p, direction(Vec2::new(ux, u.y)), 0.0, f32::INFINITY)?;
+        (hit.p, hit.n, hit.p_error)
+    };
+    let pdf = mixture_pdf(prim, p, q, n, area_weight, cosine);
+    (pdf != f32::INFINITY).then_some(PrimSample {
+        p: q,
+        n,
+        p_error,
+        density: PrimDensity::SolidAngle(pdf),
+        faces_viewer: false,
+        ray: None,
+    })
+}
+
+/// α p_area(ω) + (1 − α) p_dir(ω): the density in solid angle of the point `q` (normal
+/// `n`) that a mixture draws from `p` ([`sample_mixture`]), p_dir = |cos θl|/π for a
+/// disk's or annulus's cosine term (its axis is the plane's normal, so the cosine is the
+/// one the area term converts with), 1/(4π) for the sphere of directions. The direction
+/// term holds for every point of the primitive the viewer sees: a disk's or annulus's
+/// lies in the hemisphere facing its plane, and a cap's is the first point of the cap
+/// along its ray (a point behind another part of the cap, which the direction never
+/// draws, is occluded by it and contributes nothing whatever its density).
+fn mixture_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3, area_weight: f32, cosine: bool) -> f32 {
+    let dir = if cosine {
+        (q - p).normalize_or_zero().dot(n).abs() * crate::math::INV_PI
+    } else {
+        INV_FOUR_PI
+    };
+    area_weight * area_pdf(prim, p, q, n) + (1.0 - area_weight) * dir
 }
 
 /// Density in solid angle with which [`sample_prim`] picks the point `q` (normal `n`) from `p`.
@@ -623,27 +836,37 @@ pub fn prim_pdf_from(prim: &Primitive, p: Vec3, off_prim: bool, q: Vec3, n: Vec3
         PrimSampling::Cone(c) => c.pdf(),
         PrimSampling::Rectangle(r) => r.pdf(),
         PrimSampling::Triangle(t) => t.pdf(),
-        PrimSampling::Area => {
-            let d = q - p;
-            let r2 = d.length_squared();
-            if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
-                // As [`PrimDensity::solid_angle`] forms the sample's density there.
-                return area_to_solid_angle_wide(1.0 / prim.area() as f64, d, n).unwrap_or(0.0);
-            }
-            let cos = (d.normalize_or_zero().dot(n)).abs();
-            if cos <= 0.0 {
-                return 0.0;
-            }
-            let area_cos = prim.area() * cos;
-            if area_cos >= f32::MIN_POSITIVE {
-                r2 / area_cos
-            } else {
-                // A light near 10⁻¹⁹ across seen obliquely: A |cos θl| below the normal
-                // range rounds coarsely or to 0, and r²/0 read as ∞ where the sample's own
-                // density, (1/A) r²/|cos θl|, was 8.9·10⁷. The same cosine, in f64.
-                (r2 as f64 / (prim.area() as f64 * cos as f64)) as f32
-            }
+        PrimSampling::Area => area_pdf(prim, p, q, n),
+        PrimSampling::AreaOrCosine { area_weight, .. } => {
+            mixture_pdf(prim, p, q, n, area_weight, true)
         }
+        PrimSampling::AreaOrSphere { area_weight } => {
+            mixture_pdf(prim, p, q, n, area_weight, false)
+        }
+    }
+}
+
+/// Density in solid angle of the point `q` (normal `n`) of `prim` drawn by area from `p`:
+/// r²/(A |cos θl|).
+fn area_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+    let d = q - p;
+    let r2 = d.length_squared();
+    if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
+        // As [`PrimDensity::solid_angle`] forms the sample's density there.
+        return area_to_solid_angle_wide(1.0 / prim.area() as f64, d, n).unwrap_or(0.0);
+    }
+    let cos = (d.normalize_or_zero().dot(n)).abs();
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    let area_cos = prim.area() * cos;
+    if area_cos >= f32::MIN_POSITIVE {
+        r2 / area_cos
+    } else {
+        // A light near 10⁻¹⁹ across seen obliquely: A |cos θl| below the normal
+        // range rounds coarsely or to 0, and r²/0 read as ∞ where the sample's own
+        // density, (1/A) r²/|cos θl|, was 8.9·10⁷. The same cosine, in f64.
+        (r2 as f64 / (prim.area() as f64 * cos as f64)) as f32
     }
 }
 
