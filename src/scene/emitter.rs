@@ -9,6 +9,7 @@
 
 use crate::math::{Frame, INV_FOUR_PI, PI, TWO_PI};
 use crate::sampling::distribution::{Distribution1D, Distribution2D};
+use crate::sampling::hemisphere::cosine_hemisphere;
 use crate::sampling::sphere::uniform_sphere;
 use crate::sampling::sphere_cone::SphereCone;
 use crate::sampling::sphere_inside::SphereInside;
@@ -252,6 +253,26 @@ pub enum PrimSampling {
     Triangle(SphericalTriangle),
     /// By area.
     Area,
+    /// A disk or annulus from close by: a fraction `area_weight` of the samples by area,
+    /// the rest along a cosine-distributed direction about `toward` (the unit normal
+    /// from the viewer towards the plane), the point where that ray meets the primitive
+    /// (none where it misses). Mixture density α p_area(ω) + (1 − α) |cos θl|/π, for
+    /// every point of the primitive ([`near_plane`]).
+    AreaOrCosine {
+        /// Unit normal of the plane, from the viewer towards it.
+        toward: Vec3,
+        /// α, a power of two in [1/256, 1/2] ([`area_weight`]).
+        area_weight: f32,
+    },
+    /// A spherical cap from close by: a fraction `area_weight` by area, the rest along a
+    /// uniform direction of the whole sphere, the first point where that ray meets the
+    /// primitive. Mixture density α p_area(ω) + (1 − α)/(4π) ([`near_cap`]). (A whole
+    /// sphere from inside draws directions alone, [`PrimSampling::Inside`]: every one of
+    /// them meets it.)
+    AreaOrSphere {
+        /// α, a power of two in [1/256, 1/2] ([`area_weight`]).
+        area_weight: f32,
+    },
 }
 
 /// Where a viewer lies with respect to a sphere's band ([`sphere_side`]).
@@ -385,13 +406,141 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling 
             }
             _ => PrimSampling::Area,
         },
-        // A sheared parallelogram (no spherical-rectangle warp), a sliver triangle (above
-        // `SLIVER_RATIO`), every disk, annulus and spherical cap: area sampling.
-        Primitive::Rectangle { .. }
-        | Primitive::Disk { .. }
-        | Primitive::SphericalCap { .. }
-        | Primitive::Annulus { .. } => PrimSampling::Area,
+        // A disk or annulus, or a spherical cap, seen from closer than half its size:
+        // most of the irradiance comes from the spot of about the viewer's distance
+        // under it, which area sampling draws with a probability of about (δ/R)²
+        // (`light` read 5·10⁻⁷ for π under a unit disk at 10⁻⁶). Mixed with direction
+        // sampling, the weight L|cos θ|/p is at most 4πL (8πL for the cap).
+        Primitive::Disk {
+            center,
+            normal,
+            radius,
+        } => near_plane(p, center, normal, 0.0, radius).map_or(
+            PrimSampling::Area,
+            |(toward, area_weight)| PrimSampling::AreaOrCosine {
+                toward,
+                area_weight,
+            },
+        ),
+        Primitive::Annulus {
+            center,
+            normal,
+            inner,
+            radius,
+        } => near_plane(p, center, normal, inner, radius).map_or(
+            PrimSampling::Area,
+            |(toward, area_weight)| PrimSampling::AreaOrCosine {
+                toward,
+                area_weight,
+            },
+        ),
+        Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            cos_max,
+            one_minus_cos,
+        } => near_cap(p, center, radius, (axis, cos_max, one_minus_cos))
+            .map_or(PrimSampling::Area, |area_weight| {
+                PrimSampling::AreaOrSphere { area_weight }
+            }),
+        // A sheared parallelogram (no spherical-rectangle warp): area sampling.
+        Primitive::Rectangle { .. } => PrimSampling::Area,
     }
+}
+
+/// Below this fraction of a planar or curved primitive's size (a disk's or annulus's
+/// outer radius, a cap's base radius R sin θmax, or R past a hemisphere), a viewer's
+/// distance to it sends it to the mixtures
+/// [`PrimSampling::AreaOrCosine`] and [`PrimSampling::AreaOrSphere`]. Area sampling's
+/// relative variance per sample grows as about (size/δ)²/3 (a disk seen on its axis from
+/// h: R²/3h²); the mixtures' stays bounded however close (a receiver parallel to a disk:
+/// about α/(1 − α); facing a cap's wall from inside: about 8/(3(1 − α)) − 1): at
+/// δ = size/2 they are comparable. Farther viewers keep area sampling, and every catalog
+/// case its estimates, bit for bit.
+pub const NEAR_FRACTION: f64 = 0.5;
+
+/// The mixtures' fraction α of area samples at the distance `delta` from a primitive of
+/// size `size`: δ/size rounded down to a power of two, within [1/256, 1/2] (½ at the
+/// switch, [`NEAR_FRACTION`]). Close by, the direction term draws nearly all the
+/// irradiance (a disk's cosine term is the parallel receiver's integrand), and the area
+/// term's samples, mostly far off and of small weight, are few; farther, area sampling
+/// takes over. The floor keeps the area term's cap on the weight of a receiver tilted
+/// towards the rim (at most about π α^(−1/4) √(R/h)). With a floor of 1/16, MIS under a
+/// disk 10⁶ across at height 1 (`spectral/blackbody_irradiance_band_6500K`), where BSDF
+/// sampling alone is exact, had 9× the standard error (the 1/16 of light samples spent
+/// far off); at 1/256 it has 2.5× (7044 against 2826 for 3.93·10⁷), and `light`, which
+/// read 0.71 there by area, agrees. A power of two, so that u.x/α is exact.
+fn area_weight(delta: f64, size: f64) -> f32 {
+    let x = (delta / size).clamp(1.0 / 256.0, 0.5);
+    (2.0f64).powi(x.log2().floor() as i32) as f32
+}
+
+/// A disk (`inner` = 0) or annulus seen from `p`: the unit vector from `p` towards its
+/// plane and the fraction of area samples ([`area_weight`] of the height over the
+/// footprint, ½ off it) where `p` is nearer the primitive than [`NEAR_FRACTION`] of its outer radius
+/// and off its plane by more than 4× the error bound of a point of the primitive along
+/// the normal (Σᵢ |nᵢ| γ₆ (|cᵢ| + R √(1 − nᵢ²)), the bound of its hits and area samples):
+/// a point there cannot be told from one of the primitive, which sees none of its light,
+/// and keeps area sampling. In `f64`: the distance δ² = h² + (ρ − R)₊² + (r − ρ)₊², h the
+/// height above the plane, ρ the distance from the axis.
+fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Option<(Vec3, f32)> {
+    let (v, n) = (p.as_dvec3() - center.as_dvec3(), normal.as_dvec3());
+    let (big_r, r) = (radius as f64, inner as f64);
+    let h = v.dot(n);
+    let rho = v.cross(n).length();
+    let (out, hole) = ((rho - big_r).max(0.0), (r - rho).max(0.0));
+    let delta2 = h * h + out * out + hole * hole;
+    let g6 = crate::math::gamma(6) as f64;
+    let band: f64 = (0..3)
+        .map(|i| {
+            n[i].abs() * g6 * (center[i].abs() as f64 + big_r * (1.0 - n[i] * n[i]).max(0.0).sqrt())
+        })
+        .sum::<f64>()
+        * 4.0;
+    let near = NEAR_FRACTION * big_r;
+    // Off the footprint (beside the rim, or over the hole) the primitive is seen only
+    // below the elevation h/δ, where the cosine term draws little: half by area there.
+    let weight = if out > 0.0 || hole > 0.0 {
+        0.5
+    } else {
+        area_weight(h.abs(), big_r)
+    };
+    (h.abs() > band && delta2 < near * near && delta2.is_finite())
+        .then(|| (if h > 0.0 { -normal } else { normal }, weight))
+}
+
+/// A spherical cap (its unit axis, cos θmax and 1 − cos θmax) seen from `p`: the
+/// fraction of area samples where `p` is nearer the cap than [`NEAR_FRACTION`] of its size
+/// (the base radius R sin θmax, or R past a hemisphere) and off its sphere by more than
+/// the sphere's band 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) ([`sphere_band`]): there a point cannot be
+/// told from a point of the surface, and keeps area sampling. The distance to the cap,
+/// in `f64`, is | |p − c| − R | where p's direction from the centre lies in the cap, else
+/// the distance to its rim circle.
+fn near_cap(
+    p: Vec3,
+    center: Vec3,
+    radius: f32,
+    (axis, cos_max, one_minus_cos): (Vec3, f32, f32),
+) -> Option<f32> {
+    let v = p.as_dvec3() - center.as_dvec3();
+    let big_r = radius as f64;
+    let d = v.length();
+    let gap = (d - big_r).abs();
+    if !(gap > sphere_band(p, center, radius) && gap.is_finite()) {
+        return None;
+    }
+    let (a, c, omc) = (axis.as_dvec3(), cos_max as f64, one_minus_cos as f64);
+    let sin_max = (omc * (2.0 - omc)).max(0.0).sqrt();
+    let z = v.dot(a);
+    let delta = if c <= -1.0 || z >= d * c {
+        gap
+    } else {
+        let rho = v.cross(a).length();
+        (z - big_r * c).hypot(rho - big_r * sin_max)
+    };
+    let size = if c >= 0.0 { big_r * sin_max } else { big_r };
+    (delta < NEAR_FRACTION * size).then(|| area_weight(delta, size))
 }
 
 /// Intersection of the line p + t w with the plane of a planar primitive.
@@ -663,7 +812,67 @@ pub fn sample_prim_from(prim: &Primitive, p: Vec3, off_prim: bool, u: Vec2) -> O
                 ray: None,
             })
         }
+        PrimSampling::AreaOrCosine {
+            toward,
+            area_weight,
+        } => sample_mixture(prim, p, u, area_weight, true, |v| {
+            Frame::from_z(toward).to_world(cosine_hemisphere(v))
+        }),
+        PrimSampling::AreaOrSphere { area_weight } => {
+            sample_mixture(prim, p, u, area_weight, false, uniform_sphere)
+        }
     }
+}
+
+/// A sample of the mixtures [`PrimSampling::AreaOrCosine`] (`cosine`) and
+/// [`PrimSampling::AreaOrSphere`]: u.x < α draws a point by area, else the point where
+/// the ray from `p` along `direction` meets `prim` (the primitive's own intersection:
+/// its point, normal and error bound; `None` where it misses), u.x stretched back to
+/// [0, 1). Its density is [`mixture_pdf`] at the point, the one [`prim_pdf_from`] gives
+/// there; `None` where that overflows `f32` (the area term of a point seen edge-on from
+/// far: its contribution is then below L/`f32::MAX`, as for [`PrimDensity::solid_angle`]).
+fn sample_mixture(
+    prim: &Primitive,
+    p: Vec3,
+    u: Vec2,
+    area_weight: f32,
+    cosine: bool,
+    direction: impl Fn(Vec2) -> Vec3,
+) -> Option<PrimSample> {
+    let (q, n, p_error) = if u.x < area_weight {
+        let s = prim.sample_area(Vec2::new(u.x / area_weight, u.y));
+        (s.p, s.n, s.p_error)
+    } else {
+        let ux = ((u.x - area_weight) / (1.0 - area_weight)).min(crate::math::ONE_MINUS_EPSILON);
+        let hit = prim.intersect(p, direction(Vec2::new(ux, u.y)), 0.0, f32::INFINITY)?;
+        (hit.p, hit.n, hit.p_error)
+    };
+    let pdf = mixture_pdf(prim, p, q, n, area_weight, cosine);
+    (pdf != f32::INFINITY).then_some(PrimSample {
+        p: q,
+        n,
+        p_error,
+        density: PrimDensity::SolidAngle(pdf),
+        faces_viewer: None,
+        ray: None,
+    })
+}
+
+/// α p_area(ω) + (1 − α) p_dir(ω): the density in solid angle of the point `q` (normal
+/// `n`) that a mixture draws from `p` ([`sample_mixture`]), p_dir = |cos θl|/π for a
+/// disk's or annulus's cosine term (its axis is the plane's normal, so the cosine is the
+/// one the area term converts with), 1/(4π) for the sphere of directions. The direction
+/// term holds for every point of the primitive the viewer sees: a disk's or annulus's
+/// lies in the hemisphere facing its plane, and a cap's is the first point of the cap
+/// along its ray (a point behind another part of the cap, which the direction never
+/// draws, is occluded by it and contributes nothing whatever its density).
+fn mixture_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3, area_weight: f32, cosine: bool) -> f32 {
+    let dir = if cosine {
+        (q - p).normalize_or_zero().dot(n).abs() * crate::math::INV_PI
+    } else {
+        INV_FOUR_PI
+    };
+    area_weight * area_pdf(prim, p, q, n) + (1.0 - area_weight) * dir
 }
 
 /// Density in solid angle with which [`sample_prim`] picks the point `q` (normal `n`) from `p`.
@@ -679,27 +888,37 @@ pub fn prim_pdf_from(prim: &Primitive, p: Vec3, off_prim: bool, q: Vec3, n: Vec3
         PrimSampling::Inside(s) => s.pdf(),
         PrimSampling::Rectangle(r) => r.pdf(),
         PrimSampling::Triangle(t) => t.pdf(),
-        PrimSampling::Area => {
-            let d = q - p;
-            let r2 = d.length_squared();
-            if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
-                // As [`PrimDensity::solid_angle`] forms the sample's density there.
-                return area_to_solid_angle_wide(1.0 / prim.area() as f64, d, n).unwrap_or(0.0);
-            }
-            let cos = (d.normalize_or_zero().dot(n)).abs();
-            if cos <= 0.0 {
-                return 0.0;
-            }
-            let area_cos = prim.area() * cos;
-            if area_cos >= f32::MIN_POSITIVE {
-                r2 / area_cos
-            } else {
-                // A light near 10⁻¹⁹ across seen obliquely: A |cos θl| below the normal
-                // range rounds coarsely or to 0, and r²/0 read as ∞ where the sample's own
-                // density, (1/A) r²/|cos θl|, was 8.9·10⁷. The same cosine, in f64.
-                (r2 as f64 / (prim.area() as f64 * cos as f64)) as f32
-            }
+        PrimSampling::Area => area_pdf(prim, p, q, n),
+        PrimSampling::AreaOrCosine { area_weight, .. } => {
+            mixture_pdf(prim, p, q, n, area_weight, true)
         }
+        PrimSampling::AreaOrSphere { area_weight } => {
+            mixture_pdf(prim, p, q, n, area_weight, false)
+        }
+    }
+}
+
+/// Density in solid angle of the point `q` (normal `n`) of `prim` drawn by area from `p`:
+/// r²/(A |cos θl|).
+fn area_pdf(prim: &Primitive, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+    let d = q - p;
+    let r2 = d.length_squared();
+    if r2 < f32::MIN_POSITIVE && d != Vec3::ZERO {
+        // As [`PrimDensity::solid_angle`] forms the sample's density there.
+        return area_to_solid_angle_wide(1.0 / prim.area() as f64, d, n).unwrap_or(0.0);
+    }
+    let cos = (d.normalize_or_zero().dot(n)).abs();
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    let area_cos = prim.area() * cos;
+    if area_cos >= f32::MIN_POSITIVE {
+        r2 / area_cos
+    } else {
+        // A light near 10⁻¹⁹ across seen obliquely: A |cos θl| below the normal
+        // range rounds coarsely or to 0, and r²/0 read as ∞ where the sample's own
+        // density, (1/A) r²/|cos θl|, was 8.9·10⁷. The same cosine, in f64.
+        (r2 as f64 / (prim.area() as f64 * cos as f64)) as f32
     }
 }
 
@@ -1216,7 +1435,7 @@ mod tests {
         assert!(checked > 200, "{checked}");
     }
 
-    /// [`prim_pdf`] by area where r² = |q − p|² is subnormal in `f32` or underflows to 0
+    /// The area density ([`area_pdf`], [`prim_pdf`]'s by area) where r² = |q − p|² is subnormal in `f32` or underflows to 0
     /// (offsets from 10⁻²⁰ down to 10⁻²³ from a disk of radius 10⁻¹⁹): the closed form
     /// r²/(A |cos θl|) with A = π r_disk², formed in f64 from the offset's own components,
     /// to γ₄ (f32's π, its two products in A, the final rounding), at oblique cosines
@@ -1240,7 +1459,8 @@ mod tests {
             ] {
                 let d = dir * s;
                 // q = 0 (the disk's centre) seen from p = −d: q − p = d exactly.
-                let got = prim_pdf(&disk, -d, Vec3::ZERO, Vec3::Z);
+                // (So close, prim_pdf is the mixture's, whose area term this is.)
+                let got = area_pdf(&disk, -d, Vec3::ZERO, Vec3::Z);
                 let dd = d.as_dvec3();
                 let r2 = dd.length_squared();
                 let cos = dd.z.abs() / r2.sqrt();
@@ -1249,7 +1469,7 @@ mod tests {
                 wide += (d.length_squared() < f32::MIN_POSITIVE) as u32;
             }
             let edge_on = Vec3::new(s, -2.0 * s, 0.0);
-            assert_eq!(prim_pdf(&disk, -edge_on, Vec3::ZERO, Vec3::Z), 0.0, "{s:e}");
+            assert_eq!(area_pdf(&disk, -edge_on, Vec3::ZERO, Vec3::Z), 0.0, "{s:e}");
             assert_eq!(area_to_solid_angle_wide(1.0, edge_on, Vec3::Z), None);
         }
         assert_eq!(wide, 12);
@@ -1820,6 +2040,8 @@ mod tests {
             PrimSampling::Rectangle(_) => "rectangle",
             PrimSampling::Triangle(_) => "triangle",
             PrimSampling::Area => "area",
+            PrimSampling::AreaOrCosine { .. } => "area or cosine",
+            PrimSampling::AreaOrSphere { .. } => "area or sphere",
         };
         let rect = |u: Vec3, v: Vec3| Primitive::Rectangle {
             corner: Vec3::new(-0.5, -0.5, 2.0),
@@ -2298,5 +2520,295 @@ mod tests {
             }
         }
         assert!(some >= 5, "{some} samples");
+    }
+
+    /// The irradiance vector ∫ω dω (over the directions that meet it) of a disk of radius
+    /// `r` seen from height `h` above its plane at distance `a` from its axis, as (towards
+    /// the plane, towards the axis): π (F∥, F⊥), the parallel- and perpendicular-element
+    /// factors (Howell's catalog, section B), written here in f64 apart from the oracle.
+    fn disk_moment(r: f64, h: f64, a: f64) -> (f64, f64) {
+        let y = (((a - r) * (a - r) + h * h) * ((a + r) * (a + r) + h * h)).sqrt();
+        let x = a * a + h * h - r * r;
+        let parallel = if x > 0.0 {
+            2.0 * r * r * h * h / (y * (y + x))
+        } else {
+            0.5 * (1.0 - x / y)
+        };
+        let radial = 2.0 * a * h * r * r / (y * (y + a * a + h * h + r * r));
+        (PI as f64 * parallel, PI as f64 * radial)
+    }
+
+    /// Disks and annuli seen from 10⁻¹ to 10⁻⁶ of their radius (on the axis, over a point
+    /// at 0.9 R, just beside the rim, over an annulus's ring and hole) use the mixture of
+    /// area and cosine sampling, and from `sample_prim` alone: every sampled point lies on
+    /// the plane within the primitive, its density is [`prim_pdf`]'s at the point, the
+    /// weight cos θl/p of a receiver parallel to the plane is at most π/(1 − α) ≤ 2π, and
+    /// the irradiance vector E[ω/p] (both components) agrees with Howell's closed forms
+    /// (an annulus: the outer disk's less the hole's) by z tests at α = 10⁻⁴ (Šidák), 2²⁰
+    /// samples each, able to see 3% of |E| (20% off the footprint; the radial component at
+    /// 10⁻⁶, a receiver tilted towards the rim, is the noisiest on it: 2.2%). By area, as before, it fails (10⁻³ and below read 10⁻⁶ to
+    /// 0.5 for π). Viewer at the origin, as a case's scene is rebased.
+    #[test]
+    fn disks_and_annuli_seen_from_close_by_are_sampled_by_a_cosine_mixture() {
+        use crate::sampling::Sampler;
+        use crate::stats::accumulator::Accumulator;
+        use crate::stats::hypothesis::MeanTest;
+        let mut cases = Vec::new();
+        for h in [1e-1f32, 1e-3, 1e-6] {
+            for (a, inner) in [(0.0f32, 0.0f32), (0.9, 0.0), (1.0 + 3.0 * h, 0.0)] {
+                if h < 1e-5 && a > 1.0 {
+                    // Beside the rim at 10⁻⁶ the f32 centre (−1.000003) is off by 2% of
+                    // the gap: the geometry itself, not its sampling.
+                    continue;
+                }
+                cases.push((h, a, inner));
+            }
+            cases.push((h, 0.75, 0.5));
+            cases.push((h, 0.45, 0.5));
+        }
+        let test = MeanTest::new(1e-4, 2 * cases.len());
+        let sampler = Sampler::independent(0xd15c);
+        for (k, &(h, a, inner)) in cases.iter().enumerate() {
+            let (center, normal) = (Vec3::new(-a, 0.0, h), -Vec3::Z);
+            let prim = if inner > 0.0 {
+                Primitive::Annulus {
+                    center,
+                    normal,
+                    inner,
+                    radius: 1.0,
+                }
+            } else {
+                Primitive::Disk {
+                    center,
+                    normal,
+                    radius: 1.0,
+                }
+            };
+            let p = Vec3::ZERO;
+            let PrimSampling::AreaOrCosine {
+                toward,
+                area_weight,
+            } = prim_strategy(&prim, p, false)
+            else {
+                panic!("h {h:e}, a {a}: not the mixture");
+            };
+            assert_eq!(toward, Vec3::Z);
+            let (hd, ad) = (h as f64, a as f64);
+            let (mut e_par, mut e_rad) = disk_moment(1.0, hd, ad);
+            if inner > 0.0 {
+                let (hp, hr) = disk_moment(inner as f64, hd, ad);
+                (e_par, e_rad) = (e_par - hp, e_rad - hr);
+            }
+            let mut acc = [Accumulator::new(), Accumulator::new()];
+            for i in 0..1u64 << 20 {
+                let mut st = sampler.stream(((k as u64) << 24) + i);
+                let Some(s) = sample_prim(&prim, p, st.next_2d()) else {
+                    acc[0].push(0.0);
+                    acc[1].push(0.0);
+                    continue;
+                };
+                let rel = s.p - center;
+                let rho2 = (rel.x * rel.x + rel.y * rel.y) as f64;
+                assert!(
+                    on_plane(s.p, center, normal, s.p_error)
+                        && rho2 <= 1.0 + 1e-6
+                        && rho2 >= (inner as f64).powi(2) * (1.0 - 1e-6),
+                    "h {h:e}, a {a}: {} off the primitive",
+                    s.p
+                );
+                let d = s.p - p;
+                let pdf = s.density.solid_angle(d, d.length(), s.n).unwrap();
+                assert_eq!(pdf, prim_pdf(&prim, p, s.p, s.n), "h {h:e}, a {a}");
+                let w = d.normalize() / pdf;
+                assert!(
+                    w.z > 0.0
+                        && (w.z as f64) <= PI as f64 / (1.0 - area_weight as f64) * (1.0 + 1e-5),
+                    "h {h:e}, a {a}: weight {}",
+                    w.z
+                );
+                acc[0].push(w.z as f64);
+                acc[1].push(-w.x as f64);
+            }
+            // Off the footprint (beside the rim, over the hole) the light arrives within h/δ
+            // of the horizon, where neither term
+            // is at home (relative error 2–3% at 2²⁰): there 20%.
+            let tolerance = if a > 1.0 || a < inner { 0.2 } else { 3e-2 };
+            for (c, (a_, want)) in acc.iter().zip([e_par, e_rad]).enumerate() {
+                let v = test.judge(a_, want);
+                assert!(
+                    v.passed && v.detectable_bias < tolerance * e_par.hypot(e_rad),
+                    "h {h:e}, a {a}, inner {inner}, component {c}: want {want}, {v:?}"
+                );
+            }
+        }
+    }
+
+    /// The mixture's density, integrated by quadrature rather than through its sampler:
+    /// over the hemisphere facing a disk (where the ray meets it, [`Primitive::intersect`]),
+    /// ∫ p dω = α + (1 − α) R²/(R² + h²) on the axis (the area term's whole mass and the
+    /// cosine term's share that meets the disk, its projected solid angle over π), and
+    /// ∫ dω = Ω = 2π(1 − h/√(h² + R²)), each to 2·10⁻³: a midpoint rule in t = √cos θ
+    /// (4096 steps, which resolve the area term's peak at the rim's elevation h/R) by 64
+    /// in azimuth.
+    #[test]
+    fn the_cosine_mixtures_density_integrates_to_its_mass_over_the_disk() {
+        for h in [0.3f32, 1e-2, 1e-3] {
+            let disk = Primitive::Disk {
+                center: Vec3::new(0.0, 0.0, h),
+                normal: -Vec3::Z,
+                radius: 1.0,
+            };
+            let p = Vec3::ZERO;
+            let PrimSampling::AreaOrCosine { area_weight, .. } = prim_strategy(&disk, p, false)
+            else {
+                panic!("h {h:e}: not the mixture");
+            };
+            let (nt, nphi) = (4096u32, 64u32);
+            let (mut mass, mut omega) = (0.0f64, 0.0f64);
+            for i in 0..nt {
+                let t = (i as f64 + 0.5) / nt as f64;
+                let (z, dz) = (t * t, 2.0 * t / nt as f64);
+                let sin = (1.0 - z * z).sqrt();
+                for j in 0..nphi {
+                    let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / nphi as f64;
+                    let w = glam::DVec3::new(sin * phi.cos(), sin * phi.sin(), z).as_vec3();
+                    if let Some(hit) = disk.intersect(p, w.normalize(), 0.0, f32::INFINITY) {
+                        mass += prim_pdf(&disk, p, hit.p, hit.n) as f64 * dz;
+                        omega += dz;
+                    }
+                }
+            }
+            let dphi = 2.0 * std::f64::consts::PI / nphi as f64;
+            let (mass, omega) = (mass * dphi, omega * dphi);
+            let (hd, a) = (h as f64, area_weight as f64);
+            let want_mass = a + (1.0 - a) / (1.0 + hd * hd);
+            let want_omega = 2.0 * std::f64::consts::PI * (1.0 - hd / (hd * hd + 1.0).sqrt());
+            assert!(
+                (mass / want_mass - 1.0).abs() < 2e-3 && (omega / want_omega - 1.0).abs() < 2e-3,
+                "h {h:e}: mass {mass} vs {want_mass}, Ω {omega} vs {want_omega}"
+            );
+        }
+    }
+
+    /// A spherical cap (θmax = 60°) seen from 10⁻² to 10⁻⁵ of its radius outside its
+    /// convex side and inside its concave side, over its pole and over a point at 30°,
+    /// use the mixture of area and uniform-sphere sampling (a whole sphere from inside near
+    /// its wall, directions alone, [`SphereInside`]); a receiver facing the surface there gets, from
+    /// `sample_prim` alone, π R²/d² outside (the sphere's cone, all of it on the cap) and
+    /// π inside (its hemisphere meets only the cap), by z tests at α = 10⁻⁴ (Šidák), 2²⁰
+    /// samples each, able to see 2%; densities equal [`prim_pdf`]'s and weights are at most 4π/(1 − α). By area
+    /// it fails (10⁻⁴ read 0.003 to 0.1 for π).
+    #[test]
+    fn caps_and_sphere_walls_seen_from_close_by_are_sampled_by_a_sphere_mixture() {
+        use crate::sampling::Sampler;
+        use crate::stats::accumulator::Accumulator;
+        use crate::stats::hypothesis::MeanTest;
+        let (cos60, omc60) = (0.5f32, 0.5f32);
+        let mut cases = Vec::new();
+        for g in [1e-2f64, 1e-3, 1e-5] {
+            for theta in [0.0f64, 30.0] {
+                for outside in [true, false] {
+                    cases.push((g, theta, outside, true));
+                }
+            }
+            cases.push((g, 0.0, false, false));
+        }
+        let test = MeanTest::new(1e-4, cases.len());
+        let sampler = Sampler::independent(0xca9);
+        for (k, &(g, theta, outside, cap)) in cases.iter().enumerate() {
+            let t = theta.to_radians();
+            let u = glam::DVec3::new(t.sin(), 0.0, t.cos());
+            let d = if outside { 1.0 + g } else { 1.0 - g };
+            // Rebased on the viewer, as a case's scene is.
+            let center = (-u * d).as_vec3();
+            let prim = if cap {
+                Primitive::SphericalCap {
+                    center,
+                    radius: 1.0,
+                    axis: Vec3::Z,
+                    cos_max: cos60,
+                    one_minus_cos: omc60,
+                }
+            } else {
+                Primitive::Sphere {
+                    center,
+                    radius: 1.0,
+                }
+            };
+            let p = Vec3::ZERO;
+            // The cap: the mixture; the whole sphere: directions alone.
+            let area_weight = match prim_strategy(&prim, p, false) {
+                PrimSampling::AreaOrSphere { area_weight } if cap => area_weight,
+                PrimSampling::Inside(_) if !cap => 0.0,
+                _ => panic!("{k}: not the expected strategy"),
+            };
+            let facing = if outside { -u } else { u }.as_vec3();
+            let want = if outside {
+                PI as f64 / (d * d)
+            } else {
+                PI as f64
+            };
+            let mut acc = Accumulator::new();
+            for i in 0..1u64 << 20 {
+                let mut st = sampler.stream(((k as u64) << 24) + i);
+                let Some(s) = sample_prim(&prim, p, st.next_2d()) else {
+                    acc.push(0.0);
+                    continue;
+                };
+                let dq = s.p - p;
+                let pdf = s.density.solid_angle(dq, dq.length(), s.n).unwrap();
+                assert_eq!(pdf, prim_pdf(&prim, p, s.p, s.n), "{k}");
+                let w = dq.normalize();
+                // Only the points the receiver sees: outside, the near side (the far side
+                // is behind it); inside, all (one wall point per direction).
+                let seen = !outside || s.n.dot(w) < 0.0;
+                let c = w.dot(facing).max(0.0) as f64;
+                let weight = if seen { c / pdf as f64 } else { 0.0 };
+                assert!(
+                    weight <= 4.0 * PI as f64 / (1.0 - area_weight as f64) * (1.0 + 1e-5),
+                    "{k}: weight {weight}"
+                );
+                acc.push(weight);
+            }
+            let v = test.judge(&acc, want);
+            assert!(
+                v.passed && v.detectable_bias < 2e-2 * want,
+                "g {g:e}, θ {theta}, outside {outside}, cap {cap}: {v:?}"
+            );
+        }
+    }
+
+    /// Far from a disk, an annulus or a cap (beyond half its size), and on their surfaces
+    /// (within the error bound of their points), sampling stays by area: the catalog's
+    /// far cases keep their estimates bit for bit, and a point of the primitive itself,
+    /// which none of its light reaches, is not sampled along directions.
+    #[test]
+    fn far_and_on_surface_viewers_keep_area_sampling() {
+        let disk = Primitive::Disk {
+            center: Vec3::new(0.3, -0.2, 2.0),
+            normal: -Vec3::Z,
+            radius: 1.0,
+        };
+        let cap = Primitive::SphericalCap {
+            center: Vec3::ZERO,
+            radius: 1.0,
+            axis: Vec3::Z,
+            cos_max: 0.5,
+            one_minus_cos: 0.5,
+        };
+        let area =
+            |prim: &Primitive, p: Vec3| matches!(prim_strategy(prim, p, false), PrimSampling::Area);
+        assert!(area(&disk, Vec3::ZERO));
+        assert!(area(&disk, Vec3::new(0.3, -0.2, 1.0)));
+        assert!(!area(&disk, Vec3::new(0.3, -0.2, 1.9)));
+        assert!(area(&disk, Vec3::new(0.5, 0.1, 2.0)), "on the disk");
+        assert!(area(&cap, Vec3::ZERO), "the centre");
+        assert!(area(&cap, Vec3::new(0.0, 0.0, 1.0)), "the pole");
+        assert!(
+            area(&cap, Vec3::new(0.0, 0.0, -1.001)),
+            "beside the missing part"
+        );
+        assert!(!area(&cap, Vec3::new(0.0, 0.0, 1.001)));
+        assert!(!area(&cap, Vec3::new(0.0, 0.0, 0.999)));
     }
 }
