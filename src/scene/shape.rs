@@ -450,7 +450,7 @@ fn sphere_hit(
 /// approaching, or inside and leaving); it is dropped where |c| is within its own
 /// `f64` bound (an origin on the surface to ~10⁻¹⁶ r: it cannot be told from a point
 /// of the sphere, which does not see itself). A ray spawned from the sphere's own
-/// point is offset past that point's error bound, ~5·10⁻⁷ r, to the side it leaves
+/// point is offset past that point's error bound, ≥ γ₅r ≈ 3·10⁻⁷ r, to the side it leaves
 /// ([`crate::math::offset_ray_origin`]), so its `f64` c has the sign of that side and
 /// its root near 0 lies behind it. The other root, q, keeps its `f32` value (the
 /// hit the fast path would report) unless the `f64` one has the other sign (a ray
@@ -1353,7 +1353,7 @@ mod tests {
     /// side it leaves, [`crate::math::offset_ray_origin`]) never meets the sphere near its
     /// origin: outward it misses, inward it meets the far side, a chord 2r|cos θ| away.
     /// The furnace is the inside of a sphere, so every path there spawns such rays; the
-    /// origin lies ~5·10⁻⁷ r off the surface, where the `f32` sign of c is sometimes
+    /// origin lies ≥ γ₅r ≈ 3·10⁻⁷ r off the surface, where the `f32` sign of c is sometimes
     /// within its bound and the `f64` root decides.
     #[test]
     fn rays_spawned_from_a_sphere_never_meet_it_again() {
