@@ -375,17 +375,32 @@ fn intersect_sphere(
     tmax: f32,
 ) -> Option<Hit> {
     let f = o - center;
-    if !(radius * radius >= f32::MIN_POSITIVE && f.length_squared() < f32::INFINITY) {
+    let (ff, rr) = (f.length_squared(), radius * radius);
+    if !(rr >= f32::MIN_POSITIVE && ff < f32::INFINITY) {
         return intersect_sphere_wide(center, radius, o, d, tmin, tmax);
     }
     let b = -f.dot(d);
     let l = f + d * b;
-    let disc = radius * radius - l.length_squared();
+    let disc = rr - l.length_squared();
     if disc < 0.0 {
         return None;
     }
-    let c = f.length_squared() - radius * radius;
+    let c = ff - rr;
     let q = b + disc.sqrt().copysign(b);
+    // The roots are c/q (the one near 0 when the origin is near the surface) and q. The
+    // sign of c = |o − centre|² − r² (outside or inside) is known only beyond its error
+    // bound: γ₂|f|² from the rounding of f = o − centre, γ₃ from the sum of squares, half
+    // an ulp of r² and of the difference (γ₆ on the computed |f|² covers the first two,
+    // γ₂ on r² and |c| the last two and the rounding of the bound itself).
+    // Within it (~8u r², an origin within ~4u r ≈ 2.4·10⁻⁷ r of the surface, wherever the
+    // sphere lies) the origin is on the surface as far as `f32` can tell, and the root
+    // near 0 is noise: from a floor 10⁻⁸ … 2.5·10⁻¹⁰ below a sphere light of radius 0.5
+    // the computed c was ≤ 0, and every BSDF-sampled ray went on to the sphere's far side
+    // (BSDF sampling read 0, MIS 0.20, for 0.5). There the `f64` roots decide
+    // ([`intersect_sphere_near_surface`]); every other hit keeps its bits.
+    if c.abs() <= gamma(6) * ff + gamma(2) * (rr + c.abs()) {
+        return intersect_sphere_near_surface(center, radius, o, d, f, q, tmin, tmax);
+    }
     let (mut t0, mut t1) = (c / q, q);
     if q == 0.0 {
         t0 = 0.0;
@@ -395,6 +410,23 @@ fn intersect_sphere(
         std::mem::swap(&mut t0, &mut t1);
     }
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
+    sphere_hit(center, radius, o, d, f, t, tmin, tmax)
+}
+
+/// The hit at distance `t` along the ray of [`intersect_sphere`] (f = o − centre in
+/// `f32`), re-projected onto the surface.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn sphere_hit(
+    center: Vec3,
+    radius: f32,
+    o: Vec3,
+    d: Vec3,
+    f: Vec3,
+    t: f32,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
     // Re-project the hit onto the surface (pbrt-v4 §6.8.5): error γ₅ |p − c| about c.
     let rel = f + d * t;
     let scale = radius / rel.length();
@@ -409,6 +441,62 @@ fn intersect_sphere(
     let p = center + rel;
     let p_error = gamma(5) * rel.abs() + gamma(1) * center.abs();
     Some(Hit { t, p, p_error, n })
+}
+
+/// [`intersect_sphere`] for an origin within the error bound of c = |o − centre|² − r²
+/// of the surface, where the sign of the `f32` root c/q near 0 is not known: the roots
+/// in `f64`, where f = o − centre and its square are exact to ~10⁻¹⁶ r². The root near
+/// 0 is c/q, in front of the origin where c and q agree in sign (outside and
+/// approaching, or inside and leaving); it is dropped where |c| is within its own
+/// `f64` bound (an origin on the surface to ~10⁻¹⁶ r: it cannot be told from a point
+/// of the sphere, which does not see itself). A ray spawned from the sphere's own
+/// point is offset past that point's error bound, ≥ γ₅r ≈ 3·10⁻⁷ r, to the side it leaves
+/// ([`crate::math::offset_ray_origin`]), so its `f64` c has the sign of that side and
+/// its root near 0 lies behind it. The other root, q, keeps its `f32` value (the
+/// hit the fast path would report) unless the `f64` one has the other sign (a ray
+/// nearly tangent to the sphere). (pbrt-v4 drops every root whose interval reaches 0,
+/// the root near 0 from any origin this close included.)
+#[cold]
+#[allow(clippy::too_many_arguments)]
+fn intersect_sphere_near_surface(
+    center: Vec3,
+    radius: f32,
+    o: Vec3,
+    d: Vec3,
+    f: Vec3,
+    q: f32,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    let fw = o.as_dvec3() - center.as_dvec3();
+    let dw = d.as_dvec3();
+    let (ff, rr) = (fw.length_squared(), f64::from(radius) * f64::from(radius));
+    // |f|² to γ₅ (f's own rounding and the sum), r² exact, and the difference.
+    let c = ff - rr;
+    let b = -fw.dot(dw);
+    let a = dw.length_squared();
+    let disc = b * b - a * c;
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let qw = b + disc.sqrt().copysign(b);
+    let g = |n: f64| n * f64::EPSILON * 0.5 / (1.0 - n * f64::EPSILON * 0.5);
+    let near = if c.abs() > g(7.0) * (ff + rr) {
+        Some((c / qw) as f32)
+    } else {
+        None
+    };
+    let far = if (q > 0.0) == (qw > 0.0) {
+        q
+    } else {
+        (qw / a) as f32
+    };
+    let within = |t: &f32| *t > tmin && *t < tmax;
+    let t = match (near.filter(within), Some(far).filter(within)) {
+        (Some(t0), Some(t1)) => t0.min(t1),
+        (t0, t1) => t0.or(t1)?,
+    };
+    sphere_hit(center, radius, o, d, f, t, tmin, tmax)
 }
 
 /// [`intersect_sphere`] where its f32 squares leave the normal range: a radius below
@@ -1105,6 +1193,213 @@ mod tests {
             );
             assert_eq!(t(0.0, 4.0), None, "{prim:?}");
             assert_eq!(t(4.0, f32::INFINITY), None, "{prim:?}");
+        }
+    }
+
+    /// The exact roots of o + t d on the sphere, its `f32` parameters and the ray taken as
+    /// exact (in `f64`): (c = |o − centre|² − r², the root c/q near 0, the other q/|d|²).
+    fn exact_sphere_roots(center: Vec3, radius: f32, o: Vec3, d: Vec3) -> Option<[f64; 3]> {
+        let f = o.as_dvec3() - center.as_dvec3();
+        let d = d.as_dvec3();
+        let r = f64::from(radius);
+        let c = f.length_squared() - r * r;
+        let b = -f.dot(d);
+        let a = d.length_squared();
+        let disc = b * b - a * c;
+        (disc >= 0.0).then(|| {
+            let q = b + disc.sqrt().copysign(b);
+            [c, c / q, q / a]
+        })
+    }
+
+    /// Rays from origins within 10⁻⁷ r of a sphere (a point ρ ≤ 3·10⁻⁴ r off a pole in its
+    /// tangent plane, 4.5·10⁻⁸ r above the sphere at most; and points just inside): from
+    /// outside, a ray into the sphere meets it at the exact point o + s d of the root
+    /// s = c/q near 0 (within the hit's error bound), a ray away from it misses; from
+    /// inside, a ray inward meets the far side at the exact distance, one outward leaves
+    /// at its root near 0. The `f32` c = |o − centre|² − r² is noise there (its error bound
+    /// ~8u r² exceeds the exact c = ρ² < 10⁻⁷ r²): the fast test read c ≤ 0 from every
+    /// origin within ~5·10⁻⁹ of a sphere of radius 0.5 and reported the far side (a floor
+    /// that close below a sphere light read 0 with BSDF sampling).
+    #[test]
+    fn spheres_are_hit_from_just_outside_and_inside_them() {
+        let spheres = [
+            (Vec3::ZERO, 0.5f32),
+            (Vec3::new(0.25, -0.125, 0.5), 0.5),
+            // The catalog's floor case rebased on its camera.
+            (Vec3::new(-1.5, 0.0, 0.499_85), 0.5),
+            (Vec3::new(3.0, -2.0, 1.0), 2.0),
+            (Vec3::new(1.0, 0.5, -0.25), 1e-3),
+            (Vec3::new(100.0, 50.0, -20.0), 1e-3),
+        ];
+        let (mut near, mut far) = (0, 0);
+        for (center, radius) in spheres {
+            for axis in 0..6 {
+                // The pole: ±x, ±y or ±z; (u, v) span its tangent plane.
+                let mut n = Vec3::ZERO;
+                n[axis % 3] = if axis < 3 { 1.0 } else { -1.0 };
+                let (ua, va) = ((axis + 1) % 3, (axis + 2) % 3);
+                for (x, y, depth) in [
+                    (0.0, 3e-4, 0.0),
+                    (1e-4, 1e-4, 0.0),
+                    (3e-5, 0.0, 0.0),
+                    (1e-5, -2e-5, 0.0),
+                    (0.0, 0.0, 2f32.powi(-22)),
+                    (1e-5, 0.0, 2f32.powi(-20)),
+                ] {
+                    let mut rel = n * (radius * (1.0 - depth));
+                    rel[ua] = x * radius;
+                    rel[va] = y * radius;
+                    let o = center + rel;
+                    let Some([c, ..]) = exact_sphere_roots(center, radius, o, Vec3::X) else {
+                        continue;
+                    };
+                    if c.abs() < 1e-14 * f64::from(radius).powi(2) {
+                        continue; // on the surface as far as f64 tells
+                    }
+                    for i in 0..32 {
+                        for j in 0..32 {
+                            let ct = (i as f32 + 0.5) / 16.0 - 1.0;
+                            if ct.abs() < 1.0 / 16.0 {
+                                continue; // nearly tangent
+                            }
+                            let phi = (j as f32 + 0.5) / 32.0 * std::f32::consts::TAU;
+                            let st = (1.0 - ct * ct).sqrt();
+                            let mut d = n * ct;
+                            d[ua] += st * phi.cos();
+                            d[va] += st * phi.sin();
+                            let d = d.normalize();
+                            let [_, s, big] = exact_sphere_roots(center, radius, o, d).unwrap();
+                            let hit = Primitive::Sphere { center, radius }.intersect(
+                                o,
+                                d,
+                                0.0,
+                                f32::INFINITY,
+                            );
+                            let what =
+                                format!("sphere {center} r {radius}, o {o} (c {c:e}), d {d}");
+                            // The root ahead: c/q near 0 if positive, else the other.
+                            let want = if s > 0.0 {
+                                Some(s)
+                            } else if big > 0.0 {
+                                Some(big)
+                            } else {
+                                None
+                            };
+                            let (Some(want), Some(hit)) = (want, hit) else {
+                                assert_eq!(want.is_some(), hit.is_some(), "{what}: {hit:?}");
+                                continue;
+                            };
+                            if want == s {
+                                // The exact point, within the hit's error bound plus that of
+                                // t along the ray: the f32 c's relative error ~8u r²/|c| where
+                                // the origin lies beyond its bound (the f32 root decides),
+                                // rounding alone within it (the f64 root). (A far hit's point
+                                // also carries the ray's rounding along the surface.)
+                                near += 1;
+                                assert!(
+                                    hit.t > 0.0 && f64::from(hit.t) < 2.0 * want,
+                                    "{what}: t {} for {want:e}",
+                                    hit.t
+                                );
+                                let exact = o.as_dvec3() + d.as_dvec3() * want;
+                                let off = (hit.p.as_dvec3() - exact).abs();
+                                let u = f64::from(f32::EPSILON) / 2.0;
+                                let rr = f64::from(radius).powi(2);
+                                let f = (o - center).length_squared();
+                                let band = f64::from(gamma(6) * f + gamma(2) * (radius * radius));
+                                let dt = if c.abs() <= 2.0 * band {
+                                    4.0 * f64::EPSILON * want
+                                } else {
+                                    want * (10.0 * u * rr / c.abs() + 10.0 * u)
+                                };
+                                let slack = d.abs().as_dvec3() * dt
+                                    + 4.0
+                                        * f64::EPSILON
+                                        * f64::from(center.abs().max_element() + radius);
+                                assert!(
+                                    off.cmple(hit.p_error.as_dvec3() + slack).all(),
+                                    "{what}: hit at {} (t {}), exact {exact} (t {want:e}), error bound {}",
+                                    hit.p,
+                                    hit.t,
+                                    hit.p_error
+                                );
+                            } else {
+                                far += 1;
+                                let err = (f64::from(hit.t) - want).abs();
+                                assert!(err <= 1e-5 * want, "{what}: t {} for {want}", hit.t);
+                            }
+                            // A cap about the pole shares the test.
+                            let cap = Primitive::SphericalCap {
+                                center,
+                                radius,
+                                axis: n,
+                                cos_max: 0.0,
+                                one_minus_cos: 1.0,
+                            };
+                            if want == s {
+                                let h = cap.intersect(o, d, 0.0, f32::INFINITY);
+                                assert_eq!(h.map(|h| h.t), Some(hit.t), "{what}: cap");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(near > 10_000 && far > 10_000, "{near} near, {far} far hits");
+    }
+
+    /// A ray spawned from a point of a sphere (offset past its error bound towards the
+    /// side it leaves, [`crate::math::offset_ray_origin`]) never meets the sphere near its
+    /// origin: outward it misses, inward it meets the far side, a chord 2r|cos θ| away.
+    /// The furnace is the inside of a sphere, so every path there spawns such rays; the
+    /// origin lies ≥ γ₅r ≈ 3·10⁻⁷ r off the surface, where the `f32` sign of c is sometimes
+    /// within its bound and the `f64` root decides.
+    #[test]
+    fn rays_spawned_from_a_sphere_never_meet_it_again() {
+        let spheres = [
+            (Vec3::ZERO, 1.0f32),
+            (Vec3::new(-1.5, 0.0, 0.499_85), 0.5),
+            (Vec3::new(0.25, -0.125, 0.5), 1e-3),
+            (Vec3::new(1e3, -2e3, 5e2), 10.0),
+        ];
+        let sampler = crate::sampling::Sampler::independent(7);
+        for (k, (center, radius)) in spheres.into_iter().enumerate() {
+            let s = Primitive::Sphere { center, radius };
+            for i in 0..20_000u64 {
+                let mut st = sampler.stream(i + 20_000 * k as u64);
+                // A point of the sphere, hit from outside or from its centre.
+                let a = crate::sampling::sphere::uniform_sphere(st.next_2d());
+                let hit = if i % 2 == 0 {
+                    s.intersect(center + a * (3.0 * radius), -a, 0.0, f32::INFINITY)
+                } else {
+                    s.intersect(center, a, 0.0, f32::INFINITY)
+                }
+                .unwrap();
+                let w = crate::sampling::sphere::uniform_sphere(st.next_2d());
+                let cos = w.dot(hit.n);
+                if cos.abs() < 1e-3 {
+                    continue;
+                }
+                let o = crate::math::offset_ray_origin(hit.p, hit.p_error, hit.n, w);
+                let again = s.intersect(o, w, 0.0, f32::INFINITY);
+                if cos > 0.0 {
+                    assert!(
+                        again.is_none(),
+                        "{center} r {radius}: spawned at {o} along {w}, re-hit {again:?}"
+                    );
+                } else {
+                    // The far side: the exact root ahead, about the chord 2r|cos θ|.
+                    let [c, near, far] = exact_sphere_roots(center, radius, o, w).unwrap();
+                    assert!(c < 0.0 && near < 0.0, "{center} r {radius}: {o} not inside");
+                    // Within the f32 root's own error, ~u r²/b² relative (b = r cos θ).
+                    let t = again.map_or(0.0, |h| f64::from(h.t));
+                    assert!(
+                        (t - far).abs() <= far * (1e-5 + 1e-6 / f64::from(cos * cos)),
+                        "{center} r {radius}: spawned at {o} along {w}, met at {t} for {far}"
+                    );
+                }
+            }
         }
     }
 
