@@ -1301,6 +1301,18 @@ mod tests {
         }
         assert!(checked > 50_000);
         assert_eq!(seen.len(), 3, "every side met: {seen:?}");
+        // Where the shortcut's window would lie had it been formed from a wrong r²
+        // (2r, or 1): |p − c|² = 2r and 1, outside, within or inside the true band.
+        for radius in [1e-3f32, 0.5, 1.0, 7.5] {
+            for d2 in [2.0 * radius, 1.0] {
+                let p = Vec3::new(d2.sqrt(), 0.0, 0.0);
+                assert_eq!(
+                    sphere_side(p, Vec3::ZERO, radius),
+                    side_f64(p, Vec3::ZERO, radius),
+                    "r = {radius}, |p − c|² = {d2}"
+                );
+            }
+        }
         // Squares beyond f32: r² overflows at 1e20 (and the threshold just below
         // 1.85e19), where an overflowed |p − c|² must not compare ∞ ≤ ∞ (found in review).
         for (radius, p) in [(1e20f32, 2e20f32), (1.844_674_3e19, 1e30)] {
