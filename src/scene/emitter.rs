@@ -2822,5 +2822,22 @@ mod tests {
         );
         assert!(!area(&cap, Vec3::new(0.0, 0.0, 1.001)));
         assert!(!area(&cap, Vec3::new(0.0, 0.0, 0.999)));
+        // The switch at half the size: the disk's radius 1 (0.45 below it near, 0.7
+        // far), the 60° cap's base radius sin 60° ≈ 0.866 (0.35 over its pole near,
+        // 0.45 far).
+        assert!(!area(&disk, Vec3::new(0.3, -0.2, 2.0 - 0.45)));
+        assert!(area(&disk, Vec3::new(0.3, -0.2, 2.0 - 0.7)));
+        assert!(!area(&cap, Vec3::new(0.0, 0.0, 1.35)));
+        assert!(area(&cap, Vec3::new(0.0, 0.0, 1.45)));
+        // Over an annulus's hole, the distance is to its inner rim: from its axis 0.1
+        // above a hole of radius 0.5 (outer 1), 0.51 away, beyond half the size.
+        let annulus = Primitive::Annulus {
+            center: Vec3::ZERO,
+            normal: Vec3::Z,
+            inner: 0.5,
+            radius: 1.0,
+        };
+        assert!(area(&annulus, Vec3::new(0.0, 0.0, 0.1)));
+        assert!(!area(&annulus, Vec3::new(0.3, 0.0, 0.1)), "0.2 from the rim");
     }
 }
