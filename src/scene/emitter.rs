@@ -2829,6 +2829,10 @@ mod tests {
         assert!(area(&disk, Vec3::new(0.3, -0.2, 2.0 - 0.7)));
         assert!(!area(&cap, Vec3::new(0.0, 0.0, 1.35)));
         assert!(area(&cap, Vec3::new(0.0, 0.0, 1.45)));
+        // Beside its rim (the circle z = 0.5, ρ = sin 60°), seen from where the cap is
+        // not: 0.389 away (near) and 0.478 (far).
+        assert!(!area(&cap, Vec3::new(1.2, 0.0, 0.3)));
+        assert!(area(&cap, Vec3::new(1.3, 0.0, 0.3)));
         // Over an annulus's hole, the distance is to its inner rim: from its axis 0.1
         // above a hole of radius 0.5 (outer 1), 0.51 away, beyond half the size.
         let annulus = Primitive::Annulus {
