@@ -1301,6 +1301,13 @@ mod tests {
         }
         assert!(checked > 50_000);
         assert_eq!(seen.len(), 3, "every side met: {seen:?}");
+        // A point at the radius from the centre's mirror image, −c: far outside, though
+        // |p + c| = r (a shortcut that added the centre would call it within).
+        for radius in [1e-3f32, 1.0, 1e6] {
+            let center = Vec3::new(3.0, -2.0, 1.0) * radius;
+            let p = -center + Vec3::X * radius;
+            assert_eq!(sphere_side(p, center, radius), SphereSide::Outside);
+        }
         // Where the shortcut's window would lie had it been formed from a wrong r²
         // (2r, or 1): |p − c|² = 2r and 1, outside, within or inside the true band.
         for radius in [1e-3f32, 0.5, 1.0, 7.5] {
