@@ -2849,6 +2849,9 @@ mod tests {
             radius: 1.0,
         };
         assert!(area(&annulus, Vec3::new(0.0, 0.0, 0.1)));
-        assert!(!area(&annulus, Vec3::new(0.3, 0.0, 0.1)), "0.2 from the rim");
+        assert!(
+            !area(&annulus, Vec3::new(0.3, 0.0, 0.1)),
+            "0.2 from the rim"
+        );
     }
 }
