@@ -575,18 +575,20 @@ fn the_whole_catalog_family_counts_the_warp_suites() {
 }
 
 /// An estimator the case does not list is outside the proof, and its failure says so:
-/// light sampling of the 10⁶-radius blackbody disk 1 above the receiver draws points by
-/// area, almost all far away, so the estimate is off by eight orders with a small standard
-/// error; the case's own estimators (BSDF sampling and MIS) are the proof.
+/// BSDF sampling of a sphere light subtending 10⁻⁶ sr draws none of the directions that
+/// meet it, so the estimate is 0 without variance; the case's own estimator (light
+/// sampling) is the proof. (Until session 44 this was light sampling of the 10⁶-radius
+/// blackbody disk, by area, off by eight orders; a disk seen from close by is now
+/// sampled by a mixture that gets it right.)
 #[test]
 fn an_estimator_the_case_does_not_list_is_named_in_its_failure() {
     let stdout = fails_on_catalog_case(
         "estimate",
-        "spectral/blackbody_irradiance_band_6500K.json",
-        &["--estimator", "light"],
+        "irradiance/sphere_tiny_far.json",
+        &["--estimator", "bsdf"],
     );
     assert!(
-        stdout.contains("`light` is not among the case's estimators (bsdf, mis), where its false-alarm rate is not established")
+        stdout.contains("`bsdf` is not among the case's estimators (light), where its false-alarm rate is not established")
             && stdout.contains("run the case's own estimators to tell"),
         "{stdout}"
     );
