@@ -456,8 +456,10 @@ pub fn prim_strategy(prim: &Primitive, p: Vec3, off_prim: bool) -> PrimSampling 
 /// relative variance per sample grows as about (size/δ)²/3 (a disk seen on its axis from
 /// h: R²/3h²); the mixtures' stays bounded however close (a receiver parallel to a disk:
 /// about α/(1 − α); facing a cap's wall from inside: about 8/(3(1 − α)) − 1): at
-/// δ = size/2 they are comparable. Farther viewers keep area sampling, and every catalog
-/// case its estimates, bit for bit.
+/// δ = size/2 they are comparable. Farther viewers keep area sampling and their
+/// estimates, bit for bit (of the catalog's, only the two cases with a disk within half
+/// its radius changed: `view_factor/coaxial_disks_near_touching_1e-2` and
+/// `spectral/blackbody_irradiance_band_6500K`).
 pub const NEAR_FRACTION: f64 = 0.5;
 
 /// The mixtures' fraction α of area samples at the distance `delta` from a primitive of
