@@ -114,7 +114,7 @@ pub fn disk_parallel_offset(radius: f64, height: f64, offset: f64, radiance: f64
 /// Φ_x = −(L h r/2)∫ cos φ/(A + B cos φ) dφ. F⊥ is Howell's "plane element perpendicular
 /// to a disk" factor (valid as stated there when a > r; as a vector component it holds
 /// for every a).
-pub fn disk_vector_components(r: f64, h: f64, a: f64) -> (f64, f64) {
+fn disk_vector_components(r: f64, h: f64, a: f64) -> (f64, f64) {
     let y = (((a - r) * (a - r) + h * h) * ((a + r) * (a + r) + h * h)).sqrt();
     let x = a * a + h * h - r * r;
     let parallel = if x > 0.0 {

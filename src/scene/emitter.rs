@@ -2545,9 +2545,17 @@ mod tests {
 
     /// The irradiance vector ∫ω dω (over the directions that meet it) of a disk of radius
     /// `r` seen from height `h` above its plane at distance `a` from its axis, as (towards
-    /// the plane, towards the axis): π (F∥, F⊥), the oracle's Howell factors.
+    /// the plane, towards the axis): π (F∥, F⊥), the parallel- and perpendicular-element
+    /// factors (Howell's catalog, section B), written here in f64 apart from the oracle.
     fn disk_moment(r: f64, h: f64, a: f64) -> (f64, f64) {
-        let (parallel, radial) = lightproof_analytic::irradiance::disk_vector_components(r, h, a);
+        let y = (((a - r) * (a - r) + h * h) * ((a + r) * (a + r) + h * h)).sqrt();
+        let x = a * a + h * h - r * r;
+        let parallel = if x > 0.0 {
+            2.0 * r * r * h * h / (y * (y + x))
+        } else {
+            0.5 * (1.0 - x / y)
+        };
+        let radial = 2.0 * a * h * r * r / (y * (y + a * a + h * h + r * r));
         (PI as f64 * parallel, PI as f64 * radial)
     }
 
