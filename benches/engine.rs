@@ -13,7 +13,7 @@ use glam::{Vec2, Vec3};
 use lightproof::case::{Case, CaseDesc};
 use lightproof::sampling::sphere::uniform_sphere;
 use lightproof::sampling::{Sampler, SamplerKind};
-use lightproof::scene::accel::Accel;
+use lightproof::scene::accel::{Accel, Isa};
 use lightproof::scene::shape::Primitive;
 use lightproof::transport::engine::RunSpec;
 use std::hint::black_box;
@@ -86,55 +86,68 @@ fn bvh(c: &mut Criterion) {
         })
         .collect();
     g.finish();
-    let mut g = c.benchmark_group("rays, CPU time");
-    g.sample_size(10);
-    g.throughput(Throughput::Elements(rays.len() as u64));
-    g.bench_function("closest hit, 1 thread", |b| {
-        b.iter_custom(|iters| {
-            cpu_iters(iters, || {
-                rays.iter()
-                    .filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some())
-                    .count()
-            })
-        })
-    });
     let batch: Vec<(Vec3, Vec3, f32, f32)> = rays
         .iter()
         .map(|&(o, d)| (o, d, 0.0, f32::INFINITY))
         .collect();
-    g.bench_function("closest hit, interleaved batch, 1 thread", |b| {
-        b.iter_custom(|iters| {
-            cpu_iters(iters, || {
-                accel
-                    .intersect_batch(&batch)
-                    .iter()
-                    .filter(|h| h.is_some())
-                    .count()
+    let mut g = c.benchmark_group("rays, CPU time");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    // Each query in both instruction sets where the CPU runs x86-64-v3 (the answers are
+    // the same bit for bit: `accel::tests::both_instruction_sets_give_the_same_bits`).
+    let mut accel = accel;
+    for isa in [Isa::Baseline, Isa::X86_64V3] {
+        if accel.set_isa(isa) != isa {
+            continue;
+        }
+        let accel = &accel;
+        let name = isa.name();
+        g.bench_function(format!("closest hit, 1 thread, {name}"), |b| {
+            b.iter_custom(|iters| {
+                cpu_iters(iters, || {
+                    rays.iter()
+                        .filter(|(o, d)| accel.intersect(*o, *d, 0.0, f32::INFINITY).is_some())
+                        .count()
+                })
             })
-        })
-    });
-    // Shadow segments along the same rays: of length |o| (3), reaching the target's
-    // neighbourhood inside the sphere, so every one is blocked (early exit); and of
-    // length |o|/2, ending outside the sphere, so nearly all are clear (a full traversal
-    // that finds nothing).
-    g.bench_function("shadow rays (occluded), 1 thread", |b| {
-        b.iter_custom(|iters| {
-            cpu_iters(iters, || {
-                rays.iter()
-                    .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, o.length()))
-                    .count()
+        });
+        g.bench_function(
+            format!("closest hit, interleaved batch, 1 thread, {name}"),
+            |b| {
+                b.iter_custom(|iters| {
+                    cpu_iters(iters, || {
+                        accel
+                            .intersect_batch(&batch)
+                            .iter()
+                            .filter(|h| h.is_some())
+                            .count()
+                    })
+                })
+            },
+        );
+        // Shadow segments along the same rays: of length |o| (3), reaching the target's
+        // neighbourhood inside the sphere, so every one is blocked (early exit); and of
+        // length |o|/2, ending outside the sphere, so nearly all are clear (a full
+        // traversal that finds nothing).
+        g.bench_function(format!("shadow rays (occluded), 1 thread, {name}"), |b| {
+            b.iter_custom(|iters| {
+                cpu_iters(iters, || {
+                    rays.iter()
+                        .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, o.length()))
+                        .count()
+                })
             })
-        })
-    });
-    g.bench_function("shadow rays (clear), 1 thread", |b| {
-        b.iter_custom(|iters| {
-            cpu_iters(iters, || {
-                rays.iter()
-                    .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, 0.5 * o.length()))
-                    .count()
+        });
+        g.bench_function(format!("shadow rays (clear), 1 thread, {name}"), |b| {
+            b.iter_custom(|iters| {
+                cpu_iters(iters, || {
+                    rays.iter()
+                        .filter(|(o, d)| accel.unoccluded(*o, *d, 0.0, 0.5 * o.length()))
+                        .count()
+                })
             })
-        })
-    });
+        });
+    }
     g.finish();
     let _ = Vec2::ZERO;
 }

@@ -481,9 +481,23 @@ fn empty_seed_is_unset() {
     }
 }
 
+/// `LIGHTPROOF_ISA` (README "Ray casting: one answer on every x86-64 CPU"), which the
+/// library reads when the first scene is built, is checked first: a value it does not
+/// know is a usage error naming the variable, not silently the CPU's own choice.
+fn check_isa_variable() -> Result<(), ExitCode> {
+    use lightproof::scene::accel::Isa;
+    Isa::from_env().map(drop).map_err(|reason| {
+        say!("error: <environment>: {}: {reason}", Isa::ENV);
+        ExitCode::from(2)
+    })
+}
+
 fn main() -> ExitCode {
     quiet_on_broken_pipe();
     empty_seed_is_unset();
+    if let Err(code) = check_isa_variable() {
+        return code;
+    }
     let cli = match parse_cli() {
         Ok(cli) => cli,
         Err(code) => return code,

@@ -198,7 +198,11 @@ impl Tree {
     /// in sequence visit what one `traverse!` would, in its order, whatever runs between
     /// them.
     #[inline(always)]
-    fn round(&self, w: &mut Walk, visit: &mut impl FnMut(usize, &Primitive, f32) -> Visit) -> bool {
+    fn round<const WIDE: bool>(
+        &self,
+        w: &mut Walk,
+        visit: &mut impl FnMut(usize, &Primitive, f32) -> Visit,
+    ) -> bool {
         while w.primitive_group.y != 0 {
             let local = obvhs::cwbvh::firstbithigh(w.primitive_group.y);
             w.primitive_group.y &= !(1u32 << local);
@@ -226,7 +230,8 @@ impl Tree {
             let slot_index = (offset - 24) ^ (w.oct_inv4 & 0xff);
             let relative = (hits_imask & !(u32::MAX << slot_index)).count_ones();
             let node = &self.nodes[(base + relative) as usize];
-            let hitmask = child_hits(node, &w.r, w.tm, w.oct_inv4, &self.nodes, &self.slots);
+            let hitmask =
+                child_hits::<WIDE>(node, &w.r, w.tm, w.oct_inv4, &self.nodes, &self.slots);
             w.current_group.x = node.child_base_idx;
             w.primitive_group.x = node.primitive_base_idx;
             w.current_group.y = (hitmask & 0xff00_0000) | u32::from(node.imask);
@@ -249,7 +254,8 @@ impl Tree {
     /// Visit, in obvhs's order, every primitive not skipped whose box the ray meets within
     /// (tmin, tmax), tmax shortened as `visit` asks; `visit` gets the slot, its primitive
     /// and the current tmax.
-    fn walk(
+    #[inline(always)]
+    fn walk<const WIDE: bool>(
         &self,
         o: Vec3,
         d: Vec3,
@@ -258,7 +264,179 @@ impl Tree {
         mut visit: impl FnMut(usize, &Primitive, f32) -> Visit,
     ) {
         let mut w = Walk::new(o, d, tmin, tmax);
-        while self.round(&mut w, &mut visit) {}
+        while self.round::<WIDE>(&mut w, &mut visit) {}
+    }
+
+    /// [`Accel::intersect`] through the tree.
+    #[inline(always)]
+    fn closest<const WIDE: bool>(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(usize, Hit)> {
+        let ray = Ray::new(o, d);
+        let mut best: Option<(usize, Hit)> = None;
+        self.walk::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
+            match hit::<WIDE>(prim, &ray, tmin, tm) {
+                Some(h) => {
+                    // Read after the traversal: fetched meanwhile.
+                    prefetch(&self.index[slot]);
+                    best = Some((slot, h));
+                    Visit::Shorten(h.t)
+                }
+                None => Visit::Go,
+            }
+        });
+        best.map(|(slot, h)| (self.index[slot] as usize, h))
+    }
+
+    /// [`Accel::unoccluded`] through the tree.
+    #[inline(always)]
+    fn clear<const WIDE: bool>(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        let ray = Ray::new(o, d);
+        let mut clear = true;
+        self.walk::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
+            if hit::<WIDE>(prim, &ray, tmin, tmax).is_some() {
+                clear = false;
+                Visit::Stop
+            } else {
+                Visit::Go
+            }
+        });
+        clear
+    }
+
+    /// [`Accel::intersect_batch`] through the tree.
+    #[inline(always)]
+    fn batch<const WIDE: bool>(
+        &self,
+        rays: &[(Vec3, Vec3, f32, f32)],
+    ) -> Vec<Option<(usize, Hit)>> {
+        let mut out = vec![None; rays.len()];
+        struct Lane {
+            walk: Walk,
+            ray: Ray,
+            tmin: f32,
+            index: usize,
+            best: Option<(usize, Hit)>,
+        }
+        let start = |index: usize| {
+            let (o, d, tmin, tmax) = rays[index];
+            Lane {
+                walk: Walk::new(o, d, tmin, tmax),
+                ray: Ray::new(o, d),
+                tmin,
+                index,
+                best: None,
+            }
+        };
+        let mut lanes: Vec<Lane> = (0..rays.len().min(LANES)).map(start).collect();
+        let mut next = lanes.len();
+        while !lanes.is_empty() {
+            let mut k = 0;
+            while k < lanes.len() {
+                let lane = &mut lanes[k];
+                let (ray, tmin, best) = (&lane.ray, lane.tmin, &mut lane.best);
+                let going = self.round::<WIDE>(
+                    &mut lane.walk,
+                    &mut |slot, prim: &Primitive, tm| match hit::<WIDE>(prim, ray, tmin, tm) {
+                        Some(h) => {
+                            prefetch(&self.index[slot]);
+                            *best = Some((slot, h));
+                            Visit::Shorten(h.t)
+                        }
+                        None => Visit::Go,
+                    },
+                );
+                if going {
+                    k += 1;
+                    continue;
+                }
+                out[lane.index] = lane.best.map(|(slot, h)| (self.index[slot] as usize, h));
+                if next < rays.len() {
+                    lanes[k] = start(next);
+                    next += 1;
+                    k += 1;
+                } else {
+                    lanes.swap_remove(k);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// `prim`'s hit by the prepared `ray` within (tmin, tmax), in the instruction set `WIDE`
+/// names ([`Isa`]).
+#[inline(always)]
+fn hit<const WIDE: bool>(prim: &Primitive, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        // SAFETY: the `WIDE` instances run only inside [`wide`]'s functions, which run only
+        // where the CPU has the features they are compiled with (`Accel::isa` is
+        // `Isa::X86_64V3` only there).
+        return unsafe { prim.intersect_ray_fma(ray, tmin, tmax) };
+    }
+    prim.intersect_ray(ray, tmin, tmax)
+}
+
+/// The tree's queries compiled for x86-64-v3 ([`Isa::X86_64V3`]): the same generic code
+/// as the baseline's, so the same IEEE operations in the same order, with the box test
+/// eight children wide ([`met_children_avx2`]), the triangle test's fused multiply-adds
+/// and the walk's bit counts as instructions. Callers must have checked that the CPU has
+/// the features ([`Isa::supported`], which checks the list these functions name).
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::{Hit, Tree, Vec3};
+
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn closest(
+        tree: &Tree,
+        o: Vec3,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(usize, Hit)> {
+        tree.closest::<true>(o, d, tmin, tmax)
+    }
+
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn clear(tree: &Tree, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        tree.clear::<true>(o, d, tmin, tmax)
+    }
+
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn batch(tree: &Tree, rays: &[(Vec3, Vec3, f32, f32)]) -> Vec<Option<(usize, Hit)>> {
+        tree.batch::<true>(rays)
+    }
+}
+
+/// Elsewhere [`Isa::X86_64V3`] is never chosen; these keep the dispatch one match.
+#[cfg(not(target_arch = "x86_64"))]
+mod wide {
+    use super::{Hit, Tree, Vec3};
+
+    pub(super) unsafe fn closest(
+        tree: &Tree,
+        o: Vec3,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(usize, Hit)> {
+        tree.closest::<false>(o, d, tmin, tmax)
+    }
+
+    pub(super) unsafe fn clear(tree: &Tree, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        tree.clear::<false>(o, d, tmin, tmax)
+    }
+
+    pub(super) unsafe fn batch(
+        tree: &Tree,
+        rays: &[(Vec3, Vec3, f32, f32)],
+    ) -> Vec<Option<(usize, Hit)>> {
+        tree.batch::<false>(rays)
     }
 }
 
@@ -372,12 +550,56 @@ fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     }
 }
 
+/// [`met_children`] in AVX2, the eight children in one register, every operation the
+/// same IEEE one in the same order as [`met_children_sse2`]: a row of 8 plane indices
+/// widened u8 → i32 → f32 in one instruction, the plane p + q·s, (plane − o)·(1/d);
+/// `vmaxps`/`vminps` return their second operand on NaN as `maxps`/`minps` do, and the
+/// comparison is the same ordered ≤.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        __m256, _CMP_LE_OS, _mm_cvtsi64_si128, _mm256_add_ps, _mm256_cmp_ps, _mm256_cvtepi32_ps,
+        _mm256_cvtepu8_epi32, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
+        _mm256_set1_ps, _mm256_sub_ps,
+    };
+    /// A row's eight planes.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn planes(row: &[u8; 8], p: __m256, s: __m256) -> __m256 {
+        let q = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(i64::from_le_bytes(*row)));
+        _mm256_add_ps(p, _mm256_mul_ps(_mm256_cvtepi32_ps(q), s))
+    }
+    let mut near = _mm256_set1_ps(r.tmin);
+    let mut far = _mm256_set1_ps(tmax);
+    for a in 0..3 {
+        let p = _mm256_set1_ps(node.p[a]);
+        let s = _mm256_set1_ps(step(node.e[a]));
+        let o = _mm256_set1_ps(r.o[a]);
+        let inv = _mm256_set1_ps(r.inv[a]);
+        let tn = _mm256_mul_ps(_mm256_sub_ps(planes(&node.q[r.near_row[a]], p, s), o), inv);
+        let tf = _mm256_mul_ps(
+            _mm256_sub_ps(planes(&node.q[r.near_row[a] ^ 1], p, s), o),
+            inv,
+        );
+        near = _mm256_max_ps(tn, near);
+        far = _mm256_min_ps(tf, far);
+    }
+    let (ns, fs) = (_mm256_set1_ps(NEAR_SCALE), _mm256_set1_ps(FAR_SCALE));
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(
+        _mm256_mul_ps(near, ns),
+        _mm256_mul_ps(far, fs),
+    )) as u32
+}
+
 /// Which children of `node` the ray meets within (tmin, tmax) ([`met_children`]), as
 /// obvhs's hit mask (leaf children's primitive bits in the low 24 bits, internal
 /// children's priority bits in the high 8), ordered by `oct_inv4`; the nodes and
-/// primitives of the children met are prefetched.
+/// primitives of the children met are prefetched. `WIDE` tests the eight children in
+/// one AVX2 register ([`met_children_avx2`]), the same bits.
 #[inline(always)]
-fn child_hits(
+fn child_hits<const WIDE: bool>(
     node: &Node,
     r: &BoxRay,
     tmax: f32,
@@ -386,7 +608,12 @@ fn child_hits(
     slots: &[Primitive],
 ) -> u32 {
     #[cfg(target_arch = "x86_64")]
-    let mut met = met_children_sse2(node, r, tmax);
+    let mut met = if WIDE {
+        // SAFETY: as in [`hit`]: `WIDE` instances run only where the CPU has AVX2.
+        unsafe { met_children_avx2(node, r, tmax) }
+    } else {
+        met_children_sse2(node, r, tmax)
+    };
     #[cfg(not(target_arch = "x86_64"))]
     let mut met = met_children(node, r, tmax);
     // Only the meta data is read: the rest of obvhs's node stays out of the cache lines
@@ -629,6 +856,81 @@ pub struct Accel {
     tree: Option<Tree>,
     /// Primitives the queries skip (moving shapes, which the scene tests itself).
     skip: Vec<bool>,
+    /// The instruction set the tree's queries run in.
+    isa: Isa,
+}
+
+/// The instruction set the BVH queries run in. Both give the same answer bit for bit
+/// (the same source compiled twice: the same IEEE operations in the same order; LLVM
+/// fuses no multiply-add the source does not ask for), so results do not depend on the
+/// CPU; AVX2 is only faster. Chosen once per process ([`Isa::current`]); the plain loop
+/// of a small scene always runs the baseline (its furnace paths were slower compiled for
+/// AVX2, README "Speed").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    /// The x86-64 baseline: the box test four children at a time in SSE2, fused
+    /// multiply-adds through the runtime library (and the portable code elsewhere).
+    Baseline,
+    /// The x86-64-v3 level's instructions the queries use (AVX2, FMA, BMI1, BMI2, LZCNT,
+    /// POPCNT; every x86-64 CPU since about 2015 has them), detected at run time: the box
+    /// test eight children at a time, fused multiply-adds and bit counts as instructions.
+    X86_64V3,
+}
+
+impl Isa {
+    /// The environment variable that can hold the queries to [`Isa::Baseline`].
+    pub const ENV: &'static str = "LIGHTPROOF_ISA";
+
+    /// The fastest instruction set this CPU runs.
+    pub fn supported() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::is_x86_feature_detected as has;
+            // The features `wide`'s functions are compiled with.
+            if has!("avx2")
+                && has!("fma")
+                && has!("bmi1")
+                && has!("bmi2")
+                && has!("lzcnt")
+                && has!("popcnt")
+            {
+                return Isa::X86_64V3;
+            }
+        }
+        Isa::Baseline
+    }
+
+    /// What [`Isa::ENV`] asks for: `None` when unset or empty, or set to `native` (the
+    /// fastest the CPU runs); `Baseline` for `baseline`; anything else is refused with the
+    /// reason (the command line reports it naming the variable).
+    pub fn from_env() -> Result<Option<Isa>, String> {
+        match std::env::var_os(Isa::ENV) {
+            None => Ok(None),
+            Some(v) if v.is_empty() || v == "native" => Ok(None),
+            Some(v) if v == "baseline" => Ok(Some(Isa::Baseline)),
+            Some(v) => Err(format!("must be `baseline` or `native`, got {v:?}")),
+        }
+    }
+
+    /// The instruction set new [`Accel`]s use: [`Isa::ENV`]'s choice, else (and for a value
+    /// [`Isa::from_env`] refuses) [`Isa::supported`]. Read once per process.
+    pub fn current() -> Isa {
+        static CURRENT: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *CURRENT.get_or_init(|| {
+            Isa::from_env()
+                .ok()
+                .flatten()
+                .unwrap_or_else(Isa::supported)
+        })
+    }
+
+    /// Its name, as reports and `LIGHTPROOF_ISA` spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Baseline => "baseline",
+            Isa::X86_64V3 => "x86-64-v3",
+        }
+    }
 }
 
 impl Accel {
@@ -660,7 +962,27 @@ impl Accel {
             }
         });
         let skip = vec![false; prims.len()];
-        Accel { prims, tree, skip }
+        Accel {
+            prims,
+            tree,
+            skip,
+            isa: Isa::current(),
+        }
+    }
+
+    /// Run the tree's queries in `isa` where the CPU has it, else in the baseline; returns
+    /// the one in effect. (The answers are the same bit for bit: for tests and benches.)
+    pub fn set_isa(&mut self, isa: Isa) -> Isa {
+        self.isa = match isa {
+            Isa::X86_64V3 if Isa::supported() == Isa::X86_64V3 => Isa::X86_64V3,
+            Isa::X86_64V3 | Isa::Baseline => Isa::Baseline,
+        };
+        self.isa
+    }
+
+    /// The instruction set the tree's queries run in.
+    pub fn isa(&self) -> Isa {
+        self.isa
     }
 
     /// Make the queries skip the primitives marked `true` (moving shapes).
@@ -697,22 +1019,11 @@ impl Accel {
                 }
                 best
             }
-            Some(tree) => {
-                let ray = Ray::new(o, d);
-                let mut best: Option<(usize, Hit)> = None;
-                tree.walk(o, d, tmin, tmax, |slot, prim, tm| {
-                    match prim.intersect_ray(&ray, tmin, tm) {
-                        Some(h) => {
-                            // Read after the traversal: fetched meanwhile.
-                            prefetch(&tree.index[slot]);
-                            best = Some((slot, h));
-                            Visit::Shorten(h.t)
-                        }
-                        None => Visit::Go,
-                    }
-                });
-                best.map(|(slot, h)| (tree.index[slot] as usize, h))
-            }
+            Some(tree) => match self.isa {
+                Isa::Baseline => tree.closest::<false>(o, d, tmin, tmax),
+                // SAFETY: `isa` is `X86_64V3` only where the CPU has its features.
+                Isa::X86_64V3 => unsafe { wide::closest(tree, o, d, tmin, tmax) },
+            },
         }
     }
 
@@ -727,57 +1038,11 @@ impl Accel {
                 .map(|&(o, d, tmin, tmax)| self.intersect(o, d, tmin, tmax))
                 .collect();
         };
-        let mut out = vec![None; rays.len()];
-        struct Lane {
-            walk: Walk,
-            ray: Ray,
-            tmin: f32,
-            index: usize,
-            best: Option<(usize, Hit)>,
+        match self.isa {
+            Isa::Baseline => tree.batch::<false>(rays),
+            // SAFETY: as in `intersect`.
+            Isa::X86_64V3 => unsafe { wide::batch(tree, rays) },
         }
-        let start = |index: usize| {
-            let (o, d, tmin, tmax) = rays[index];
-            Lane {
-                walk: Walk::new(o, d, tmin, tmax),
-                ray: Ray::new(o, d),
-                tmin,
-                index,
-                best: None,
-            }
-        };
-        let mut lanes: Vec<Lane> = (0..rays.len().min(LANES)).map(start).collect();
-        let mut next = lanes.len();
-        while !lanes.is_empty() {
-            let mut k = 0;
-            while k < lanes.len() {
-                let lane = &mut lanes[k];
-                let (ray, tmin, best) = (&lane.ray, lane.tmin, &mut lane.best);
-                let going =
-                    tree.round(&mut lane.walk, &mut |slot, prim: &Primitive, tm| match prim
-                        .intersect_ray(ray, tmin, tm)
-                    {
-                        Some(h) => {
-                            prefetch(&tree.index[slot]);
-                            *best = Some((slot, h));
-                            Visit::Shorten(h.t)
-                        }
-                        None => Visit::Go,
-                    });
-                if going {
-                    k += 1;
-                    continue;
-                }
-                out[lane.index] = lane.best.map(|(slot, h)| (tree.index[slot] as usize, h));
-                if next < rays.len() {
-                    lanes[k] = start(next);
-                    next += 1;
-                    k += 1;
-                } else {
-                    lanes.swap_remove(k);
-                }
-            }
-        }
-        out
     }
 
     /// Whether nothing lies on the segment t ∈ (tmin, tmax), tmin ≥ 0.
@@ -789,19 +1054,11 @@ impl Accel {
                     skip || intersect_lazily(p, &mut ray, o, d, tmin, tmax).is_none()
                 })
             }
-            Some(tree) => {
-                let ray = Ray::new(o, d);
-                let mut clear = true;
-                tree.walk(o, d, tmin, tmax, |_, prim, _| {
-                    if prim.intersect_ray(&ray, tmin, tmax).is_some() {
-                        clear = false;
-                        Visit::Stop
-                    } else {
-                        Visit::Go
-                    }
-                });
-                clear
-            }
+            Some(tree) => match self.isa {
+                Isa::Baseline => tree.clear::<false>(o, d, tmin, tmax),
+                // SAFETY: as in `intersect`.
+                Isa::X86_64V3 => unsafe { wide::clear(tree, o, d, tmin, tmax) },
+            },
         }
     }
 }
@@ -928,6 +1185,130 @@ mod tests {
             }
         }
         assert!(hits > 500, "{hits} hits");
+    }
+
+    /// The x86-64-v3 queries ([`Isa::X86_64V3`]) answer every ray as the baseline's do, bit for
+    /// bit (index, t, point, error, normal; the shadow ray's verdict; the interleaved
+    /// batch): triangles and spheres at random, slivers and degenerate triangles, rays
+    /// aimed at vertices and edge midpoints (the edge functions' f64 fallback), axis-
+    /// parallel rays with ±0 components, finite segments and tmin > 0, rays from just
+    /// above a tiling (the near-surface slabs), and a scene 10¹⁵ across (the triangle's
+    /// f64 path). Where the CPU lacks those features there is nothing to compare: the test
+    /// says so and checks that `set_isa` falls back to the baseline.
+    #[test]
+    fn both_instruction_sets_give_the_same_bits() {
+        let sampler = Sampler::independent(29);
+        if Accel::new(Vec::new()).set_isa(Isa::X86_64V3) != Isa::X86_64V3 {
+            assert_eq!(Isa::supported(), Isa::Baseline);
+            eprintln!("this CPU is below x86-64-v3: only the baseline runs here");
+            return;
+        }
+        let bits = |h: Option<(usize, Hit)>| {
+            h.map(|(i, h)| {
+                let v = |x: Vec3| x.to_array().map(f32::to_bits);
+                (i, h.t.to_bits(), v(h.p), v(h.p_error), v(h.n))
+            })
+        };
+        // A soup of spheres, triangles, slivers and degenerate triangles around `c`,
+        // `scale` across.
+        let soup = |c: Vec3, scale: f32| -> Vec<Primitive> {
+            (0..400u64)
+                .map(|i| {
+                    let mut s = sampler.stream(i);
+                    let p = c + (Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) - 0.5) * scale;
+                    let a = uniform_sphere(s.next_2d()) * (0.3 * scale);
+                    let b = uniform_sphere(s.next_2d()) * (0.3 * scale);
+                    match i % 5 {
+                        0 => Primitive::Sphere {
+                            center: p,
+                            radius: 0.05 * scale,
+                        },
+                        1 => Primitive::Triangle {
+                            p: [p, p + a, p + a * (1.0 + 1e-6)],
+                        },
+                        2 => Primitive::Triangle { p: [p, p + a, p] },
+                        _ => Primitive::Triangle {
+                            p: [p, p + a, p + b],
+                        },
+                    }
+                })
+                .collect()
+        };
+        let mut scenes = vec![
+            (soup(Vec3::ZERO, 10.0), Vec3::ZERO, 10.0),
+            (soup(Vec3::splat(1e5), 10.0), Vec3::splat(1e5), 10.0),
+            (soup(Vec3::ZERO, 1e15), Vec3::ZERO, 1e15),
+        ];
+        let base = Vec3::new(0.25, -0.5, 1.0);
+        scenes.push((tiles(base, 0.5), base, 4.0));
+        let mut compared = [0usize; 3];
+        for (prims, c, scale) in scenes {
+            let mut rays: Vec<(Vec3, Vec3, f32, f32)> = Vec::new();
+            for i in 0..600u64 {
+                let mut s = sampler.stream(10_000 + i);
+                let o =
+                    c + (Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) - 0.5) * (1.4 * scale);
+                // At a vertex or an edge's midpoint of a triangle, or anywhere.
+                let target = match (i % 3, &prims[(i as usize * 7) % prims.len()]) {
+                    (0, Primitive::Triangle { p }) => p[(i as usize / 3) % 3],
+                    (1, Primitive::Triangle { p }) => (p[0] + p[1]) * 0.5,
+                    _ => c + (Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) - 0.5) * scale,
+                };
+                let mut d = (target - o).normalize();
+                if i % 11 == 0 {
+                    // Axis-parallel, with signed zeros.
+                    let axis = (i as usize / 11) % 3;
+                    d = Vec3::splat(if i % 2 == 0 { 0.0 } else { -0.0 });
+                    d[axis] = if i % 4 < 2 { 1.0 } else { -1.0 };
+                }
+                let tmin = if i % 5 == 0 { 0.01 * scale } else { 0.0 };
+                let tmax = if i % 4 == 0 {
+                    0.5 * scale
+                } else {
+                    f32::INFINITY
+                };
+                rays.push((o, d, tmin, tmax));
+            }
+            // From just above the tiling and its gaps, straight down and slanted.
+            for i in 0..200u64 {
+                let mut s = sampler.stream(20_000 + i);
+                let o = c + Vec3::new(s.next_1d() * 2.0, s.next_1d() * 2.0, 1e-6 * (i % 7) as f32);
+                let d = Vec3::new(s.next_1d() - 0.5, s.next_1d() - 0.5, -1.0).normalize();
+                rays.push((o, d, 0.0, f32::INFINITY));
+            }
+            let mut slow = Accel::new(prims.clone());
+            assert_eq!(slow.set_isa(Isa::Baseline), Isa::Baseline);
+            let mut fast = Accel::new(prims);
+            assert!(fast.tree.is_some());
+            assert_eq!(fast.set_isa(Isa::X86_64V3), Isa::X86_64V3);
+            for &(o, d, tmin, tmax) in &rays {
+                let (want, got) = (
+                    slow.intersect(o, d, tmin, tmax),
+                    fast.intersect(o, d, tmin, tmax),
+                );
+                assert_eq!(bits(got), bits(want), "ray {o} {d} ({tmin}, {tmax})");
+                compared[0] += usize::from(want.is_some());
+                let clear = slow.unoccluded(o, d, tmin, tmax);
+                assert_eq!(
+                    fast.unoccluded(o, d, tmin, tmax),
+                    clear,
+                    "shadow ray {o} {d}"
+                );
+                compared[1] += usize::from(!clear);
+            }
+            for (got, want) in fast
+                .intersect_batch(&rays)
+                .into_iter()
+                .zip(slow.intersect_batch(&rays))
+            {
+                assert_eq!(bits(got), bits(want));
+                compared[2] += usize::from(want.is_some());
+            }
+        }
+        assert!(
+            compared.iter().all(|&n| n > 1000),
+            "hits compared: {compared:?}"
+        );
     }
 
     #[test]

@@ -618,6 +618,21 @@ impl Primitive {
             | Primitive::Annulus { .. } => self.intersect(ray.o, ray.d, tmin, tmax),
         }
     }
+
+    /// [`Primitive::intersect_ray`] compiled for x86-64-v3 CPUs
+    /// ([`crate::scene::accel::Isa::X86_64V3`]): the same source, so the same IEEE
+    /// operations in the same order and the same bits; the triangle test's fused
+    /// multiply-adds (`f32::mul_add`, correctly rounded either way) become instructions
+    /// instead of calls into the runtime library. Other shapes take the baseline code.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(crate) fn intersect_ray_fma(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        if let Primitive::Triangle { p } = *self {
+            triangle_hit(p, ray, tmin, tmax)
+        } else {
+            self.intersect_ray(ray, tmin, tmax)
+        }
+    }
 }
 
 /// Watertight ray–triangle intersection (Woop, Benthin & Wald 2013; pbrt-v4 §6.5.3), the
@@ -626,6 +641,13 @@ impl Primitive {
 /// step treats the three vertices at once; every operation on each coordinate is the one
 /// pbrt-v4 performs.
 fn intersect_triangle(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+    triangle_hit(p, ray, tmin, tmax)
+}
+
+/// [`intersect_triangle`]'s body, inlined into each instruction set's instance of it
+/// ([`Primitive::intersect_ray_fma`]).
+#[inline(always)]
+fn triangle_hit(p: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
     let [kx, ky, kz] = ray.k;
     let [sx, sy, sz] = ray.shear;
     let o = ray.o.to_array();

@@ -829,8 +829,10 @@ fn verify_json(
     let out = bin()
         .args(["verify", "--samples", "16384"])
         .args(args)
-        // The C library's own defaults unless `env` says otherwise.
+        // The C library's own defaults and the CPU's own instruction set for the ray
+        // queries unless `env` says otherwise.
         .env_remove("GLIBC_TUNABLES")
+        .env_remove("LIGHTPROOF_ISA")
         .envs(env.iter().copied())
         .arg("--json")
         .arg(&json)
@@ -913,6 +915,65 @@ fn verify_is_the_same_whatever_the_c_librarys_cpu_path() {
     );
     assert!(native["outcomes"].as_array().unwrap().len() > cases.len());
     assert_eq!(native, baseline);
+}
+
+/// The BVH's queries give the same bits in the x86-64 baseline (`LIGHTPROOF_ISA=baseline`)
+/// as in the x86-64-v3 code a newer CPU runs (the box test eight children wide, FMA and
+/// bit counts as instructions): `verify` of the catalog cases whose scenes go through a
+/// BVH (more than 8 primitives) gives the same JSON, and `estimate` of the Cornell-like
+/// box the same line. On a CPU below x86-64-v3 both runs take the baseline and this proves
+/// determinism only (`accel::tests::both_instruction_sets_give_the_same_bits` says which).
+#[test]
+fn verify_is_the_same_in_every_instruction_set() {
+    let cases = [
+        "furnace/closed_cube_mesh_0_5.json",
+        "depth/closed_cube_mesh_albedo_1_6_bounces.json",
+        "depth/closed_cube_mesh_2_bounces_0_5.json",
+        "time/mean_chord_box.json",
+    ];
+    let (_, native) = verify_json("isa-native", &[], &[], &cases);
+    let (_, baseline) = verify_json(
+        "isa-baseline",
+        &[],
+        &[("LIGHTPROOF_ISA", "baseline")],
+        &cases,
+    );
+    assert!(native["outcomes"].as_array().unwrap().len() > cases.len());
+    assert_eq!(native, baseline);
+    let cornell =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/scenes/cornell.json");
+    let [a, b] = ["native", "baseline"].map(|isa| {
+        let out = succeeds(
+            bin()
+                .arg("estimate")
+                .arg(&cornell)
+                .args(["--samples", "8192"])
+                .env("LIGHTPROOF_ISA", isa),
+        );
+        let mut v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v.as_object_mut().unwrap().remove("seconds");
+        v
+    });
+    assert!(a["estimate"].as_f64().unwrap() > 0.0, "{a}");
+    assert_eq!(a, b);
+}
+
+/// An instruction set `LIGHTPROOF_ISA` does not know is a usage error naming the
+/// variable and what it accepts, before any work.
+#[test]
+fn an_unknown_instruction_set_is_refused() {
+    let out = bin()
+        .arg("verify")
+        .env("LIGHTPROOF_ISA", "avx512")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err.trim_end(),
+        "error: <environment>: LIGHTPROOF_ISA: must be `baseline` or `native`, got \"avx512\""
+    );
+    assert!(out.stdout.is_empty());
 }
 
 /// An estimate without variance that misses its reference fails, saying what it cannot
