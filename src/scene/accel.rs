@@ -904,7 +904,12 @@ impl Isa {
     /// fastest the CPU runs); `Baseline` for `baseline`; anything else is refused with the
     /// reason (the command line reports it naming the variable).
     pub fn from_env() -> Result<Option<Isa>, String> {
-        match std::env::var_os(Isa::ENV) {
+        Isa::parse(std::env::var_os(Isa::ENV).as_deref())
+    }
+
+    /// [`Isa::from_env`] of the variable's value (`None`: unset).
+    fn parse(value: Option<&std::ffi::OsStr>) -> Result<Option<Isa>, String> {
+        match value {
             None => Ok(None),
             Some(v) if v.is_empty() || v == "native" => Ok(None),
             Some(v) if v == "baseline" => Ok(Some(Isa::Baseline)),
@@ -1309,6 +1314,34 @@ mod tests {
             compared.iter().all(|&n| n > 1000),
             "hits compared: {compared:?}"
         );
+    }
+
+    /// `LIGHTPROOF_ISA`'s values: unset, empty and `native` leave the choice to the CPU,
+    /// `baseline` holds the queries to it, anything else is refused naming what it got;
+    /// `set_isa` never grants what the CPU lacks.
+    #[test]
+    fn the_instruction_set_variable_is_read_strictly() {
+        use std::ffi::OsStr;
+        assert_eq!(Isa::parse(None), Ok(None));
+        assert_eq!(Isa::parse(Some(OsStr::new(""))), Ok(None));
+        assert_eq!(Isa::parse(Some(OsStr::new("native"))), Ok(None));
+        assert_eq!(
+            Isa::parse(Some(OsStr::new("baseline"))),
+            Ok(Some(Isa::Baseline))
+        );
+        for bad in ["Baseline", "x86-64-v3", "native ", "avx2"] {
+            assert_eq!(
+                Isa::parse(Some(OsStr::new(bad))),
+                Err(format!("must be `baseline` or `native`, got {bad:?}"))
+            );
+        }
+        assert_eq!(Isa::Baseline.name(), "baseline");
+        assert_eq!(Isa::X86_64V3.name(), "x86-64-v3");
+        let mut accel = Accel::new(spheres_on_z(12));
+        assert_eq!(accel.set_isa(Isa::Baseline), Isa::Baseline);
+        assert_eq!(accel.isa(), Isa::Baseline);
+        assert_eq!(accel.set_isa(Isa::X86_64V3), Isa::supported());
+        assert_eq!(accel.isa(), Isa::supported());
     }
 
     #[test]
