@@ -171,6 +171,9 @@ struct Walk {
     primitive_group: UVec2,
     oct_inv4: u32,
     stack: GroupStack,
+    /// A scratch obvhs node holding the current node's child meta data, which orders the
+    /// children ([`child_hits`]).
+    meta: CwBvhNode,
     done: bool,
 }
 
@@ -184,6 +187,7 @@ impl Walk {
             primitive_group: UVec2::ZERO,
             oct_inv4: octant_inv4(d),
             stack: GroupStack::default(),
+            meta: CwBvhNode::default(),
             done: false,
         }
     }
@@ -230,8 +234,15 @@ impl Tree {
             let slot_index = (offset - 24) ^ (w.oct_inv4 & 0xff);
             let relative = (hits_imask & !(u32::MAX << slot_index)).count_ones();
             let node = &self.nodes[(base + relative) as usize];
-            let hitmask =
-                child_hits::<WIDE>(node, &w.r, w.tm, w.oct_inv4, &self.nodes, &self.slots);
+            let hitmask = child_hits::<WIDE>(
+                node,
+                &w.r,
+                w.tm,
+                w.oct_inv4,
+                &mut w.meta,
+                &self.nodes,
+                &self.slots,
+            );
             w.current_group.x = node.child_base_idx;
             w.primitive_group.x = node.primitive_base_idx;
             w.current_group.y = (hitmask & 0xff00_0000) | u32::from(node.imask);
@@ -446,9 +457,9 @@ struct BoxRay {
     /// 1/d per component, exactly rounded; ±∞ for a ±0 component, and for one below
     /// 2⁻¹²⁸ in magnitude, whose reciprocal overflows ([`NEAR_SCALE`]).
     inv: [f32; 3],
-    /// Per axis, the row of [`Node::q`] holding the entry planes: 2a + 1 (the high
-    /// planes) where 1/d < 0, 2a otherwise; the exit planes are the other row.
-    near_row: [usize; 3],
+    /// Per axis, whether the entry planes are the high ones (1/d < 0), not the low ones
+    /// ([`BoxRay::rows`]).
+    flip: [bool; 3],
     tmin: f32,
 }
 
@@ -459,9 +470,17 @@ impl BoxRay {
         BoxRay {
             o: o.to_array(),
             inv,
-            near_row: [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0)),
+            flip: inv.map(|i| i < 0.0),
             tmin,
         }
+    }
+
+    /// Axis `a`'s rows of [`Node::q`] holding the entry and the exit planes: the high
+    /// planes (row 2a + 1) are the entry ones where 1/d < 0, else the low ones (row 2a).
+    #[inline(always)]
+    fn rows<'n>(&self, node: &'n Node, a: usize) -> (&'n [u8; 8], &'n [u8; 8]) {
+        let (lo, hi) = (&node.q[2 * a], &node.q[2 * a + 1]);
+        if self.flip[a] { (hi, lo) } else { (lo, hi) }
     }
 }
 
@@ -480,8 +499,7 @@ fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     let mut far = [tmax; 8];
     for a in 0..3 {
         let (p, s) = (node.p[a], step(node.e[a]));
-        let np = &node.q[r.near_row[a]];
-        let fp = &node.q[r.near_row[a] ^ 1];
+        let (np, fp) = r.rows(node, a);
         for c in 0..8 {
             let tn = (plane(p, s, np[c]) - r.o[a]) * r.inv[a];
             let tf = (plane(p, s, fp[c]) - r.o[a]) * r.inv[a];
@@ -530,8 +548,8 @@ fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
             let s = _mm_set1_ps(step(node.e[a]));
             let o = _mm_set1_ps(r.o[a]);
             let inv = _mm_set1_ps(r.inv[a]);
-            let np = planes(&node.q[r.near_row[a]], p, s);
-            let fp = planes(&node.q[r.near_row[a] ^ 1], p, s);
+            let (np, fp) = r.rows(node, a);
+            let (np, fp) = (planes(np, p, s), planes(fp, p, s));
             for h in 0..2 {
                 let tn = _mm_mul_ps(_mm_sub_ps(np[h], o), inv);
                 let tf = _mm_mul_ps(_mm_sub_ps(fp[h], o), inv);
@@ -578,11 +596,9 @@ fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
         let s = _mm256_set1_ps(step(node.e[a]));
         let o = _mm256_set1_ps(r.o[a]);
         let inv = _mm256_set1_ps(r.inv[a]);
-        let tn = _mm256_mul_ps(_mm256_sub_ps(planes(&node.q[r.near_row[a]], p, s), o), inv);
-        let tf = _mm256_mul_ps(
-            _mm256_sub_ps(planes(&node.q[r.near_row[a] ^ 1], p, s), o),
-            inv,
-        );
+        let (np, fp) = r.rows(node, a);
+        let tn = _mm256_mul_ps(_mm256_sub_ps(planes(np, p, s), o), inv);
+        let tf = _mm256_mul_ps(_mm256_sub_ps(planes(fp, p, s), o), inv);
         near = _mm256_max_ps(tn, near);
         far = _mm256_min_ps(tf, far);
     }
@@ -604,6 +620,7 @@ fn child_hits<const WIDE: bool>(
     r: &BoxRay,
     tmax: f32,
     oct_inv4: u32,
+    meta: &mut CwBvhNode,
     nodes: &[Node],
     slots: &[Primitive],
 ) -> u32 {
@@ -617,11 +634,8 @@ fn child_hits<const WIDE: bool>(
     #[cfg(not(target_arch = "x86_64"))]
     let mut met = met_children(node, r, tmax);
     // Only the meta data is read: the rest of obvhs's node stays out of the cache lines
-    // a node costs.
-    let meta = CwBvhNode {
-        child_meta: node.child_meta,
-        ..CwBvhNode::default()
-    };
+    // a node costs, and the walk's scratch node is set up once.
+    meta.child_meta = node.child_meta;
     let (bits, index) = meta.get_child_and_index_bits(oct_inv4);
     let mut mask = 0u32;
     while met != 0 {
