@@ -122,12 +122,17 @@ pub fn markdown(index: &Index) -> String {
     let mut s = String::new();
     s.push_str("# lightproof convergence reports\n\n");
     s.push_str(&format!(
-        "lightproof {} ({}), {} threads on {} ({} logical cores), {}.\n\n",
+        "lightproof {} ({}), {} threads on {} ({} logical cores{}), {}.\n\n",
         run.lightproof_version,
         run.git_revision,
         run.threads,
         run.machine.cpu,
         run.machine.logical_cores,
+        run.machine
+            .ray_isa
+            .as_deref()
+            .map(|isa| format!("; ray queries in {isa}"))
+            .unwrap_or_default(),
         run.started
     ));
     s.push_str(&format!(

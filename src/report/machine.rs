@@ -2,7 +2,8 @@
 //! runs: the lightproof version, the git revision of the build (`build.rs` asks git at
 //! build time: `SHA`, `SHA-dirty-DIGEST` where the sources differ from the commit,
 //! `unknown-DIGEST` without git), the thread count, the machine (CPU model from
-//! `/proc/cpuinfo` where there is one, logical cores) and the start time (UTC).
+//! `/proc/cpuinfo` where there is one, logical cores, the instruction set of the ray
+//! queries) and the start time (UTC).
 
 use super::{Machine, RunInfo};
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -43,6 +44,7 @@ pub fn machine() -> Machine {
         logical_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         os: std::env::consts::OS.to_string(),
         arch: std::env::consts::ARCH.to_string(),
+        ray_isa: Some(crate::scene::accel::Isa::current().name().to_string()),
     }
 }
 

@@ -145,6 +145,11 @@ pub struct Machine {
     pub os: String,
     /// Architecture.
     pub arch: String,
+    /// The instruction set the BVH's ray queries ran in (`baseline` or `x86-64-v3`,
+    /// [`crate::scene::accel::Isa`]): the same answers, not the same speed. Absent from
+    /// reports written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ray_isa: Option<String>,
 }
 
 /// Who made a file, where and how.

@@ -677,6 +677,9 @@ fn prefetch<T>(x: &T) {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
         _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast());
     }
+    // Elsewhere no hint is given.
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
 }
 
 /// Quantise one axis of a node's child boxes `(lo, hi)` (empty children are `None`):

@@ -564,6 +564,45 @@ fn a_killed_run_leaves_valid_json_and_resumes() {
     let _ = std::fs::remove_dir_all(out);
 }
 
+/// A report records the instruction set its ray queries ran in (the same answers, not the
+/// same speed): `baseline` under `LIGHTPROOF_ISA=baseline`, else the CPU's own choice,
+/// in the case's report, the index and the index page's line about the run.
+#[test]
+fn a_report_records_the_instruction_set_of_its_ray_queries() {
+    use lightproof::scene::accel::Isa;
+    for (env, want) in [(Some("baseline"), Isa::Baseline), (None, Isa::supported())] {
+        let out = tmp(&format!("isa-{}", want.name()));
+        let mut c = Command::new(env!("CARGO_BIN_EXE_lightproof"));
+        c.arg("report")
+            .arg(disk_case())
+            .args(["--estimator", "light", "--sampler", "independent"])
+            .args(["--max-samples", "1024"])
+            .arg("--out")
+            .arg(&out)
+            .env_remove("LIGHTPROOF_ISA");
+        if let Some(v) = env {
+            c.env("LIGHTPROOF_ISA", v);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        for file in ["disk_on_axis.json", "index.json"] {
+            let v: Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join(file)).unwrap()).unwrap();
+            assert_eq!(v["run"]["machine"]["ray_isa"], want.name(), "{file}");
+        }
+        let report: Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("disk_on_axis.json")).unwrap())
+                .unwrap();
+        assert!(validator().is_valid(&report));
+        let page = std::fs::read_to_string(out.join("index.md")).unwrap();
+        assert!(
+            page.contains(&format!("logical cores; ray queries in {})", want.name())),
+            "{page}"
+        );
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
 /// `report` resumes only the points of its own build (README: "same case, seed and build:
 /// version and revision, dirty digest included"). The same run again takes back every
 /// point; after the stored report's `run.git_revision`, or its `run.lightproof_version`,
