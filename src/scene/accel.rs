@@ -398,37 +398,18 @@ fn hit<const WIDE: bool>(prim: &Primitive, ray: &Ray, tmin: f32, tmax: f32) -> O
 /// eight children wide ([`met_children_avx2`]), the triangle test's fused multiply-adds
 /// and the walk's bit counts as instructions. Callers must have checked that the CPU has
 /// the features ([`Isa::supported`], which checks the list these functions name).
-#[cfg(target_arch = "x86_64")]
+/// Elsewhere than x86-64 `Isa::X86_64V3` is never chosen, and these run the baseline's
+/// code, so that the dispatch stays one match.
 mod wide {
     use super::{Hit, Tree, Vec3};
 
-    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    pub(super) fn closest(
-        tree: &Tree,
-        o: Vec3,
-        d: Vec3,
-        tmin: f32,
-        tmax: f32,
-    ) -> Option<(usize, Hit)> {
-        tree.closest::<true>(o, d, tmin, tmax)
-    }
+    /// Whether this target has the wide instances at all.
+    const WIDE: bool = cfg!(target_arch = "x86_64");
 
-    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    pub(super) fn clear(tree: &Tree, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        tree.clear::<true>(o, d, tmin, tmax)
-    }
-
-    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    pub(super) fn batch(tree: &Tree, rays: &[(Vec3, Vec3, f32, f32)]) -> Vec<Option<(usize, Hit)>> {
-        tree.batch::<true>(rays)
-    }
-}
-
-/// Elsewhere [`Isa::X86_64V3`] is never chosen; these keep the dispatch one match.
-#[cfg(not(target_arch = "x86_64"))]
-mod wide {
-    use super::{Hit, Tree, Vec3};
-
+    #[cfg_attr(
+        target_arch = "x86_64",
+        target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")
+    )]
     pub(super) unsafe fn closest(
         tree: &Tree,
         o: Vec3,
@@ -436,18 +417,26 @@ mod wide {
         tmin: f32,
         tmax: f32,
     ) -> Option<(usize, Hit)> {
-        tree.closest::<false>(o, d, tmin, tmax)
+        tree.closest::<WIDE>(o, d, tmin, tmax)
     }
 
+    #[cfg_attr(
+        target_arch = "x86_64",
+        target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")
+    )]
     pub(super) unsafe fn clear(tree: &Tree, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        tree.clear::<false>(o, d, tmin, tmax)
+        tree.clear::<WIDE>(o, d, tmin, tmax)
     }
 
+    #[cfg_attr(
+        target_arch = "x86_64",
+        target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")
+    )]
     pub(super) unsafe fn batch(
         tree: &Tree,
         rays: &[(Vec3, Vec3, f32, f32)],
     ) -> Vec<Option<(usize, Hit)>> {
-        tree.batch::<false>(rays)
+        tree.batch::<WIDE>(rays)
     }
 }
 
