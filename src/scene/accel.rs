@@ -894,16 +894,18 @@ pub struct Accel {
 /// (the same source compiled twice: the same IEEE operations in the same order; LLVM
 /// fuses no multiply-add the source does not ask for), so results do not depend on the
 /// CPU; AVX2 is only faster. Chosen once per process ([`Isa::current`]); the plain loop
-/// of a small scene always runs the baseline (its furnace paths were slower compiled for
-/// AVX2, README "Speed").
+/// of a small scene always runs the baseline (the furnace's paths ran no faster in a
+/// whole-program x86-64-v3 build, nor with the whole path loop compiled for it, README
+/// "Speed").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Isa {
     /// The x86-64 baseline: the box test four children at a time in SSE2, fused
     /// multiply-adds through the runtime library (and the portable code elsewhere).
     Baseline,
     /// The x86-64-v3 level's instructions the queries use (AVX2, FMA, BMI1, BMI2, LZCNT,
-    /// POPCNT; every x86-64 CPU since about 2015 has them), detected at run time: the box
-    /// test eight children at a time, fused multiply-adds and bit counts as instructions.
+    /// POPCNT: mainstream Intel CPUs since Haswell, 2013, AMD since Excavator, 2015),
+    /// detected at run time: the box test eight children at a time, fused multiply-adds
+    /// and bit counts as instructions.
     X86_64V3,
 }
 
@@ -959,7 +961,8 @@ impl Isa {
         })
     }
 
-    /// Its name, as reports and `LIGHTPROOF_ISA` spell it.
+    /// Its name, as reports spell it (`run.machine.ray_isa`; [`Isa::ENV`] takes
+    /// `baseline`).
     pub fn name(self) -> &'static str {
         match self {
             Isa::Baseline => "baseline",
