@@ -19,6 +19,14 @@
 //! to contain that union in the `f32` arithmetic the traversal decodes them with
 //! ([`quantise_axis`]), slab distances with the exact reciprocal (±∞ for a zero
 //! component) and the ray's own (tmin, tmax).
+//!
+//! **Two instruction sets, one answer.** The tree's queries are generic over `WIDE` and
+//! compiled twice: for the x86-64 baseline, and inside `wide`'s functions for the
+//! x86-64-v3 instructions a CPU detected at run time has ([`Isa`]): the same IEEE
+//! operations in the same order, so the same bits
+//! (`tests::both_instruction_sets_give_the_same_bits`), 17–24% more closest hits per
+//! second on the bench's 100k-triangle sphere (README "Ray casting: one answer on every
+//! x86-64 CPU").
 
 use crate::scene::shape::{Hit, Primitive, Ray};
 use glam::{UVec2, Vec3, Vec3A};
