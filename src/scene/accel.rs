@@ -298,17 +298,32 @@ impl Tree {
         let ray = Ray::new(o, d);
         let mut best: Option<(usize, Hit)> = None;
         self.walk::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
-            match hit::<WIDE>(prim, &ray, tmin, tm) {
-                Some(h) => {
-                    // Read after the traversal: fetched meanwhile.
-                    prefetch(&self.index[slot]);
-                    best = Some((slot, h));
-                    Visit::Shorten(h.t)
-                }
-                None => Visit::Go,
-            }
+            self.keep_closest::<WIDE>(&mut best, slot, prim, &ray, tmin, tm)
         });
         best.map(|(slot, h)| (self.index[slot] as usize, h))
+    }
+
+    /// A closest-hit walk's visit of `prim` in `slot`: its hit within (tmin, tm), if any,
+    /// becomes `best` and shortens the segment.
+    #[inline(always)]
+    fn keep_closest<const WIDE: bool>(
+        &self,
+        best: &mut Option<(usize, Hit)>,
+        slot: usize,
+        prim: &Primitive,
+        ray: &Ray,
+        tmin: f32,
+        tm: f32,
+    ) -> Visit {
+        match hit::<WIDE>(prim, ray, tmin, tm) {
+            Some(h) => {
+                // Read after the traversal: fetched meanwhile.
+                prefetch(&self.index[slot]);
+                *best = Some((slot, h));
+                Visit::Shorten(h.t)
+            }
+            None => Visit::Go,
+        }
     }
 
     /// [`Accel::unoccluded`] through the tree.
@@ -358,17 +373,9 @@ impl Tree {
             while k < lanes.len() {
                 let lane = &mut lanes[k];
                 let (ray, tmin, best) = (&lane.ray, lane.tmin, &mut lane.best);
-                let going = self.round::<WIDE>(
-                    &mut lane.walk,
-                    &mut |slot, prim: &Primitive, tm| match hit::<WIDE>(prim, ray, tmin, tm) {
-                        Some(h) => {
-                            prefetch(&self.index[slot]);
-                            *best = Some((slot, h));
-                            Visit::Shorten(h.t)
-                        }
-                        None => Visit::Go,
-                    },
-                );
+                let going = self.round::<WIDE>(&mut lane.walk, &mut |slot, prim, tm| {
+                    self.keep_closest::<WIDE>(best, slot, prim, ray, tmin, tm)
+                });
                 if going {
                     k += 1;
                     continue;
