@@ -231,12 +231,16 @@ pub fn check_view_factor(f: &str, desc: &CaseDesc, scene: &Scene) -> Result<(), 
     })
 }
 
-/// An irradiance receiver just outside a still sphere light, within the `f32` error
-/// bound of its surface: there it cannot be told from a point on the sphere, which light
-/// sampling treats as such (by area over the whole sphere, where the receiver sees a cap
-/// of relative area ~gap/2r), so `light` read 0 for ≈ πL (a gap of 9.5·10⁻⁷ r) while
-/// `bsdf` and `mis` were right. Refused, naming `measure.irradiance.at` and the least gap.
-pub fn check_receiver_clear_of_sphere_lights(
+/// An irradiance receiver off the surface of a still sphere, spherical-cap, disk or
+/// annulus light yet within that surface's `f32` error band: there it cannot be told
+/// from a point of the surface, which light sampling treats it as (by area over the
+/// whole surface, where the receiver sees a patch of relative area ~gap/size), so
+/// `light` read 0 for ≈ πL (just outside a sphere at a gap of 9.5·10⁻⁷ r; 10⁻⁷ inside a
+/// unit sphere light and 5·10⁻⁷ inside a 60° cap, facing the wall) while `bsdf` and
+/// `mis` were right. Refused, naming `measure.irradiance.at`, the light and the least
+/// gap ([`crate::scene::emitter::within_surface_band`]). A receiver exactly on the
+/// surface is the surface's own point and is kept.
+pub fn check_receiver_clear_of_light_surfaces(
     f: &str,
     measure: &Measure,
     scene: &Scene,
@@ -249,14 +253,13 @@ pub fn check_receiver_clear_of_sphere_lights(
             continue;
         }
         for prim in &scene.prims()[s.prims.clone()] {
-            if let crate::scene::shape::Primitive::Sphere { center, radius } = *prim
-                && let Some(band) = crate::scene::emitter::just_outside_sphere(at, center, radius)
-            {
+            if let Some(band) = crate::scene::emitter::within_surface_band(prim, at) {
                 return Err(InputError::new(
                     f,
                     "measure.irradiance.at",
                     format!(
-                        "lies within {band:e} of the surface of sphere light scene.shapes[{k}] (radius {radius}), the f32 error bound of a point on it: indistinguishable from a point of the sphere, which sees none of its light; place the receiver at least {band:e} away, or on the sphere"
+                        "lies within {band:e} of the surface of light scene.shapes[{k}] (a {}), the f32 error bound of a point on it: indistinguishable from a point of that surface, which light sampling treats it as; place the receiver at least {band:e} away, or on the surface",
+                        prim.kind_name()
                     ),
                 ));
             }
@@ -1017,7 +1020,7 @@ mod tests {
         )?;
         let m = measure("c.json", &d.measure, &scene, origin)?;
         check_view_factor("c.json", d, &scene)?;
-        check_receiver_clear_of_sphere_lights("c.json", &m, &scene)?;
+        check_receiver_clear_of_light_surfaces("c.json", &m, &scene)?;
         Ok(m)
     }
 
@@ -1218,7 +1221,7 @@ mod tests {
     /// `measure.irradiance.at`; 8 ulps above, on the sphere, inside it, beside a sphere
     /// that does not emit, or measuring radiance there, it is taken.
     #[test]
-    fn a_receiver_within_a_sphere_lights_error_bound_is_refused() {
+    fn a_receiver_within_a_light_surfaces_error_bound_is_refused() {
         let case = |z: f64, emits: bool, measure: &str| {
             let mut sphere = json!({"geometry": {"type": "sphere", "center": [0.25, -0.125, 0.5], "radius": 0.5}});
             if emits {
@@ -1239,9 +1242,18 @@ mod tests {
         let e = case(1.0 + 4.0 * ulp, true, "irradiance").unwrap_err();
         assert_eq!(e.field, "measure.irradiance.at");
         assert!(e.reason.contains("scene.shapes[0]"), "{e}");
+        assert!(e.reason.contains("(a sphere)"), "{e}");
         assert!(case(1.0 + ulp, true, "irradiance").is_err());
+        // Inside, as outside (the cap's and disk's bands: `emitter::tests`, the corpus).
+        for z in [1.0 - ulp, 1.0 - 4.0 * ulp] {
+            assert_eq!(
+                case(z, true, "irradiance").unwrap_err().field,
+                "measure.irradiance.at"
+            );
+        }
         for ok in [
             case(1.0 + 8.0 * ulp, true, "irradiance"),
+            case(1.0 - 8.0 * ulp, true, "irradiance"),
             case(1.0, true, "irradiance"),
             case(0.9, true, "irradiance"),
             case(1.0 + 4.0 * ulp, false, "irradiance"),

@@ -339,18 +339,6 @@ fn sphere_band(p: Vec3, center: Vec3, radius: f32) -> f64 {
             * (center.abs().max_element() + p.abs().max_element()) as f64)
 }
 
-/// Whether `p` lies outside the sphere (|p − c| > r in `f64`) yet within its band
-/// ([`sphere_side`]), and the band's width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)): a free
-/// point there is sampled as one on the sphere (by area), which sees almost none of the
-/// light a receiver hovering that close gets (≈ πL). A case's receiver there is refused
-/// (`case::build::check_receiver_clear_of_sphere_lights`); a scattering point of another
-/// shape is known off the sphere and keeps the cone ([`prim_strategy`]).
-pub(crate) fn just_outside_sphere(p: Vec3, center: Vec3, radius: f32) -> Option<f64> {
-    let d = (p.as_dvec3() - center.as_dvec3()).length();
-    (d > radius as f64 && sphere_side(p, center, radius) == SphereSide::Band)
-        .then(|| sphere_band(p, center, radius))
-}
-
 /// Choose the sampling strategy for primitive `prim` seen from `p`; `off_prim` says
 /// that `p` is a scattering point of another primitive. Deterministic in (p, prim,
 /// off_prim), so the density of a BSDF-sampled direction can be recomputed for MIS
@@ -478,21 +466,25 @@ fn area_weight(delta: f64, size: f64) -> f32 {
     (2.0f64).powi(x.log2().floor() as i32) as f32
 }
 
-/// A disk (`inner` = 0) or annulus seen from `p`: the unit vector from `p` towards its
-/// plane and the fraction of area samples ([`area_weight`] of the height over the
-/// footprint, ½ off it) where `p` is nearer the primitive than [`NEAR_FRACTION`] of its outer radius
-/// and off its plane by more than 4× the error bound of a point of the primitive along
-/// the normal (Σᵢ |nᵢ| γ₆ (|cᵢ| + R √(1 − nᵢ²)), the bound of its hits and area samples):
-/// a point there cannot be told from one of the primitive, which sees none of its light,
-/// and keeps area sampling. In `f64`: the distance δ² = h² + (ρ − R)₊² + (r − ρ)₊², h the
-/// height above the plane, ρ the distance from the axis.
-fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Option<(Vec3, f32)> {
+/// A disk (`inner` = 0) or annulus seen from `p`, in `f64`: its height h above the plane,
+/// its distance δ to the primitive, δ² = h² + (ρ − R)₊² + (r − ρ)₊² (ρ the distance from
+/// the axis), whether it lies off the footprint (beside the rim or over the hole), and 4×
+/// the error bound of a point of the primitive along the normal, Σᵢ |nᵢ| γ₆ (|cᵢ| +
+/// R √(1 − nᵢ²)) (the bound of its hits and area samples): the band within which a point
+/// cannot be told from one of the primitive.
+struct PlaneView {
+    h: f64,
+    delta2: f64,
+    off_footprint: bool,
+    band: f64,
+}
+
+fn plane_view(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> PlaneView {
     let (v, n) = (p.as_dvec3() - center.as_dvec3(), normal.as_dvec3());
     let (big_r, r) = (radius as f64, inner as f64);
     let h = v.dot(n);
     let rho = v.cross(n).length();
     let (out, hole) = ((rho - big_r).max(0.0), (r - rho).max(0.0));
-    let delta2 = h * h + out * out + hole * hole;
     let g6 = crate::math::gamma(6) as f64;
     let band: f64 = (0..3)
         .map(|i| {
@@ -500,38 +492,58 @@ fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> O
         })
         .sum::<f64>()
         * 4.0;
+    PlaneView {
+        h,
+        delta2: h * h + out * out + hole * hole,
+        off_footprint: out > 0.0 || hole > 0.0,
+        band,
+    }
+}
+
+/// A disk (`inner` = 0) or annulus seen from `p`: the unit vector from `p` towards its
+/// plane and the fraction of area samples ([`area_weight`] of the height over the
+/// footprint, ½ off it) where `p` is nearer the primitive than [`NEAR_FRACTION`] of its outer radius
+/// and off its plane by more than its band ([`plane_view`]): a point within the band
+/// cannot be told from one of the primitive, which sees none of its light, and keeps area
+/// sampling.
+fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Option<(Vec3, f32)> {
+    let view = plane_view(p, center, normal, inner, radius);
+    let big_r = radius as f64;
     let near = NEAR_FRACTION * big_r;
     // Off the footprint (beside the rim, or over the hole) the primitive is seen only
     // below the elevation h/δ, where the cosine term draws little: half by area there.
-    let weight = if out > 0.0 || hole > 0.0 {
+    let weight = if view.off_footprint {
         0.5
     } else {
-        area_weight(h.abs(), big_r)
+        area_weight(view.h.abs(), big_r)
     };
-    (h.abs() > band && delta2 < near * near && delta2.is_finite())
-        .then(|| (if h > 0.0 { -normal } else { normal }, weight))
+    (view.h.abs() > view.band && view.delta2 < near * near && view.delta2.is_finite())
+        .then(|| (if view.h > 0.0 { -normal } else { normal }, weight))
 }
 
-/// A spherical cap (its unit axis, cos θmax and 1 − cos θmax) seen from `p`: the
-/// fraction of area samples where `p` is nearer the cap than [`NEAR_FRACTION`] of its size
-/// (the base radius R sin θmax, or R past a hemisphere) and off its sphere by more than
-/// the sphere's band 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) ([`sphere_band`]): there a point cannot be
-/// told from a point of the surface, and keeps area sampling. The distance to the cap,
-/// in `f64`, is | |p − c| − R | where p's direction from the centre lies in the cap, else
-/// the distance to its rim circle.
-fn near_cap(
+/// A spherical cap (its unit axis, cos θmax and 1 − cos θmax) seen from `p`, in `f64`: its
+/// distance to the cap's sphere, gap = | |p − c| − R |, its distance δ to the cap (the
+/// gap where p's direction from the centre lies in the cap, else the distance to its rim
+/// circle), the cap's size (its base radius R sin θmax, or R past a hemisphere) and the
+/// sphere's band 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) ([`sphere_band`]), within which a point
+/// cannot be told from a point of the surface.
+struct CapView {
+    gap: f64,
+    delta: f64,
+    size: f64,
+    band: f64,
+}
+
+fn cap_view(
     p: Vec3,
     center: Vec3,
     radius: f32,
     (axis, cos_max, one_minus_cos): (Vec3, f32, f32),
-) -> Option<f32> {
+) -> CapView {
     let v = p.as_dvec3() - center.as_dvec3();
     let big_r = radius as f64;
     let d = v.length();
     let gap = (d - big_r).abs();
-    if !(gap > sphere_band(p, center, radius) && gap.is_finite()) {
-        return None;
-    }
     let (a, c, omc) = (axis.as_dvec3(), cos_max as f64, one_minus_cos as f64);
     let sin_max = (omc * (2.0 - omc)).max(0.0).sqrt();
     let z = v.dot(a);
@@ -541,8 +553,81 @@ fn near_cap(
         let rho = v.cross(a).length();
         (z - big_r * c).hypot(rho - big_r * sin_max)
     };
-    let size = if c >= 0.0 { big_r * sin_max } else { big_r };
-    (delta < NEAR_FRACTION * size).then(|| area_weight(delta, size))
+    CapView {
+        gap,
+        delta,
+        size: if c >= 0.0 { big_r * sin_max } else { big_r },
+        band: sphere_band(p, center, radius),
+    }
+}
+
+/// A spherical cap seen from `p`: the fraction of area samples where `p` is nearer the
+/// cap than [`NEAR_FRACTION`] of its size and off its sphere by more than the sphere's
+/// band ([`cap_view`]); within the band a point cannot be told from a point of the
+/// surface, and keeps area sampling.
+fn near_cap(p: Vec3, center: Vec3, radius: f32, cap: (Vec3, f32, f32)) -> Option<f32> {
+    let view = cap_view(p, center, radius, cap);
+    if !(view.gap > view.band && view.gap.is_finite()) {
+        return None;
+    }
+    (view.delta < NEAR_FRACTION * view.size).then(|| area_weight(view.delta, view.size))
+}
+
+/// Whether a free point `p` (a case's receiver) lies off the surface of `prim` yet within
+/// its error band ([`sphere_side`], [`cap_view`], [`plane_view`]), and that band's width:
+/// such a point cannot be told from a point of the surface, and light sampling treats it
+/// as one (by area), which is right on the surface and not beside it (a receiver 10⁻⁷
+/// inside a unit sphere light facing its wall, E = πL, read 0 with `light`; so did one
+/// 5·10⁻⁷ inside a 60° cap and, before session 42 refused it, one just outside a sphere).
+/// A point exactly on the surface (on a sphere, a cap's sphere, or a disk's plane) is the
+/// surface's own and is answered as such. Triangles and rectangles keep their solid-angle
+/// samplers at every distance (`None`).
+pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
+    let (off, within, band) = match *prim {
+        Primitive::Sphere { center, radius } => {
+            // The band's own test, as the strategy reads it.
+            let on = (p.as_dvec3() - center.as_dvec3()).length() == radius as f64;
+            let within = sphere_side(p, center, radius) == SphereSide::Band;
+            (!on, within, sphere_band(p, center, radius))
+        }
+        Primitive::SphericalCap {
+            center,
+            radius,
+            axis,
+            cos_max,
+            one_minus_cos,
+        } => {
+            let view = cap_view(p, center, radius, (axis, cos_max, one_minus_cos));
+            (view.gap != 0.0, view.delta <= view.band, view.band)
+        }
+        Primitive::Disk {
+            center,
+            normal,
+            radius,
+        } => {
+            let view = plane_view(p, center, normal, 0.0, radius);
+            (
+                view.h != 0.0,
+                view.delta2 <= view.band * view.band,
+                view.band,
+            )
+        }
+        Primitive::Annulus {
+            center,
+            normal,
+            inner,
+            radius,
+        } => {
+            let view = plane_view(p, center, normal, inner, radius);
+            (
+                view.h != 0.0,
+                view.delta2 <= view.band * view.band,
+                view.band,
+            )
+        }
+        Primitive::Rectangle { .. } | Primitive::Triangle { .. } => return None,
+    };
+    (off && within).then_some(band)
 }
 
 /// Intersection of the line p + t w with the plane of a planar primitive.
@@ -1168,21 +1253,129 @@ pub fn area_distribution(prims: &[Primitive]) -> Distribution1D {
 mod tests {
     use super::*;
 
-    /// The band just outside a sphere: a viewer 4 ulps above the top of a sphere of
-    /// radius 0.5 centred at (0.25, −0.125, 0.5) is in it, with the width 4(γ₅ r +
-    /// γ₁(‖c‖∞ + ‖p‖∞)); one 64 ulps above, inside, or on the sphere is not.
+    /// The band about a light's surface: a viewer 4 ulps above the top of a sphere of
+    /// radius 0.5 centred at (0.25, −0.125, 0.5), or 4 ulps below it, is in it, with the
+    /// width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)); one 64 ulps off, or on the sphere, is not. A
+    /// 60° cap on that sphere: within the band over the cap and 1 band-width beside its
+    /// rim, not 2 band-widths beside it, nor over the sphere's other side. A tilted disk
+    /// and annulus: within 4γ₆(Σ|nᵢ||cᵢ| + R Σ|nᵢ|√(1 − nᵢ²)) of their face (the hole
+    /// excluded), not on the plane, nor beyond the rim by twice that. Rectangles and
+    /// triangles have none.
     #[test]
-    fn the_band_just_outside_a_sphere() {
+    fn the_band_about_a_light_surface() {
         let c = Vec3::new(0.25, -0.125, 0.5);
-        let at = |z: f32| just_outside_sphere(Vec3::new(0.25, -0.125, z), c, 0.5);
+        let sphere = Primitive::Sphere {
+            center: c,
+            radius: 0.5,
+        };
+        let at = |prim: &Primitive, z: f32| within_surface_band(prim, Vec3::new(0.25, -0.125, z));
         let ulp = f32::EPSILON;
-        let p = Vec3::new(0.25, -0.125, 1.0 + 4.0 * ulp);
-        let want = 4.0
-            * (crate::math::gamma(5) as f64 * 0.5
-                + crate::math::gamma(1) as f64 * (0.5 + p.z) as f64);
-        assert_eq!(at(p.z), Some(want));
-        for z in [1.0 + 64.0 * ulp, 1.0, 0.9, 0.0] {
-            assert_eq!(at(z), None, "{z}");
+        let width = |p: Vec3| {
+            4.0 * (crate::math::gamma(5) as f64 * 0.5
+                + crate::math::gamma(1) as f64 * (0.5 + p.abs().max_element()) as f64)
+        };
+        for z in [1.0 + 4.0 * ulp, 1.0 - 4.0 * ulp, 4.0 * ulp, -4.0 * ulp] {
+            let p = Vec3::new(0.25, -0.125, z);
+            assert_eq!(at(&sphere, z), Some(width(p)), "{z}");
+        }
+        for z in [1.0 + 64.0 * ulp, 1.0 - 64.0 * ulp, 1.0, 0.9, 0.5, 0.0] {
+            assert_eq!(at(&sphere, z), None, "{z}");
+        }
+        // The cap over the top (θmax = 60°): the same band over it; beside the rim the
+        // distance to the rim circle decides; the bottom of the sphere is far from it.
+        let t = 60f64.to_radians();
+        let cap = Primitive::SphericalCap {
+            center: c,
+            radius: 0.5,
+            axis: Vec3::Z,
+            cos_max: t.cos() as f32,
+            one_minus_cos: (1.0 - t.cos()) as f32,
+        };
+        assert_eq!(
+            at(&cap, 1.0 + 4.0 * ulp),
+            Some(width(Vec3::new(0.25, -0.125, 1.0 + 4.0 * ulp)))
+        );
+        assert_eq!(at(&cap, 1.0 - 4.0 * ulp), at(&sphere, 1.0 - 4.0 * ulp));
+        assert_eq!(at(&cap, 1.0), None);
+        assert_eq!(at(&cap, 4.0 * ulp), None);
+        assert_eq!(at(&cap, 1.0 - 64.0 * ulp), None);
+        // Beside the rim: at polar angle θmax + φ on the sphere, the distance to the rim
+        // circle is 2r sin(φ/2) ≈ r φ; one band-width away is in, two are out.
+        let rim = |phi: f64| {
+            let a = t + phi;
+            Vec3::new(
+                (0.25 + 0.5 * a.sin()) as f32,
+                -0.125,
+                (0.5 + 0.5 * a.cos()) as f32,
+            )
+        };
+        let w = width(rim(0.0));
+        let off_sphere = |p: Vec3| (p.as_dvec3() - c.as_dvec3()).length() != 0.5;
+        let near = rim(0.5 * w / 0.5);
+        assert!(off_sphere(near));
+        assert!(within_surface_band(&cap, near).is_some());
+        assert_eq!(within_surface_band(&cap, rim(2.5 * w / 0.5)), None);
+        // A tilted disk and annulus centred away from the origin.
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        let centre = Vec3::new(3.0, -2.0, 1.0);
+        let disk = Primitive::Disk {
+            center: centre,
+            normal: n,
+            radius: 2.0,
+        };
+        let ring = Primitive::Annulus {
+            center: centre,
+            normal: n,
+            inner: 1.0,
+            radius: 2.0,
+        };
+        let g6 = crate::math::gamma(6) as f64;
+        let nd = n.as_dvec3();
+        let band: f64 = 4.0
+            * (0..3)
+                .map(|i| {
+                    nd[i].abs()
+                        * g6
+                        * (centre[i].abs() as f64 + 2.0 * (1.0 - nd[i] * nd[i]).max(0.0).sqrt())
+                })
+                .sum::<f64>();
+        let side = Vec3::new(1.0, 0.0, 0.0);
+        let point = |along: f32, h: f64| centre + side * along + n * (h as f32);
+        for (prim, along, inside) in [
+            (&disk, 0.0, true),
+            (&disk, 1.5, true),
+            (&ring, 1.5, true),
+            (&ring, 0.5, false),
+        ] {
+            let h = 0.5 * band;
+            let p = point(along, h);
+            let hp = (p.as_dvec3() - centre.as_dvec3()).dot(nd);
+            assert!(hp != 0.0 && hp.abs() < band, "{hp}");
+            assert_eq!(
+                within_surface_band(prim, p).is_some(),
+                inside,
+                "{prim:?} {along}"
+            );
+            assert_eq!(within_surface_band(prim, point(along, 4.0 * band)), None);
+        }
+        // On the plane's own point, and beyond the rim by twice the band.
+        assert_eq!(within_surface_band(&disk, centre), None);
+        let beyond = centre + side * (2.0 + 2.0 * band as f32);
+        assert_eq!(within_surface_band(&disk, beyond), None);
+        for prim in [
+            Primitive::Rectangle {
+                corner: Vec3::ZERO,
+                u: Vec3::X,
+                v: Vec3::Y,
+            },
+            Primitive::Triangle {
+                p: [Vec3::ZERO, Vec3::X, Vec3::Y],
+            },
+        ] {
+            assert_eq!(
+                within_surface_band(&prim, Vec3::new(0.5, 0.25, 1e-30)),
+                None
+            );
         }
     }
 

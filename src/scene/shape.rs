@@ -184,6 +184,18 @@ impl Primitive {
         )
     }
 
+    /// The primitive's kind in words, for messages.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Primitive::Sphere { .. } => "sphere",
+            Primitive::Rectangle { .. } => "rectangle",
+            Primitive::Disk { .. } => "disk",
+            Primitive::Triangle { .. } => "triangle",
+            Primitive::SphericalCap { .. } => "spherical cap",
+            Primitive::Annulus { .. } => "annulus",
+        }
+    }
+
     /// Closest hit with t in (tmin, tmax), for a unit direction `d`.
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
         match *self {
