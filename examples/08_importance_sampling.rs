@@ -84,11 +84,13 @@ fn main() {
             ok &= report(&format!("  [{}]", est_label(est)), &v);
             let count = e.batches.total.count.max(1) as f64;
             let rel_var = e.batches.total.variance() / (exact * exact);
+            let rel_var_se = variance_std_error(&e) / (exact * exact);
             let ns_per_sample = e.seconds / count * 1e9;
             rows.push(Row {
                 radius: r,
                 est,
                 rel_var,
+                rel_var_se,
                 ns_per_sample,
                 efficiency: 1.0 / (rel_var * ns_per_sample * 1e-9),
             });
@@ -124,40 +126,54 @@ fn main() {
     // i.e. a relative variance at most the better strategy's + 1/2. An additive bound, not
     // a factor: at R = 0.1 about 10⁻² against emitter sampling's 3·10⁻⁵ (the cosine
     // strategy's rare hits on the light each carry a full share).
+    //
+    // Both are one-sided z tests on the variances, each at α = ALPHA: the estimators draw
+    // independent samples, and each variance's standard error comes from the spread of its
+    // batches' own variances (batch means, as the estimates' errors do). A win must be
+    // shown (z = (V_loser − V_winner)/s above the critical value), a breach of the bound
+    // must be shown to fail (z = (V_balance − V_better − 1/2)/s above it).
+    let critical = one_sided_critical();
     println!(
         "
-checks (relative variances V/E²): emitter < cosine for R ≤ 1, cosine < emitter for R ≥ 3, and Veach's bound for the
+checks (relative variances V/E² ± their standard errors, one-sided z tests at α = {ALPHA:e} each, critical z = {critical:.2}):
+emitter < cosine for R ≤ 1, cosine < emitter for R ≥ 3 (the win shown: z ≥ {critical:.2}), and Veach's bound for the
 balance heuristic (Theorem 9.2, one sample of each strategy): MIS balance ≤ min(emitter, cosine) + 1/2, an additive
-bound, not a factor of the better one:"
+bound, not a factor of the better one (failed only where a breach is shown: z > {critical:.2}):"
     );
     for r in RADII {
         let var = |e: Estimator| {
             rows.iter()
                 .find(|row| row.radius == r && row.est == e)
-                .map_or(f64::NAN, |row| row.rel_var)
+                .map_or((f64::NAN, f64::NAN), |row| (row.rel_var, row.rel_var_se))
         };
         let (light, cosine, balance) = (
             var(Estimator::Light),
             var(Estimator::Bsdf),
             var(Estimator::MisBalance),
         );
-        let winner_ok = if r <= 1.0 {
-            light < cosine
+        let (winner, loser) = if r <= 1.0 {
+            (light, cosine)
         } else {
-            cosine < light
+            (cosine, light)
         };
-        let veach_ok = balance <= light.min(cosine) + 0.5;
-        let better = light.min(cosine);
+        let z_win = (loser.0 - winner.0) / winner.1.hypot(loser.1);
+        let winner_ok = z_win >= critical;
+        let better = if light.0 <= cosine.0 { light } else { cosine };
+        let z_bound = (balance.0 - better.0 - 0.5) / balance.1.hypot(better.1);
+        let veach_ok = z_bound <= critical;
         println!(
-            "  R = {r:<4}: emitter {light:.3e}, cosine {cosine:.3e}: {} wins {}; MIS balance {balance:.3e} ({}× the better) ≤ {:.3e} + 0.5: {}",
+            "  R = {r:<4}: emitter {}, cosine {}: {} wins, z = {z_win:.1}: {}; MIS balance {} ({}× the better) ≤ {:.3e} + 0.5, z = {z_bound:.0}: {}",
+            with_error(light),
+            with_error(cosine),
             if r <= 1.0 { "emitter" } else { "cosine" },
             if winner_ok { "ok" } else { "FAILED" },
-            if balance / better >= 10.0 {
-                format!("{:.0}", balance / better)
+            with_error(balance),
+            if balance.0 / better.0 >= 10.0 {
+                format!("{:.0}", balance.0 / better.0)
             } else {
-                format!("{:.2}", balance / better)
+                format!("{:.2}", balance.0 / better.0)
             },
-            better,
+            better.0,
             if veach_ok { "ok" } else { "FAILED" }
         );
         ok &= winner_ok && veach_ok;
@@ -173,8 +189,34 @@ struct Row {
     radius: f64,
     est: Estimator,
     rel_var: f64,
+    /// The standard error of `rel_var` ([`variance_std_error`]).
+    rel_var_se: f64,
     ns_per_sample: f64,
     efficiency: f64,
+}
+
+/// The standard error of an estimate's per-sample variance, by batch means: each batch's
+/// sample variance is an unbiased estimate of the same V, so the standard error of their
+/// mean, √(Var[batch variances]/B), is that of V's estimate (a heavy tail shows as a
+/// large spread among the batches). The whole run's variance is within rounding of that
+/// mean for batches of one size.
+fn variance_std_error(e: &lightproof::transport::engine::Estimate) -> f64 {
+    let mut of_variances = lightproof::stats::Accumulator::new();
+    for b in e.batches.batches.iter().filter(|b| b.count > 1) {
+        of_variances.push(b.variance());
+    }
+    of_variances.std_error()
+}
+
+/// The critical value of a one-sided z test at [`ALPHA`] (3.72 at 10⁻⁴).
+fn one_sided_critical() -> f64 {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    Normal::standard().inverse_cdf(1.0 - ALPHA)
+}
+
+/// A relative variance and its standard error.
+fn with_error((v, se): (f64, f64)) -> String {
+    format!("{v:.3e} ± {se:.1e}")
 }
 
 /// Whether `row` has the highest efficiency for its radius.
