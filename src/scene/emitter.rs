@@ -1379,6 +1379,22 @@ mod tests {
         }
     }
 
+    /// The mixtures' area fraction is δ/size rounded down to a power of two within
+    /// [1/256, ½], for sizes other than 1 too (`/` as `%` or `*` read the same at size 1).
+    #[test]
+    fn the_area_fraction_is_the_relative_distance_rounded_down() {
+        for (delta, size, want) in [
+            (0.25, 2.0, 0.125),
+            (0.3, 2.0, 0.125),
+            (0.6, 0.8, 0.5),
+            (1e-3, 4.0, 1.0 / 256.0),
+            (3.0, 4.0, 0.5),
+            (0.02, 0.25, 0.0625),
+        ] {
+            assert_eq!(area_weight(delta, size), want, "{delta} {size}");
+        }
+    }
+
     /// R = |e₁||e₂|/|e₁ × e₂| is scale-invariant, and so is the strategy it picks: from
     /// 10⁻¹⁸ to 10¹⁸ it equals the unit triangle's to f32 rounding (the plain formula gave
     /// ∞ below ~10⁻¹⁰, area sampling, and 0 above ~10⁹, no tilt in the error bound).
