@@ -232,14 +232,15 @@ pub fn check_view_factor(f: &str, desc: &CaseDesc, scene: &Scene) -> Result<(), 
 }
 
 /// An irradiance receiver off the surface of a still sphere, spherical-cap, disk or
-/// annulus light yet within that surface's `f32` error band: there it cannot be told
-/// from a point of the surface, which light sampling treats it as (by area over the
-/// whole surface, where the receiver sees a patch of relative area ~gap/size), so
+/// annulus light yet within that surface's `f32` error band, and near it: there it cannot
+/// be told from a point of the surface, which light sampling treats it as (by area over
+/// the whole surface, where the receiver sees a patch of relative area ~gap/size), so
 /// `light` read 0 for ≈ πL (just outside a sphere at a gap of 9.5·10⁻⁷ r; 10⁻⁷ inside a
-/// unit sphere light and 5·10⁻⁷ inside a 60° cap, facing the wall) while `bsdf` and
-/// `mis` were right. Refused, naming `measure.irradiance.at`, the light and the least
-/// gap ([`crate::scene::emitter::within_surface_band`]). A receiver exactly on the
-/// surface is the surface's own point and is kept.
+/// unit sphere light and 5·10⁻⁷ inside a 60° cap, facing the wall; 10⁻⁶ above a tilted
+/// unit disk, and 2·10⁻⁶ beyond its rim for E ≈ 0.17) while `bsdf` and `mis` were right.
+/// Refused, naming `measure.irradiance.at`, the light and the least gap
+/// (`scene::emitter::within_surface_band`). A receiver exactly on the sphere or plane is
+/// the surface's own point and is kept.
 pub fn check_receiver_clear_of_light_surfaces(
     f: &str,
     measure: &Measure,
@@ -258,7 +259,7 @@ pub fn check_receiver_clear_of_light_surfaces(
                     f,
                     "measure.irradiance.at",
                     format!(
-                        "lies within {band:e} of the surface of light scene.shapes[{k}] (a {}), the f32 error bound of a point on it: indistinguishable from a point of that surface, which light sampling treats it as; place the receiver at least {band:e} away, or on the surface",
+                        "lies within {band:e} of the surface of light scene.shapes[{k}] ({}), the f32 error bound of a point on it, and near it: indistinguishable from a point of that surface, which light sampling treats it as; place the receiver at least {band:e} away, or on the surface",
                         prim.kind_name()
                     ),
                 ));
@@ -1242,7 +1243,7 @@ mod tests {
         let e = case(1.0 + 4.0 * ulp, true, "irradiance").unwrap_err();
         assert_eq!(e.field, "measure.irradiance.at");
         assert!(e.reason.contains("scene.shapes[0]"), "{e}");
-        assert!(e.reason.contains("(a sphere)"), "{e}");
+        assert!(e.reason.contains("(sphere)"), "{e}");
         assert!(case(1.0 + ulp, true, "irradiance").is_err());
         // Inside, as outside (the cap's and disk's bands: `emitter::tests`, the corpus).
         for z in [1.0 - ulp, 1.0 - 4.0 * ulp] {

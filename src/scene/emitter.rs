@@ -468,14 +468,14 @@ fn area_weight(delta: f64, size: f64) -> f32 {
 
 /// A disk (`inner` = 0) or annulus seen from `p`, in `f64`: its height h above the plane,
 /// its distance δ to the primitive, δ² = h² + (ρ − R)₊² + (r − ρ)₊² (ρ the distance from
-/// the axis), whether it lies off the footprint (beside the rim or over the hole), and 4×
-/// the error bound of a point of the primitive along the normal, Σᵢ |nᵢ| γ₆ (|cᵢ| +
-/// R √(1 − nᵢ²)) (the bound of its hits and area samples): the band within which a point
-/// cannot be told from one of the primitive.
+/// the axis), whether it lies off the footprint (beside the rim or over the hole), whether
+/// it is near (δ < [`NEAR_FRACTION`] R), and 4× the error bound of a point of the
+/// primitive along the normal, Σᵢ |nᵢ| γ₆ (|cᵢ| + R √(1 − nᵢ²)) (the bound of its hits and
+/// area samples): the band within which a point cannot be told from one of the primitive.
 struct PlaneView {
     h: f64,
-    delta2: f64,
     off_footprint: bool,
+    near: bool,
     band: f64,
 }
 
@@ -492,10 +492,12 @@ fn plane_view(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> P
         })
         .sum::<f64>()
         * 4.0;
+    let delta2 = h * h + out * out + hole * hole;
+    let near = NEAR_FRACTION * big_r;
     PlaneView {
         h,
-        delta2: h * h + out * out + hole * hole,
         off_footprint: out > 0.0 || hole > 0.0,
+        near: delta2 < near * near && delta2.is_finite(),
         band,
     }
 }
@@ -509,7 +511,6 @@ fn plane_view(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> P
 fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Option<(Vec3, f32)> {
     let view = plane_view(p, center, normal, inner, radius);
     let big_r = radius as f64;
-    let near = NEAR_FRACTION * big_r;
     // Off the footprint (beside the rim, or over the hole) the primitive is seen only
     // below the elevation h/δ, where the cosine term draws little: half by area there.
     let weight = if view.off_footprint {
@@ -517,20 +518,22 @@ fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> O
     } else {
         area_weight(view.h.abs(), big_r)
     };
-    (view.h.abs() > view.band && view.delta2 < near * near && view.delta2.is_finite())
+    (view.h.abs() > view.band && view.near)
         .then(|| (if view.h > 0.0 { -normal } else { normal }, weight))
 }
 
 /// A spherical cap (its unit axis, cos θmax and 1 − cos θmax) seen from `p`, in `f64`: its
 /// distance to the cap's sphere, gap = | |p − c| − R |, its distance δ to the cap (the
 /// gap where p's direction from the centre lies in the cap, else the distance to its rim
-/// circle), the cap's size (its base radius R sin θmax, or R past a hemisphere) and the
-/// sphere's band 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)) ([`sphere_band`]), within which a point
-/// cannot be told from a point of the surface.
+/// circle), the cap's size (its base radius R sin θmax, or R past a hemisphere), whether
+/// p is near (δ < [`NEAR_FRACTION`] size) and the sphere's band 4(γ₅ r + γ₁(‖c‖∞ +
+/// ‖p‖∞)) ([`sphere_band`]), within which a point cannot be told from a point of the
+/// surface.
 struct CapView {
     gap: f64,
     delta: f64,
     size: f64,
+    near: bool,
     band: f64,
 }
 
@@ -553,10 +556,12 @@ fn cap_view(
         let rho = v.cross(a).length();
         (z - big_r * c).hypot(rho - big_r * sin_max)
     };
+    let size = if c >= 0.0 { big_r * sin_max } else { big_r };
     CapView {
         gap,
         delta,
-        size: if c >= 0.0 { big_r * sin_max } else { big_r },
+        size,
+        near: delta < NEAR_FRACTION * size,
         band: sphere_band(p, center, radius),
     }
 }
@@ -570,18 +575,20 @@ fn near_cap(p: Vec3, center: Vec3, radius: f32, cap: (Vec3, f32, f32)) -> Option
     if !(view.gap > view.band && view.gap.is_finite()) {
         return None;
     }
-    (view.delta < NEAR_FRACTION * view.size).then(|| area_weight(view.delta, view.size))
+    view.near.then(|| area_weight(view.delta, view.size))
 }
 
 /// Whether a free point `p` (a case's receiver) lies off the surface of `prim` yet within
-/// its error band ([`sphere_side`], [`cap_view`], [`plane_view`]), and that band's width:
-/// such a point cannot be told from a point of the surface, and light sampling treats it
-/// as one (by area), which is right on the surface and not beside it (a receiver 10⁻⁷
-/// inside a unit sphere light facing its wall, E = πL, read 0 with `light`; so did one
-/// 5·10⁻⁷ inside a 60° cap and, before session 42 refused it, one just outside a sphere).
-/// A point exactly on the surface (on a sphere, a cap's sphere, or a disk's plane) is the
-/// surface's own and is answered as such. Triangles and rectangles keep their solid-angle
-/// samplers at every distance (`None`).
+/// its error band, where [`prim_strategy`] gives up the strategy its nearness calls for
+/// and samples by area ([`sphere_side`]; a cap's or disk's band within [`NEAR_FRACTION`]
+/// of its size, [`cap_view`], [`plane_view`]), and that band's width: such a point cannot
+/// be told from a point of the surface's own sphere or plane, which area sampling is
+/// right for and a point beside it is not (a receiver 10⁻⁷ inside a unit sphere light
+/// facing its wall, E = πL, read 0 with `light`; so did one 5·10⁻⁷ inside a 60° cap, one
+/// 1e-6 above a tilted disk and 2e-6 beyond its rim (E ≈ 0.17), and, before session 42
+/// refused it, one just outside a sphere). A point exactly on the sphere or plane is the
+/// surface's own and is answered as such. Triangles and rectangles keep their
+/// solid-angle samplers at every distance (`None`).
 pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
     let (off, within, band) = match *prim {
         Primitive::Sphere { center, radius } => {
@@ -598,7 +605,11 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
             one_minus_cos,
         } => {
             let view = cap_view(p, center, radius, (axis, cos_max, one_minus_cos));
-            (view.gap != 0.0, view.delta <= view.band, view.band)
+            (
+                view.gap != 0.0,
+                view.gap <= view.band && view.near,
+                view.band,
+            )
         }
         Primitive::Disk {
             center,
@@ -608,7 +619,7 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
             let view = plane_view(p, center, normal, 0.0, radius);
             (
                 view.h != 0.0,
-                view.delta2 <= view.band * view.band,
+                view.h.abs() <= view.band && view.near,
                 view.band,
             )
         }
@@ -621,7 +632,7 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
             let view = plane_view(p, center, normal, inner, radius);
             (
                 view.h != 0.0,
-                view.delta2 <= view.band * view.band,
+                view.h.abs() <= view.band && view.near,
                 view.band,
             )
         }
@@ -1256,11 +1267,12 @@ mod tests {
     /// The band about a light's surface: a viewer 4 ulps above the top of a sphere of
     /// radius 0.5 centred at (0.25, −0.125, 0.5), or 4 ulps below it, is in it, with the
     /// width 4(γ₅ r + γ₁(‖c‖∞ + ‖p‖∞)); one 64 ulps off, or on the sphere, is not. A
-    /// 60° cap on that sphere: within the band over the cap and 1 band-width beside its
-    /// rim, not 2 band-widths beside it, nor over the sphere's other side. A tilted disk
-    /// and annulus: within 4γ₆(Σ|nᵢ||cᵢ| + R Σ|nᵢ|√(1 − nᵢ²)) of their face (the hole
-    /// excluded), not on the plane, nor beyond the rim by twice that. Rectangles and
-    /// triangles have none.
+    /// 60° cap on that sphere: within the band over the cap and beside its rim as far as
+    /// the near switch (half its base radius), where the strategy falls back to area
+    /// sampling; not beyond it, nor off the band, nor over the sphere's other side. A
+    /// tilted disk and annulus: within 4γ₆(Σ|nᵢ||cᵢ| + R Σ|nᵢ|√(1 − nᵢ²)) of their plane,
+    /// over the face, the hole or beyond the rim as far as the near switch (half the
+    /// radius); not on the plane, nor farther. Rectangles and triangles have none.
     #[test]
     fn the_band_about_a_light_surface() {
         let c = Vec3::new(0.25, -0.125, 0.5);
@@ -1300,7 +1312,7 @@ mod tests {
         assert_eq!(at(&cap, 4.0 * ulp), None);
         assert_eq!(at(&cap, 1.0 - 64.0 * ulp), None);
         // Beside the rim: at polar angle θmax + φ on the sphere, the distance to the rim
-        // circle is 2r sin(φ/2) ≈ r φ; one band-width away is in, two are out.
+        // circle is 2r sin(φ/2); within the band up to the near switch, 0.5 r sin 60°.
         let rim = |phi: f64| {
             let a = t + phi;
             Vec3::new(
@@ -1311,10 +1323,19 @@ mod tests {
         };
         let w = width(rim(0.0));
         let off_sphere = |p: Vec3| (p.as_dvec3() - c.as_dvec3()).length() != 0.5;
-        let near = rim(0.5 * w / 0.5);
-        assert!(off_sphere(near));
-        assert!(within_surface_band(&cap, near).is_some());
-        assert_eq!(within_surface_band(&cap, rim(2.5 * w / 0.5)), None);
+        let switch = 0.5 * 0.5 * t.sin();
+        for phi in [0.5 * w / 0.5, 2.5 * w / 0.5, 0.3] {
+            let p = rim(phi);
+            assert!(off_sphere(p), "{phi}");
+            assert!(2.0 * 0.5 * (0.5 * phi).sin() < switch);
+            assert!(within_surface_band(&cap, p).is_some(), "{phi}");
+        }
+        assert!(2.0 * 0.5 * 0.3f64.sin() > switch);
+        assert_eq!(within_surface_band(&cap, rim(0.6)), None);
+        // Beside the rim but off the band.
+        let out = rim(2.5 * w / 0.5);
+        let out = c + (out - c) * (1.0 + 128.0 * ulp);
+        assert_eq!(within_surface_band(&cap, out), None);
         // A tilted disk and annulus centred away from the origin.
         let n = Vec3::new(0.0, 0.6, 0.8);
         let centre = Vec3::new(3.0, -2.0, 1.0);
@@ -1345,7 +1366,13 @@ mod tests {
             (&disk, 0.0, true),
             (&disk, 1.5, true),
             (&ring, 1.5, true),
-            (&ring, 0.5, false),
+            // Over the hole, beyond the rim by twice the band and by 0.9 (the switch is 1).
+            (&ring, 0.5, true),
+            (&disk, 2.0 + 2.0 * band as f32, true),
+            (&disk, 2.9, true),
+            (&ring, 2.9, true),
+            (&disk, 3.1, false),
+            (&ring, 3.1, false),
         ] {
             let h = 0.5 * band;
             let p = point(along, h);
@@ -1358,10 +1385,8 @@ mod tests {
             );
             assert_eq!(within_surface_band(prim, point(along, 4.0 * band)), None);
         }
-        // On the plane's own point, and beyond the rim by twice the band.
+        // On the plane's own point.
         assert_eq!(within_surface_band(&disk, centre), None);
-        let beyond = centre + side * (2.0 + 2.0 * band as f32);
-        assert_eq!(within_surface_band(&disk, beyond), None);
         for prim in [
             Primitive::Rectangle {
                 corner: Vec3::ZERO,
@@ -1393,6 +1418,34 @@ mod tests {
         ] {
             assert_eq!(area_weight(delta, size), want, "{delta} {size}");
         }
+    }
+
+    /// A disk's or annulus's mixture draws half its samples by area off the footprint
+    /// (beside the rim, over the hole), the relative height rounded down over it.
+    #[test]
+    fn off_the_footprint_half_the_samples_are_by_area() {
+        let disk = Primitive::Disk {
+            center: Vec3::ZERO,
+            normal: Vec3::Z,
+            radius: 2.0,
+        };
+        let ring = Primitive::Annulus {
+            center: Vec3::ZERO,
+            normal: Vec3::Z,
+            inner: 1.0,
+            radius: 2.0,
+        };
+        let weight = |prim: &Primitive, p: Vec3| match prim_strategy(prim, p, false) {
+            PrimSampling::AreaOrCosine { area_weight, .. } => area_weight,
+            _ => panic!("{prim:?} from {p}: not the mixture"),
+        };
+        // Over the footprint at h = 0.1: 0.1/2 rounded down to 1/32.
+        assert_eq!(weight(&disk, Vec3::new(0.5, 0.0, 0.1)), 1.0 / 32.0);
+        assert_eq!(weight(&ring, Vec3::new(1.5, 0.0, 0.1)), 1.0 / 32.0);
+        // Beside the rim and over the hole, at the same height.
+        assert_eq!(weight(&disk, Vec3::new(2.2, 0.0, 0.1)), 0.5);
+        assert_eq!(weight(&ring, Vec3::new(2.2, 0.0, 0.1)), 0.5);
+        assert_eq!(weight(&ring, Vec3::new(0.8, 0.0, 0.1)), 0.5);
     }
 
     /// R = |e₁||e₂|/|e₁ × e₂| is scale-invariant, and so is the strategy it picks: from
