@@ -217,7 +217,7 @@ fn variance_std_error(e: &lightproof::transport::engine::Estimate) -> (f64, usiz
 }
 
 /// The critical value of a one-sided t test at [`ALPHA`] with `dof` degrees of freedom
-/// (3.83 for the 128 batches' 127; the normal's 3.72 without end); ∞ without a batch.
+/// (3.83 for the 128 batches' 127, tending to the normal's 3.72); ∞ without a batch.
 fn one_sided_critical(dof: usize) -> f64 {
     use statrs::distribution::{ContinuousCDF, StudentsT};
     StudentsT::new(0.0, 1.0, dof as f64).map_or(f64::INFINITY, |t| t.inverse_cdf(1.0 - ALPHA))

@@ -1224,6 +1224,10 @@ mod tests {
         let mine = serde_json::json!({"case": "mine.json", "width": 0, "scale": -1});
         std::fs::write(dir.join("export.json"), mine.to_string()).unwrap();
         assert!(judge_case(&dir.join("mine.json"), &renders, "r", 1e-4).is_err());
+        // Read for its `case` whatever it names: one that is not JSON is refused, named.
+        std::fs::write(dir.join("export.json"), "{not json").unwrap();
+        let e = judge_case(&dir.join("mine.json"), &renders, "r", 1e-4).unwrap_err();
+        assert!(e.to_string().contains("export.json"), "{e}");
         let _ = std::fs::remove_dir_all(dir);
     }
 }

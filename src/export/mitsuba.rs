@@ -702,5 +702,14 @@ mod tests {
             ),
             "a delta light",
         );
+        // Nor can a flux meter (the receiver's irradiancemeter).
+        refused(
+            &measured(
+                r#"{"name":"n","teaches":"t","scene":{"emitters":[{"type":"point","position":[0.5,0.5,2],"intensity":3}],
+                  "shapes":[{"geometry":{"type":"rectangle","corner":[0,0,0],"edge_u":[1,0,0],"edge_v":[0,1,0]}}]},
+                  "measure":{"flux":{"shape":0}},"estimators":["light"]}"#,
+            ),
+            "a delta light",
+        );
     }
 }

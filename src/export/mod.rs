@@ -1028,6 +1028,20 @@ mod tests {
         let mut timed = furnace;
         timed.time = Some(Default::default());
         assert!(probe(&timed).unwrap_err().0.contains("time"));
+        // The floor is 10⁻⁵ of the point's largest coordinate, not of its length: at
+        // (7e4, 7e4, 7e4), 100 from a sphere, the receiver of radius 1 is above 0.7 (and
+        // would be below 10⁻⁵ |p| = 1.21).
+        let far = case(
+            r#"{"name":"n","teaches":"t","scene":{"shapes":[{"geometry":{"type":"sphere",
+              "center":[70000,70000,70101],"radius":1},"emission":{"radiance":1}}]},
+              "measure":{"irradiance":{"at":[70000,70000,70000],"normal":[0,0,1]}},
+              "estimators":["light"]}"#,
+        );
+        assert!(
+            matches!(probe(&far), Ok(Probe::Irradiance { radius, .. }) if (radius - 1.0).abs() < 1e-9),
+            "{:?}",
+            probe(&far).map(|_| ())
+        );
     }
 
     /// `export.json`'s numbers are checked at their limits: a scale at either end of

@@ -4,8 +4,8 @@
 //!    t̂ = t₀ + c·N of each point (the series' cost line, so no curve runs backwards
 //!    because one short measurement was noisy), the measured times as faint markers
 //!    beside them; one line per estimator × sampler (colour: estimator; marker: circle
-//!    independent, triangle stratified, square Sobol), a dashed N^-½ line and dotted lines
-//!    at the 1%, 0.1% and 0.01% targets: where a line crosses 0.1% is what 0.1% costs.
+//!    independent, triangle stratified, square Sobol), a dashed N^-½ line and finely dashed
+//!    grey lines at the 1%, 0.1% and 0.01% targets: where a line crosses 0.1% is what 0.1% costs.
 //! 2. **Error against N**, the same lines: the convergence rate alone, cost aside.
 //! 3. **Ranking**: core-seconds to 0.1% per series (from the fits), fastest first,
 //!    extrapolated times drawn pale.

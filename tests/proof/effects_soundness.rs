@@ -3,8 +3,8 @@
 //! simulation (as `verify` runs it) and the full one (every bounce with Russian
 //! roulette, every shadow ray, every wavelength and time dimension) are evaluated on
 //! the same random numbers, and the mean of the paired differences d = pruned − full is
-//! tested against 0 (Šidák corrected over all pairs, batch means for quasi-random
-//! samplers). Pairing makes the test sharp: where pruning is sound most differences are
+//! tested against 0 (Šidák corrected over twice the pairs, since each may be rerun once;
+//! batch means for quasi-random samplers). Pairing makes the test sharp: where pruning is sound most differences are
 //! exactly 0. Each verdict must be able to see a difference of 0.5 % of the pruned
 //! estimate (detectable difference at 99 % power), as the catalog's verdicts do; a pair
 //! whose every difference is 0 (within f32 rounding) is judged exactly. A pair too weak

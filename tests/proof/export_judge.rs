@@ -897,6 +897,11 @@ fn judge_uses_student_t_with_the_replicates_degrees_of_freedom() {
         (crit - t_crit(3.0)).abs() < 1e-6 * crit && crit > 27.9,
         "{crit}"
     );
+    // With 4 renders the t test at 3 degrees of freedom detects (99% power) a bias of
+    // about 55 standard errors (README, "Judge your renderer").
+    let ratio = v["verdict"]["detectable_bias"].as_f64().unwrap()
+        / v["verdict"]["std_error"].as_f64().unwrap();
+    assert!((ratio - 54.5).abs() < 0.5, "{ratio}");
     assert_eq!(
         (v["non_finite"].as_u64(), v["negative"].as_u64()),
         (Some(0), Some(0)),

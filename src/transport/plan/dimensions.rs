@@ -4,7 +4,8 @@
 //! **Wavelength** is sampled only where the scene varies with it (an emitter with a
 //! non-constant spectrum, a dispersive material). A grey scene measured over a band
 //! gives ∫ R(λ) L dλ = L ∫ R(λ) dλ: the engine estimates L once and multiplies by the
-//! deterministic factor (Gauss–Legendre quadrature of R, or of R λ/(hc) for photons).
+//! deterministic factor (the band integral of R, or of R λ/(hc) for photons, exact for
+//! every kind of response: [`band`]).
 //! **Time** is sampled only where an emitter moves (uniformly over the shutter) and path
 //! lengths are tracked only when the measurement is time resolved. The *full*
 //! dimensions sample everything for the soundness proof: wavelength with the case's own
