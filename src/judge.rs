@@ -984,6 +984,36 @@ mod tests {
         let _ = std::fs::remove_dir_all(dir);
     }
 
+    /// One render's batch means take min(32, n) blocks of its n pixels and drop a block
+    /// without a finite pixel: 40 pixels whose first is NaN give 31 replicates (t with 30
+    /// degrees of freedom), 8 pixels 8 blocks of one (7).
+    #[test]
+    fn one_renders_blocks_follow_its_pixels() {
+        let dir = scratch("blocks");
+        let write = |name: &str, n: usize, nan_first: bool| {
+            let px: Vec<[f32; 3]> = (0..n)
+                .map(|i| match i {
+                    0 if nan_first => [f32::NAN; 3],
+                    _ => [2.0 + 0.01 * ((i * 37 % n) as f32 / n as f32 - 0.5); 3],
+                })
+                .collect();
+            let p = dir.join(name);
+            crate::render::write_exr(&p, n, 1, &px).unwrap();
+            p
+        };
+        for (name, n, nan_first, blocks) in [("nan.exr", 40, true, 31), ("eight.exr", 8, false, 8)]
+        {
+            let j = judge_case(&furnace(), &[write(name, n, nan_first)], "r", 1e-4).unwrap();
+            assert_eq!(j.sample.method, Method::PixelBlocks);
+            assert_eq!(
+                (j.sample.replicates.len(), j.dof),
+                (blocks, Some(blocks as u64 - 1)),
+                "{name}"
+            );
+        }
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
     fn case(path: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("analytic/cases")

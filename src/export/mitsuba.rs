@@ -489,6 +489,14 @@ mod tests {
 
     #[test]
     fn bsdfs_map_to_their_mitsuba_plugins() {
+        // Radiance along a ray: a radiancemeter at the point, along the direction, 1×1.
+        has(
+            &export("", DISK_LIGHT, "", ""),
+            &[
+                r#"<sensor type="radiancemeter"><point name="origin" x="0" y="0" z="0"/><vector name="direction" x="0" y="0" z="1"/>"#,
+                r#"<integer name="width" value="1"/><integer name="height" value="1"/>"#,
+            ],
+        );
         has(
             &with_material(r#"{"type":"lambertian","albedo":0.5}"#),
             &[

@@ -1044,6 +1044,39 @@ mod tests {
         );
     }
 
+    /// An albedo probe is the BSDF on a plane 2000 wide (corner at −1000, −1000) under a
+    /// constant sky of radiance 1, whatever the case's own scene.
+    #[test]
+    fn the_albedo_probe_is_a_wide_plane_under_a_white_sky() {
+        let albedo = case(
+            r#"{"name":"n","teaches":"t","measure":{"albedo":{"bsdf":{"type":"lambertian","albedo":0.5},
+              "theta_degrees":30}},"estimators":["bsdf"]}"#,
+        );
+        let p = probe(&albedo).unwrap_or_else(|r| panic!("{}", r.0));
+        let scene = probe_scene(&albedo, &p);
+        assert_eq!(scene.shapes.len(), 1);
+        assert!(
+            matches!(
+                scene.shapes[0].geometry,
+                GeometryDesc::Rectangle {
+                    corner: [-1000.0, -1000.0, 0.0],
+                    edge_u: [2000.0, 0.0, 0.0],
+                    edge_v: [0.0, 2000.0, 0.0]
+                }
+            ),
+            "{:?}",
+            scene.shapes[0].geometry
+        );
+        assert_eq!(scene.shapes[0].material.as_deref(), Some("probe"));
+        assert!(matches!(
+            scene.emitters[..],
+            [EmitterDesc::Constant {
+                radiance: 1.0,
+                spectrum: None
+            }]
+        ));
+    }
+
     /// `export.json`'s numbers are checked at their limits: a scale at either end of
     /// [`SCALE_RANGE`] and a render of 1 × 1 or of exactly the pixel limit pass; a scale
     /// just outside, 0, negative or +∞, a width or height of 0 and one pixel more than

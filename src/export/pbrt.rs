@@ -575,7 +575,12 @@ mod tests {
         );
         has(
             &export("", DISK_LIGHT, "", ""),
-            &[r#""integer maxdepth" [ 65536 ]"#],
+            &[
+                r#""integer maxdepth" [ 65536 ]"#,
+                // Radiance along a ray: a 1×1 perspective camera of fov 10⁻³°.
+                r#"Camera "perspective" "float fov" [ 0.001 ]"#,
+                r#""integer xresolution" [ 1 ] "integer yresolution" [ 1 ]"#,
+            ],
         );
         has(
             &m(r#"{"type":"lambertian","albedo":0.5}"#),

@@ -327,6 +327,14 @@ fn effects_say_which_dimensions_are_sampled() {
         bb.plan.effects.wavelength.why
     );
     assert!(!bb.plan.effects.time.simulated);
+    // A band alone takes the defaults: importance sampling by response × spectra, four
+    // hero wavelengths per path (README, "Wavelength and time").
+    let why = &bb.plan.effects.wavelength.why;
+    assert!(
+        why.contains("importance-sampled by response × spectra")
+            && why.contains("four hero wavelengths"),
+        "{why}"
+    );
     let moving = case(
         r#"{ "name": "moving", "teaches": "motion",
         "scene": { "emitters": [ { "type": "point", "position": [0,0,2], "intensity": 1, "velocity": [1,0,0] } ] },

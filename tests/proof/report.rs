@@ -993,3 +993,27 @@ fn an_exact_case_has_no_plot_and_no_stale_one() {
     assert!(validate_dir(&out) >= 2);
     let _ = std::fs::remove_dir_all(out);
 }
+
+/// The transient plot draws the case's first estimator and first sampler whatever
+/// `--estimator` / `--sampler` select (README, "Wavelength and time"): a run restricted to
+/// `mis` (the case's second estimator) writes the same plot, byte for byte, as one
+/// unrestricted.
+#[test]
+fn the_transient_plot_ignores_the_series_filters() {
+    let out = tmp("transient-filters");
+    let transient = root().join("analytic/cases/time/pulsed_disk_transient.json");
+    let plot = "pulsed_disk_transient.transient.svg";
+    let all = out.join("all");
+    sweep(&options(vec![transient.clone()], &all, 1 << 10));
+    let some = out.join("mis");
+    let mut o = options(vec![transient], &some, 1 << 10);
+    o.estimators = vec![Estimator::Mis];
+    o.samplers = vec![SamplerKind::Sobol];
+    sweep(&o);
+    let (a, b) = (
+        std::fs::read(all.join(plot)).unwrap(),
+        std::fs::read(some.join(plot)).unwrap(),
+    );
+    assert!(a == b, "the transient plot changed with the series filters");
+    let _ = std::fs::remove_dir_all(out);
+}
