@@ -30,7 +30,7 @@ use glam::{Vec2, Vec3};
 /// ([`Config::max_bounces`]) below it, returns +∞. The energy of the rest of the path is
 /// unknown, so the sample is not finite and fails any verdict; truncating it silently
 /// would bias the estimate low by the energy of longer paths (ρ^65536 of the answer at
-/// albedo ρ: 10⁻²⁸ at ρ = 0.999, 52% at ρ = 0.99999). Where no sampled path among N
+/// albedo ρ: 3·10⁻²⁹ at ρ = 0.999, 52% at ρ = 0.99999). Where no sampled path among N
 /// reaches the guard, the probability of reaching it is below 3/N (95%).
 pub const MAX_PATH_BOUNCES: u32 = 1 << 16;
 
@@ -444,6 +444,13 @@ mod tests {
 
     fn stream(seed: u64) -> SampleStream {
         Sampler::independent(seed).stream(0)
+    }
+
+    /// Russian roulette starts at the third scattering (README, "Command line" and
+    /// "Case files"), unless a case asks otherwise.
+    #[test]
+    fn roulette_starts_at_the_third_scattering() {
+        assert_eq!(RR_DEPTH, 3);
     }
 
     #[test]

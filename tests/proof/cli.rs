@@ -198,7 +198,15 @@ fn chi2_command_writes_images() {
             ])
             .arg(&dir),
     );
-    assert!(Path::new(&dir).read_dir().unwrap().count() >= 3);
+    // The three images README names, and the outcome's JSON beside them.
+    for f in [
+        "lambertian-observed.exr",
+        "lambertian-expected.exr",
+        "lambertian-residual.exr",
+        "lambertian.json",
+    ] {
+        assert!(dir.join(f).is_file(), "chi2 did not write {f}");
+    }
     let bad = bin()
         .args(["chi2", r#"{"type":"lambertian","albedo":2}"#])
         .output()
