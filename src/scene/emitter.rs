@@ -590,6 +590,14 @@ fn near_cap(p: Vec3, center: Vec3, radius: f32, cap: (Vec3, f32, f32)) -> Option
 /// surface's own and is answered as such. Triangles and rectangles keep their
 /// solid-angle samplers at every distance (`None`).
 pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
+    let plane = |center, normal, inner, radius| {
+        let view = plane_view(p, center, normal, inner, radius);
+        (
+            view.h != 0.0,
+            view.h.abs() <= view.band && view.near,
+            view.band,
+        )
+    };
     let (off, within, band) = match *prim {
         Primitive::Sphere { center, radius } => {
             // The band's own test, as the strategy reads it.
@@ -615,27 +623,13 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
             center,
             normal,
             radius,
-        } => {
-            let view = plane_view(p, center, normal, 0.0, radius);
-            (
-                view.h != 0.0,
-                view.h.abs() <= view.band && view.near,
-                view.band,
-            )
-        }
+        } => plane(center, normal, 0.0, radius),
         Primitive::Annulus {
             center,
             normal,
             inner,
             radius,
-        } => {
-            let view = plane_view(p, center, normal, inner, radius);
-            (
-                view.h != 0.0,
-                view.h.abs() <= view.band && view.near,
-                view.band,
-            )
-        }
+        } => plane(center, normal, inner, radius),
         Primitive::Rectangle { .. } | Primitive::Triangle { .. } => return None,
     };
     (off && within).then_some(band)
