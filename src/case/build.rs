@@ -245,16 +245,19 @@ pub fn check_receiver_clear_of_light_surfaces(
     f: &str,
     measure: &Measure,
     scene: &Scene,
+    shutter: f64,
 ) -> Result<(), InputError> {
     let Measure::Irradiance { at, .. } = *measure else {
         return Ok(());
     };
     for (k, s) in scene.shapes.iter().enumerate() {
-        if s.emitter.is_none() || s.velocity != glam::Vec3::ZERO {
+        if s.emitter.is_none() {
             continue;
         }
         for prim in &scene.prims()[s.prims.clone()] {
-            if let Some(band) = crate::scene::emitter::within_surface_band(prim, at) {
+            if let Some(band) =
+                crate::scene::emitter::within_surface_band_moving(prim, at, s.velocity, shutter)
+            {
                 return Err(InputError::new(
                     f,
                     "measure.irradiance.at",
@@ -267,6 +270,15 @@ pub fn check_receiver_clear_of_light_surfaces(
         }
     }
     Ok(())
+}
+
+/// The length of the case's shutter (s; 0 without one): moving shapes sit at `velocity ·
+/// τ` from their rest positions for τ in [0, this] ([`epoch`]).
+pub fn shutter_length(desc: &CaseDesc) -> f64 {
+    match desc.time.as_ref().and_then(|t| t.shutter) {
+        Some([t0, t1]) if t1 - t0 > 0.0 => t1 - t0,
+        _ => 0.0,
+    }
 }
 
 /// The measurement in engine coordinates (rebased on `origin`).
@@ -1021,7 +1033,7 @@ mod tests {
         )?;
         let m = measure("c.json", &d.measure, &scene, origin)?;
         check_view_factor("c.json", d, &scene)?;
-        check_receiver_clear_of_light_surfaces("c.json", &m, &scene)?;
+        check_receiver_clear_of_light_surfaces("c.json", &m, &scene, shutter_length(d))?;
         Ok(m)
     }
 
@@ -1252,6 +1264,21 @@ mod tests {
                 "measure.irradiance.at"
             );
         }
+        // A moving light in its rest frame: the receiver at the shutter's ends and where
+        // it passes closest to the centre (a tilted disk moving in its own plane over a
+        // receiver 1e-6 above its centre at mid-shutter); one that stays far is kept.
+        let moving = |at: [f64; 3]| {
+            built(&desc(json!({
+                "scene": {"shapes": [{"geometry": {"type": "disk", "center": [-3, 0, 0], "normal": [0, 0.6, 0.8], "radius": 1},
+                                      "emission": {"radiance": 1}, "velocity": [6, 0, 0]}]},
+                "measure": {"irradiance": {"at": at, "normal": [0, -0.6, -0.8]}},
+                "time": {"shutter": [0, 1]}
+            })))
+        };
+        let e = moving([0.0, 6e-7, 8e-7]).unwrap_err();
+        assert_eq!(e.field, "measure.irradiance.at");
+        assert!(e.reason.contains("(disk)"), "{e}");
+        assert!(moving([0.0, 6e-3, 8e-3]).is_ok());
         for ok in [
             case(1.0 + 8.0 * ulp, true, "irradiance"),
             case(1.0 - 8.0 * ulp, true, "irradiance"),

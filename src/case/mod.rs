@@ -121,7 +121,12 @@ impl Case {
         };
         let measure = build::measure(f, &desc.measure, &scene, origin)?;
         build::check_view_factor(f, &desc, &scene)?;
-        build::check_receiver_clear_of_light_surfaces(f, &measure, &scene)?;
+        build::check_receiver_clear_of_light_surfaces(
+            f,
+            &measure,
+            &scene,
+            build::shutter_length(&desc),
+        )?;
         build::check_estimators(f, &desc, &measure)?;
         build::check_samples(f, &desc)?;
         let reference = build::reference(f, &desc)?;

@@ -635,6 +635,38 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
     (off && within).then_some(band)
 }
 
+/// [`within_surface_band`] for a light moving at `velocity` over a shutter of length
+/// `shutter` (s): the receiver in the light's rest frame, p − v τ (as the engine moves a
+/// ray), at the shutter's two ends and where it passes closest to the light's centre
+/// (for a light still in effect, or moving in its own plane over the receiver, the
+/// band holds all along or at that instant). A light that crosses the receiver within
+/// the shutter holds it in its band only for a fraction of about band/(|v| τ) of the
+/// shutter, and is not refused.
+pub(crate) fn within_surface_band_moving(
+    prim: &Primitive,
+    p: Vec3,
+    velocity: Vec3,
+    shutter: f64,
+) -> Option<f64> {
+    let centre = match *prim {
+        Primitive::Sphere { center, .. }
+        | Primitive::SphericalCap { center, .. }
+        | Primitive::Disk { center, .. }
+        | Primitive::Annulus { center, .. } => center,
+        Primitive::Rectangle { .. } | Primitive::Triangle { .. } => return None,
+    };
+    let v = velocity.as_dvec3();
+    let vv = v.length_squared();
+    let closest = if vv > 0.0 {
+        ((p - centre).as_dvec3().dot(v) / vv).min(shutter).max(0.0)
+    } else {
+        0.0
+    };
+    [0.0, shutter, closest]
+        .into_iter()
+        .find_map(|tau| within_surface_band(prim, p - velocity * tau as f32))
+}
+
 /// Intersection of the line p + t w with the plane of a planar primitive.
 fn plane_point(prim: &Primitive, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
     let (origin, n) = match *prim {
@@ -2834,8 +2866,9 @@ mod tests {
         for h in [1e-1f32, 1e-3, 1e-6] {
             for (a, inner) in [(0.0f32, 0.0f32), (0.9, 0.0), (1.0 + 3.0 * h, 0.0)] {
                 if h < 1e-5 && a > 1.0 {
-                    // Beside the rim at 10⁻⁶ the f32 centre (−1.000003) is off by 2% of
-                    // the gap: the geometry itself, not its sampling.
+                    // Beside the rim at 10⁻⁶ the f32 geometry is off by up to about 2% of
+                    // the gap (every estimator reads 5% high): the geometry itself, not
+                    // its sampling.
                     continue;
                 }
                 cases.push((h, a, inner));

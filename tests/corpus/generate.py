@@ -770,6 +770,21 @@ case("receiver_in_disk_light_band_beyond_rim", "wrong", DISK, [
                         "emission": {"radiance": 1}}]),
      ("measure.irradiance.at", [1.000002, 6e-7, 8e-7]),
      ("measure.irradiance.normal", [0, -0.6, -0.8])], 2, "measure.irradiance.at", "(disk)")
+# Moving lights too (found in review: the check skipped every shape with a velocity): a
+# tilted disk moving in its own plane at 0.001 under a receiver 1e-6 above it read
+# 3.4e-6 for pi with `light`, a sphere light moving at 1e-30 the same 0 as a still one.
+case("receiver_in_moving_disk_light_band", "wrong", DISK, [
+     ("scene.shapes", [{"geometry": {"type": "disk", "center": [0, 0, 0], "normal": [0, 0.6, 0.8], "radius": 1},
+                        "emission": {"radiance": 1}, "velocity": [0.001, 0, 0]}]),
+     ("time", {"shutter": [0, 1]}),
+     ("measure.irradiance.at", [0, 6e-7, 8e-7]),
+     ("measure.irradiance.normal", [0, -0.6, -0.8])], 2, "measure.irradiance.at", "(disk)")
+case("receiver_in_slow_sphere_light_band", "wrong", DISK, [
+     ("scene.shapes", [{"geometry": {"type": "sphere", "center": [0.25, -0.125, 0.5], "radius": 0.5},
+                        "emission": {"radiance": 1}, "velocity": [1e-30, 0, 0]}]),
+     ("time", {"shutter": [0, 1]}),
+     ("measure.irradiance.at", [0.25, -0.125, 1.0000004768371582]),
+     ("measure.irradiance.normal", [0, 0, -1])], 2, "measure.irradiance.at", "(sphere)")
 # A view factor is geometry: a band read F × its width (60 for 0.2), a bin F × its width,
 # and reflective shapes added interreflections (0.216 for 0.200). Refused.
 case("flux_view_factor_spectral", "wrong", FLUX, [("spectral", {"band": [400, 700]})], 2,
