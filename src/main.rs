@@ -150,7 +150,7 @@ enum Command {
         #[arg(long, default_value = "reports")]
         out: PathBuf,
     },
-    /// Render a scene with a camera to an EXR image, for looking.
+    /// Render a scene with a camera to an EXR (or, named .png, an 8-bit sRGB PNG) image, for looking.
     Render {
         /// Scene file with a `camera`.
         scene: PathBuf,

@@ -3,8 +3,9 @@
 //! loop for scenes of a handful of primitives, where a BVH only costs.
 //!
 //! obvhs hands the callback a *slot*, which indexes `bvh.primitive_indices`, not our
-//! primitive list (STACK.md): the primitives are copied once into slot order, each with
-//! its index, so a leaf reads its primitives contiguously. Shadow rays stop at the first
+//! primitive list (the shared notes, ../shared/STACK.md, outside this repository): the
+//! primitives are copied once into slot order, each with its index, so a leaf reads its
+//! primitives contiguously. Shadow rays stop at the first
 //! hit.
 //!
 //! **Why our own box test.** obvhs 0.4's box test clamps every box's entry distance to a

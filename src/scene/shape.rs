@@ -6,7 +6,8 @@
 //! ("Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems 2019,
 //! ch. 7) relative to its centre; triangles use the watertight test of Woop, Benthin &
 //! Wald (JCGT 2(1), 2013), so no ray slips between two triangles sharing an edge (obvhs's
-//! own triangle test is not watertight, see STACK.md).
+//! own triangle test is not watertight, see the shared notes ../shared/STACK.md, outside
+//! this repository).
 
 use crate::math::{Frame, gamma, unit_vector};
 use crate::sampling::disk::concentric_disk;

@@ -411,4 +411,10 @@ fn the_readme_and_crate_doc_module_maps_name_every_module() {
         missing.is_empty(),
         "src/lib.rs's module table does not name {missing:?}"
     );
+    // Nor a module that does not exist.
+    let stale: Vec<_> = in_doc.difference(&modules).collect();
+    assert!(
+        stale.is_empty(),
+        "src/lib.rs's module table names {stale:?}, not modules of src/"
+    );
 }
