@@ -5,8 +5,7 @@
 //! obvhs hands the callback a *slot*, which indexes `bvh.primitive_indices`, not our
 //! primitive list (the shared notes, ../shared/STACK.md, outside this repository): the
 //! primitives are copied once into slot order, each with its index, so a leaf reads its
-//! primitives contiguously. Shadow rays stop at the first
-//! hit.
+//! primitives contiguously. Shadow rays stop at the first hit.
 //!
 //! **Why our own box test.** obvhs 0.4's box test clamps every box's entry distance to a
 //! fixed 10⁻⁴ (`EPSILON` in its `cwbvh/node.rs` and `cwbvh/simd.rs`: `tmin.max(EPSILON)`,
