@@ -231,8 +231,10 @@ pub fn check_view_factor(f: &str, desc: &CaseDesc, scene: &Scene) -> Result<(), 
     })
 }
 
-/// An irradiance receiver off the surface of a still sphere, spherical-cap, disk or
-/// annulus light yet within that surface's `f32` error band, and near it: there it cannot
+/// An irradiance receiver off the surface of a sphere, spherical-cap, disk or annulus
+/// light (a moving one in its rest frame over the shutter of length `shutter`,
+/// `scene::emitter::within_surface_band_moving`) yet within that surface's `f32` error
+/// band, and near it: there it cannot
 /// be told from a point of the surface, which light sampling treats it as (by area over
 /// the whole surface, where the receiver sees a patch of relative area ~gap/size), so
 /// `light` read 0 for ≈ πL (just outside a sphere at a gap of 9.5·10⁻⁷ r; 10⁻⁷ inside a
@@ -1233,6 +1235,17 @@ mod tests {
     /// band of its surface's error bound (7.2·10⁻⁷ here) and is refused, naming
     /// `measure.irradiance.at`; 8 ulps above, on the sphere, inside it, beside a sphere
     /// that does not emit, or measuring radiance there, it is taken.
+    /// The shutter's length: t₁ − t₀, 0 without a shutter (or one not open).
+    #[test]
+    fn the_shutter_length_is_its_span() {
+        let with = |shutter: serde_json::Value| {
+            shutter_length(&desc(json!({ "time": { "shutter": shutter } })))
+        };
+        assert_eq!(with(json!([2.0, 5.5])), 3.5);
+        assert_eq!(with(json!([5.0, 2.0])), 0.0);
+        assert_eq!(shutter_length(&desc(json!({}))), 0.0);
+    }
+
     #[test]
     fn a_receiver_within_a_light_surfaces_error_bound_is_refused() {
         let case = |z: f64, emits: bool, measure: &str| {
