@@ -1266,6 +1266,11 @@ mod tests {
             (Vec3::new(3.0, -2.0, 1.0), 2.0),
             (Vec3::new(1.0, 0.5, -0.25), 1e-3),
             (Vec3::new(100.0, 50.0, -20.0), 1e-3),
+            // Wider spheres, where γ₆|f|² dominates the rescue window.
+            (Vec3::new(0.0, 0.0, 3.0), 3.0),
+            (Vec3::new(5.0, 5.0, 5.0), 8.0),
+            (Vec3::ZERO, 64.0),
+            (Vec3::new(-700.0, 300.0, 1000.0), 1e3),
         ];
         let (mut near, mut far) = (0, 0);
         for (center, radius) in spheres {
@@ -1341,10 +1346,14 @@ mod tests {
                                 let off = (hit.p.as_dvec3() - exact).abs();
                                 let u = f64::from(f32::EPSILON) / 2.0;
                                 let rr = f64::from(radius).powi(2);
+                                // The documented rescue window, in f32 as the test
+                                // reads it: inside it the f64 root, rounded once to t.
                                 let f = (o - center).length_squared();
-                                let band = f64::from(gamma(6) * f + gamma(2) * (radius * radius));
-                                let dt = if c.abs() <= 2.0 * band {
-                                    4.0 * f64::EPSILON * want
+                                let c32 = f - radius * radius;
+                                let rescued = c32.abs()
+                                    <= gamma(6) * f + gamma(2) * (radius * radius + c32.abs());
+                                let dt = if rescued {
+                                    (u + 4.0 * f64::EPSILON) * want
                                 } else {
                                     want * (10.0 * u * rr / c.abs() + 10.0 * u)
                                 };
