@@ -16,7 +16,7 @@ use crate::sampling::sphere_inside::SphereInside;
 use crate::sampling::spherical_rectangle::SphericalRectangle;
 use crate::sampling::spherical_triangle::SphericalTriangle;
 use crate::scene::shape::Primitive;
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 /// A lat-long (equirectangular) environment map of grey radiance, +z up:
 /// row v ↔ θ = π (v + ½)/H, column u ↔ φ = 2π (u + ½)/W.
@@ -523,18 +523,20 @@ fn near_plane(p: Vec3, center: Vec3, normal: Vec3, inner: f32, radius: f32) -> O
 }
 
 /// A spherical cap (its unit axis, cos θmax and 1 − cos θmax) seen from `p`, in `f64`: its
-/// distance to the cap's sphere, gap = | |p − c| − R |, its distance δ to the cap (the
-/// gap where p's direction from the centre lies in the cap, else the distance to its rim
-/// circle), the cap's size (its base radius R sin θmax, or R past a hemisphere), whether
-/// p is near (δ < [`NEAR_FRACTION`] size) and the sphere's band 4(γ₅ r + γ₁(‖c‖∞ +
-/// ‖p‖∞)) ([`sphere_band`]), within which a point cannot be told from a point of the
-/// surface.
+/// distance to the cap's sphere, gap = | |p − c| − R |, and the sphere's band 4(γ₅ r +
+/// γ₁(‖c‖∞ + ‖p‖∞)) ([`sphere_band`]), within which a point cannot be told from a point
+/// of the surface; its distance to the cap itself comes from [`CapView::nearness`], asked
+/// only where the band test leaves it to matter (a furnace's bounces on a cap lie in the
+/// band at every light sample).
 struct CapView {
     gap: f64,
-    delta: f64,
-    size: f64,
-    near: bool,
     band: f64,
+    v: DVec3,
+    d: f64,
+    big_r: f64,
+    axis: DVec3,
+    cos_max: f64,
+    one_minus_cos: f64,
 }
 
 fn cap_view(
@@ -546,23 +548,41 @@ fn cap_view(
     let v = p.as_dvec3() - center.as_dvec3();
     let big_r = radius as f64;
     let d = v.length();
-    let gap = (d - big_r).abs();
-    let (a, c, omc) = (axis.as_dvec3(), cos_max as f64, one_minus_cos as f64);
-    let sin_max = (omc * (2.0 - omc)).max(0.0).sqrt();
-    let z = v.dot(a);
-    let delta = if c <= -1.0 || z >= d * c {
-        gap
-    } else {
-        let rho = v.cross(a).length();
-        (z - big_r * c).hypot(rho - big_r * sin_max)
-    };
-    let size = if c >= 0.0 { big_r * sin_max } else { big_r };
     CapView {
-        gap,
-        delta,
-        size,
-        near: delta < NEAR_FRACTION * size,
+        gap: (d - big_r).abs(),
         band: sphere_band(p, center, radius),
+        v,
+        d,
+        big_r,
+        axis: axis.as_dvec3(),
+        cos_max: cos_max as f64,
+        one_minus_cos: one_minus_cos as f64,
+    }
+}
+
+impl CapView {
+    /// The distance δ to the cap (the gap where p's direction from the centre lies in the
+    /// cap, else the distance to its rim circle), the cap's size (its base radius
+    /// R sin θmax, or R past a hemisphere), and whether p is near (δ < [`NEAR_FRACTION`]
+    /// size).
+    fn nearness(&self) -> (f64, f64, bool) {
+        let (v, big_r, a, c, omc) = (
+            self.v,
+            self.big_r,
+            self.axis,
+            self.cos_max,
+            self.one_minus_cos,
+        );
+        let sin_max = (omc * (2.0 - omc)).max(0.0).sqrt();
+        let z = v.dot(a);
+        let delta = if c <= -1.0 || z >= self.d * c {
+            self.gap
+        } else {
+            let rho = v.cross(a).length();
+            (z - big_r * c).hypot(rho - big_r * sin_max)
+        };
+        let size = if c >= 0.0 { big_r * sin_max } else { big_r };
+        (delta, size, delta < NEAR_FRACTION * size)
     }
 }
 
@@ -575,7 +595,8 @@ fn near_cap(p: Vec3, center: Vec3, radius: f32, cap: (Vec3, f32, f32)) -> Option
     if !(view.gap > view.band && view.gap.is_finite()) {
         return None;
     }
-    view.near.then(|| area_weight(view.delta, view.size))
+    let (delta, size, near) = view.nearness();
+    near.then(|| area_weight(delta, size))
 }
 
 /// Whether a free point `p` (a case's receiver) lies off the surface of `prim` yet within
@@ -615,7 +636,7 @@ pub(crate) fn within_surface_band(prim: &Primitive, p: Vec3) -> Option<f64> {
             let view = cap_view(p, center, radius, (axis, cos_max, one_minus_cos));
             (
                 view.gap != 0.0,
-                view.gap <= view.band && view.near,
+                view.gap <= view.band && view.nearness().2,
                 view.band,
             )
         }
