@@ -395,8 +395,16 @@ fn intersect_sphere(
     let b = -f.dot(d);
     let l = f + d * b;
     let disc = rr - l.length_squared();
+    // Within the band below the `f32` discriminant is noise too: it is a difference of
+    // two values near r², a multiple of ulp(r²) where the exact one, b² − c, may be far
+    // smaller, so a nearly tangent ray from an origin inside the sphere could read
+    // disc < 0 and miss the sphere it starts in (radius 10⁸, a ray 0.47 units off
+    // tangent: `nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`).
     if disc < 0.0 {
-        return None;
+        let c = ff - rr;
+        return within_sphere_band(ff, rr, c)
+            .then(|| intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax))
+            .flatten();
     }
     let c = ff - rr;
     let q = b + disc.sqrt().copysign(b);
@@ -411,8 +419,8 @@ fn intersect_sphere(
     // the computed c was ≤ 0, and every BSDF-sampled ray went on to the sphere's far side
     // (BSDF sampling read 0, MIS 0.20, for 0.5). There the `f64` roots decide
     // ([`intersect_sphere_near_surface`]); every other hit keeps its bits.
-    if c.abs() <= gamma(6) * ff + gamma(2) * (rr + c.abs()) {
-        return intersect_sphere_near_surface(center, radius, o, d, f, q, tmin, tmax);
+    if within_sphere_band(ff, rr, c) {
+        return intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax);
     }
     let (mut t0, mut t1) = (c / q, q);
     if q == 0.0 {
@@ -424,6 +432,13 @@ fn intersect_sphere(
     }
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
     sphere_hit(center, radius, o, d, f, t, tmin, tmax)
+}
+
+/// Whether c = |f|² − r², computed in `f32` from |f|² and r², lies within its error
+/// bound ([`intersect_sphere`]): γ₆|f|² + γ₂(r² + |c|).
+#[inline]
+fn within_sphere_band(ff: f32, rr: f32, c: f32) -> bool {
+    c.abs() <= gamma(6) * ff + gamma(2) * (rr + c.abs())
 }
 
 /// The hit at distance `t` along the ray of [`intersect_sphere`] (f = o − centre in
@@ -465,9 +480,12 @@ fn sphere_hit(
 /// of the sphere, which does not see itself). A ray spawned from the sphere's own
 /// point is offset past that point's error bound, ≥ γ₅r ≈ 3·10⁻⁷ r, to the side it leaves
 /// ([`crate::math::offset_ray_origin`]), so its `f64` c has the sign of that side and
-/// its root near 0 lies behind it. The other root, q, keeps its `f32` value (the
-/// hit the fast path would report) unless the `f64` one has the other sign (a ray
-/// nearly tangent to the sphere). (pbrt-v4 drops every root whose interval reaches 0,
+/// its root near 0 lies behind it. The other root, q, is the `f64` one too: for a ray
+/// nearly tangent to the sphere the `f32` b = −f·d and r² − |f + b d|² are rounding
+/// noise (a multiple of ulp(r²)): of 59 983 such rays on spheres of radius 3·10⁷ and 10⁸,
+/// 376 missed the sphere they started inside (a negative discriminant) and 10 686 met it
+/// more than 10⁻⁶ off the exact distance, up to 35.7 times too far
+/// (`nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`). (pbrt-v4 drops every root whose interval reaches 0,
 /// the root near 0 from any origin this close included.)
 #[cold]
 #[allow(clippy::too_many_arguments)]
@@ -477,7 +495,6 @@ fn intersect_sphere_near_surface(
     o: Vec3,
     d: Vec3,
     f: Vec3,
-    q: f32,
     tmin: f32,
     tmax: f32,
 ) -> Option<Hit> {
@@ -499,11 +516,7 @@ fn intersect_sphere_near_surface(
     } else {
         None
     };
-    let far = if (q > 0.0) == (qw > 0.0) {
-        q
-    } else {
-        (qw / a) as f32
-    };
+    let far = (qw / a) as f32;
     let within = |t: &f32| *t > tmin && *t < tmax;
     let t = match (near.filter(within), Some(far).filter(within)) {
         (Some(t0), Some(t1)) => t0.min(t1),
@@ -1229,6 +1242,68 @@ mod tests {
             assert_eq!(t(0.0, 4.0), None, "{prim:?}");
             assert_eq!(t(4.0, f32::INFINITY), None, "{prim:?}");
         }
+    }
+
+    /// Nearly tangent rays from origins on huge spheres (radius 3·10⁷–10⁸, a huge emitter
+    /// or a sky dome), within the `f32` band of the surface
+    /// ([`intersect_sphere_near_surface`]): every ray meets the sphere where the exact
+    /// roots say, at the exact forward root (relative 10⁻⁶), thousands of units ahead.
+    /// In `f32` there b = −f·d (each product rounded to a few units) can have the other
+    /// sign than the exact one, and the discriminant r² − |f + b d|² is a multiple of
+    /// ulp(r²) ≈ 10⁹ where the exact one is ~10⁸: with the `f32` far root, 376 of these
+    /// 59 983 rays missed the sphere they started inside and 10 686 met it more than
+    /// 10⁻⁶ off, up to 35.7 times too far. At least 100 rays of each sign disagreement
+    /// are met, so the far root's sign and size are both tested.
+    #[test]
+    fn nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root() {
+        // A fixed 64-bit LCG (Knuth's MMIX constants): the same rays every run.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+        };
+        // The band's rays whose b signs disagree: (f32 b > 0 ≥ exact b, exact b > 0 ≥ f32 b).
+        let mut mismatched = [0usize; 2];
+        for (center, radius) in [
+            (Vec3::ZERO, 1e8f32),
+            (Vec3::new(3e8, -2e7, 5e6), 1e8),
+            (Vec3::new(1e3, 2e3, -4e3), 3e7),
+        ] {
+            for _ in 0..20_000 {
+                let n = Vec3::new(uniform(), uniform(), uniform()).normalize();
+                let o = center + n * radius;
+                let w = Vec3::new(uniform(), uniform(), uniform());
+                let d = n.cross(w).normalize();
+                let f = o - center;
+                let (ff, rr) = (f.length_squared(), radius * radius);
+                let c32 = ff - rr;
+                let b32 = -f.dot(d);
+                let b = -(o.as_dvec3() - center.as_dvec3()).dot(d.as_dvec3());
+                if !within_sphere_band(ff, rr, c32) {
+                    continue;
+                }
+                if (b32 > 0.0) != (b > 0.0) {
+                    mismatched[usize::from(b > 0.0)] += 1;
+                }
+                let hit = Primitive::Sphere { center, radius }.intersect(o, d, 0.0, f32::INFINITY);
+                let want = exact_sphere_roots(center, radius, o, d).and_then(|[_, s, big]| {
+                    [s, big].into_iter().filter(|&t| t > 0.0).reduce(f64::min)
+                });
+                let what =
+                    format!("sphere {center} r {radius}, o {o}, d {d}: b {b32} in f32, {b} exact");
+                match (want, hit) {
+                    (Some(want), Some(hit)) => assert!(
+                        (f64::from(hit.t) - want).abs() <= 1e-6 * want,
+                        "{what}: t {} for {want}",
+                        hit.t
+                    ),
+                    (want, hit) => assert_eq!(want.is_some(), hit.is_some(), "{what}: {hit:?}"),
+                }
+            }
+        }
+        assert!(mismatched.iter().all(|&k| k >= 100), "{mismatched:?}");
     }
 
     /// The exact roots of o + t d on the sphere, its `f32` parameters and the ray taken as
