@@ -619,6 +619,32 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
     ] {
         assert!(stdout.contains(want), "`{want}` not in\n{stdout}");
     }
+    // The factor is (detectable / 0.5%)² rounded up, the detectable bias falling as 1/√N
+    // (README's example: 2.553% and 27×); read from each failure's reason.
+    let mut reasons = 0;
+    for line in stdout
+        .lines()
+        .filter(|l| l.contains("cannot see a relative bias below"))
+    {
+        let number_after = |key: &str| -> f64 {
+            let rest = &line[line.find(key).unwrap() + key.len()..];
+            let end = rest
+                .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+                .unwrap();
+            rest[..end].parse().unwrap()
+        };
+        let percent = number_after("cannot see a relative bias below ");
+        let factor = number_after("to about ");
+        // The percentage is printed to 3 decimals: the factor from either end of its
+        // rounding interval.
+        let bound = |p: f64| (p / 0.5).powi(2).ceil();
+        assert!(
+            percent > 0.5 && (bound(percent - 5e-4)..=bound(percent + 5e-4)).contains(&factor),
+            "{line}"
+        );
+        reasons += 1;
+    }
+    assert_eq!(reasons, 2, "{stdout}");
     let (json, html) = (
         few.with_extension("weak.json"),
         few.with_extension("weak.html"),
@@ -663,6 +689,52 @@ fn a_pass_that_cannot_see_half_a_percent_fails_or_is_weak() {
         "{stdout}"
     );
     assert!(!stdout.contains("weak"), "{stdout}");
+}
+
+/// A statistical pass whose reference is exactly 0 has no relative bias to see: at its
+/// case's own count it is not failed but marked weak, with a closing line of its own
+/// (README "How a verdict is reached"). The reference here faces away from a sphere light
+/// the receiver sees (irradiance 0 by the closed form), so the BSDF-sampled estimate is a
+/// few hits of the sphere, about 5 at the case's 4096 samples: noisy, and unable to see
+/// an absolute bias of 0.005. The seed is fixed (the default's value): at other seeds
+/// no hit at all gives an exact verdict, and 16 or more a failure.
+#[test]
+fn a_zero_reference_pass_that_cannot_see_its_bias_is_weak_on_a_line_of_its_own() {
+    let zero = tmp(
+        "zero.json",
+        r#"{
+  "name": "zero", "teaches": "a zero reference has no relative bias to see",
+  "scene": { "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 10], "radius": 0.35 }, "emission": { "radiance": 1 } } ] },
+  "measure": { "irradiance": { "at": [0, 0, 0], "normal": [0, 0, 1] } },
+  "reference": { "closed_form": "sphere_irradiance", "point": [0, 0, 0], "normal": [0, 0, -1], "center": [0, 0, 10], "radius": 0.35, "radiance": 1 },
+  "estimators": ["bsdf"], "samples": 4096 }"#,
+    );
+    let run = |extra: &[&str]| {
+        let out = succeeds(
+            bin()
+                .arg("verify")
+                .arg(&zero)
+                .args(["--seed", "1152112"])
+                .args(extra),
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let own = run(&[]);
+    for want in [
+        " weak\n",
+        "1 passed (1 statistical, 0 exact), 0 failed",
+        "1 of the 1 statistical passes are weak: their reference is 0, so there is no relative bias to see, and they cannot see an absolute one of 0.005 (in their case's units): raise their case's samples",
+    ] {
+        assert!(own.contains(want), "`{want}` not in\n{own}");
+    }
+    assert!(!own.contains("fewer samples"), "{own}");
+    // Below the case's own count the cause is the count: the other line.
+    let fewer = run(&["--samples", "1024"]);
+    assert!(
+        fewer.contains("1 of the 1 statistical passes are weak: drawn with fewer samples")
+            && !fewer.contains("their reference is 0"),
+        "{fewer}"
+    );
 }
 
 /// A case without a reference is estimated, not judged: `verify`'s closing line counts its
