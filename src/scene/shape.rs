@@ -395,18 +395,17 @@ fn intersect_sphere(
     let b = -f.dot(d);
     let l = f + d * b;
     let disc = rr - l.length_squared();
+    let c = ff - rr;
     // Within the band below the `f32` discriminant is noise too: it is a difference of
     // two values near r², a multiple of ulp(r²) where the exact one, b² − c, may be far
     // smaller, so a nearly tangent ray from an origin inside the sphere could read
     // disc < 0 and miss the sphere it starts in (radius 10⁸, a ray 0.47 units off
     // tangent: `nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`).
     if disc < 0.0 {
-        let c = ff - rr;
         return within_sphere_band(ff, rr, c)
             .then(|| intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax))
             .flatten();
     }
-    let c = ff - rr;
     let q = b + disc.sqrt().copysign(b);
     // The roots are c/q (the one near 0 when the origin is near the surface) and q. The
     // sign of c = |o − centre|² − r² (outside or inside) is known only beyond its error
