@@ -197,6 +197,7 @@ mod tests {
             std_error,
             dof: None,
             exact: std_error.is_none(),
+            exact_by_batch_means: false,
             non_finite,
             seconds: 0.25,
             effects: crate::transport::effects::Effects::everything(),

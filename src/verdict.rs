@@ -207,6 +207,13 @@ pub struct Outcome {
     pub dof: Option<u64>,
     /// Whether the samples have no variance (judged within the f32 error bound).
     pub exact: bool,
+    /// Whether it is exact only because its batch means agree to the bit while its
+    /// samples vary (a quasi-random sampler that stratifies the integrand exactly,
+    /// [`ErrorBar::of`]): known to the run that drew it, not written to JSON (README
+    /// "How a verdict is reached": no catalog verdict is such an estimate, which
+    /// `tests/proof/catalog.rs` checks).
+    #[serde(skip)]
+    pub exact_by_batch_means: bool,
     /// Non-finite samples (any one fails the outcome, reference or not).
     pub non_finite: u64,
     /// Wall seconds.
@@ -260,6 +267,7 @@ impl Outcome {
             std_error: bar.std_error,
             dof: bar.dof,
             exact: bar.exact(),
+            exact_by_batch_means: bar.exact() && !is_exact(total),
             non_finite: total.non_finite,
             seconds: e.seconds,
             effects: plan.effects.clone(),
@@ -605,6 +613,21 @@ mod tests {
         assert!(!o.verdict.as_ref().unwrap().passed);
         let o = step(0.5);
         assert!(o.exact && o.std_error.is_none() && o.dof.is_none(), "{o:?}");
+        // Exact by its batch means, its samples varying; samples that agree are not.
+        assert!(o.exact_by_batch_means);
+        let flat = estimate((0..16).map(|_| batch(&[0.5, 0.5])).collect());
+        let flat = Outcome::new(
+            "flat",
+            Path::new("flat.json"),
+            &measure,
+            &plan,
+            Some(0.5),
+            Estimator::Light,
+            SamplerKind::Sobol,
+            1,
+            &flat,
+        );
+        assert!(flat.exact && !flat.exact_by_batch_means, "{flat:?}");
         assert_eq!((o.samples, o.estimate), (64, 0.5));
         assert!(!o.is_statistical());
         let mut run = vec![o, outcome(1.0, Some(0.1), Some(1.0), 100, 0), step(0.6)];
@@ -678,6 +701,7 @@ mod tests {
             std_error,
             dof: None,
             exact: std_error.is_none(),
+            exact_by_batch_means: false,
             non_finite,
             seconds: 0.0,
             effects: Effects::everything(),

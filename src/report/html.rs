@@ -710,6 +710,7 @@ mod tests {
             std_error,
             dof: None,
             exact: std_error.is_none(),
+            exact_by_batch_means: false,
             non_finite: 0,
             seconds: 0.1,
             effects: crate::transport::effects::Effects::everything(),
