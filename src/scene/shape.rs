@@ -1245,8 +1245,10 @@ mod tests {
 
     /// Nearly tangent rays from origins on huge spheres (radius 3·10⁷–10⁸, a huge emitter
     /// or a sky dome), within the `f32` band of the surface
-    /// ([`intersect_sphere_near_surface`]): every ray meets the sphere where the exact
-    /// roots say, at the exact forward root (relative 10⁻⁶), thousands of units ahead.
+    /// ([`intersect_sphere_near_surface`]): every ray meets the sphere where the `f64`
+    /// roots of its `f32` inputs say, at their forward root (relative 10⁻⁶), thousands of
+    /// units ahead. (Those roots use the engine's own `f64` formulas, so inside the band
+    /// the test checks which path a ray takes; their own error is ~10⁻¹⁶ r².)
     /// In `f32` there b = −f·d (each product rounded to a few units) can have the other
     /// sign than the exact one, and the discriminant r² − |f + b d|² is a multiple of
     /// ulp(r²) ≈ 10⁹ where the exact one is ~10⁸: with the `f32` far root, 376 of these
