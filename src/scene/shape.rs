@@ -399,8 +399,8 @@ fn intersect_sphere(
     // Within the band below the `f32` discriminant is noise too: it is a difference of
     // two values near r², a multiple of ulp(r²) where the exact one, b² − c, may be far
     // smaller, so a nearly tangent ray from an origin inside the sphere could read
-    // disc < 0 and miss the sphere it starts in (radius 10⁸, a ray 0.47 units off
-    // tangent: `nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`).
+    // disc < 0 and miss the sphere it starts in (radius 10⁸, b = −f·d = −0.47 exactly
+    // and +0.625 in `f32`: `nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`).
     if disc < 0.0 {
         return within_sphere_band(ff, rr, c)
             .then(|| intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax))
@@ -484,8 +484,9 @@ fn sphere_hit(
 /// noise (a multiple of ulp(r²)): of 59 983 such rays on spheres of radius 3·10⁷ and 10⁸,
 /// 376 missed the sphere they started inside (a negative discriminant) and 10 686 met it
 /// more than 10⁻⁶ off the exact distance, up to 35.7 times too far
-/// (`nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`). (pbrt-v4 drops every root whose interval reaches 0,
-/// the root near 0 from any origin this close included.)
+/// (`nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`). (pbrt-v4 drops
+/// every root whose interval reaches 0, the root near 0 from any origin this close
+/// included.)
 #[cold]
 #[allow(clippy::too_many_arguments)]
 fn intersect_sphere_near_surface(
