@@ -396,15 +396,20 @@ fn intersect_sphere(
     let l = f + d * b;
     let disc = rr - l.length_squared();
     let c = ff - rr;
-    // Within the band below the `f32` discriminant is noise too: it is a difference of
-    // two values near r², a multiple of ulp(r²) where the exact one, b² − c, may be far
-    // smaller, so a nearly tangent ray from an origin inside the sphere could read
-    // disc < 0 and miss the sphere it starts in (radius 10⁸, b = −f·d = −0.47 exactly
-    // and +0.625 in `f32`: `nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`).
+    // A grazing ray's discriminant is noise: r² − |l|² is a difference of two values near
+    // r² with an error of order γ r² (for an origin within a few r of the centre), so its
+    // square root, half the chord, is off by up to ~√γ r ≈ 10⁻³ r. A nearly tangent ray
+    // from an origin inside a sphere of radius 10⁸ read disc < 0 and missed the sphere it
+    // starts in (b = −f·d = −0.47 exactly and +0.625 in `f32`), and chords a few 10⁻⁴ r
+    // long came out up to 54% long. Below GRAZING r² (half-chords below ~0.022 r, a few
+    // hits in 10⁴) the `f64` roots decide, where that error falls below ~10⁻³ of the chord
+    // (`nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root`,
+    // `grazing_chords_are_exact_to_a_thousandth`).
+    if disc.abs() < GRAZING * rr {
+        return intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax);
+    }
     if disc < 0.0 {
-        return within_sphere_band(ff, rr, c)
-            .then(|| intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax))
-            .flatten();
+        return None;
     }
     let q = b + disc.sqrt().copysign(b);
     // The roots are c/q (the one near 0 when the origin is near the surface) and q. The
@@ -432,6 +437,11 @@ fn intersect_sphere(
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
     sphere_hit(center, radius, o, d, f, t, tmin, tmax)
 }
+
+/// The discriminant, as a fraction of r², below which [`intersect_sphere`] takes the `f64`
+/// roots: 2⁻¹¹, about 1000 times the `f32` discriminant's own error bound of some
+/// γ₄ · 2r² for an origin near the sphere.
+const GRAZING: f32 = 1.0 / 2048.0;
 
 /// Whether c = |f|² − r², computed in `f32` from |f|² and r², lies within its error
 /// bound ([`intersect_sphere`]): γ₆|f|² + γ₂(r² + |c|).
@@ -1306,6 +1316,90 @@ mod tests {
             }
         }
         assert!(mismatched.iter().all(|&k| k >= 100), "{mismatched:?}");
+    }
+
+    /// Grazing chords from origins near a sphere, inside and outside, within its band
+    /// and up to 10⁻³ r beyond it, on spheres of radius 10⁻³ to 10⁸ (one 10⁵ from the
+    /// origin): every ray meets the sphere exactly where the `f64` roots of its `f32`
+    /// inputs say it does, at their forward root to 10⁻³ relative. The `f32`
+    /// discriminant's noise, ~γ r² under a square root, put chords a few 10⁻⁴ r long up
+    /// to 54% off before the [`GRAZING`] switch (a session-47 review: 4 of 5 million such
+    /// rays beyond 10⁻³). Tilts from 0 to 0.1 rad span both sides of the switch.
+    #[test]
+    fn grazing_chords_are_exact_to_a_thousandth() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+        };
+        let u = f32::EPSILON / 2.0;
+        let (mut f64_side, mut f32_side) = (0, 0);
+        for (center, radius) in [
+            (Vec3::ZERO, 1.0f32),
+            (Vec3::new(0.3, -0.2, 0.1), 1e-3),
+            (Vec3::new(1e5, -1e5, 3e4), 1e3),
+            (Vec3::new(1e3, 2e3, -4e3), 1e8),
+        ] {
+            for depth in [0.0, 2.0 * u, 8.0 * u, 16.0 * u, 1e-5, 1e-3] {
+                for side in [-1.0f32, 1.0] {
+                    for tilt in [0.0f32, 1e-4, 1e-3, 1e-2, 0.02, 0.03, 0.1] {
+                        for _ in 0..200 {
+                            let n = Vec3::new(uniform(), uniform(), uniform()).normalize();
+                            let o = center + n * (radius * (1.0 + side * depth));
+                            let w = Vec3::new(uniform(), uniform(), uniform());
+                            let t = n.cross(w).normalize();
+                            // Into the sphere by `tilt` (or out of it, at random).
+                            let d = (t - n * (tilt * uniform().signum())).normalize();
+                            let f = o - center;
+                            let l = f + d * -f.dot(d);
+                            let disc = radius * radius - l.length_squared();
+                            if disc.abs() < GRAZING * radius * radius {
+                                f64_side += 1;
+                            } else {
+                                f32_side += 1;
+                            }
+                            let hit = Primitive::Sphere { center, radius }.intersect(
+                                o,
+                                d,
+                                0.0,
+                                f32::INFINITY,
+                            );
+                            let want =
+                                exact_sphere_roots(center, radius, o, d).and_then(|[_, s, big]| {
+                                    [s, big].into_iter().filter(|&t| t > 0.0).reduce(f64::min)
+                                });
+                            let what =
+                                format!("sphere {center} r {radius}, o {o}, d {d}, tilt {tilt}");
+                            // A root near 0 (c/q: entering from outside, leaving from
+                            // inside) also carries c's own f32 error beyond the band,
+                            // relative bound/|c| (`within_sphere_band`'s bound); within
+                            // it the f64 roots decide.
+                            let (ff, rr) = (f.length_squared(), radius * radius);
+                            let c = ff - rr;
+                            let c_error = if within_sphere_band(ff, rr, c) {
+                                0.0
+                            } else {
+                                f64::from((gamma(6) * ff + gamma(2) * (rr + c.abs())) / c.abs())
+                            };
+                            match (want, hit) {
+                                (Some(want), Some(hit)) => assert!(
+                                    (f64::from(hit.t) - want).abs()
+                                        <= (1e-3 + 2.0 * c_error) * want,
+                                    "{what}: t {} for {want}",
+                                    hit.t
+                                ),
+                                (want, hit) => {
+                                    assert_eq!(want.is_some(), hit.is_some(), "{what}: {hit:?}")
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(f64_side > 5000 && f32_side > 5000, "{f64_side} {f32_side}");
     }
 
     /// The exact roots of o + t d on the sphere, its `f32` parameters and the ray taken as
