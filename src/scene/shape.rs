@@ -481,7 +481,8 @@ fn sphere_hit(
 }
 
 /// [`intersect_sphere`] for an origin within the error bound of c = |o − centre|² − r²
-/// of the surface, where the sign of the `f32` root c/q near 0 is not known: the roots
+/// of the surface, where the sign of the `f32` root c/q near 0 is not known, and for a
+/// grazing ray from anywhere ([`GRAZING`]), whose `f32` discriminant is noise: the roots
 /// in `f64`, where f = o − centre and its square are exact to ~10⁻¹⁶ r². The root near
 /// 0 is c/q, in front of the origin where c and q agree in sign (outside and
 /// approaching, or inside and leaving); it is dropped where |c| is within its own
