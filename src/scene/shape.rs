@@ -1255,6 +1255,17 @@ mod tests {
         }
     }
 
+    /// Numbers uniform in [−1, 1) on a 2⁻²³ grid from a fixed 64-bit LCG (Knuth's MMIX
+    /// constants) seeded with `state`: the same rays every run.
+    fn signed_uniforms(mut state: u64) -> impl FnMut() -> f32 {
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+        }
+    }
+
     /// Nearly tangent rays from origins on huge spheres (radius 3·10⁷–10⁸, a huge emitter
     /// or a sky dome), within the `f32` band of the surface
     /// ([`intersect_sphere_near_surface`]): every ray meets the sphere where the `f64`
@@ -1269,14 +1280,7 @@ mod tests {
     /// are met, so the far root's sign and size are both tested.
     #[test]
     fn nearly_tangent_rays_on_huge_spheres_take_the_exact_far_root() {
-        // A fixed 64-bit LCG (Knuth's MMIX constants): the same rays every run.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 40) as f32 / (1u64 << 23) as f32 - 1.0
-        };
+        let mut uniform = signed_uniforms(0x2545_f491_4f6c_dd1d);
         // The band's rays whose b signs disagree: (f32 b > 0 ≥ exact b, exact b > 0 ≥ f32 b).
         let mut mismatched = [0usize; 2];
         for (center, radius) in [
@@ -1328,13 +1332,7 @@ mod tests {
     /// rays beyond 10⁻³). Tilts from 0 to 0.1 rad span both sides of the switch.
     #[test]
     fn grazing_chords_are_exact_to_a_thousandth() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 40) as f32 / (1u64 << 23) as f32 - 1.0
-        };
+        let mut uniform = signed_uniforms(0x9e37_79b9_7f4a_7c15);
         let u = f32::EPSILON / 2.0;
         let (mut f64_side, mut f32_side) = (0, 0);
         for (center, radius) in [
