@@ -422,7 +422,8 @@ fn intersect_sphere(
     // near 0 is noise: from a floor 10⁻⁸ … 2.5·10⁻¹⁰ below a sphere light of radius 0.5
     // the computed c was ≤ 0, and every BSDF-sampled ray went on to the sphere's far side
     // (BSDF sampling read 0, MIS 0.20, for 0.5). There the `f64` roots decide
-    // ([`intersect_sphere_near_surface`]); every other hit keeps its bits.
+    // ([`intersect_sphere_near_surface`]); every other hit (grazing ones aside, above)
+    // keeps its bits.
     if within_sphere_band(ff, rr, c) {
         return intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax);
     }
