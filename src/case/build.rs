@@ -1231,10 +1231,6 @@ mod tests {
         })))
     }
 
-    /// A receiver 4 ulps (4.8·10⁻⁷) above a sphere light of radius 0.5 lies within the
-    /// band of its surface's error bound (7.2·10⁻⁷ here) and is refused, naming
-    /// `measure.irradiance.at`; 8 ulps above, on the sphere, inside it, beside a sphere
-    /// that does not emit, or measuring radiance there, it is taken.
     /// The shutter's length: t₁ − t₀, 0 without a shutter (or one not open).
     #[test]
     fn the_shutter_length_is_its_span() {
@@ -1246,6 +1242,11 @@ mod tests {
         assert_eq!(shutter_length(&desc(json!({}))), 0.0);
     }
 
+    /// A receiver 4 ulps (4.8·10⁻⁷) above a sphere light of radius 0.5 lies within the
+    /// band of its surface's error bound (7.2·10⁻⁷ here) and is refused, naming
+    /// `measure.irradiance.at`; 8 ulps above, on the sphere, inside it, beside a sphere
+    /// that does not emit, or measuring radiance there, it is taken; a moving light is
+    /// checked in its rest frame over the shutter.
     #[test]
     fn a_receiver_within_a_light_surfaces_error_bound_is_refused() {
         let case = |z: f64, emits: bool, measure: &str| {
