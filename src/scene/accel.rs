@@ -37,6 +37,10 @@ use obvhs::cwbvh::node::CwBvhNode;
 /// Below this many primitives, rays test every primitive.
 const LINEAR_LIMIT: usize = 8;
 
+/// Up to this many primitives (and above [`LINEAR_LIMIT`]), rays test the primitives'
+/// boxes eight at a time and no tree is built ([`Flat`]).
+const FLAT_LIMIT: usize = 16;
+
 /// How many walks [`Accel::intersect_batch`] interleaves.
 const LANES: usize = 8;
 
@@ -121,6 +125,67 @@ struct Tree {
     index: Vec<u32>,
     /// Whether the queries skip each slot (a moving shape's); `None` when none is skipped.
     skip: Option<Vec<bool>>,
+    /// For a scene of at most [`FLAT_LIMIT`] primitives, their boxes, and no nodes.
+    flat: Option<Flat>,
+}
+
+/// The boxes of a scene's few primitives, in blocks of eight (slot order: the
+/// primitives' own), for a walk without a tree: one slab test of eight boxes at a time
+/// ([`Flat::met`]), then the exact test of each primitive whose box is met, in slot
+/// order. For the 16 primitives of the Cornell-like box a walk round a one-node tree
+/// cost about 470 instructions per query besides its primitive tests (README "Speed").
+///
+/// The boxes are the padded [`Primitive::bounds`], the slab test the nodes' own
+/// ([`NEAR_SCALE`]), so no box whose primitive the exact ray meets within (tmin, tmax)
+/// is culled; a box met in vain costs an exact test that finds nothing. So a shadow ray's
+/// verdict is the tree's; a closest hit is the tree's, except where two primitives are
+/// hit at exactly the same distance, where the first in slot order wins (in a tree the
+/// first visited).
+struct Flat {
+    /// Per block, row 2a the low and row 2a + 1 the high planes of axis a, one lane per
+    /// slot 8b + lane.
+    blocks: Vec<[[f32; 8]; 6]>,
+    /// The number of slots (the last block's lanes beyond it are never met).
+    len: usize,
+}
+
+impl Flat {
+    fn new(slots: &[Primitive]) -> Self {
+        let mut blocks = vec![[[0.0; 8]; 6]; slots.len().div_ceil(8)];
+        for (i, p) in slots.iter().enumerate() {
+            let (lo, hi) = p.bounds();
+            for a in 0..3 {
+                blocks[i / 8][2 * a][i % 8] = lo[a];
+                blocks[i / 8][2 * a + 1][i % 8] = hi[a];
+            }
+        }
+        Flat {
+            blocks,
+            len: slots.len(),
+        }
+    }
+
+    /// Bit c set where the ray meets box 8b + c of block `b` within (tmin, tmax): the
+    /// nodes' slab test ([`met_children`]) on planes read as they are.
+    #[inline(always)]
+    fn met<const WIDE: bool>(&self, b: usize, r: &BoxRay, tmax: f32) -> u32 {
+        let planes = &self.blocks[b];
+        #[cfg(target_arch = "x86_64")]
+        let met = if WIDE {
+            // SAFETY: as in [`hit`]: `WIDE` instances run only where the CPU has AVX2.
+            unsafe { met_boxes_avx2(planes, r, tmax) }
+        } else {
+            met_boxes_sse2(planes, r, tmax)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let met = met_boxes(planes, r, tmax);
+        let lanes = self.len - 8 * b;
+        if lanes < 8 {
+            met & ((1 << lanes) - 1)
+        } else {
+            met
+        }
+    }
 }
 
 /// What a traversal does after a primitive.
@@ -286,6 +351,39 @@ impl Tree {
         while self.round::<WIDE>(&mut w, &mut visit) {}
     }
 
+    /// [`Tree::walk`], or for a [`Flat`] scene each primitive not skipped whose box the
+    /// ray meets, in slot order.
+    #[inline(always)]
+    fn visit<const WIDE: bool>(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+        mut visit: impl FnMut(usize, &Primitive, f32) -> Visit,
+    ) {
+        let Some(flat) = &self.flat else {
+            return self.walk::<WIDE>(o, d, tmin, tmax, visit);
+        };
+        let r = BoxRay::new(o, d, tmin);
+        let mut tm = tmax;
+        for b in 0..flat.blocks.len() {
+            let mut met = flat.met::<WIDE>(b, &r, tm);
+            while met != 0 {
+                let slot = 8 * b + met.trailing_zeros() as usize;
+                met &= met - 1;
+                if self.skip.as_ref().is_some_and(|skip| skip[slot]) {
+                    continue;
+                }
+                match visit(slot, &self.slots[slot], tm) {
+                    Visit::Go => {}
+                    Visit::Shorten(t) => tm = t,
+                    Visit::Stop => return,
+                }
+            }
+        }
+    }
+
     /// [`Accel::intersect`] through the tree.
     #[inline(always)]
     fn closest<const WIDE: bool>(
@@ -297,7 +395,7 @@ impl Tree {
     ) -> Option<(usize, Hit)> {
         let ray = Ray::new(o, d);
         let mut best: Option<(usize, Hit)> = None;
-        self.walk::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
+        self.visit::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
             self.keep_closest::<WIDE>(&mut best, slot, prim, &ray, tmin, tm)
         });
         best.map(|(slot, h)| (self.index[slot] as usize, h))
@@ -331,7 +429,7 @@ impl Tree {
     fn clear<const WIDE: bool>(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
         let ray = Ray::new(o, d);
         let mut clear = true;
-        self.walk::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
+        self.visit::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
             if hit::<WIDE>(prim, &ray, tmin, tmax).is_some() {
                 clear = false;
                 Visit::Stop
@@ -348,6 +446,12 @@ impl Tree {
         &self,
         rays: &[(Vec3, Vec3, f32, f32)],
     ) -> Vec<Option<(usize, Hit)>> {
+        if self.flat.is_some() {
+            return rays
+                .iter()
+                .map(|&(o, d, tmin, tmax)| self.closest::<WIDE>(o, d, tmin, tmax))
+                .collect();
+        }
         let mut out = vec![None; rays.len()];
         struct Lane {
             walk: Walk,
@@ -499,6 +603,12 @@ impl BoxRay {
         }
     }
 
+    /// Axis `a`'s entry row (2a + 1 where 1/d < 0, else 2a); the exit row is `entry ^ 1`.
+    #[inline(always)]
+    fn entry(&self, a: usize) -> usize {
+        2 * a + (self.flip >> a & 1) as usize
+    }
+
     /// Axis `a`'s rows of [`Node::q`] holding the entry and the exit planes: the high
     /// planes (row 2a + 1) are the entry ones where 1/d < 0, else the low ones (row 2a).
     #[inline(always)]
@@ -627,6 +737,95 @@ fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
         let (np, fp) = r.rows(node, a);
         let tn = _mm256_mul_ps(_mm256_sub_ps(planes(np, p, s), o), inv);
         let tf = _mm256_mul_ps(_mm256_sub_ps(planes(fp, p, s), o), inv);
+        near = _mm256_max_ps(tn, near);
+        far = _mm256_min_ps(tf, far);
+    }
+    let (ns, fs) = (_mm256_set1_ps(NEAR_SCALE), _mm256_set1_ps(FAR_SCALE));
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(
+        _mm256_mul_ps(near, ns),
+        _mm256_mul_ps(far, fs),
+    )) as u32
+}
+
+/// [`met_children`] on planes read as they are (a [`Flat`] block: row 2a the low and
+/// row 2a + 1 the high planes of axis a): the definition, which [`met_boxes_sse2`] and
+/// [`met_boxes_avx2`] compute with the same operations.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+#[inline(always)]
+fn met_boxes(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    let mut near = [r.tmin; 8];
+    let mut far = [tmax; 8];
+    for a in 0..3 {
+        let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
+        for c in 0..8 {
+            let tn = (np[c] - r.o[a]) * r.inv[a];
+            let tf = (fp[c] - r.o[a]) * r.inv[a];
+            near[c] = if tn > near[c] { tn } else { near[c] };
+            far[c] = if tf < far[c] { tf } else { far[c] };
+        }
+    }
+    let mut met = 0u32;
+    for c in 0..8 {
+        met |= u32::from(near[c] * NEAR_SCALE <= far[c] * FAR_SCALE) << c;
+    }
+    met
+}
+
+/// [`met_boxes`] in SSE2, boxes 0–3 and 4–7 in one register each (as
+/// [`met_children_sse2`]).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn met_boxes_sse2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        _mm_cmple_ps, _mm_loadu_ps, _mm_max_ps, _mm_min_ps, _mm_movemask_ps, _mm_mul_ps,
+        _mm_set1_ps, _mm_sub_ps,
+    };
+    // SAFETY: SSE2 is part of the x86-64 baseline; each load reads four of a row's eight
+    // floats.
+    unsafe {
+        let mut near = [_mm_set1_ps(r.tmin); 2];
+        let mut far = [_mm_set1_ps(tmax); 2];
+        for a in 0..3 {
+            let o = _mm_set1_ps(r.o[a]);
+            let inv = _mm_set1_ps(r.inv[a]);
+            let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
+            for h in 0..2 {
+                let tn = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(np[4 * h..].as_ptr()), o), inv);
+                let tf = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(fp[4 * h..].as_ptr()), o), inv);
+                near[h] = _mm_max_ps(tn, near[h]);
+                far[h] = _mm_min_ps(tf, far[h]);
+            }
+        }
+        let (ns, fs) = (_mm_set1_ps(NEAR_SCALE), _mm_set1_ps(FAR_SCALE));
+        let met = |h: usize| {
+            _mm_movemask_ps(_mm_cmple_ps(
+                _mm_mul_ps(near[h], ns),
+                _mm_mul_ps(far[h], fs),
+            )) as u32
+        };
+        met(0) | met(1) << 4
+    }
+}
+
+/// [`met_boxes`] in AVX2, the eight boxes in one register (as [`met_children_avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn met_boxes_avx2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        _CMP_LE_OS, _mm256_cmp_ps, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
+        _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_sub_ps,
+    };
+    let mut near = _mm256_set1_ps(r.tmin);
+    let mut far = _mm256_set1_ps(tmax);
+    for a in 0..3 {
+        let o = _mm256_set1_ps(r.o[a]);
+        let inv = _mm256_set1_ps(r.inv[a]);
+        let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
+        // SAFETY: each load reads a row's eight floats.
+        let (np, fp) = unsafe { (_mm256_loadu_ps(np.as_ptr()), _mm256_loadu_ps(fp.as_ptr())) };
+        let tn = _mm256_mul_ps(_mm256_sub_ps(np, o), inv);
+        let tf = _mm256_mul_ps(_mm256_sub_ps(fp, o), inv);
         near = _mm256_max_ps(tn, near);
         far = _mm256_min_ps(tf, far);
     }
@@ -990,6 +1189,15 @@ impl Accel {
     /// Build over `prims`.
     pub fn new(prims: Vec<Primitive>) -> Self {
         let tree = (prims.len() > LINEAR_LIMIT).then(|| {
+            if prims.len() <= FLAT_LIMIT {
+                return Tree {
+                    nodes: Vec::new(),
+                    flat: Some(Flat::new(&prims)),
+                    slots: prims.clone(),
+                    index: (0..prims.len() as u32).collect(),
+                    skip: None,
+                };
+            }
             let aabbs = obvhs_boxes(&prims);
             let mut t = std::time::Duration::default();
             // The build preset matters little here: on the 100k-triangle bench sphere,
@@ -1012,6 +1220,7 @@ impl Accel {
                 slots,
                 index: bvh.primitive_indices,
                 skip: None,
+                flat: None,
             }
         });
         let skip = vec![false; prims.len()];
@@ -1398,17 +1607,211 @@ mod tests {
 
     #[test]
     fn skipped_primitives_are_not_hit_through_the_bvh() {
-        // Twelve spheres on the z axis; skipping the nearest makes the next one the hit.
-        let mut accel = Accel::new(spheres_on_z(12));
-        assert!(accel.tree.is_some());
-        let hit = |a: &Accel| a.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
-        assert_eq!(hit(&accel).map(|h| h.0), Some(0));
-        let mut skip = vec![false; 12];
-        skip[0] = true;
-        accel.set_skip(skip);
-        assert_eq!(hit(&accel).map(|h| h.0), Some(1));
-        assert!(accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 4.5));
-        assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
+        // Twenty spheres on the z axis (a tree), then twelve (boxes without a tree);
+        // skipping the nearest makes the next one the hit.
+        for (n, flat) in [(20, false), (12, true)] {
+            let mut accel = Accel::new(spheres_on_z(n));
+            assert_eq!(accel.tree.as_ref().map(|t| t.flat.is_some()), Some(flat));
+            let hit = |a: &Accel| a.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
+            assert_eq!(hit(&accel).map(|h| h.0), Some(0));
+            let mut skip = vec![false; n];
+            skip[0] = true;
+            accel.set_skip(skip);
+            assert_eq!(hit(&accel).map(|h| h.0), Some(1));
+            assert!(accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 4.5));
+            assert!(!accel.unoccluded(Vec3::ZERO, Vec3::Z, 0.0, 5.5));
+        }
+    }
+
+    /// A scene of 9 to 16 primitives is answered from its boxes without a tree, in slot
+    /// order, so exactly as brute force: the same primitive (at a tie too: the closed
+    /// cube's triangles meet along shared edges, and rays aimed at its vertices and edge
+    /// midpoints hit two or three of them at the same distance), the same distance, the
+    /// same shadow verdicts; and in both instruction sets, one ray at a time and in a
+    /// batch, the same hit bit for bit.
+    #[test]
+    fn few_primitives_are_answered_from_their_boxes_as_brute_force() {
+        let sampler = Sampler::independent(41);
+        let v = |i: usize| Vec3::new((i & 1) as f32, (i >> 1 & 1) as f32, (i >> 2 & 1) as f32);
+        // The cube's 12 triangles (faces x = 0, 1, y = 0, 1, z = 0, 1), two spheres and a
+        // rectangle beside it, one of them skipped in a second pass.
+        let mut prims = Vec::new();
+        for a in 0..3 {
+            for side in [0, 1usize << a] {
+                let (b, c) = (1usize << ((a + 1) % 3), 1usize << ((a + 2) % 3));
+                prims.push(Primitive::Triangle {
+                    p: [v(side), v(side | b), v(side | b | c)],
+                });
+                prims.push(Primitive::Triangle {
+                    p: [v(side), v(side | b | c), v(side | c)],
+                });
+            }
+        }
+        prims.push(Primitive::Sphere {
+            center: Vec3::new(2.5, 0.5, 0.5),
+            radius: 0.5,
+        });
+        prims.push(Primitive::Rectangle {
+            corner: Vec3::new(-1.0, -1.0, -0.5),
+            u: Vec3::X * 3.0,
+            v: Vec3::Y * 3.0,
+        });
+        prims.push(Primitive::Sphere {
+            center: Vec3::new(0.5, 0.5, 0.5),
+            radius: 0.25,
+        });
+        assert_eq!(prims.len(), FLAT_LIMIT - 1);
+        let (mut ties, mut hits) = (0, 0);
+        for pass in 0..2 {
+            let mut accel = Accel::new(prims.clone());
+            assert!(accel.tree.as_ref().is_some_and(|t| t.flat.is_some()));
+            let mut skip = vec![false; prims.len()];
+            skip[prims.len() - 1] = pass == 1;
+            accel.set_skip(skip.clone());
+            let kept: Vec<Primitive> = prims
+                .iter()
+                .zip(&skip)
+                .map(|(&p, &s)| {
+                    if s {
+                        Primitive::Sphere {
+                            center: Vec3::splat(1e30),
+                            radius: 0.0,
+                        }
+                    } else {
+                        p
+                    }
+                })
+                .collect();
+            let mut rays = Vec::new();
+            for i in 0..3000u64 {
+                let mut st = sampler.stream(i);
+                let o = uniform_sphere(st.next_2d()) * 4.0 + Vec3::splat(0.5);
+                // At a vertex, an edge's midpoint, or any point of the scene.
+                let target = match i % 3 {
+                    0 => v(i as usize / 3 % 8),
+                    1 => 0.5 * (v(i as usize / 3 % 8) + v((i as usize / 3 + 1) % 8)),
+                    _ => {
+                        prims[i as usize / 3 % prims.len()]
+                            .sample_area(st.next_2d())
+                            .p
+                    }
+                };
+                let d = (target - o).normalize();
+                let (tmin, tmax) = match i % 4 {
+                    0 => (0.0, f32::INFINITY),
+                    1 => (0.5, f32::INFINITY),
+                    2 => (0.0, 3.0 + st.next_1d()),
+                    _ => (0.0, (target - o).length()),
+                };
+                let got = accel.intersect(o, d, tmin, tmax);
+                let want = brute(&kept, o, d, tmin, tmax);
+                assert_eq!(
+                    got.map(|(k, h)| (k, h.t.to_bits())),
+                    want.map(|(k, t)| (k, t.to_bits())),
+                    "ray {i}, pass {pass}"
+                );
+                assert!(
+                    agrees(&accel, o, d, tmin, tmax).unwrap_or_else(|e| panic!("{e}"))
+                        == want.is_some()
+                );
+                if let Some((k, t)) = want {
+                    hits += 1;
+                    let others = kept.iter().enumerate().filter(|&(j, p)| {
+                        j != k && p.intersect(o, d, tmin, tmax).is_some_and(|h| h.t == t)
+                    });
+                    ties += usize::from(others.count() > 0);
+                }
+                rays.push((o, d, tmin, tmax));
+            }
+            let one = |a: &Accel| -> Vec<_> {
+                rays.iter()
+                    .map(|&(o, d, tmin, tmax)| {
+                        a.intersect(o, d, tmin, tmax)
+                            .map(|(k, h)| (k, format!("{h:?}")))
+                    })
+                    .collect()
+            };
+            let batch = |a: &Accel| -> Vec<_> {
+                a.intersect_batch(&rays)
+                    .into_iter()
+                    .map(|h| h.map(|(k, h)| (k, format!("{h:?}"))))
+                    .collect()
+            };
+            let (base_one, base_batch) = {
+                accel.set_isa(Isa::Baseline);
+                (one(&accel), batch(&accel))
+            };
+            assert_eq!(base_one, base_batch);
+            accel.set_isa(Isa::X86_64V3);
+            assert_eq!(one(&accel), base_one);
+            assert_eq!(batch(&accel), base_one);
+        }
+        // Ties occur (rays through the cube's edges and vertices) and most rays hit.
+        assert!(ties > 100 && hits > 4000, "{ties} ties, {hits} hits");
+    }
+
+    /// The boxes' slab test in SSE2 and in AVX2 gives the definition's bits: random boxes
+    /// (inverted, NaN, infinite planes among them) and rays (zero and −0 components, tmin
+    /// 0 or not, tmax finite or not).
+    #[test]
+    #[allow(clippy::needless_range_loop)] // A box's lane c in two rows per axis.
+    fn box_tests_without_a_tree_equal_the_definition() {
+        let sampler = Sampler::independent(43);
+        let mut met = 0u32;
+        for i in 0..20_000u64 {
+            let mut st = sampler.stream(i);
+            let mut planes = [[0.0f32; 8]; 6];
+            for c in 0..8 {
+                for a in 0..3 {
+                    let (x, y) = (st.next_1d() * 2.0 - 1.0, st.next_1d() * 2.0 - 1.0);
+                    // Every fifth box any order (inverted on some axes: empty).
+                    let (lo, hi) = if i % 5 == 0 {
+                        (x, y)
+                    } else {
+                        (x.min(y), x.max(y))
+                    };
+                    planes[2 * a][c] = lo;
+                    planes[2 * a + 1][c] = hi;
+                }
+            }
+            match i % 11 {
+                0 => planes[(i / 11 % 6) as usize][(i % 8) as usize] = f32::NAN,
+                1 => planes[0][(i % 8) as usize] = f32::NEG_INFINITY,
+                2 => planes[5][(i % 8) as usize] = f32::INFINITY,
+                _ => {}
+            }
+            let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
+            let mut d = uniform_sphere(st.next_2d());
+            match i % 7 {
+                0 => d.x = 0.0,
+                1 => d.y = -0.0,
+                2 => d = Vec3::new(-0.0, 0.0, -1.0),
+                _ => {}
+            }
+            let tmin = if i % 3 == 0 { st.next_1d() } else { 0.0 };
+            let tmax = if i % 2 == 0 {
+                f32::INFINITY
+            } else {
+                4.0 * st.next_1d()
+            };
+            let r = BoxRay::new(o, d, tmin);
+            let want = met_boxes(&planes, &r, tmax);
+            #[cfg(target_arch = "x86_64")]
+            {
+                assert_eq!(met_boxes_sse2(&planes, &r, tmax), want, "boxes {i}");
+                if Isa::supported() == Isa::X86_64V3 {
+                    // SAFETY: the CPU has AVX2.
+                    assert_eq!(
+                        unsafe { met_boxes_avx2(&planes, &r, tmax) },
+                        want,
+                        "boxes {i}"
+                    );
+                }
+            }
+            met += want.count_ones();
+        }
+        // Both outcomes occur often (about 1 box in 15 is met).
+        assert!(met > 5_000 && met < 150_000, "{met} boxes met");
     }
 
     #[test]
