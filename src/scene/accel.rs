@@ -1,6 +1,7 @@
 //! Ray queries over all primitives: the topology of an obvhs compressed-wide BVH (CWBVH,
-//! Ylitie et al. 2017) with our own box test and our own exact primitive tests, or a plain
-//! loop for scenes of a handful of primitives, where a BVH only costs.
+//! Ylitie et al. 2017) with our own box test and our own exact primitive tests; for
+//! scenes of a handful of primitives (at most 8) a plain loop, and for up to 16 the
+//! primitives' own boxes tested eight at a time ([`Flat`]), where a tree only costs.
 //!
 //! obvhs hands the callback a *slot*, which indexes `bvh.primitive_indices`, not our
 //! primitive list (the shared notes, ../shared/STACK.md, outside this repository): the
