@@ -623,25 +623,25 @@ impl BoxRay {
     }
 }
 
-/// Which children of `node` the ray meets within (tmin, tmax): bit c for child c.
+/// The slab test of eight boxes: bit c where the ray meets box c within (tmin, tmax),
+/// `rows(a)` giving axis a's entry and exit planes, one per box.
 ///
-/// Per axis the entry distance is (near plane − o)·(1/d), the near plane being the box's
-/// low plane for 1/d > 0 and its high plane otherwise; a NaN (0·∞: the origin on a
-/// plane of a slab parallel to the ray, or a NaN plane) leaves the interval unchanged, as
-/// it should, since `a > b` and `a < b` are false for NaN. See [`NEAR_SCALE`] for the
-/// rounding. This is the definition; on x86-64 [`met_children_sse2`] computes the same
-/// bits four children at a time.
+/// Per axis the entry distance is (entry plane − o)·(1/d), the entry plane being the
+/// box's low plane for 1/d > 0 and its high plane otherwise ([`BoxRay::entry`]); a NaN
+/// (0·∞: the origin on a plane of a slab parallel to the ray, or a NaN plane) leaves the
+/// interval unchanged, as it should, since `a > b` and `a < b` are false for NaN. See
+/// [`NEAR_SCALE`] for the rounding. This is the definition; on x86-64 [`slab_sse2`]
+/// computes the same bits four boxes at a time and [`slab_avx2`] eight.
 #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
 #[inline(always)]
-fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+fn slab(r: &BoxRay, tmax: f32, rows: impl Fn(usize) -> ([f32; 8], [f32; 8])) -> u32 {
     let mut near = [r.tmin; 8];
     let mut far = [tmax; 8];
     for a in 0..3 {
-        let (p, s) = (node.p[a], step(node.e[a]));
-        let (np, fp) = r.rows(node, a);
+        let (np, fp) = rows(a);
         for c in 0..8 {
-            let tn = (plane(p, s, np[c]) - r.o[a]) * r.inv[a];
-            let tf = (plane(p, s, fp[c]) - r.o[a]) * r.inv[a];
+            let tn = (np[c] - r.o[a]) * r.inv[a];
+            let tf = (fp[c] - r.o[a]) * r.inv[a];
             near[c] = if tn > near[c] { tn } else { near[c] };
             far[c] = if tf < far[c] { tf } else { far[c] };
         }
@@ -653,42 +653,34 @@ fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     met
 }
 
-/// [`met_children`] in SSE2 (the x86-64 baseline), children 0–3 and 4–7 in one register
-/// each, every operation the same IEEE one in the same order: a row of 8 plane indices
-/// widened u8 → i32 → f32 (exact), the plane p + q·s, then (plane − o)·(1/d).
+/// [`slab`] in SSE2 (the x86-64 baseline), boxes 0–3 and 4–7 in one register each,
+/// every operation the same IEEE one in the same order: (plane − o)·(1/d);
 /// `maxps(t, near)` is `t > near ? t : near` and `minps(t, far)` is `t < far ? t : far`,
-/// NaN included, as in [`met_children`].
+/// NaN included, as in [`slab`].
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+fn slab_sse2(
+    r: &BoxRay,
+    tmax: f32,
+    rows: impl Fn(
+        usize,
+    ) -> (
+        [std::arch::x86_64::__m128; 2],
+        [std::arch::x86_64::__m128; 2],
+    ),
+) -> u32 {
     use std::arch::x86_64::{
-        __m128, _mm_add_ps, _mm_cmple_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_max_ps,
-        _mm_min_ps, _mm_movemask_ps, _mm_mul_ps, _mm_set1_ps, _mm_setzero_si128, _mm_sub_ps,
-        _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+        _mm_cmple_ps, _mm_max_ps, _mm_min_ps, _mm_movemask_ps, _mm_mul_ps, _mm_set1_ps, _mm_sub_ps,
     };
-    /// A row's planes for children 0–3 and 4–7.
-    #[inline(always)]
-    fn planes(row: &[u8; 8], p: __m128, s: __m128) -> [__m128; 2] {
-        // SAFETY: value-only SSE2 operations (no memory access), and SSE2 is part of the
-        // x86-64 baseline.
-        unsafe {
-            let zero = _mm_setzero_si128();
-            let q16 = _mm_unpacklo_epi8(_mm_cvtsi64_si128(i64::from_le_bytes(*row)), zero);
-            [_mm_unpacklo_epi16(q16, zero), _mm_unpackhi_epi16(q16, zero)]
-                .map(|q| _mm_add_ps(p, _mm_mul_ps(_mm_cvtepi32_ps(q), s)))
-        }
-    }
-    // SAFETY: as in `planes`.
+    // SAFETY: value-only SSE2 operations (no memory access), and SSE2 is part of the
+    // x86-64 baseline.
     unsafe {
         let mut near = [_mm_set1_ps(r.tmin); 2];
         let mut far = [_mm_set1_ps(tmax); 2];
         for a in 0..3 {
-            let p = _mm_set1_ps(node.p[a]);
-            let s = _mm_set1_ps(step(node.e[a]));
             let o = _mm_set1_ps(r.o[a]);
             let inv = _mm_set1_ps(r.inv[a]);
-            let (np, fp) = r.rows(node, a);
-            let (np, fp) = (planes(np, p, s), planes(fp, p, s));
+            let (np, fp) = rows(a);
             for h in 0..2 {
                 let tn = _mm_mul_ps(_mm_sub_ps(np[h], o), inv);
                 let tf = _mm_mul_ps(_mm_sub_ps(fp[h], o), inv);
@@ -707,124 +699,27 @@ fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     }
 }
 
-/// [`met_children`] in AVX2, the eight children in one register, every operation the
-/// same IEEE one in the same order as [`met_children_sse2`]: a row of 8 plane indices
-/// widened u8 → i32 → f32 in one instruction, the plane p + q·s, (plane − o)·(1/d);
-/// `vmaxps`/`vminps` return their second operand on NaN as `maxps`/`minps` do, and the
-/// comparison is the same ordered ≤.
+/// [`slab`] in AVX2, the eight boxes in one register, every operation the same IEEE one
+/// in the same order as [`slab_sse2`]; `vmaxps`/`vminps` return their second operand on
+/// NaN as `maxps`/`minps` do, and the comparison is the same ordered ≤.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+fn slab_avx2(
+    r: &BoxRay,
+    tmax: f32,
+    rows: impl Fn(usize) -> (std::arch::x86_64::__m256, std::arch::x86_64::__m256),
+) -> u32 {
     use std::arch::x86_64::{
-        __m256, _CMP_LE_OS, _mm_cvtsi64_si128, _mm256_add_ps, _mm256_cmp_ps, _mm256_cvtepi32_ps,
-        _mm256_cvtepu8_epi32, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
+        _CMP_LE_OS, _mm256_cmp_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
         _mm256_set1_ps, _mm256_sub_ps,
     };
-    /// A row's eight planes.
-    #[target_feature(enable = "avx2")]
-    #[inline]
-    fn planes(row: &[u8; 8], p: __m256, s: __m256) -> __m256 {
-        let q = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(i64::from_le_bytes(*row)));
-        _mm256_add_ps(p, _mm256_mul_ps(_mm256_cvtepi32_ps(q), s))
-    }
-    let mut near = _mm256_set1_ps(r.tmin);
-    let mut far = _mm256_set1_ps(tmax);
-    for a in 0..3 {
-        let p = _mm256_set1_ps(node.p[a]);
-        let s = _mm256_set1_ps(step(node.e[a]));
-        let o = _mm256_set1_ps(r.o[a]);
-        let inv = _mm256_set1_ps(r.inv[a]);
-        let (np, fp) = r.rows(node, a);
-        let tn = _mm256_mul_ps(_mm256_sub_ps(planes(np, p, s), o), inv);
-        let tf = _mm256_mul_ps(_mm256_sub_ps(planes(fp, p, s), o), inv);
-        near = _mm256_max_ps(tn, near);
-        far = _mm256_min_ps(tf, far);
-    }
-    let (ns, fs) = (_mm256_set1_ps(NEAR_SCALE), _mm256_set1_ps(FAR_SCALE));
-    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(
-        _mm256_mul_ps(near, ns),
-        _mm256_mul_ps(far, fs),
-    )) as u32
-}
-
-/// [`met_children`] on planes read as they are (a [`Flat`] block: row 2a the low and
-/// row 2a + 1 the high planes of axis a): the definition, which [`met_boxes_sse2`] and
-/// [`met_boxes_avx2`] compute with the same operations.
-#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
-#[inline(always)]
-fn met_boxes(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
-    let mut near = [r.tmin; 8];
-    let mut far = [tmax; 8];
-    for a in 0..3 {
-        let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
-        for c in 0..8 {
-            let tn = (np[c] - r.o[a]) * r.inv[a];
-            let tf = (fp[c] - r.o[a]) * r.inv[a];
-            near[c] = if tn > near[c] { tn } else { near[c] };
-            far[c] = if tf < far[c] { tf } else { far[c] };
-        }
-    }
-    let mut met = 0u32;
-    for c in 0..8 {
-        met |= u32::from(near[c] * NEAR_SCALE <= far[c] * FAR_SCALE) << c;
-    }
-    met
-}
-
-/// [`met_boxes`] in SSE2, boxes 0–3 and 4–7 in one register each (as
-/// [`met_children_sse2`]).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn met_boxes_sse2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
-    use std::arch::x86_64::{
-        _mm_cmple_ps, _mm_loadu_ps, _mm_max_ps, _mm_min_ps, _mm_movemask_ps, _mm_mul_ps,
-        _mm_set1_ps, _mm_sub_ps,
-    };
-    // SAFETY: SSE2 is part of the x86-64 baseline; each load reads four of a row's eight
-    // floats.
-    unsafe {
-        let mut near = [_mm_set1_ps(r.tmin); 2];
-        let mut far = [_mm_set1_ps(tmax); 2];
-        for a in 0..3 {
-            let o = _mm_set1_ps(r.o[a]);
-            let inv = _mm_set1_ps(r.inv[a]);
-            let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
-            for h in 0..2 {
-                let tn = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(np[4 * h..].as_ptr()), o), inv);
-                let tf = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(fp[4 * h..].as_ptr()), o), inv);
-                near[h] = _mm_max_ps(tn, near[h]);
-                far[h] = _mm_min_ps(tf, far[h]);
-            }
-        }
-        let (ns, fs) = (_mm_set1_ps(NEAR_SCALE), _mm_set1_ps(FAR_SCALE));
-        let met = |h: usize| {
-            _mm_movemask_ps(_mm_cmple_ps(
-                _mm_mul_ps(near[h], ns),
-                _mm_mul_ps(far[h], fs),
-            )) as u32
-        };
-        met(0) | met(1) << 4
-    }
-}
-
-/// [`met_boxes`] in AVX2, the eight boxes in one register (as [`met_children_avx2`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-fn met_boxes_avx2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
-    use std::arch::x86_64::{
-        _CMP_LE_OS, _mm256_cmp_ps, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
-        _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_sub_ps,
-    };
     let mut near = _mm256_set1_ps(r.tmin);
     let mut far = _mm256_set1_ps(tmax);
     for a in 0..3 {
         let o = _mm256_set1_ps(r.o[a]);
         let inv = _mm256_set1_ps(r.inv[a]);
-        let (np, fp) = (&planes[r.entry(a)], &planes[r.entry(a) ^ 1]);
-        // SAFETY: each load reads a row's eight floats.
-        let (np, fp) = unsafe { (_mm256_loadu_ps(np.as_ptr()), _mm256_loadu_ps(fp.as_ptr())) };
+        let (np, fp) = rows(a);
         let tn = _mm256_mul_ps(_mm256_sub_ps(np, o), inv);
         let tf = _mm256_mul_ps(_mm256_sub_ps(fp, o), inv);
         near = _mm256_max_ps(tn, near);
@@ -835,6 +730,114 @@ fn met_boxes_avx2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
         _mm256_mul_ps(near, ns),
         _mm256_mul_ps(far, fs),
     )) as u32
+}
+
+/// Which children of `node` the ray meets within (tmin, tmax): bit c for child c, the
+/// [`slab`] test on the decoded planes p + q·s ([`plane`]). This is the definition; on
+/// x86-64 [`met_children_sse2`] and [`met_children_avx2`] compute the same bits.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+#[inline(always)]
+fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    slab(r, tmax, |a| {
+        let (p, s) = (node.p[a], step(node.e[a]));
+        let (np, fp) = r.rows(node, a);
+        (np.map(|q| plane(p, s, q)), fp.map(|q| plane(p, s, q)))
+    })
+}
+
+/// [`met_children`] in SSE2: a row of 8 plane indices widened u8 → i32 → f32 (exact),
+/// the plane p + q·s, then [`slab_sse2`].
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        __m128, _mm_add_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_mul_ps, _mm_set1_ps,
+        _mm_setzero_si128, _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+    };
+    /// A row's planes for children 0–3 and 4–7.
+    #[inline(always)]
+    fn planes(row: &[u8; 8], p: __m128, s: __m128) -> [__m128; 2] {
+        // SAFETY: value-only SSE2 operations (no memory access), and SSE2 is part of the
+        // x86-64 baseline.
+        unsafe {
+            let zero = _mm_setzero_si128();
+            let q16 = _mm_unpacklo_epi8(_mm_cvtsi64_si128(i64::from_le_bytes(*row)), zero);
+            [_mm_unpacklo_epi16(q16, zero), _mm_unpackhi_epi16(q16, zero)]
+                .map(|q| _mm_add_ps(p, _mm_mul_ps(_mm_cvtepi32_ps(q), s)))
+        }
+    }
+    slab_sse2(r, tmax, |a| {
+        // SAFETY: as in `planes`.
+        let (p, s) = unsafe { (_mm_set1_ps(node.p[a]), _mm_set1_ps(step(node.e[a]))) };
+        let (np, fp) = r.rows(node, a);
+        (planes(np, p, s), planes(fp, p, s))
+    })
+}
+
+/// [`met_children`] in AVX2: a row of 8 plane indices widened u8 → i32 → f32 in one
+/// instruction, the plane p + q·s, then [`slab_avx2`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{
+        __m256, _mm_cvtsi64_si128, _mm256_add_ps, _mm256_cvtepi32_ps, _mm256_cvtepu8_epi32,
+        _mm256_mul_ps, _mm256_set1_ps,
+    };
+    /// A row's eight planes.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn planes(row: &[u8; 8], p: __m256, s: __m256) -> __m256 {
+        let q = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(i64::from_le_bytes(*row)));
+        _mm256_add_ps(p, _mm256_mul_ps(_mm256_cvtepi32_ps(q), s))
+    }
+    slab_avx2(r, tmax, |a| {
+        let p = _mm256_set1_ps(node.p[a]);
+        let s = _mm256_set1_ps(step(node.e[a]));
+        let (np, fp) = r.rows(node, a);
+        (planes(np, p, s), planes(fp, p, s))
+    })
+}
+
+/// [`slab`] on planes read as they are (a [`Flat`] block: row 2a the low and row 2a + 1
+/// the high planes of axis a): the definition, which [`met_boxes_sse2`] and
+/// [`met_boxes_avx2`] compute with the same operations.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+#[inline(always)]
+fn met_boxes(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    slab(r, tmax, |a| (planes[r.entry(a)], planes[r.entry(a) ^ 1]))
+}
+
+/// [`met_boxes`] in SSE2 ([`slab_sse2`]).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn met_boxes_sse2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::{__m128, _mm_loadu_ps};
+    let halves = |row: &[f32; 8]| -> [__m128; 2] {
+        // SAFETY: SSE2 is part of the x86-64 baseline; each load reads four of a row's
+        // eight floats.
+        unsafe { [_mm_loadu_ps(row.as_ptr()), _mm_loadu_ps(row[4..].as_ptr())] }
+    };
+    slab_sse2(r, tmax, |a| {
+        (halves(&planes[r.entry(a)]), halves(&planes[r.entry(a) ^ 1]))
+    })
+}
+
+/// [`met_boxes`] in AVX2 ([`slab_avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn met_boxes_avx2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
+    use std::arch::x86_64::_mm256_loadu_ps;
+    slab_avx2(r, tmax, |a| {
+        // SAFETY: each load reads a row's eight floats.
+        unsafe {
+            (
+                _mm256_loadu_ps(planes[r.entry(a)].as_ptr()),
+                _mm256_loadu_ps(planes[r.entry(a) ^ 1].as_ptr()),
+            )
+        }
+    })
 }
 
 /// Which children of `node` the ray meets within (tmin, tmax) ([`met_children`]), as
