@@ -161,19 +161,23 @@ impl Primitive {
                 radius,
                 ..
             } => {
-                // Extent of a disk along axis i is r·√(1 − nᵢ²).
-                let e = radius
-                    * Vec3::from(
-                        (Vec3::ONE - normal * normal)
-                            .max(Vec3::ZERO)
-                            .to_array()
-                            .map(f32::sqrt),
-                    );
+                // Extent of a disk along axis i: r·√(1 − nᵢ²) = r·√(n_j² + n_k²) for a unit
+                // normal, formed from the other two components (1 − nᵢ² cancels: a normal
+                // 10⁻⁴ from an axis rounds nᵢ² to 1, and the disk, which tilts by r·10⁻⁴
+                // along that axis, got no extent there and was missed through a BVH), at
+                // most r, widened by γ₅ r for the normal's own rounding (|n| = 1 ± ε).
+                let n2 = normal * normal;
+                let e = Vec3::from(
+                    [n2.y + n2.z, n2.z + n2.x, n2.x + n2.y].map(|s| s.sqrt().min(1.0) * radius),
+                ) + Vec3::splat(gamma(5) * radius);
                 (center - e, center + e)
             }
             Primitive::Triangle { p } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
         };
-        let pad = (lo.abs().max(hi.abs())) * gamma(3) + Vec3::splat(f32::MIN_POSITIVE);
+        // Every axis by the largest coordinate: an f32 test's decision mixes the axes (a
+        // rectangle about one ulp of its y coordinate across was culled where its test
+        // reported a hit 5·10⁻¹¹ beyond the x bound that padding by |x| alone gave).
+        let pad = Vec3::splat(lo.abs().max(hi.abs()).max_element() * gamma(3) + f32::MIN_POSITIVE);
         (lo - pad, hi + pad)
     }
 
@@ -919,6 +923,51 @@ fn intersect_rectangle_wide(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A disk's or annulus's box holds the whole disk (the `f32` normal normalised in
+    /// `f64`, its exact extent r·√(1 − n̂ᵢ²) about the centre along each axis) for normals
+    /// from 10⁻⁸ to 10⁻¹ off each coordinate axis, where 1 − nᵢ² in `f32` cancels to 0.
+    #[test]
+    fn disk_boxes_hold_the_whole_disk_near_an_axis() {
+        for axis in 0..3 {
+            for tilt in [1e-8f32, 1e-7, 1e-5, 1e-4, 1e-3, 1e-1] {
+                for sign in [1.0f32, -1.0] {
+                    let mut n = Vec3::ZERO;
+                    n[axis] = sign;
+                    n[(axis + 1) % 3] = tilt;
+                    n[(axis + 2) % 3] = -0.5 * tilt;
+                    let normal = n.normalize();
+                    let center = Vec3::new(0.25, -0.5, 1.0);
+                    for prim in [
+                        Primitive::Disk {
+                            center,
+                            normal,
+                            radius: 2.0,
+                        },
+                        Primitive::Annulus {
+                            center,
+                            normal,
+                            inner: 1.0,
+                            radius: 2.0,
+                        },
+                    ] {
+                        let (lo, hi) = prim.bounds();
+                        let m = normal.as_dvec3().normalize();
+                        for i in 0..3 {
+                            let e = 2.0 * (1.0 - m[i] * m[i]).max(0.0).sqrt();
+                            let c = f64::from(center[i]);
+                            assert!(
+                                f64::from(lo[i]) <= c - e && f64::from(hi[i]) >= c + e,
+                                "axis {axis}, tilt {tilt:e}, {prim:?}: [{}, {}] against {c} ± {e:e}",
+                                lo[i],
+                                hi[i]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     /// Every area sample lies within its error bound of the exact surface (the shape's
     /// `f32` parameters taken as exact, the distance in `f64`): a sphere or cap point
