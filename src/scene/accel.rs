@@ -34,6 +34,8 @@ use glam::{UVec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::node::CwBvhNode;
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{__m128, __m256};
 
 /// Below this many primitives, rays test every primitive.
 const LINEAR_LIMIT: usize = 8;
@@ -167,7 +169,7 @@ impl Flat {
     }
 
     /// Bit c set where the ray meets box 8b + c of block `b` within (tmin, tmax): the
-    /// nodes' slab test ([`met_children`]) on planes read as they are.
+    /// nodes' slab test on planes read as they are ([`met_boxes`]).
     #[inline(always)]
     fn met<const WIDE: bool>(&self, b: usize, r: &BoxRay, tmax: f32) -> u32 {
         let planes = &self.blocks[b];
@@ -614,12 +616,7 @@ impl BoxRay {
     /// planes (row 2a + 1) are the entry ones where 1/d < 0, else the low ones (row 2a).
     #[inline(always)]
     fn rows<'n>(&self, node: &'n Node, a: usize) -> (&'n [u8; 8], &'n [u8; 8]) {
-        let (lo, hi) = (&node.q[2 * a], &node.q[2 * a + 1]);
-        if self.flip >> a & 1 == 1 {
-            (hi, lo)
-        } else {
-            (lo, hi)
-        }
+        (&node.q[self.entry(a)], &node.q[self.entry(a) ^ 1])
     }
 }
 
@@ -659,16 +656,7 @@ fn slab(r: &BoxRay, tmax: f32, rows: impl Fn(usize) -> ([f32; 8], [f32; 8])) -> 
 /// NaN included, as in [`slab`].
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn slab_sse2(
-    r: &BoxRay,
-    tmax: f32,
-    rows: impl Fn(
-        usize,
-    ) -> (
-        [std::arch::x86_64::__m128; 2],
-        [std::arch::x86_64::__m128; 2],
-    ),
-) -> u32 {
+fn slab_sse2(r: &BoxRay, tmax: f32, rows: impl Fn(usize) -> ([__m128; 2], [__m128; 2])) -> u32 {
     use std::arch::x86_64::{
         _mm_cmple_ps, _mm_max_ps, _mm_min_ps, _mm_movemask_ps, _mm_mul_ps, _mm_set1_ps, _mm_sub_ps,
     };
@@ -705,11 +693,7 @@ fn slab_sse2(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-fn slab_avx2(
-    r: &BoxRay,
-    tmax: f32,
-    rows: impl Fn(usize) -> (std::arch::x86_64::__m256, std::arch::x86_64::__m256),
-) -> u32 {
+fn slab_avx2(r: &BoxRay, tmax: f32, rows: impl Fn(usize) -> (__m256, __m256)) -> u32 {
     use std::arch::x86_64::{
         _CMP_LE_OS, _mm256_cmp_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
         _mm256_set1_ps, _mm256_sub_ps,
@@ -751,8 +735,8 @@ fn met_children(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
 #[inline(always)]
 fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     use std::arch::x86_64::{
-        __m128, _mm_add_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_mul_ps, _mm_set1_ps,
-        _mm_setzero_si128, _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+        _mm_add_ps, _mm_cvtepi32_ps, _mm_cvtsi64_si128, _mm_mul_ps, _mm_set1_ps, _mm_setzero_si128,
+        _mm_unpackhi_epi16, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
     };
     /// A row's planes for children 0–3 and 4–7.
     #[inline(always)]
@@ -781,8 +765,8 @@ fn met_children_sse2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
 #[inline]
 fn met_children_avx2(node: &Node, r: &BoxRay, tmax: f32) -> u32 {
     use std::arch::x86_64::{
-        __m256, _mm_cvtsi64_si128, _mm256_add_ps, _mm256_cvtepi32_ps, _mm256_cvtepu8_epi32,
-        _mm256_mul_ps, _mm256_set1_ps,
+        _mm_cvtsi64_si128, _mm256_add_ps, _mm256_cvtepi32_ps, _mm256_cvtepu8_epi32, _mm256_mul_ps,
+        _mm256_set1_ps,
     };
     /// A row's eight planes.
     #[target_feature(enable = "avx2")]
@@ -812,7 +796,7 @@ fn met_boxes(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn met_boxes_sse2(planes: &[[f32; 8]; 6], r: &BoxRay, tmax: f32) -> u32 {
-    use std::arch::x86_64::{__m128, _mm_loadu_ps};
+    use std::arch::x86_64::_mm_loadu_ps;
     let halves = |row: &[f32; 8]| -> [__m128; 2] {
         // SAFETY: SSE2 is part of the x86-64 baseline; each load reads four of a row's
         // eight floats.
