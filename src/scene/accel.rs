@@ -1886,6 +1886,48 @@ mod tests {
         assert!(hits > rays / 4, "{hits} of {rays} rays hit");
     }
 
+    /// Triangles and rectangles of subnormal size (10⁻³⁹ across, at the origin), whose
+    /// padding γ₃·|x| underflows: the boxes' floor of one smallest normal number keeps
+    /// them, so rays straight down through their points meet them as brute force does.
+    #[test]
+    fn subnormal_primitives_keep_their_boxes() {
+        let sampler = Sampler::independent(59);
+        let mut hits = 0;
+        for i in 0..200u64 {
+            let mut st = sampler.stream(i);
+            let s = 1e-39 * (1.0 + st.next_1d());
+            let prims: Vec<Primitive> = (0..9)
+                .map(|k| {
+                    let c = Vec3::new(k as f32 * 3.0 * s, 0.0, 0.0);
+                    if k % 2 == 0 {
+                        Primitive::Triangle {
+                            p: [c, c + Vec3::X * s, c + Vec3::Y * s],
+                        }
+                    } else {
+                        Primitive::Rectangle {
+                            corner: c,
+                            u: Vec3::X * s,
+                            v: Vec3::Y * s,
+                        }
+                    }
+                })
+                .collect();
+            let accel = Accel::new(prims.clone());
+            assert!(accel.tree.as_ref().is_some_and(|t| t.flat.is_some()));
+            let k = (i % 9) as usize;
+            let target = prims[k].sample_area(st.next_2d()).p;
+            let o = Vec3::new(target.x, target.y, 1.0);
+            let got = accel
+                .intersect(o, -Vec3::Z, 0.0, f32::INFINITY)
+                .map(|(k, h)| (k, h.t.to_bits()));
+            let want =
+                brute(&prims, o, -Vec3::Z, 0.0, f32::INFINITY).map(|(k, t)| (k, t.to_bits()));
+            assert_eq!(got, want, "ray {i} at {target:?}");
+            hits += usize::from(want.is_some());
+        }
+        assert!(hits > 50, "{hits} hits");
+    }
+
     /// The boxes' slab test in SSE2 and in AVX2 gives the definition's bits: random boxes
     /// (inverted, NaN, infinite planes among them) and rays (zero and −0 components, tmin
     /// 0 or not, tmax finite or not).
