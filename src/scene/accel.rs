@@ -1958,20 +1958,7 @@ mod tests {
                 2 => planes[5][(i % 8) as usize] = f32::INFINITY,
                 _ => {}
             }
-            let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
-            let mut d = uniform_sphere(st.next_2d());
-            match i % 7 {
-                0 => d.x = 0.0,
-                1 => d.y = -0.0,
-                2 => d = Vec3::new(-0.0, 0.0, -1.0),
-                _ => {}
-            }
-            let tmin = if i % 3 == 0 { st.next_1d() } else { 0.0 };
-            let tmax = if i % 2 == 0 {
-                f32::INFINITY
-            } else {
-                4.0 * st.next_1d()
-            };
+            let (o, d, tmin, tmax) = random_box_test_ray(&mut st, i);
             let r = BoxRay::new(o, d, tmin);
             let want = met_boxes(&planes, &r, tmax);
             #[cfg(target_arch = "x86_64")]
@@ -2741,6 +2728,34 @@ mod tests {
     }
 
     #[cfg(target_arch = "x86_64")]
+    /// A ray for the box tests' comparisons, the `i`-th: its origin in [−1, 1]³, its
+    /// direction with a zero or −0 component one time in seven each, tmin 0 or not, tmax
+    /// finite or not.
+    fn random_box_test_ray(
+        st: &mut crate::sampling::sampler::SampleStream,
+        i: u64,
+    ) -> (Vec3, Vec3, f32, f32) {
+        let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
+        let mut d = uniform_sphere(st.next_2d());
+        match i % 7 {
+            0 => d.x = 0.0,
+            1 => d.y = -0.0,
+            2 => d = Vec3::new(-0.0, 0.0, -1.0),
+            _ => {}
+        }
+        let tmin = if i.is_multiple_of(3) {
+            st.next_1d()
+        } else {
+            0.0
+        };
+        let tmax = if i.is_multiple_of(2) {
+            f32::INFINITY
+        } else {
+            4.0 * st.next_1d()
+        };
+        (o, d, tmin, tmax)
+    }
+
     #[test]
     fn sse2_box_test_equals_the_definition() {
         // Random nodes (any grid, any plane indices, empty and inverted boxes, NaN grids)
@@ -2782,20 +2797,7 @@ mod tests {
                 child_meta: [0; 8],
                 q,
             };
-            let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 2.0 - Vec3::ONE;
-            let mut d = uniform_sphere(st.next_2d());
-            match i % 7 {
-                0 => d.x = 0.0,
-                1 => d.y = -0.0,
-                2 => d = Vec3::new(-0.0, 0.0, -1.0),
-                _ => {}
-            }
-            let tmin = if i % 3 == 0 { st.next_1d() } else { 0.0 };
-            let tmax = if i % 2 == 0 {
-                f32::INFINITY
-            } else {
-                4.0 * st.next_1d()
-            };
+            let (o, d, tmin, tmax) = random_box_test_ray(&mut st, i);
             // Every fourth ray passes through an edge of child 0's box (its low x plane
             // meets its high z plane), where the entry and exit distances agree to a few
             // ulps and the widening decides: both tests must widen alike.
