@@ -1,7 +1,7 @@
 //! Ray queries over all primitives: the topology of an obvhs compressed-wide BVH (CWBVH,
-//! Ylitie et al. 2017) with our own box test and our own exact primitive tests; for
-//! scenes of a handful of primitives (at most 8) a plain loop, and for up to 16 the
-//! primitives' own boxes tested eight at a time ([`Flat`]), where a tree only costs.
+//! Ylitie et al. 2017) with our own box test and our own exact primitive tests; for a
+//! scene of one primitive the test itself, and for up to 64 the primitives' own boxes
+//! tested eight at a time ([`Flat`]), where a tree only costs ([`Form`]).
 //!
 //! obvhs hands the callback a *slot*, which indexes `bvh.primitive_indices`, not our
 //! primitive list (the shared notes, ../shared/STACK.md, outside this repository): the
@@ -37,12 +37,46 @@ use obvhs::cwbvh::node::CwBvhNode;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{__m128, __m256};
 
-/// Below this many primitives, rays test every primitive.
-const LINEAR_LIMIT: usize = 8;
+/// Up to this many primitives, rays test every primitive ([`Form::Linear`]).
+const LINEAR_LIMIT: usize = 1;
 
 /// Up to this many primitives (and above [`LINEAR_LIMIT`]), rays test the primitives'
-/// boxes eight at a time and no tree is built ([`Flat`]).
-const FLAT_LIMIT: usize = 16;
+/// boxes eight at a time and no tree is built ([`Form::Flat`]).
+const FLAT_LIMIT: usize = 64;
+
+/// How an [`Accel`] answers its queries. All three give the same shadow verdicts and the
+/// same closest hits (at an exact tie of distances the first primitive in order wins
+/// without a tree, the first visited in a tree); the choice ([`Form::for_len`]) is only
+/// about speed.
+///
+/// Measured on rays from inside a room of six rectangles holding cubes of 12 triangles
+/// or small spheres (README "Speed", "How many primitives a tree needs"): the boxes
+/// answered a closest-hit and a shadow query 1.1–2.8× faster than the plain loop from
+/// two primitives on, and than a tree up to 54 primitives of cubes (even at 90) and 96
+/// spheres, where the tree's walk mispredicts; a lone primitive is fastest tested as it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form {
+    /// Every primitive's exact test, in order.
+    Linear,
+    /// The primitives' boxes, eight at a time, then the exact test of each box met
+    /// ([`Flat`]).
+    Flat,
+    /// obvhs's compressed wide BVH with our boxes ([`Tree::walk`]).
+    Tree,
+}
+
+impl Form {
+    /// The fastest form for `n` primitives.
+    fn for_len(n: usize) -> Form {
+        if n <= LINEAR_LIMIT {
+            Form::Linear
+        } else if n <= FLAT_LIMIT {
+            Form::Flat
+        } else {
+            Form::Tree
+        }
+    }
+}
 
 /// How many walks [`Accel::intersect_batch`] interleaves.
 const LANES: usize = 8;
@@ -1174,43 +1208,50 @@ impl Isa {
 }
 
 impl Accel {
-    /// Build over `prims`.
+    /// Build over `prims`, in the form their number calls for ([`Form::for_len`]).
     pub fn new(prims: Vec<Primitive>) -> Self {
-        let tree = (prims.len() > LINEAR_LIMIT).then(|| {
-            if prims.len() <= FLAT_LIMIT {
-                return Tree {
-                    nodes: Vec::new(),
-                    flat: Some(Flat::new(&prims)),
-                    slots: prims.clone(),
-                    index: (0..prims.len() as u32).collect(),
-                    skip: None,
-                };
-            }
-            let aabbs = obvhs_boxes(&prims);
-            let mut t = std::time::Duration::default();
-            // The build preset matters little here: on the 100k-triangle bench sphere,
-            // `slow`, `very_slow` and leaves of 1, 2 or 4 primitives were all within the
-            // noise of `medium` (0.6–0.85 M closest hits per CPU second, 3.6–4.3
-            // primitive tests per ray), and `medium` builds 4× faster than `very_slow`.
-            let bvh = obvhs::cwbvh::builder::build_cwbvh(
-                &aabbs,
-                obvhs::BvhBuildParams::medium_build(),
-                &mut t,
-            );
-            let slots: Vec<Primitive> = bvh
-                .primitive_indices
-                .iter()
-                .map(|&i| prims[i as usize])
-                .collect();
-            let nodes = nodes_with_boxes(&bvh, &slots);
-            Tree {
-                nodes,
-                slots,
-                index: bvh.primitive_indices,
+        let form = Form::for_len(prims.len());
+        Accel::with_form(prims, form)
+    }
+
+    /// Build over `prims` in `form`.
+    fn with_form(prims: Vec<Primitive>, form: Form) -> Self {
+        let tree = match form {
+            Form::Linear => None,
+            Form::Flat => Some(Tree {
+                nodes: Vec::new(),
+                flat: Some(Flat::new(&prims)),
+                slots: prims.clone(),
+                index: (0..prims.len() as u32).collect(),
                 skip: None,
-                flat: None,
-            }
-        });
+            }),
+            Form::Tree => Some({
+                let aabbs = obvhs_boxes(&prims);
+                let mut t = std::time::Duration::default();
+                // The build preset matters little here: on the 100k-triangle bench sphere,
+                // `slow`, `very_slow` and leaves of 1, 2 or 4 primitives were all within the
+                // noise of `medium` (0.6–0.85 M closest hits per CPU second, 3.6–4.3
+                // primitive tests per ray), and `medium` builds 4× faster than `very_slow`.
+                let bvh = obvhs::cwbvh::builder::build_cwbvh(
+                    &aabbs,
+                    obvhs::BvhBuildParams::medium_build(),
+                    &mut t,
+                );
+                let slots: Vec<Primitive> = bvh
+                    .primitive_indices
+                    .iter()
+                    .map(|&i| prims[i as usize])
+                    .collect();
+                let nodes = nodes_with_boxes(&bvh, &slots);
+                Tree {
+                    nodes,
+                    slots,
+                    index: bvh.primitive_indices,
+                    skip: None,
+                    flat: None,
+                }
+            }),
+        };
         let skip = vec![false; prims.len()];
         Accel {
             prims,
@@ -1228,6 +1269,16 @@ impl Accel {
             Isa::X86_64V3 | Isa::Baseline => Isa::Baseline,
         };
         self.isa
+    }
+
+    /// The form the queries take.
+    #[cfg(test)]
+    fn form(&self) -> Form {
+        match &self.tree {
+            None => Form::Linear,
+            Some(tree) if tree.flat.is_some() => Form::Flat,
+            Some(_) => Form::Tree,
+        }
     }
 
     /// The instruction set the tree's queries run in.
@@ -1358,18 +1409,19 @@ mod tests {
                 p: [v[t[0]], v[t[1]], v[t[2]]],
             })
             .collect();
-        let accel = Accel::new(prims);
-        assert!(accel.tree.is_some());
-        let o = Vec3::new(0.5, 1.0, 1.5);
-        for d in [
-            Vec3::new(-1.0, -0.0, -0.0),
-            Vec3::new(1.0, -0.0, 0.0),
-            Vec3::new(-0.0, -1.0, -0.0),
-            Vec3::new(-0.0, -0.0, -1.0),
-            Vec3::new(0.0, 0.0, 1.0),
-        ] {
-            assert!(accel.intersect(o, d, 0.0, f32::INFINITY).is_some(), "{d:?}");
-            assert!(!accel.unoccluded(o, d, 0.0, f32::INFINITY), "{d:?}");
+        for form in [Form::Flat, Form::Tree] {
+            let accel = Accel::with_form(prims.clone(), form);
+            let o = Vec3::new(0.5, 1.0, 1.5);
+            for d in [
+                Vec3::new(-1.0, -0.0, -0.0),
+                Vec3::new(1.0, -0.0, 0.0),
+                Vec3::new(-0.0, -1.0, -0.0),
+                Vec3::new(-0.0, -0.0, -1.0),
+                Vec3::new(0.0, 0.0, 1.0),
+            ] {
+                assert!(accel.intersect(o, d, 0.0, f32::INFINITY).is_some(), "{d:?}");
+                assert!(!accel.unoccluded(o, d, 0.0, f32::INFINITY), "{d:?}");
+            }
         }
     }
 
@@ -1385,8 +1437,8 @@ mod tests {
 
     /// [`Accel::intersect_batch`] answers each ray exactly as [`Accel::intersect`] does
     /// (index, t, point, error and normal, bit for bit): batches of every length around
-    /// the lane count, rays that miss, finite segments, a skipped primitive, and the plain
-    /// loop of a small scene.
+    /// the lane count, rays that miss, finite segments, a skipped primitive, a scene of few
+    /// primitives (boxes without a tree) and of one (its own test).
     #[test]
     fn interleaved_batches_equal_single_rays() {
         let sampler = Sampler::independent(17);
@@ -1423,11 +1475,14 @@ mod tests {
                 (i, h.t.to_bits(), v(h.p), v(h.p_error), v(h.n))
             })
         };
-        let small = Accel::new(prims[..LINEAR_LIMIT].to_vec());
+        let few = Accel::new(prims[..FLAT_LIMIT].to_vec());
+        assert_eq!(few.form(), Form::Flat);
+        let one = Accel::new(prims[..LINEAR_LIMIT].to_vec());
+        assert_eq!(one.form(), Form::Linear);
         let mut skipping = Accel::new(prims.clone());
         skipping.set_skip((0..prims.len()).map(|i| i % 7 == 0).collect());
         let mut hits = 0;
-        for accel in [Accel::new(prims.clone()), skipping, small] {
+        for accel in [Accel::new(prims.clone()), skipping, few, one] {
             for n in [0, 1, LANES - 1, LANES, LANES + 1, 3 * LANES + 5, rays.len()] {
                 let batch = accel.intersect_batch(&rays[..n]);
                 assert_eq!(batch.len(), n);
@@ -1530,33 +1585,40 @@ mod tests {
                 let d = Vec3::new(s.next_1d() - 0.5, s.next_1d() - 0.5, -1.0).normalize();
                 rays.push((o, d, 0.0, f32::INFINITY));
             }
-            let mut slow = Accel::new(prims.clone());
-            assert_eq!(slow.set_isa(Isa::Baseline), Isa::Baseline);
-            let mut fast = Accel::new(prims);
-            assert!(fast.tree.is_some());
-            assert_eq!(fast.set_isa(Isa::X86_64V3), Isa::X86_64V3);
-            for &(o, d, tmin, tmax) in &rays {
-                let (want, got) = (
-                    slow.intersect(o, d, tmin, tmax),
-                    fast.intersect(o, d, tmin, tmax),
-                );
-                assert_eq!(bits(got), bits(want), "ray {o} {d} ({tmin}, {tmax})");
-                compared[0] += usize::from(want.is_some());
-                let clear = slow.unoccluded(o, d, tmin, tmax);
-                assert_eq!(
-                    fast.unoccluded(o, d, tmin, tmax),
-                    clear,
-                    "shadow ray {o} {d}"
-                );
-                compared[1] += usize::from(!clear);
-            }
-            for (got, want) in fast
-                .intersect_batch(&rays)
-                .into_iter()
-                .zip(slow.intersect_batch(&rays))
-            {
-                assert_eq!(bits(got), bits(want));
-                compared[2] += usize::from(want.is_some());
+            // A tree, and for the tiles boxes without one too.
+            let forms = if prims.len() <= FLAT_LIMIT {
+                &[Form::Tree, Form::Flat][..]
+            } else {
+                &[Form::Tree]
+            };
+            for &form in forms {
+                let mut slow = Accel::with_form(prims.clone(), form);
+                assert_eq!(slow.set_isa(Isa::Baseline), Isa::Baseline);
+                let mut fast = Accel::with_form(prims.clone(), form);
+                assert_eq!(fast.set_isa(Isa::X86_64V3), Isa::X86_64V3);
+                for &(o, d, tmin, tmax) in &rays {
+                    let (want, got) = (
+                        slow.intersect(o, d, tmin, tmax),
+                        fast.intersect(o, d, tmin, tmax),
+                    );
+                    assert_eq!(bits(got), bits(want), "ray {o} {d} ({tmin}, {tmax})");
+                    compared[0] += usize::from(want.is_some());
+                    let clear = slow.unoccluded(o, d, tmin, tmax);
+                    assert_eq!(
+                        fast.unoccluded(o, d, tmin, tmax),
+                        clear,
+                        "shadow ray {o} {d}"
+                    );
+                    compared[1] += usize::from(!clear);
+                }
+                for (got, want) in fast
+                    .intersect_batch(&rays)
+                    .into_iter()
+                    .zip(slow.intersect_batch(&rays))
+                {
+                    assert_eq!(bits(got), bits(want));
+                    compared[2] += usize::from(want.is_some());
+                }
             }
         }
         assert!(
@@ -1595,11 +1657,10 @@ mod tests {
 
     #[test]
     fn skipped_primitives_are_not_hit_through_the_bvh() {
-        // Twenty spheres on the z axis (a tree), then twelve (boxes without a tree);
-        // skipping the nearest makes the next one the hit.
-        for (n, flat) in [(20, false), (12, true)] {
-            let mut accel = Accel::new(spheres_on_z(n));
-            assert_eq!(accel.tree.as_ref().map(|t| t.flat.is_some()), Some(flat));
+        // Twenty spheres on the z axis in a tree, then without one, then twelve without
+        // one; skipping the nearest makes the next one the hit.
+        for (n, form) in [(20, Form::Tree), (20, Form::Flat), (12, Form::Flat)] {
+            let mut accel = Accel::with_form(spheres_on_z(n), form);
             let hit = |a: &Accel| a.intersect(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
             assert_eq!(hit(&accel).map(|h| h.0), Some(0));
             let mut skip = vec![false; n];
@@ -1611,7 +1672,7 @@ mod tests {
         }
     }
 
-    /// A scene of 9 to 16 primitives is answered from its boxes without a tree, in slot
+    /// A scene of 2 to 64 primitives is answered from its boxes without a tree, in slot
     /// order, so exactly as brute force: the same primitive (at a tie too: the closed
     /// cube's triangles meet along shared edges, and rays aimed at its vertices and edge
     /// midpoints hit two or three of them at the same distance), the same distance, the
@@ -1648,11 +1709,10 @@ mod tests {
             center: Vec3::new(0.5, 0.5, 0.5),
             radius: 0.25,
         });
-        assert_eq!(prims.len(), FLAT_LIMIT - 1);
         let (mut ties, mut hits) = (0, 0);
         for pass in 0..2 {
             let mut accel = Accel::new(prims.clone());
-            assert!(accel.tree.as_ref().is_some_and(|t| t.flat.is_some()));
+            assert_eq!(accel.form(), Form::Flat);
             let mut skip = vec![false; prims.len()];
             skip[prims.len() - 1] = pass == 1;
             accel.set_skip(skip.clone());
@@ -1742,7 +1802,7 @@ mod tests {
 
     /// Disks, annuli and caps whose normal or axis lies within 10⁻⁷ to 10⁻² of a
     /// coordinate axis, in a scene answered from the primitives' boxes (9 primitives)
-    /// and in one with a tree (25): rays along the other axes graze them at heights
+    /// and in one with a tree (25, also without a tree): rays along the other axes graze them at heights
     /// within their tilt, and the closest hit and shadow verdicts are brute force's. A
     /// disk's box once had no extent along an axis its normal was within 10⁻⁴ of (1 − nᵢ²
     /// rounded to 0), so these rays missed it through either.
@@ -1782,35 +1842,36 @@ mod tests {
                     },
                     _ => unreachable!(),
                 }));
-                let accel = Accel::new(prims.clone());
-                assert_eq!(
-                    accel.tree.as_ref().map(|t| t.flat.is_some()),
-                    Some(far == 6)
-                );
-                for i in 0..600u64 {
-                    let mut st = sampler.stream(i);
-                    let k = (i % 3) as usize;
-                    let target = shapes[k].sample_area(st.next_2d()).p;
-                    // Along x or y, so that the ray crosses the tilted surface at a grazing
-                    // angle, or from above.
-                    let d = match i % 4 {
-                        0 => Vec3::X,
-                        1 => Vec3::Y,
-                        2 => -Vec3::X,
-                        _ => (Vec3::new(0.3, 0.2, -1.0)).normalize(),
-                    };
-                    let o = target - d * (5.0 + st.next_1d());
-                    let got = accel
-                        .intersect(o, d, 0.0, f32::INFINITY)
-                        .map(|(k, h)| (k, h.t.to_bits()));
-                    let want =
-                        brute(&prims, o, d, 0.0, f32::INFINITY).map(|(k, t)| (k, t.to_bits()));
-                    assert_eq!(got, want, "tilt {tilt:e}, ray {i}, {far} spheres");
-                    assert!(
-                        agrees(&accel, o, d, 0.0, 100.0).unwrap_or_else(|e| panic!("{e}"))
-                            == want.is_some()
-                    );
-                    hits += usize::from(want.is_some());
+                for form in [Form::Flat, Form::Tree] {
+                    if far == 6 && form == Form::Tree {
+                        continue;
+                    }
+                    let accel = Accel::with_form(prims.clone(), form);
+                    for i in 0..600u64 {
+                        let mut st = sampler.stream(i);
+                        let k = (i % 3) as usize;
+                        let target = shapes[k].sample_area(st.next_2d()).p;
+                        // Along x or y, so that the ray crosses the tilted surface at a grazing
+                        // angle, or from above.
+                        let d = match i % 4 {
+                            0 => Vec3::X,
+                            1 => Vec3::Y,
+                            2 => -Vec3::X,
+                            _ => (Vec3::new(0.3, 0.2, -1.0)).normalize(),
+                        };
+                        let o = target - d * (5.0 + st.next_1d());
+                        let got = accel
+                            .intersect(o, d, 0.0, f32::INFINITY)
+                            .map(|(k, h)| (k, h.t.to_bits()));
+                        let want =
+                            brute(&prims, o, d, 0.0, f32::INFINITY).map(|(k, t)| (k, t.to_bits()));
+                        assert_eq!(got, want, "tilt {tilt:e}, ray {i}, {far} spheres");
+                        assert!(
+                            agrees(&accel, o, d, 0.0, 100.0).unwrap_or_else(|e| panic!("{e}"))
+                                == want.is_some()
+                        );
+                        hits += usize::from(want.is_some());
+                    }
                 }
             }
         }
@@ -1862,7 +1923,7 @@ mod tests {
                 _ => unreachable!(),
             }));
             let accel = Accel::new(prims.clone());
-            assert!(accel.tree.as_ref().is_some_and(|t| t.flat.is_some()));
+            assert_eq!(accel.form(), Form::Flat);
             for _ in 0..40 {
                 // On it, or up to its size beside it (where its test's rounding decides).
                 let target = prim.sample_area(st.next_2d()).p
@@ -1913,7 +1974,7 @@ mod tests {
                 })
                 .collect();
             let accel = Accel::new(prims.clone());
-            assert!(accel.tree.as_ref().is_some_and(|t| t.flat.is_some()));
+            assert_eq!(accel.form(), Form::Flat);
             let k = (i % 9) as usize;
             let target = prims[k].sample_area(st.next_2d()).p;
             let o = Vec3::new(target.x, target.y, 1.0);
@@ -1981,9 +2042,8 @@ mod tests {
 
     #[test]
     fn plain_loop_agrees_with_brute_force_and_skips() {
-        // Up to LINEAR_LIMIT primitives there is no tree: five spheres on the z axis.
-        let mut accel = Accel::new(spheres_on_z(5));
-        assert!(accel.tree.is_none());
+        // The plain loop (a scene of one primitive's) over five spheres on the z axis.
+        let mut accel = Accel::with_form(spheres_on_z(5), Form::Linear);
         let sampler = Sampler::independent(3);
         let mut hits = 0;
         for i in 0..400u64 {
@@ -2012,7 +2072,7 @@ mod tests {
     fn plain_loop_with_triangles_agrees_with_brute_force() {
         let sampler = Sampler::independent(29);
         let mut prims = Vec::new();
-        for i in 0..LINEAR_LIMIT as u64 {
+        for i in 0..8u64 {
             let mut s = sampler.stream(i);
             let c = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 6.0;
             let (a, b) = (
@@ -2037,8 +2097,7 @@ mod tests {
         let mut hits = 0;
         for first in [0, 1] {
             // Starting with a triangle, then with a sphere (the ray prepared later).
-            let accel = Accel::new(prims[first..].to_vec());
-            assert!(accel.tree.is_none());
+            let accel = Accel::with_form(prims[first..].to_vec(), Form::Linear);
             for i in 0..600u64 {
                 let mut st = sampler.stream(1000 + i);
                 let o = Vec3::new(st.next_1d(), st.next_1d(), st.next_1d()) * 10.0 - 2.0;
@@ -2124,9 +2183,15 @@ mod tests {
     /// angles from normal to grazing: every one must agree with brute force, and the ones
     /// toward the plane must hit.
     fn probe(base: Vec3, s: f32, heights: &[f32]) {
-        let accel = Accel::new(tiles(base, s));
+        for form in [Form::Flat, Form::Tree] {
+            probe_in(base, s, heights, form);
+        }
+    }
+
+    /// [`probe`] through an [`Accel`] in `form`.
+    fn probe_in(base: Vec3, s: f32, heights: &[f32], form: Form) {
+        let accel = Accel::with_form(tiles(base, s), form);
         assert_eq!(accel.prims().len(), 24);
-        assert!(accel.tree.is_some());
         let sampler = Sampler::independent(17);
         let (mut hits, mut steep) = (0, 0);
         for (k, &h) in heights.iter().enumerate() {
@@ -2264,9 +2329,10 @@ mod tests {
         #[test]
         fn bvh_equals_brute_force(
             seed in 0u64..1_000_000,
-            n in 9usize..60,
+            n in 2usize..80,
             log_scale in -18i32..=18,
             far in proptest::bool::ANY,
+            form in 0usize..4,
         ) {
             let s = Sampler::independent(seed);
             let scale = 10f32.powi(log_scale);
@@ -2286,7 +2352,13 @@ mod tests {
             }
             prims.retain(|p| p.area() >= f32::MIN_POSITIVE);
             proptest::prop_assume!(!prims.is_empty());
-            let accel = Accel::new(prims.clone());
+            // Half the cases in the form their size calls for, the rest in each form.
+            let accel = match form {
+                0 => Accel::with_form(prims.clone(), Form::Linear),
+                1 => Accel::with_form(prims.clone(), Form::Flat),
+                2 => Accel::with_form(prims.clone(), Form::Tree),
+                _ => Accel::new(prims.clone()),
+            };
             for i in 0..64u64 {
                 let mut st = s.stream(1 + i);
                 let d = uniform_sphere(st.next_2d());
@@ -2539,8 +2611,7 @@ mod tests {
         // exactly (a grid's origin is its node's low bound). There the exact interval is
         // shorter than the rounding of the slab distances: without the widening a box is
         // culled whose triangle the primitive test alone hits.
-        let accel = Accel::new(tiles(Vec3::ZERO, 1.0));
-        assert!(accel.tree.is_some());
+        let accel = Accel::with_form(tiles(Vec3::ZERO, 1.0), Form::Tree);
         let sampler = Sampler::independent(31);
         let mut hits = 0;
         for i in 0..6000u64 {
@@ -2847,8 +2918,7 @@ mod tests {
                     }
                 });
             }
-            let accel = Accel::new(prims);
-            assert!(accel.tree.is_some());
+            let accel = Accel::with_form(prims, Form::Tree);
             let mut hits = 0;
             for i in 0..800u64 {
                 let mut s = sampler.stream(1000 + i);
@@ -2883,7 +2953,7 @@ mod tests {
             }
         }
         let accel = Accel::new(prims.clone());
-        assert!(accel.tree.is_some());
+        assert_eq!(accel.form(), Form::Tree);
         for i in 0..2000u64 {
             let mut s = sampler.stream(10_000 + i);
             let o = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 10.0;
