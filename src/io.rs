@@ -263,6 +263,24 @@ pub fn refuse_output_on_input(
     Ok(())
 }
 
+/// Refuse two outputs of one command (`flag`, path) that name the same file (compared as
+/// [`refuse_output_on_input`] compares them, whether or not it exists yet): the second
+/// write would replace the first. Bad input (exit 2), told before any work.
+pub fn refuse_same_output(a: (&str, &Path), b: (&str, &Path)) -> Result<(), InputError> {
+    match (resolved(a.1), resolved(b.1)) {
+        (Some(x), Some(y)) if x == y => Err(InputError::new(
+            "<command line>",
+            b.0,
+            format!(
+                "`{}` is the file {} names: one output would replace the other",
+                b.1.display(),
+                a.0
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Refuse an output folder `out` (the command's `flag`) that is, or lies inside, one of
 /// the input `folders` (its JSON files would be read as cases on the next run), or that
 /// holds one of the input `files` itself, where the command writes its own files

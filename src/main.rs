@@ -4,8 +4,8 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use lightproof::bsdf::Bsdf;
 use lightproof::bsdf::contract::direction;
+use lightproof::bsdf::{Bsdf, BsdfModel};
 use lightproof::case::{Case, collect_cases, seed_for};
 use lightproof::error::{Error, InputError, IoError};
 use lightproof::sampling::SamplerKind;
@@ -204,15 +204,7 @@ enum Command {
     },
 }
 
-/// A whole number in [lo, hi], or a message saying the range.
-fn count_in(s: &str, lo: u64, hi: u64, hi_name: &str) -> Result<u64, String> {
-    match s.trim().parse::<u64>() {
-        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "must be a whole number from {lo} to {hi_name}, got `{s}`"
-        )),
-    }
-}
+use lightproof::case::count_in;
 
 fn parse_samples(s: &str) -> Result<u64, String> {
     count_in(
@@ -775,6 +767,27 @@ fn verify(
         .iter()
         .map(|f| Case::load(f))
         .collect::<Result<_, _>>()?;
+    // Nor on a file a case's scene reads (an OBJ mesh, an EXR map), nor both outputs on
+    // one file (the page would replace the JSON).
+    let assets: Vec<PathBuf> = cases
+        .iter()
+        .flat_map(|c| {
+            let base = c.file.parent().unwrap_or(Path::new("."));
+            c.desc
+                .scene
+                .external_files()
+                .into_iter()
+                .map(|f| base.join(f))
+        })
+        .collect();
+    for (flag, out) in [("--json", &json), ("--html", &html)] {
+        if let Some(out) = out {
+            lightproof::io::refuse_output_on_input(flag, out, &assets, &[])?;
+        }
+    }
+    if let (Some(j), Some(h)) = (&json, &html) {
+        lightproof::io::refuse_same_output(("--json", j), ("--html", h))?;
+    }
     let warp_suite = if whole && !no_chi2 {
         lightproof::suites::warps()
     } else {
@@ -987,6 +1000,12 @@ fn estimate(
 fn chi2(json: &str, wo: &str, samples: u64, seed: u64, out: &Path) -> Result<(), Failure> {
     let bsdf =
         Bsdf::from_json(json).map_err(|e| Failure::Input(format!("<bsdf argument>: {e}")))?;
+    if !bsdf.flags().has_density() {
+        return Err(Failure::Input(format!(
+            "<bsdf argument>: a `{}` has only Dirac delta lobes, so no density to compare sampled directions with: chi-square tests a model with a diffuse or glossy lobe (its delta directions are checked by `cargo test`'s BSDF contract)",
+            bsdf.name()
+        )));
+    }
     let parts: Vec<f64> = wo
         .split(',')
         .map(|s| s.trim().parse::<f64>())

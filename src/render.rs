@@ -71,8 +71,9 @@ pub fn input_files(path: &Path) -> Result<Vec<std::path::PathBuf>, InputError> {
 }
 
 /// Render `path` with `spp` samples per pixel, paths ending after at most `max_depth`
-/// scatterings (`None`: the plan's bound, else cut at the guard of [`MAX_DEPTH`] with
-/// Russian roulette where more bounces can contribute, each such cut counted).
+/// scatterings (`None`: the case's own `max_depth`, else the plan's bound, else cut at the
+/// guard of [`MAX_DEPTH`] with Russian roulette where more bounces can contribute, each
+/// such cut counted).
 pub fn render_file(
     path: &Path,
     spp: u64,
@@ -196,7 +197,12 @@ pub fn render_file(
     // looking: without a depth limit a path still scattering at the path tracer's guard
     // of 2¹⁶ scatterings returns +∞ (where a measurement fails); it is traced again, the
     // same path from the same stream, with the guard as its limit (`cut`), and counted.
-    cfg.max_bounces = cfg.max_bounces.min(max_depth.unwrap_or(u32::MAX));
+    // `--max-depth` where given, else the case's own `max_depth` (k scatterings after the
+    // emission seen directly, as for `radiance`), else no limit.
+    let case_depth = crate::case::build::max_bounces(&file, &desc, &eye_measure)?;
+    cfg.max_bounces = cfg
+        .max_bounces
+        .min(max_depth.or(case_depth).unwrap_or(u32::MAX));
     let cut = Config {
         max_bounces: cfg.max_bounces.min(MAX_DEPTH),
         ..cfg

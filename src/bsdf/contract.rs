@@ -412,9 +412,7 @@ fn consistency_of(model: &dyn BsdfModel, wo: Vec3, u: Vec3, s: &BsdfSample, r: &
             r.fail(|| format!("delta lobe probability {} > 1 for wo = {wo}", s.pdf));
         } else if let Some(e) = delta_direction_error(wo, s) {
             r.fail(|| e);
-        } else if !model
-            .flags()
-            .intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY)
+        } else if !model.flags().has_density()
             && (model.eval(wo, wi) != 0.0 || model.pdf(wo, wi) != 0.0)
         {
             // A model of delta lobes only has no density anywhere: f and pdf are 0 even
@@ -547,10 +545,7 @@ pub fn check_reciprocity(
             r
         })
         .reduce(CheckReport::default, CheckReport::merge);
-    let has_density = model
-        .flags()
-        .intersects(super::LobeFlags::DIFFUSE | super::LobeFlags::GLOSSY);
-    let vacuous = (r.compared == 0 && has_density).then(|| {
+    let vacuous = (r.compared == 0 && model.flags().has_density()).then(|| {
         format!(
             "f = 0 both ways at every pair, for a model with lobes {:?}",
             model.flags()

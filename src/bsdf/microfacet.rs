@@ -674,10 +674,9 @@ mod tests {
         // tests at family-wise α = 1e-4 (Šidák, |z| ≤ 4.54), seed LIGHTPROOF_SEED.
         use crate::sampling::Sampler;
         use crate::stats::{Accumulator, MeanTest};
-        let seed = std::env::var("LIGHTPROOF_SEED")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(13u64);
+        let seed = crate::case::env_count("LIGHTPROOF_SEED", 0)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or(13);
         let n = 1u64 << 15;
         let test = MeanTest::new(1e-4, 18);
         type Draw = fn(&Microfacet, Vec3, Vec2) -> Vec3;

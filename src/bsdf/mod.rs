@@ -89,6 +89,13 @@ impl LobeFlags {
     pub fn is_delta(&self) -> bool {
         self.contains(LobeFlags::SPECULAR)
     }
+
+    /// Whether some lobe has a density (a diffuse or glossy one): a model of Dirac delta
+    /// lobes only has none anywhere (its `eval` and `pdf` are 0), so a chi-square test of
+    /// its sampled directions has nothing to compare them with.
+    pub fn has_density(&self) -> bool {
+        self.intersects(LobeFlags::DIFFUSE | LobeFlags::GLOSSY)
+    }
 }
 
 /// A direction drawn from a BSDF.

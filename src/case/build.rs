@@ -445,8 +445,8 @@ fn microfacet_measure(
     })
 }
 
-/// At least one estimator, each one the measurement can use, and no estimator or
-/// sampler listed twice.
+/// At least one estimator, each one the measurement can use, at least one sampler if
+/// the field is there, and no estimator or sampler listed twice.
 pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(), InputError> {
     if desc.estimators.is_empty() {
         return Err(InputError::new(
@@ -473,8 +473,16 @@ pub fn check_estimators(f: &str, desc: &CaseDesc, measure: &Measure) -> Result<(
             return Err(twice(f, format!("estimators[{i}]"), e.name()));
         }
     }
-    for (i, s) in desc.samplers.iter().enumerate() {
-        if desc.samplers[..i].contains(s) {
+    let samplers = desc.samplers.as_deref().unwrap_or_default();
+    if desc.samplers.is_some() && samplers.is_empty() {
+        return Err(InputError::new(
+            f,
+            "samplers",
+            "name at least one sampler (or leave the field out for `independent`)",
+        ));
+    }
+    for (i, s) in samplers.iter().enumerate() {
+        if samplers[..i].contains(s) {
             return Err(twice(f, format!("samplers[{i}]"), s.name()));
         }
     }
@@ -803,6 +811,11 @@ mod tests {
         assert!(check_estimators("c.json", &desc(json!({})), &m).is_ok());
         let e = check_estimators("c.json", &desc(json!({ "estimators": [] })), &m).unwrap_err();
         assert_eq!(e.field, "estimators");
+        // An empty sampler list is refused as an empty estimator list is (it ran the
+        // default `independent` silently); a list left out is that default.
+        let e = check_estimators("c.json", &desc(json!({ "samplers": [] })), &m).unwrap_err();
+        assert_eq!(e.field, "samplers");
+        assert!(e.reason.contains("at least one sampler"), "{e}");
         let two = desc(json!({ "estimators": ["cosine", "light"] }));
         let e = check_estimators("c.json", &two, &m).unwrap_err();
         assert_eq!(e.field, "estimators[1]");

@@ -49,6 +49,43 @@ pub const MIN_SAMPLES: u64 = 2 * BATCHES;
 /// Most samples per estimate: 2⁴⁰ ≈ 1.1·10¹² (days of work; no count wraps below it).
 pub const MAX_SAMPLES: u64 = 1 << 40;
 
+/// A whole number in [lo, hi] (surrounding spaces ignored), or a message saying the
+/// range (`hi_name` names its top): the command line's counts and seeds.
+pub fn count_in(s: &str, lo: u64, hi: u64, hi_name: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "must be a whole number from {lo} to {hi_name}, got `{s}`"
+        )),
+    }
+}
+
+/// The environment variable `name` read as the command line reads `LIGHTPROOF_SEED`
+/// (a whole number from `lo` to 2⁶⁴ − 1, [`count_in`]): `None` when unset or empty, an
+/// error naming the variable for anything else (text that is not UTF-8 too), so a
+/// mistyped value never silently runs the default. For the proof's own seed and scale
+/// (`tests/proof/common.rs`) and the unit tests that take the seed.
+pub fn env_count(name: &str, lo: u64) -> Result<Option<u64>, String> {
+    var_count(name, std::env::var_os(name).as_deref(), lo)
+}
+
+/// [`env_count`] of the variable's value (`None`: unset).
+fn var_count(name: &str, value: Option<&std::ffi::OsStr>, lo: u64) -> Result<Option<u64>, String> {
+    match value {
+        None => Ok(None),
+        Some(v) if v.is_empty() => Ok(None),
+        Some(v) => match v.to_str() {
+            Some(text) => count_in(text, lo, u64::MAX, "2^64 − 1")
+                .map(Some)
+                .map_err(|e| format!("{name}: {e}")),
+            None => Err(format!(
+                "{name}: is not UTF-8 text, got {:?}",
+                v.to_string_lossy()
+            )),
+        },
+    }
+}
+
 /// A loaded, validated case.
 pub struct Case {
     /// Where it came from.
@@ -160,11 +197,10 @@ impl Case {
 
     /// Samplers to run.
     pub fn samplers(&self) -> Vec<SamplerKind> {
-        if self.desc.samplers.is_empty() {
-            vec![SamplerKind::Independent]
-        } else {
-            self.desc.samplers.clone()
-        }
+        self.desc
+            .samplers
+            .clone()
+            .unwrap_or_else(|| vec![SamplerKind::Independent])
     }
 
     /// The one-sample estimator of `est` under `plan` (the case's own, its full twin,
@@ -262,6 +298,45 @@ pub fn collect_cases(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The proof's `LIGHTPROOF_SEED` and `LIGHTPROOF_SCALE` are read as the command line
+    /// reads its seed: unset or empty is the default, spaces around a number are let be,
+    /// and anything else (a sign, text, a fraction, past 2⁶⁴ − 1, below the least, not
+    /// UTF-8) is an error naming the variable. The proof read `" 77"` as unset once, so
+    /// a seed sweep could silently rerun the default seed.
+    #[test]
+    fn knobs_in_the_environment_are_read_strictly() {
+        use std::ffi::OsStr;
+        let read = |v: Option<&str>, lo| var_count("KNOB", v.map(OsStr::new), lo);
+        assert_eq!(read(None, 0), Ok(None));
+        assert_eq!(read(Some(""), 0), Ok(None));
+        assert_eq!(read(Some(" 77 "), 0), Ok(Some(77)));
+        assert_eq!(read(Some("0"), 0), Ok(Some(0)));
+        assert_eq!(read(Some("18446744073709551615"), 0), Ok(Some(u64::MAX)));
+        assert_eq!(read(Some("8"), 1), Ok(Some(8)));
+        for bad in [
+            "abc",
+            "-1",
+            "+-1",
+            "1.5",
+            "18446744073709551616",
+            " ",
+            "7 7",
+        ] {
+            let e = read(Some(bad), 0).unwrap_err();
+            assert!(
+                e.starts_with("KNOB: ") && e.contains(&format!("`{bad}`")),
+                "{e}"
+            );
+        }
+        assert!(read(Some("0"), 1).unwrap_err().contains("from 1 to"));
+        #[cfg(unix)]
+        {
+            use std::os::unix::ffi::OsStrExt;
+            let e = var_count("KNOB", Some(OsStr::from_bytes(b"7\xff")), 0).unwrap_err();
+            assert!(e.starts_with("KNOB: is not UTF-8"), "{e}");
+        }
+    }
 
     /// A measurement's name is said twice, by the case file's key (`MeasureDesc::key`,
     /// which error paths use) and by the built measurement (`Measure::name`, which

@@ -163,9 +163,9 @@ pub struct CaseDesc {
     pub reference: Option<serde_json::Map<String, serde_json::Value>>,
     /// Estimators to run.
     pub estimators: Vec<Estimator>,
-    /// Samplers to run (default: independent).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub samplers: Vec<SamplerKind>,
+    /// Samplers to run (left out: independent; an empty list is refused).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samplers: Option<Vec<SamplerKind>>,
     /// Samples per estimate (default 2¹⁸).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<u64>,

@@ -385,6 +385,15 @@ impl Placement {
     }
 }
 
+/// Where a mesh's triangles come from, for the errors that name them.
+#[derive(Clone, Copy)]
+enum MeshSource<'a> {
+    /// A case's own `vertices` and `indices`.
+    Json,
+    /// An OBJ file (its faces split into triangles by tobj).
+    Obj(&'a std::path::Path),
+}
+
 /// Everything needed to turn the f64 description into f32 geometry.
 #[derive(Clone)]
 struct Builder<'a> {
@@ -868,62 +877,87 @@ impl Builder<'_> {
                         self.place(&field, &pl, check_point(file, &field, *v)?)
                     })
                     .collect::<Result<_, _>>()?;
-                self.mesh(&vs, indices, &gf, prims)
+                self.mesh(&vs, indices, &gf, MeshSource::Json, prims)
             }
             GeometryDesc::Obj { path } => {
                 let full = self.base.join(path);
-                crate::io::check_input_file(&full, crate::io::MAX_ASSET_BYTES).map_err(|r| {
-                    InputError::new(
-                        file,
-                        format!("{gf}.path"),
-                        format!("OBJ `{}` {r}", full.display()),
-                    )
-                })?;
+                let field = format!("{gf}.path");
+                // Read once, checked (a regular file within the asset limit), and parsed
+                // from memory: the OBJ's `mtllib` lines name files tobj would otherwise
+                // open itself, unchecked (`/dev/zero`, a FIFO); materials are a scene's
+                // own, so none is read.
+                let text =
+                    crate::io::read_input(&full, crate::io::MAX_ASSET_BYTES).map_err(|r| {
+                        InputError::new(file, &field, format!("OBJ `{}` {r}", full.display()))
+                    })?;
                 let opts = tobj::LoadOptions {
                     triangulate: true,
                     single_index: true,
-                    ..Default::default()
+                    // Points and lines are no surfaces (tobj would make them zero-area
+                    // triangles).
+                    ignore_points: true,
+                    ignore_lines: true,
                 };
-                let (models, _) = tobj::load_obj(&full, &opts).map_err(|e| {
-                    InputError::new(
-                        file,
-                        format!("{gf}.path"),
-                        format!("cannot read OBJ `{}`: {e}", full.display()),
-                    )
-                })?;
+                let (models, _) =
+                    tobj::load_obj_buf(&mut text.as_bytes(), &opts, |_| Ok(Default::default()))
+                        .map_err(|e| {
+                            InputError::new(
+                                file,
+                                &field,
+                                format!("cannot read OBJ `{}`: {e}", full.display()),
+                            )
+                        })?;
                 let mut all = Vec::new();
                 let mut idx = Vec::new();
                 for m in models {
                     let base = all.len() as u32;
                     for c in m.mesh.positions.chunks(3) {
                         let p = [c[0] as f64, c[1] as f64, c[2] as f64];
-                        let field = format!("{gf}.path");
                         all.push(self.place(&field, &pl, check_point(file, &field, p)?)?);
                     }
                     for t in m.mesh.indices.chunks(3) {
                         idx.push([base + t[0], base + t[1], base + t[2]]);
                     }
                 }
-                self.mesh(&all, &idx, &gf, prims)
+                let source = MeshSource::Obj(&full);
+                self.mesh(&all, &idx, &gf, source, prims)
             }
         }
     }
 
     /// A mesh of the placed vertices `vs` (rebased on the scene's origin, see
-    /// [`Builder::place`]) and their triangles.
+    /// [`Builder::place`]) and their triangles, read from `source` (which an error names).
     fn mesh(
         &self,
         vs: &[DVec3],
         indices: &[[u32; 3]],
         gf: &str,
+        source: MeshSource,
         prims: &mut Vec<Primitive>,
     ) -> Result<ShapeKind, InputError> {
-        if indices.is_empty() {
-            return Err(InputError::new(
+        let bad = |k: Option<usize>, why: String| match source {
+            MeshSource::Json => InputError::new(
                 self.file,
-                format!("{gf}.indices"),
-                "a mesh needs at least one triangle",
-            ));
+                match k {
+                    Some(k) => format!("{gf}.indices[{k}]"),
+                    None => format!("{gf}.indices"),
+                },
+                why,
+            ),
+            MeshSource::Obj(path) => InputError::new(
+                self.file,
+                format!("{gf}.path"),
+                match k {
+                    Some(k) => format!(
+                        "OBJ `{}`: triangle {k} (counting from 0, polygons split into triangles) {why}",
+                        path.display()
+                    ),
+                    None => format!("OBJ `{}`: {why}", path.display()),
+                },
+            ),
+        };
+        if indices.is_empty() {
+            return Err(bad(None, "a mesh needs at least one triangle".into()));
         }
         let mut normal: Option<DVec3> = None;
         let mut planar = true;
@@ -933,9 +967,8 @@ impl Builder<'_> {
             for j in 0..3 {
                 let i = t[j] as usize;
                 let v = vs.get(i).ok_or_else(|| {
-                    InputError::new(
-                        self.file,
-                        format!("{gf}.indices[{k}]"),
+                    bad(
+                        Some(k),
                         format!(
                             "vertex index {i} is out of range (the mesh has {} vertices)",
                             vs.len()
@@ -949,11 +982,7 @@ impl Builder<'_> {
             // The f32 cross product must not vanish (its length may: its square
             // underflows for edges below ~10⁻¹⁰, which the hit test handles).
             if !(n.length() > 0.0) || (p[1] - p[0]).cross(p[2] - p[0]) == Vec3::ZERO {
-                return Err(InputError::new(
-                    self.file,
-                    format!("{gf}.indices[{k}]"),
-                    "is a degenerate triangle (zero area)",
-                ));
+                return Err(bad(Some(k), "is a degenerate triangle (zero area)".into()));
             }
             let n = n.normalize();
             match normal {

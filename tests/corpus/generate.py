@@ -325,6 +325,24 @@ case("obj_dev_zero", "hang", SHAPES, [("scene.shapes.3.geometry", {"type": "obj"
      "scene.shapes[3].geometry.path", "regular file")
 case("obj_missing", "baseline", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "nope.obj"})], 2,
      "scene.shapes[3].geometry.path")
+# An OBJ's `mtllib` names files the loader once opened itself, unchecked: `/dev/zero` ran
+# it out of memory (abort), a FIFO hung it. Materials are the case's own: none is read.
+# Points and lines bound no area: left out (they were zero-area triangles, refused).
+OBJ_ASSETS = {
+    "obj_mtllib_dev_zero": "mtllib /dev/zero\nv -3 0 2\nv -2 0 2\nv -2 1 2\nf 1 2 3\n",
+    "obj_points_and_lines": "v -3 0 2\nv -2 0 2\nv -2 1 2\nf 1 2 3\nl 1 2\np 3\nf 1 2\n",
+    "obj_lines_only": "v -3 0 2\nv -2 0 2\nl 1 2\n",
+    "obj_degenerate_face": "v -3 0 2\nv -2 0 2\nv -1 0 2\nv -2 1 2\nf 1 2 4\nf 1 2 3\n",
+}
+for name, outcome, contains in [
+    ("obj_mtllib_dev_zero", "valid", None),
+    ("obj_points_and_lines", "valid", None),
+    ("obj_lines_only", 2, "a mesh needs at least one triangle"),
+    ("obj_degenerate_face", 2, "triangle 1 (counting from 0, polygons split into triangles) is a degenerate"),
+]:
+    case(name, "crash" if name == "obj_mtllib_dev_zero" else "unclear", SHAPES,
+         [("scene.shapes.3.geometry", {"type": "obj", "path": "../assets/%s.obj" % name})], outcome,
+         "scene.shapes[3].geometry.path" if outcome == 2 else None, contains)
 sweep("pulse_at", PULSE, "scene.shapes.0.emission.pulse_at", "scene.shapes[0].emission.pulse_at", SIGNED)
 case("material_unknown", "baseline", SHAPES, [("scene.shapes.0.material", "nope")], 2, "scene.shapes[0].material")
 
@@ -612,6 +630,8 @@ case("estimators_twice", "wrong", DISK, [("estimators", ["light", "mis", "light"
      "`light` is listed twice")
 case("samplers_twice", "wrong", dict(DISK, samplers=["sobol", "sobol"]), [], 2, "samplers[1]",
      "`sobol` is listed twice")
+# An empty list ran the default sampler without a word, where an empty estimator list is refused.
+case("samplers_empty", "unclear", dict(DISK, samplers=[]), [], 2, "samplers", "at least one sampler")
 case("unknown_field", "baseline", DISK, [("colour", 1)], 2, "colour")
 # A text that ends, or breaks, before a key is read: the file as a whole is at fault, so
 # the message leaves the field out (`FILE: REASON`; it once read `FILE: ?: REASON`); a
@@ -838,6 +858,10 @@ entry("verify_samples_max", "hang", ["verify", "{corpus}/cases/verify_valid.json
       "--samples")
 entry("verify_seed_negative", "unclear", ["verify", "{corpus}/cases/verify_valid.json", "--seed", "-1"], 2, "--seed")
 entry("verify_threads_negative", "unclear", ["verify", "{corpus}/cases/verify_valid.json", "--threads", "-1"], 2, "--threads")
+# Both outputs on one file: the page replaced the JSON.
+entry("verify_json_and_html_one_file", "unclear",
+      ["verify", "{corpus}/cases/verify_valid.json", "--samples", "4096", "--no-chi2", "--json", "{tmp}/v.out",
+       "--html", "{tmp}/v.out"], 2, "--html", "is the file --json names")
 entry("verify_json_leftover", "leftover",
       ["verify", "{corpus}/cases/verify_valid.json", "--samples", "4096", "--no-chi2", "--json", "{tmp}/out.json"],
       "valid", pre_files=[".out.json.tmp4294967294"], no_leftovers=True)
@@ -878,6 +902,10 @@ entry("chi2_wo_negative", "unclear", ["chi2", L, "--wo", "-30,0", "--samples", "
 entry("chi2_wo_phi_400", "wrong", ["chi2", L, "--wo", "30,400", "--samples", "40960", "--out", "{tmp}"], 2, "--wo",
       "[-360, 360]")
 entry("chi2_wo_text", "baseline", ["chi2", L, "--wo", "up", "--out", "{tmp}"], 2, "--wo")
+# A model of delta lobes only has no density: it failed as "too few samples" at any count.
+for model in ['{"type":"conductor","eta":1.5,"k":3}', '{"type":"dielectric","eta":1.5}']:
+    entry("chi2_delta_only_" + json.loads(model)["type"], "unclear",
+          ["chi2", model, "--samples", "40960", "--out", "{tmp}"], 2, "bsdf", "only Dirac delta lobes")
 entry("chi2_out_is_file", "unclear", ["chi2", L, "--samples", "40960", "--out", "{file}"], 3, contains=NOT_FOLDER)
 entry("chi2_bsdf_bad_json", "unclear", ["chi2", "{", "--out", "{tmp}"], 2, "bsdf",
       "invalid BSDF JSON: EOF while parsing an object", absent=NO_FIELD)
@@ -1163,6 +1191,8 @@ if __name__ == "__main__":
     struct.pack_into("<i", missing, second, 0)
     write("assets/render_missing_line.exr", bytes(missing))
     write("assets/render_empty.exr", b"")
+    for name, text in OBJ_ASSETS.items():
+        write("assets/%s.obj" % name, text)
     write("assets/env_ok.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 8))
     write("assets/env_negative_channel.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 7 + [(-1.0, 2.0, 2.0)]))
     write("assets/env_huge_header.exr", exr(1, 1, [], claim=(200000, 200000), offsets=False))

@@ -432,6 +432,32 @@ fn render_takes_threads_and_max_depth() {
             "depth {depth:?}: {data:?}"
         );
     }
+    // Without `--max-depth` a case's own `max_depth` bounds the paths (it was ignored:
+    // a furnace of albedo 0.8 with `max_depth` 1 rendered its whole L = 5, not 1.8);
+    // the flag, where given, overrides it.
+    let furnace = r#"{
+  "name": "furnace", "teaches": "L = Le/(1 − ρ)",
+  "scene": {
+    "materials": { "grey": { "type": "lambertian", "albedo": 0.8 } },
+    "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 }, "material": "grey", "flip_normals": true, "emission": { "radiance": 1 } } ]
+  },
+  "camera": { "position": [0, 0, 0], "look_at": [0, 0, 1], "up": [0, 1, 0], "fov_degrees": 60, "width": 3, "height": 2 },
+  "measure": { "radiance": { "at": [0, 0, 0], "direction": [0, 0, 1] } },
+  "estimators": ["mis"], "max_depth": 1 }"#;
+    let cut = tmp("furnace_depth_1.json", furnace);
+    let whole = tmp("furnace.json", &furnace.replace(r#", "max_depth": 1"#, ""));
+    let image = |path: &Path, depth: Option<u32>| {
+        lightproof::render::render_file(path, 8, 1, depth)
+            .expect("renders")
+            .pixels
+    };
+    assert_eq!(image(&cut, None), image(&whole, Some(1)));
+    assert_eq!(image(&cut, Some(3)), image(&whole, Some(3)));
+    let mean = |p: Vec<[f32; 3]>| p.iter().map(|v| v[0] as f64).sum::<f64>() / p.len() as f64;
+    // 48 paths: L₁ = 1.8 exactly at depth 1 (every path sees Le and its one bounce's Le),
+    // about 5 without a limit.
+    assert!((mean(image(&cut, None)) - 1.8).abs() < 1e-5);
+    assert!(mean(image(&whole, None)) > 3.0);
 }
 
 fn catalog_case(rel: &str) -> PathBuf {
@@ -1350,7 +1376,8 @@ fn links_to_folders_are_not_followed() {
 /// the input, and the input is left as it was: `verify in.json --json in.json` replaced
 /// the case with the verdict; a `.json` written inside a folder `verify` reads would be
 /// read as a case next run; `report`'s flat `--out` holding the case file would get its
-/// report over it; `export` and `render` would write over their own input.
+/// report over it; `export` and `render` would write over their own input; `verify`
+/// wrote its page over the OBJ a case reads, and one output over the other.
 #[test]
 fn an_output_on_an_input_is_refused_before_any_work() {
     let dir = std::env::temp_dir().join(format!("lightproof-cli-clash-{}", std::process::id()));
@@ -1369,7 +1396,23 @@ fn an_output_on_an_input_is_refused_before_any_work() {
         ),
     )
     .unwrap();
-    let runs: [(&[&str], &str, &str); 8] = [
+    // A case lit by a triangle read from an OBJ file.
+    const OBJ: &str = "v -5 -5 2\nv 5 -5 2\nv 0 5 2\nf 1 3 2\n";
+    std::fs::write(dir.join("tri.obj"), OBJ).unwrap();
+    std::fs::write(
+        dir.join("mesh.json"),
+        GOOD.replace(
+            r#"{ "type": "disk", "center": [0, 0, 2], "normal": [0, 0, -1], "radius": 1 }"#,
+            r#"{ "type": "obj", "path": "tri.obj" }"#,
+        )
+        .replace(
+            r#"  "reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },
+"#,
+            "",
+        ),
+    )
+    .unwrap();
+    let runs: [(&[&str], &str, &str); 11] = [
         (
             &["verify", "in.json", "--json", "in.json"],
             "--json: `in.json`",
@@ -1419,6 +1462,23 @@ fn an_output_on_an_input_is_refused_before_any_work() {
             "-o: `scene.exr`",
             "is the input file `scene.exr`",
         ),
+        (
+            &["verify", "mesh.json", "--html", "tri.obj"],
+            "--html: `tri.obj`",
+            "is the input file",
+        ),
+        (
+            &["verify", "mesh.json", "--json", "./tri.obj"],
+            "--json: `./tri.obj`",
+            "is the input file",
+        ),
+        (
+            &[
+                "verify", "in.json", "--json", "v.json", "--html", "./v.json",
+            ],
+            "--html: `./v.json`",
+            "is the file --json names",
+        ),
     ];
     for (args, what, why) in runs {
         let out = bin().args(args).current_dir(&dir).output().unwrap();
@@ -1439,7 +1499,8 @@ fn an_output_on_an_input_is_refused_before_any_work() {
             .flatten()
             .map(|e| e.file_name())
             .collect();
-        assert_eq!(names.len(), 3, "{args:?}: nothing written: {names:?}");
+        assert_eq!(std::fs::read_to_string(dir.join("tri.obj")).unwrap(), OBJ);
+        assert_eq!(names.len(), 5, "{args:?}: nothing written: {names:?}");
         assert_eq!(
             std::fs::read_dir(dir.join("cases")).unwrap().count(),
             1,

@@ -1,19 +1,19 @@
 //! Shared knobs of the proof: the seed and the sample scale.
 
-/// The base seed: `LIGHTPROOF_SEED` or a fixed default, recorded in every message.
+/// The base seed: `LIGHTPROOF_SEED` or a fixed default, recorded in every message. The
+/// variable is read as the command line reads it (surrounding spaces ignored, empty as
+/// unset); any other value stops the test naming it, rather than rerun the default.
 pub fn seed() -> u64 {
-    std::env::var("LIGHTPROOF_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
+    lightproof::case::env_count("LIGHTPROOF_SEED", 0)
+        .unwrap_or_else(|e| panic!("{e}"))
         .unwrap_or(0x11_9470)
 }
 
-/// `LIGHTPROOF_SCALE` (default 1) multiplies every sample count for a deeper proof.
+/// `LIGHTPROOF_SCALE` (default 1, at least 1) multiplies every sample count for a deeper
+/// proof; read as [`seed`] reads its variable.
 pub fn scale() -> u64 {
-    std::env::var("LIGHTPROOF_SCALE")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .filter(|&s: &u64| s >= 1)
+    lightproof::case::env_count("LIGHTPROOF_SCALE", 1)
+        .unwrap_or_else(|e| panic!("{e}"))
         .unwrap_or(1)
 }
 
