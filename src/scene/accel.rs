@@ -1,7 +1,8 @@
 //! Ray queries over all primitives: the topology of an obvhs compressed-wide BVH (CWBVH,
 //! Ylitie et al. 2017) with our own box test and our own exact primitive tests; for a
-//! scene of one primitive the test itself, and for up to 64 the primitives' own boxes
-//! tested eight at a time ([`Flat`]), where a tree only costs ([`Form`]).
+//! scene of one primitive (or up to three, none a triangle) the tests themselves, and
+//! for up to 64 the primitives' own boxes tested eight at a time ([`Flat`]), where a
+//! tree only costs ([`Form`]).
 //!
 //! obvhs hands the callback a *slot*, which indexes `bvh.primitive_indices`, not our
 //! primitive list (the shared notes, ../shared/STACK.md, outside this repository): the
@@ -37,8 +38,9 @@ use obvhs::cwbvh::node::CwBvhNode;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{__m128, __m256};
 
-/// Up to this many primitives, rays test every primitive ([`Form::Linear`]).
-const LINEAR_LIMIT: usize = 1;
+/// Up to this many primitives, rays test every primitive ([`Form::Linear`]) unless one
+/// is a triangle.
+const LINEAR_LIMIT: usize = 3;
 
 /// Up to this many primitives (and above [`LINEAR_LIMIT`]), rays test the primitives'
 /// boxes eight at a time and no tree is built ([`Form::Flat`]).
@@ -46,14 +48,16 @@ const FLAT_LIMIT: usize = 64;
 
 /// How an [`Accel`] answers its queries. All three give the same shadow verdicts and the
 /// same closest hits (at an exact tie of distances the first primitive in order wins
-/// without a tree, the first visited in a tree); the choice ([`Form::for_len`]) is only
+/// without a tree, the first visited in a tree); the choice ([`Form::for_prims`]) is only
 /// about speed.
 ///
-/// Measured on rays from inside a room of six rectangles holding cubes of 12 triangles
-/// or small spheres (README "Speed", "How many primitives a tree needs"): the boxes
-/// answered a closest-hit and a shadow query 1.1–2.8× faster than the plain loop from
-/// two primitives on, and than a tree up to 54 primitives of cubes (even at 90) and 96
-/// spheres, where the tree's walk mispredicts; a lone primitive is fastest tested as it is.
+/// Measured (README "Speed", "How many primitives a tree needs"): paths through the
+/// Cornell-like box with 4 to 6 of its rectangles cost 15–23% fewer instructions and
+/// CPU time with the boxes than with the plain loop, and with 26 to 56 primitives (more
+/// blocks in it) 3–5% less CPU time than with a tree; but two or three shapes facing
+/// each other (the catalog's view factors, a sphere light on a floor) meet every box,
+/// and the boxes' test cost them 3–17% more, while three triangles (a pentagon's solid
+/// angle) cost 35% less, the triangle test being the dearest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Form {
     /// Every primitive's exact test, in order.
@@ -66,9 +70,10 @@ enum Form {
 }
 
 impl Form {
-    /// The fastest form for `n` primitives.
-    fn for_len(n: usize) -> Form {
-        if n <= LINEAR_LIMIT {
+    /// The fastest form for `prims`, as measured.
+    fn for_prims(prims: &[Primitive]) -> Form {
+        let n = prims.len();
+        if n <= 1 || (n <= LINEAR_LIMIT && !prims.iter().any(Primitive::reads_prepared_ray)) {
             Form::Linear
         } else if n <= FLAT_LIMIT {
             Form::Flat
@@ -430,27 +435,28 @@ impl Tree {
         tmin: f32,
         tmax: f32,
     ) -> Option<(usize, Hit)> {
-        let ray = Ray::new(o, d);
         let mut best: Option<(usize, Hit)> = None;
-        self.visit::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
-            self.keep_closest::<WIDE>(&mut best, slot, prim, &ray, tmin, tm)
-        });
+        if self.flat.is_some() {
+            // Few primitives, perhaps no triangle: the ray prepared only if one is tested.
+            let mut ray = None;
+            self.visit::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
+                let h = hit_lazily::<WIDE>(prim, &mut ray, o, d, tmin, tm);
+                self.keep_closest(&mut best, slot, h)
+            });
+        } else {
+            let ray = Ray::new(o, d);
+            self.visit::<WIDE>(o, d, tmin, tmax, |slot, prim, tm| {
+                self.keep_closest(&mut best, slot, hit::<WIDE>(prim, &ray, tmin, tm))
+            });
+        }
         best.map(|(slot, h)| (self.index[slot] as usize, h))
     }
 
-    /// A closest-hit walk's visit of `prim` in `slot`: its hit within (tmin, tm), if any,
-    /// becomes `best` and shortens the segment.
+    /// A closest-hit walk's visit of the primitive in `slot`, whose hit within the
+    /// current segment is `h`: a hit becomes `best` and shortens the segment.
     #[inline(always)]
-    fn keep_closest<const WIDE: bool>(
-        &self,
-        best: &mut Option<(usize, Hit)>,
-        slot: usize,
-        prim: &Primitive,
-        ray: &Ray,
-        tmin: f32,
-        tm: f32,
-    ) -> Visit {
-        match hit::<WIDE>(prim, ray, tmin, tm) {
+    fn keep_closest(&self, best: &mut Option<(usize, Hit)>, slot: usize, h: Option<Hit>) -> Visit {
+        match h {
             Some(h) => {
                 // Read after the traversal: fetched meanwhile.
                 prefetch(&self.index[slot]);
@@ -464,16 +470,26 @@ impl Tree {
     /// [`Accel::unoccluded`] through the tree.
     #[inline(always)]
     fn clear<const WIDE: bool>(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        let ray = Ray::new(o, d);
         let mut clear = true;
-        self.visit::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
-            if hit::<WIDE>(prim, &ray, tmin, tmax).is_some() {
+        let mut stop = |hit: bool| {
+            if hit {
                 clear = false;
                 Visit::Stop
             } else {
                 Visit::Go
             }
-        });
+        };
+        if self.flat.is_some() {
+            let mut ray = None;
+            self.visit::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
+                stop(hit_lazily::<WIDE>(prim, &mut ray, o, d, tmin, tmax).is_some())
+            });
+        } else {
+            let ray = Ray::new(o, d);
+            self.visit::<WIDE>(o, d, tmin, tmax, |_, prim, _| {
+                stop(hit::<WIDE>(prim, &ray, tmin, tmax).is_some())
+            });
+        }
         clear
     }
 
@@ -515,7 +531,7 @@ impl Tree {
                 let lane = &mut lanes[k];
                 let (ray, tmin, best) = (&lane.ray, lane.tmin, &mut lane.best);
                 let going = self.round::<WIDE>(&mut lane.walk, &mut |slot, prim, tm| {
-                    self.keep_closest::<WIDE>(best, slot, prim, ray, tmin, tm)
+                    self.keep_closest(best, slot, hit::<WIDE>(prim, ray, tmin, tm))
                 });
                 if going {
                     k += 1;
@@ -1096,12 +1112,13 @@ const BUILD_EXTENT_LO: f32 = 1.0 / (1u64 << 30) as f32;
 /// … 2³⁰.
 const BUILD_EXTENT_HI: f32 = (1u64 << 30) as f32;
 
-/// `p`'s hit on the ray o + t d, t ∈ (tmin, tmax), for the loop without a BVH: the ray's
+/// `p`'s hit on the ray o + t d, t ∈ (tmin, tmax), without a tree ([`hit`]): the ray's
 /// prepared form (a triangle's permutation and shear) is made at the first primitive that
-/// reads it and kept in `ray` for the rest; the others take o and d as they are (a
-/// furnace's sphere paid the preparation's three divisions on every bounce).
-#[inline]
-fn intersect_lazily(
+/// reads it and kept in `ray` for the rest; the others take o and d as they are, as
+/// [`Primitive::intersect_ray`] would (a furnace's sphere paid the preparation's three
+/// divisions on every bounce).
+#[inline(always)]
+fn hit_lazily<const WIDE: bool>(
     p: &Primitive,
     ray: &mut Option<Ray>,
     o: Vec3,
@@ -1110,7 +1127,7 @@ fn intersect_lazily(
     tmax: f32,
 ) -> Option<Hit> {
     if p.reads_prepared_ray() {
-        p.intersect_ray(ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tmax)
+        hit::<WIDE>(p, ray.get_or_insert_with(|| Ray::new(o, d)), tmin, tmax)
     } else {
         p.intersect(o, d, tmin, tmax)
     }
@@ -1208,9 +1225,9 @@ impl Isa {
 }
 
 impl Accel {
-    /// Build over `prims`, in the form their number calls for ([`Form::for_len`]).
+    /// Build over `prims`, in the form they call for ([`Form::for_prims`]).
     pub fn new(prims: Vec<Primitive>) -> Self {
-        let form = Form::for_len(prims.len());
+        let form = Form::for_prims(&prims);
         Accel::with_form(prims, form)
     }
 
@@ -1313,7 +1330,7 @@ impl Accel {
                     if self.skip[i] {
                         continue;
                     }
-                    if let Some(h) = intersect_lazily(p, &mut ray, o, d, tmin, tm) {
+                    if let Some(h) = hit_lazily::<false>(p, &mut ray, o, d, tmin, tm) {
                         tm = h.t;
                         best = Some((i, h));
                     }
@@ -1354,7 +1371,7 @@ impl Accel {
             None => {
                 let mut ray: Option<Ray> = None;
                 self.prims.iter().zip(&self.skip).all(|(p, &skip)| {
-                    skip || intersect_lazily(p, &mut ray, o, d, tmin, tmax).is_none()
+                    skip || hit_lazily::<false>(p, &mut ray, o, d, tmin, tmax).is_none()
                 })
             }
             Some(tree) => match self.isa {
@@ -1425,6 +1442,25 @@ mod tests {
         }
     }
 
+    /// The form follows the count and, for two or three primitives, whether one is a
+    /// triangle (README "How many primitives a tree needs").
+    #[test]
+    fn the_form_follows_the_measurements() {
+        let tri = Primitive::Triangle {
+            p: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        };
+        let sphere = spheres_on_z(1)[0];
+        let form = |prims: &[Primitive]| Accel::new(prims.to_vec()).form();
+        assert_eq!(form(&[]), Form::Linear);
+        assert_eq!(form(&[tri]), Form::Linear);
+        assert_eq!(form(&[sphere; LINEAR_LIMIT]), Form::Linear);
+        assert_eq!(form(&[sphere, sphere, tri][..LINEAR_LIMIT]), Form::Flat);
+        assert_eq!(form(&[tri, sphere]), Form::Flat);
+        assert_eq!(form(&[sphere; LINEAR_LIMIT + 1]), Form::Flat);
+        assert_eq!(form(&spheres_on_z(FLAT_LIMIT)), Form::Flat);
+        assert_eq!(form(&spheres_on_z(FLAT_LIMIT + 1)), Form::Tree);
+    }
+
     /// `n` unit spheres on the z axis, centred at z = 3, 6, 9, ...
     fn spheres_on_z(n: usize) -> Vec<Primitive> {
         (0..n)
@@ -1477,7 +1513,7 @@ mod tests {
         };
         let few = Accel::new(prims[..FLAT_LIMIT].to_vec());
         assert_eq!(few.form(), Form::Flat);
-        let one = Accel::new(prims[..LINEAR_LIMIT].to_vec());
+        let one = Accel::new(prims[..1].to_vec());
         assert_eq!(one.form(), Form::Linear);
         let mut skipping = Accel::new(prims.clone());
         skipping.set_skip((0..prims.len()).map(|i| i % 7 == 0).collect());
