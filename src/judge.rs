@@ -282,8 +282,8 @@ pub struct Judgement {
     /// The renders and their replicates.
     #[serde(flatten)]
     pub sample: Sample,
-    /// Mean of the replicates.
-    pub estimate: f64,
+    /// Mean of the replicates (`null` where none is finite: it read 0.0 ± ∞).
+    pub estimate: Option<f64>,
     /// Its standard error (absent when exact).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub std_error: Option<f64>,
@@ -309,7 +309,9 @@ impl Judgement {
             *x /= scale;
             acc.push(*x);
         }
-        let bar = if is_exact(&acc) {
+        // Fewer than two finite replicates have no spread to tell an exact estimate from
+        // one whose error is unknown: no error bar, and no verdict ([`Judgement::judge`]).
+        let bar = if acc.count < 2 || is_exact(&acc) {
             ErrorBar {
                 std_error: None,
                 dof: None,
@@ -324,7 +326,7 @@ impl Judgement {
             case: case.desc.name.clone(),
             id,
             renderer,
-            estimate: acc.mean,
+            estimate: (acc.count > 0).then_some(acc.mean),
             std_error: bar.std_error,
             dof: bar.dof,
             reference: case.reference,
@@ -344,15 +346,31 @@ impl Judgement {
         self.reference.is_some() && self.std_error.is_some()
     }
 
-    /// Judge in a family of `tests` statistical tests at level `alpha`.
+    /// Fewer than two finite replicates (renders or pixel blocks): nothing to judge.
+    fn too_few(&self) -> bool {
+        self.sample.replicates.len() < 2
+    }
+
+    /// Judge in a family of `tests` statistical tests at level `alpha`. With fewer than
+    /// two finite replicates there is no verdict, and the judgement fails ([`passed`]).
+    ///
+    /// [`passed`]: Judgement::passed
     pub fn judge(&mut self, alpha: f64, tests: usize) {
-        if let Some(r) = self.reference {
+        if self.too_few() {
+            let n = self.sample.replicates.len();
+            self.sample.notes.push(format!(
+                "{n} finite replicate{}: fewer than two, so no error bar and no verdict",
+                if n == 1 { "" } else { "s" }
+            ));
+            return;
+        }
+        if let (Some(r), Some(estimate)) = (self.reference, self.estimate) {
             let bar = ErrorBar {
                 std_error: self.std_error,
                 dof: self.dof,
             };
             let v = judge_parts(
-                self.estimate,
+                estimate,
                 &bar,
                 r,
                 self.sample.non_finite,
@@ -389,12 +407,13 @@ impl Judgement {
         v
     }
 
-    /// Passed: the verdict, or without a reference, no non-finite pixel and no pixel with
-    /// a negative channel.
+    /// Passed: the verdict, or without a reference (or with fewer than two finite
+    /// replicates, which have none), two or more replicates, no non-finite pixel and no
+    /// pixel with a negative channel.
     pub fn passed(&self) -> bool {
         match &self.verdict {
             Some(v) => v.passed,
-            None => self.sample.non_finite == 0 && self.sample.negative == 0,
+            None => !self.too_few() && self.sample.non_finite == 0 && self.sample.negative == 0,
         }
     }
 
@@ -407,9 +426,11 @@ impl Judgement {
             Method::IndependentRenders => format!("{n} renders"),
             Method::PixelBlocks => format!("{n} blocks"),
         };
-        let estimate = match self.std_error {
-            Some(se) => format!("{:.6} ± {se:.6}", self.estimate),
-            None => format!("{:.6} (exact)", self.estimate),
+        let estimate = match (self.estimate, self.std_error) {
+            (None, _) => "none finite".to_string(),
+            (Some(e), Some(se)) => format!("{e:.6} ± {se:.6}"),
+            (Some(e), None) if self.too_few() => format!("{e:.6} (one replicate)"),
+            (Some(e), None) => format!("{e:.6} (exact)"),
         };
         let mut notes: Vec<String> = self.sample.notes.iter().map(|n| format!("↳ {n}")).collect();
         if let Some(reason) = self.verdict.as_ref().and_then(|v| v.reason.as_ref()) {
@@ -550,9 +571,13 @@ fn read_manifest(path: &Path) -> Result<Manifest, InputError> {
 
 /// A suite's case ids are folders inside it, each listed once: an absolute id or one with
 /// a `..` would judge files outside the suite, and a repeated one would count its renders
-/// twice in the family (bad input naming `suite.json` and the index).
-fn check_ids(file: &Path, ids: &[String]) -> Result<(), InputError> {
+/// twice in the family (bad input naming `suite.json` and the index). An id that exists is
+/// compared by its canonical path too, links resolved: a link to another case's folder, or
+/// to a folder outside the suite, passed the names' check.
+fn check_ids(dir: &Path, file: &Path, ids: &[String]) -> Result<(), InputError> {
     use std::path::Component;
+    let root = dir.canonicalize().ok();
+    let mut seen: Vec<(PathBuf, usize)> = Vec::new();
     for (i, id) in ids.iter().enumerate() {
         let field = format!("cases[{i}]");
         let bad = |why: String| InputError::new(file.display().to_string(), &field, why);
@@ -582,6 +607,21 @@ fn check_ids(file: &Path, ids: &[String]) -> Result<(), InputError> {
         };
         if let Some(j) = ids[..i].iter().position(|x| folder(x) == folder(id)) {
             return Err(bad(format!("`{id}` is listed twice (also cases[{j}])")));
+        }
+        if let (Some(root), Ok(real)) = (&root, dir.join(id).canonicalize()) {
+            if !real.starts_with(root) || &real == root {
+                return Err(bad(format!(
+                    "`{id}` is `{}`, not a folder inside the suite (links resolved)",
+                    real.display()
+                )));
+            }
+            if let Some(&(_, j)) = seen.iter().find(|(p, _)| *p == real) {
+                return Err(bad(format!(
+                    "`{id}` is the folder of cases[{j}] (`{}`, links resolved): its renders would count twice",
+                    ids[j]
+                )));
+            }
+            seen.push((real, i));
         }
     }
     Ok(())
@@ -616,7 +656,7 @@ pub fn judge_suite(
     alpha: f64,
 ) -> Result<SuiteJudgement, Error> {
     let suite: Suite = read_json(&dir.join("suite.json"))?;
-    check_ids(&dir.join("suite.json"), &suite.cases)?;
+    check_ids(dir, &dir.join("suite.json"), &suite.cases)?;
     let mut judgements = Vec::new();
     let mut not_rendered = Vec::new();
     for id in &suite.cases {

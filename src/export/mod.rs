@@ -219,12 +219,28 @@ pub struct Manifest {
 pub const SCALE_RANGE: (f64, f64) = (1e-100, 1e100);
 
 impl Manifest {
-    /// Every number of an `export.json` that `judge` uses is one an export writes: a
-    /// `scale` within [`SCALE_RANGE`], `width` and `height` at least 1 with at most
+    /// Every number of an `export.json` that `judge` uses is one an export writes, and its
+    /// `case` a file name beside it: a `scale` within [`SCALE_RANGE`], `width` and `height` at least 1 with at most
     /// [`crate::scene::load::MAX_ENVMAP_PIXELS`] pixels, the most a render may have. The
     /// schema cannot say these; without them a scale of 0 printed `± inf` and a width of
     /// 0 blamed every render for its size.
     pub fn check(&self, file: &str) -> Result<(), InputError> {
+        // The case beside the renders, as an export writes it: a plain file name (a path
+        // out of the folder judged its renders against another case, unflagged).
+        let mut parts = Path::new(&self.case).components();
+        if !matches!(
+            (parts.next(), parts.next()),
+            (Some(std::path::Component::Normal(_)), None)
+        ) {
+            return Err(InputError::new(
+                file,
+                "case",
+                format!(
+                    "must name the case file beside it (a file name, as an export writes `case.json`), got `{}`",
+                    self.case
+                ),
+            ));
+        }
         let (lo, hi) = SCALE_RANGE;
         if !(lo..=hi).contains(&self.scale) {
             return Err(InputError::new(

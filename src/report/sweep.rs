@@ -231,23 +231,35 @@ fn case_digest(case: &Case) -> String {
 /// Load the cases of the paths, with their report ids.
 fn load_cases(paths: &[PathBuf]) -> Result<Vec<(String, Case)>, InputError> {
     let mut out: Vec<(String, Case)> = vec![];
-    let mut ids: BTreeMap<String, PathBuf> = BTreeMap::new();
+    // By the file stem the id writes (`a/b` and `a.b` write the same `a.b.json`).
+    let mut stems: BTreeMap<String, (String, PathBuf)> = BTreeMap::new();
     for p in paths {
         let root = p.is_dir().then_some(p.as_path());
         for f in collect_cases(std::slice::from_ref(p))? {
             let id = case_id(root, &f);
-            if let Some(other) = ids.insert(id.clone(), f.clone()) {
+            let stem = super::store::stem(&id);
+            let refuse = |why: String| InputError::new(f.display().to_string(), "-", why);
+            // The folder's own files: a case `index.json` was replaced by the index, and
+            // one named like a shard partial was taken for one by `merge --out` (and its
+            // partial replaced by the report).
+            if stem == "index" || super::shard::is_partial_name(&format!("{stem}.json")) {
+                return Err(refuse(format!(
+                    "its report id `{id}` would write `{stem}.json`, a name the report folder keeps for its {}: rename the case file",
+                    if stem == "index" {
+                        "index"
+                    } else {
+                        "shard partials"
+                    }
+                )));
+            }
+            if let Some((other_id, other)) = stems.insert(stem.clone(), (id.clone(), f.clone())) {
                 if other == f {
                     continue;
                 }
-                return Err(InputError::new(
-                    f.display().to_string(),
-                    "-",
-                    format!(
-                        "its report id `{id}` is also {}'s: give one of them from another folder",
-                        other.display()
-                    ),
-                ));
+                return Err(refuse(format!(
+                    "its report id `{id}` writes `{stem}.json`, as {}'s id `{other_id}` does: give one of them from another folder",
+                    other.display()
+                )));
             }
             out.push((id, Case::load(&f)?));
         }

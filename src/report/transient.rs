@@ -142,7 +142,9 @@ pub fn write_all(
         let Ok(text) = svg(&c.desc.name, &bins) else {
             continue;
         };
-        let path = out.join(format!("{id}.transient.svg"));
+        // Flat, as every report file: the id's `/` become `.` (`time/pulse` once wrote
+        // `time/pulse.transient.svg`, a sub-folder).
+        let path = out.join(format!("{}.transient.svg", super::store::stem(id)));
         crate::io::write_atomic(&path, text.as_bytes())
             .map_err(|e| crate::error::IoError::write(&path, e))?;
         written.push(path);
@@ -161,13 +163,14 @@ mod tests {
         let c = Case::load(&path).unwrap();
         let dir = std::env::temp_dir().join(format!("lightproof-transient-{}", std::process::id()));
         let files = write_all(
-            &[("t".into(), Case::load(&path).unwrap())],
+            &[("time/t".into(), Case::load(&path).unwrap())],
             &dir,
             |_, _| Some(1 << 12),
             5,
         )
         .unwrap();
-        assert_eq!(files, vec![dir.join("t.transient.svg")]);
+        // Flat, as every report file (it once went to a sub-folder `time/`).
+        assert_eq!(files, vec![dir.join("time.t.transient.svg")]);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         // 4096 samples, below the case's own count: the four bins with light pass weakly
         // (each sees only a few %), the two empty ones exactly.

@@ -962,6 +962,18 @@ entry("report_threads_huge", "hang", ["report", R, "--threads", "1000000"] + REP
 entry("report_shard_bad", "baseline", ["report", R, "--shard", "3/2"] + REP, 2, "--shard")
 entry("report_shard_negative", "unclear", ["report", R, "--shard", "-1/2"] + REP, 2, "--shard")
 entry("report_empty_folder", "wrong", ["report", "{empty_dir}"] + REP, 2, "no case files")
+# Case ids whose report files are the folder's own (`index.json` was replaced by the index;
+# `shard-0-of-1.json` was read as a partial by `merge --out`, then replaced by the report),
+# or one another's (`a/b` and `a.b` both write `a.b.json`).
+REPORT_FOLDERS = {
+    "report/reserved_index": ["index.json"],
+    "report/reserved_shard": ["shard-0-of-1.json"],
+    "report/stem_clash": ["a/b.json", "a.b.json"],
+}
+for folder, contains in [("report/reserved_index", "a name the report folder keeps for its index"),
+                         ("report/reserved_shard", "a name the report folder keeps for its shard partials"),
+                         ("report/stem_clash", "writes `a.b.json`, as")]:
+    entry(folder.replace("/", "_"), "wrong", ["report", "{corpus}/" + folder] + REP, 2, ".json", contains)
 entry("report_f32_case", "f32", ["report", "{corpus}/cases/emission_radiance_e39.json"] + REP, 2,
       "scene.shapes[0].emission.radiance")
 entry("report_valid", "baseline", ["report", R] + REP, "valid")
@@ -1027,6 +1039,11 @@ entry("judge_negative_channel", "wrong", ["judge", J, a("render_ok.exr"), a("ren
       contains="1 pixels with a negative channel (negative radiance), the first at (1, 1) = (-0.5, ")
 entry("judge_nan_pixel", "baseline", ["judge", J, a("render_ok.exr"), a("render_nan.exr")], 1,
       contains="1 non-finite pixels, the first at (2, 0)")
+# No finite pixel at all: the judgement read `0.000000 ± inf`, z −inf and an estimate of 0.0.
+entry("judge_all_nan", "wrong", ["judge", J, a("render_all_nan.exr"), a("render_all_nan.exr"), "--json"], 1,
+      contains='"estimate": null', absent="inf")
+entry("judge_one_finite_render", "wrong", ["judge", J, a("render_ok.exr"), a("render_all_nan.exr")], 1,
+      contains="1 finite replicate: fewer than two", absent="(exact)")
 entry("judge_huge_header", "hang", ["judge", J, a("env_huge_header.exr")], 2, "env_huge_header.exr", "200000 × 200000")
 entry("judge_header_only", "crash", ["judge", J, a("render_header_only.exr")], 2, "render_header_only.exr", "truncated")
 entry("judge_truncated", "crash", ["judge", J, a("render_ok.exr"), a("render_truncated.exr")], 2,
@@ -1090,7 +1107,13 @@ export_case("judge_export_height_huge", "wrong", {"width": 2, "height": 2**63}, 
 # the suite folder (`..`, absolute) are refused naming cases[i].
 SUITES = {"judge_suite_valid": (1.0, ["c"]), "judge_suite_scale_negative": (-1, ["c"]),
           "judge_suite_duplicate_id": (1.0, ["c", "c"]), "judge_suite_id_parent": (1.0, ["c", "../judge_suite_valid/c"]),
-          "judge_suite_id_absolute": (1.0, ["/tmp"])}
+          "judge_suite_id_absolute": (1.0, ["/tmp"]),
+          # Links (made below): to the suite's own `c` (its renders counted twice), and
+          # out of the suite; both passed the names' check once.
+          "judge_suite_id_link_twin": (1.0, ["c", "twin"]),
+          "judge_suite_id_link_outside": (1.0, ["c", "outside"])}
+SUITE_LINKS = {"judge_suite_id_link_twin": ("twin", "c"),
+               "judge_suite_id_link_outside": ("outside", "../judge_suite_valid/c")}
 for name, (scale, ids) in SUITES.items():
     write("export/%s/suite.json" % name, json.dumps({"renderer": "mitsuba", "cases": ids, "refused": []}))
     write("export/%s/c/export.json" % name, json.dumps(dict(MANIFEST, scale=scale), indent=1))
@@ -1104,6 +1127,17 @@ entry("judge_suite_id_parent", "wrong", ["judge", "--suite", "{corpus}/export/ju
       "cases[1]", "not a folder inside the suite")
 entry("judge_suite_id_absolute", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_id_absolute"], 2,
       "cases[0]", "not a folder inside the suite")
+# A suite case's `case` is a file name beside its renders: a path out of the folder judged
+# the renders against another case.
+write("export/judge_suite_case_outside/suite.json", json.dumps({"renderer": "mitsuba", "cases": ["c"], "refused": []}))
+write("export/judge_suite_case_outside/c/export.json",
+      json.dumps(dict(MANIFEST, case="../../judge_suite_valid/c/case.json"), indent=1))
+entry("judge_suite_case_outside", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_case_outside"], 2,
+      "case", "c/export.json: case: must name the case file beside it")
+entry("judge_suite_id_link_twin", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_id_link_twin"], 2,
+      "cases[1]", "is the folder of cases[0]")
+entry("judge_suite_id_link_outside", "wrong", ["judge", "--suite", "{corpus}/export/judge_suite_id_link_outside"], 2,
+      "cases[1]", "not a folder inside the suite (links resolved)")
 
 # ---------------------------------------------------------------- export
 entry("export_valid", "baseline", ["export", V, "--to", "mitsuba", "--out", "{tmp}/x"], "valid", no_leftovers=True)
@@ -1178,8 +1212,14 @@ if __name__ == "__main__":
     for name in SUITES:
         for k in range(2):
             write("export/%s/c/renders/%03d.exr" % (name, k), exr(4, 2, ok))
+    for name, (link, target) in SUITE_LINKS.items():
+        path = os.path.join(HERE, "export", name, link)
+        if os.path.lexists(path):
+            os.remove(path)
+        os.symlink(target, path)
     write("assets/render_negative_channel.exr", exr(4, 2, ok[:5] + [(-0.5, Y, Y)] + ok[6:]))
     write("assets/render_nan.exr", exr(4, 2, ok[:2] + [(float("nan"),) * 3] + ok[3:]))
+    write("assets/render_all_nan.exr", exr(4, 2, [(float("nan"),) * 3] * 8))
     write("assets/render_small.exr", exr(2, 2, ok[:4]))
     write("assets/render_one_pixel.exr", exr(1, 1, ok[:1]))
     # A header within the pixel limit (8000 × 8000 < 2^26) whose chunk table alone (8000
@@ -1191,6 +1231,9 @@ if __name__ == "__main__":
     struct.pack_into("<i", missing, second, 0)
     write("assets/render_missing_line.exr", bytes(missing))
     write("assets/render_empty.exr", b"")
+    for folder, files in REPORT_FOLDERS.items():
+        for f in files:
+            write("%s/%s" % (folder, f), json.dumps(DISK, indent=1))
     for name, text in OBJ_ASSETS.items():
         write("assets/%s.obj" % name, text)
     write("assets/env_ok.exr", exr(4, 2, [(1.0, 1.0, 1.0)] * 8))
