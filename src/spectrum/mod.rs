@@ -49,7 +49,7 @@ pub use ior::{Ior, bk7};
 pub use photon::{BOLTZMANN, PLANCK, SPEED_OF_LIGHT, photon_energy};
 pub use response::{LUMINOUS_EFFICACY, Response, photopic};
 pub use spectrum::Spectrum;
-pub use wavelength::WavelengthSampler;
+pub use wavelength::{DEFENSIVE, WavelengthSampler};
 
 /// A non-negative finite `f32` from an `f64`: NaN and negatives give 0, overflow gives
 /// `f32::MAX`.

@@ -31,6 +31,25 @@ pub enum WavelengthSampling {
     Emitter,
 }
 
+impl WavelengthSampling {
+    /// How much more than R_max × S_max × band width (a uniform draw's largest weight,
+    /// λ₂/(hc) aside) a sample's weight R(λ) Sₑ(λ)/p(λ) can be with `emitters` emitters:
+    /// 1 for a uniform draw. The importance table's density is at least the defensive
+    /// share δ of a uniform draw's, and at least (1 − δ) target(λ)/ΣT, with target =
+    /// R Σₑ Sₑ/maxₑ (× λ/550 nm counting photons) bounded per cell
+    /// ([`crate::spectrum::WavelengthSampler::importance_bounded`]) and ΣT ≤ width ×
+    /// R_max × n: so the weight is at most min(1/δ, n/(1 − δ)) times a uniform draw's.
+    pub fn weight_factor(&self, emitters: usize) -> f64 {
+        let delta = crate::spectrum::DEFENSIVE;
+        match self {
+            WavelengthSampling::Uniform => 1.0,
+            WavelengthSampling::Emitter => {
+                (1.0 / delta).min(emitters.max(1) as f64 / (1.0 - delta))
+            }
+        }
+    }
+}
+
 /// Wavelength of a measurement: a band with a response, or one wavelength.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -439,6 +439,22 @@ case("response_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400
 case("spectrum_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400, 500]),
      ("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [400, 500], "values": [3e38, 3e38]}})],
      2, "spectral", "overflows f32")
+# The same with `emitter` sampling's table: a spike between the three points each cell was
+# looked at got only the defensive share of the density, 1/10 of a uniform draw's, so 3e36
+# over 100 nm gave non-finite samples (exit 1) past a bound that assumed a uniform draw.
+# Each cell now takes the spectrum's exact maximum over it: 3e36 runs, finite; 3e37 is
+# refused by the bound, which allows the table's least density, 0.9 of the target's.
+SPIKE = {"sampled": {"wavelengths": [400, 400.5, 401, 401.5, 450.01, 450.02, 450.03],
+                     "values": [0, 1e30, 1e30, 0, 0, 3e36, 0]}}
+for name, sampling, peak, outcome in [("spectrum_spike_emitter_sampling", "emitter", 3e36, "valid"),
+                                      ("spectrum_spike_uniform_sampling", "uniform", 3e36, "valid"),
+                                      ("spectrum_spike_emitter_sampling_overflows", "emitter", 3e37, 2)]:
+    spike = copy.deepcopy(SPIKE)
+    spike["sampled"]["values"][5] = peak
+    case(name, "wrong", SPECTRAL,
+         [("spectral", {"band": [400, 500], "sampling": sampling, "hero": False}),
+          ("scene.shapes.0.emission.spectrum", spike)],
+         outcome, "spectral" if outcome == 2 else None, "emitter` sampling over n emitters" if outcome == 2 else None)
 # A rough dielectric with η at or near 1: every sample was lost at η = 1 (a delta
 # transmission) and, within 1e-5, albedos read up to 33% low or 0. Refused, naming `eta`.
 for name, eta in [("rough_dielectric_eta_1", 1), ("rough_dielectric_eta_near_1", 1.00001)]:

@@ -195,16 +195,26 @@ fn check_sample_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), I
             e.kind.peak_strength() as f64 * spectrum as f64
         })
         .fold(0.0f64, f64::max);
-    let weight = sd.response.max_in(band) as f64 * photon_factor(sd, hi) * (hi - lo).max(1.0);
+    // A sample's weight is R(λ)/p(λ): at most R's peak times the band's width over the
+    // sampler's least density share (`emitter` sampling's spikes once overflowed past a
+    // bound that assumed a uniform draw).
+    let weight = sd.response.max_in(band) as f64
+        * photon_factor(sd, hi)
+        * (hi - lo).max(1.0)
+        * if sd.band.is_some() {
+            sd.sampling.weight_factor(scene.emitters.len())
+        } else {
+            1.0
+        };
     let (field, what) = if sd.photons {
         (
             "spectral.photons",
-            "the largest photon count of a sample, strength × spectrum × response × λ₂/(hc) × band width,",
+            "the largest photon count of a sample, strength × spectrum × response × λ₂/(hc) × band width (× min(10, n/0.9) for `emitter` sampling over n emitters),",
         )
     } else {
         (
             "spectral",
-            "the largest value of a sample, strength × spectrum × response × band width,",
+            "the largest value of a sample, strength × spectrum × response × band width (× min(10, n/0.9) for `emitter` sampling over n emitters),",
         )
     };
     crate::error::check_derived(f, field, weight * peak.max(1.0), what)
@@ -298,14 +308,30 @@ fn band_sampler(scene: &Scene, sd: &SpectralDesc, band: Band) -> WavelengthSampl
                 .collect();
             let response = sd.response.clone();
             let photons = sd.photons;
-            WavelengthSampler::importance(band, move |l| {
-                let e: f32 = spectra
-                    .iter()
-                    .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.eval(l) / m))
-                    .sum();
-                let p = if photons { l / 550.0 } else { 1.0 };
-                response.eval(l) * e.max(0.0) * p
-            })
+            // The target's bound over a cell, from each factor's exact maximum there.
+            let cell_bound = {
+                let (spectra, response) = (spectra.clone(), response.clone());
+                move |cell: Band| {
+                    let e: f32 = spectra
+                        .iter()
+                        .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.max_in(cell) / m))
+                        .sum();
+                    let p = if photons { cell.max / 550.0 } else { 1.0 };
+                    response.max_in(cell) * e.max(0.0) * p
+                }
+            };
+            WavelengthSampler::importance_bounded(
+                band,
+                move |l| {
+                    let e: f32 = spectra
+                        .iter()
+                        .map(|s| s.as_ref().map_or(1.0, |(s, m)| s.eval(l) / m))
+                        .sum();
+                    let p = if photons { l / 550.0 } else { 1.0 };
+                    response.eval(l) * e.max(0.0) * p
+                },
+                cell_bound,
+            )
         }
     }
 }
@@ -577,7 +603,9 @@ mod tests {
     /// judge (refused elsewhere) passes here.
     #[test]
     fn the_largest_sample_fits_f32() {
-        let photons = |band: [f64; 2]| spectral(json!({ "band": band, "photons": true }));
+        let photons = |band: [f64; 2]| {
+            spectral(json!({ "band": band, "photons": true, "sampling": "uniform" }))
+        };
         // λ₂/(hc) at 1 cm is 5.03e22 per joule; over a band of 1e7 nm a strength s gives
         // s·5.03e29, so 6.7e8 fits and 6.8e8 overflows.
         let e = |s: f64| json!({ "type": "point", "position": [0, 0, 1], "intensity": s });
@@ -585,6 +613,16 @@ mod tests {
         assert!(check_sample_scale("c.json", &scene(e(6.7e8)), &band).is_ok());
         let err = check_sample_scale("c.json", &scene(e(6.8e8)), &band).unwrap_err();
         assert_eq!(err.field, "spectral.photons");
+        // Drawn from the emitters' table (the default), one emitter: a density at least
+        // 0.9 of the target's over its total, so the limit is 0.9 × 6.76e8 = 6.08e8.
+        let table = spectral(json!({ "band": [1.0, 1e7 + 1.0], "photons": true }));
+        assert!(check_sample_scale("c.json", &scene(e(6.0e8)), &table).is_ok());
+        assert!(check_sample_scale("c.json", &scene(e(6.2e8)), &table).is_err());
+        // Twenty emitters: min(10, 20/0.9) = 10 times a uniform draw's weight.
+        let many = crate::scene::from_json(json!({ "emitters": vec![e(6.7e7); 20] }));
+        assert!(check_sample_scale("c.json", &many, &table).is_ok());
+        let many = crate::scene::from_json(json!({ "emitters": vec![e(6.8e7); 20] }));
+        assert!(check_sample_scale("c.json", &many, &table).is_err());
         // One wavelength: no band width; at 1 cm a strength of 6.7e15 fits, 6.8e15 not.
         let one = spectral(json!({ "wavelength": 1e7, "photons": true }));
         assert!(check_sample_scale("c.json", &scene(e(6.7e15)), &one).is_ok());
@@ -605,7 +643,7 @@ mod tests {
         // for a uniformly drawn wavelength), named `spectral`; 3.3e36 over 100 nm fits,
         // 3.5e36 not, and a strength below 1 does not excuse the weight itself.
         let energy = |r: f64| {
-            spectral(json!({ "band": [400, 500],
+            spectral(json!({ "band": [400, 500], "sampling": "uniform",
                 "response": { "sampled": { "wavelengths": [400, 500], "values": [r, r] } } }))
         };
         assert!(check_sample_scale("c.json", &scene(e(1.0)), &energy(3.3e36)).is_ok());
