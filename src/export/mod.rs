@@ -799,6 +799,16 @@ pub fn export_suite(paths: &[PathBuf], target: Target, out: &Path) -> Result<Sui
         let root = p.is_dir().then_some(p.as_path());
         for f in crate::case::collect_cases(std::slice::from_ref(p))? {
             let id = crate::report::store::case_id(root, &f);
+            // `cases.txt` lists one id a line for the shell drivers: a newline in a file's
+            // name once split its id over two lines (a stray folder, a failed render).
+            if id.chars().any(char::is_control) {
+                return Err(InputError::new(
+                    f.display().to_string().escape_debug().to_string(),
+                    "-",
+                    format!("its id {id:?} holds a control character (a newline, a tab): rename the case file"),
+                )
+                .into());
+            }
             match export_case(&f, target, &out.join(&id)) {
                 Ok(_) => suite.cases.push(id),
                 Err(ExportError::Refused(_, why)) => suite.refused.push((id, why.0)),
@@ -993,6 +1003,27 @@ mod tests {
 
     fn case(json: &str) -> CaseDesc {
         serde_json::from_str(json).unwrap()
+    }
+
+    /// A case file whose name holds a newline is refused before anything is written, in
+    /// a message of one line: its id, one line of `cases.txt` for the shell drivers, was
+    /// split over two (a stray folder, then a failed render).
+    #[test]
+    fn ids_with_control_characters_are_refused() {
+        let dir = std::env::temp_dir().join(format!("lightproof-export-nl-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("in")).unwrap();
+        let disk = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("analytic/cases/irradiance/disk_on_axis.json");
+        std::fs::copy(disk, dir.join("in/new\nline.json")).unwrap();
+        let e = export_suite(&[dir.join("in")], Target::Lightproof, &dir.join("out")).unwrap_err();
+        let ExportError::Input(e) = e else {
+            panic!("{e:?}")
+        };
+        let e = e.to_string();
+        assert!(e.contains("control character") && !e.contains('\n'), "{e}");
+        assert!(!dir.join("out").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -340,7 +340,10 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Summary
     let mut last_flush: Option<Instant> = None;
     let mut flush_every = Duration::from_secs(1);
     while let Some((predicted, ci, si)) = queue.pop() {
+        // A first point is predicted free and always runs (the time spent loading a
+        // large catalog once cut every series before its first point).
         if let Some(b) = opts.budget
+            && predicted > 0.0
             && t0.elapsed().as_secs_f64() + predicted > b
         {
             run.budget_cut = true;

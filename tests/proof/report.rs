@@ -777,6 +777,14 @@ fn the_budget_cuts_cleanly() {
     let last = r.series[0].time_to.last().unwrap();
     assert!(last.extrapolated || last.samples.is_some());
     assert!(validate_dir(&out) >= 2);
+    let _ = std::fs::remove_dir_all(&out);
+    // A budget already spent before the first point (a large catalog's loading once was):
+    // every series still gets its first point, predicted free, and nothing more.
+    o.budget = Some(1e-9);
+    o.fresh = true;
+    let s = sweep(&o);
+    assert!(s.budget_cut);
+    assert!(s.reports[0].series.iter().all(|x| x.points.len() == 1));
     let _ = std::fs::remove_dir_all(out);
 }
 
