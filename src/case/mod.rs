@@ -330,6 +330,16 @@ mod tests {
             );
         }
         assert!(read(Some("0"), 1).unwrap_err().contains("from 1 to"));
+        // Through the environment itself, under a name no other test reads.
+        const NAME: &str = "LIGHTPROOF_KNOB_UNDER_TEST";
+        assert_eq!(env_count(NAME, 0), Ok(None));
+        // SAFETY: no other thread reads this variable, and Rust's own environment access
+        // is locked against `set_var`.
+        unsafe { std::env::set_var(NAME, " 42") };
+        assert_eq!(env_count(NAME, 0), Ok(Some(42)));
+        unsafe { std::env::set_var(NAME, "x") };
+        assert!(env_count(NAME, 0).unwrap_err().starts_with(NAME));
+        unsafe { std::env::remove_var(NAME) };
         #[cfg(unix)]
         {
             use std::os::unix::ffi::OsStrExt;
