@@ -321,6 +321,11 @@ case("mesh_index_out_of_range", "baseline", SHAPES, [("scene.shapes.3.geometry.i
      "scene.shapes[3].geometry.indices[0]")
 case("mesh_index_negative", "baseline", SHAPES, [("scene.shapes.3.geometry.indices", [[0, 1, -1]])], 2,
      "scene.shapes[3].geometry.indices")
+# A triangle whose corners differ in f64 but not in f32 (10⁸ + 1 rounds to 10⁸): its f64
+# normal is fine, its f32 cross product, which the hit test uses, is 0. Refused.
+case("mesh_degenerate_in_f32", "f32", SHAPES, [("scene.shapes.3.geometry", {"type": "mesh",
+     "vertices": [[1e8, 0, 2], [100000001, 0, 2], [1e8, 1, 2]], "indices": [[0, 1, 2]]})], 2,
+     "scene.shapes[3].geometry.indices[0]", "degenerate")
 case("obj_dev_zero", "hang", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "/dev/zero"})], 2,
      "scene.shapes[3].geometry.path", "regular file")
 case("obj_missing", "baseline", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "nope.obj"})], 2,
