@@ -326,6 +326,13 @@ case("mesh_index_negative", "baseline", SHAPES, [("scene.shapes.3.geometry.indic
 case("mesh_degenerate_in_f32", "f32", SHAPES, [("scene.shapes.3.geometry", {"type": "mesh",
      "vertices": [[1e8, 0, 2], [100000001, 0, 2], [1e8, 1, 2]], "indices": [[0, 1, 2]]})], 2,
      "scene.shapes[3].geometry.indices[0]", "degenerate")
+# And one exactly collinear in f64 (the second edge is 11 times the first, every product
+# exact) whose f32 rounding is not (its f32 cross product is 3·10⁻⁵): zero area, refused
+# by its f64 normal.
+case("mesh_collinear_in_f64_only", "f32", dict(SHAPES, measure={"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+     [("scene.shapes.3.geometry", {"type": "mesh", "vertices": [[0, 0, 2], [31, 1.1049774046987295, 2],
+                                                                [341, 12.154751451686025, 2]], "indices": [[0, 1, 2]]})],
+     2, "scene.shapes[3].geometry.indices[0]", "degenerate")
 case("obj_dev_zero", "hang", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "/dev/zero"})], 2,
      "scene.shapes[3].geometry.path", "regular file")
 case("obj_missing", "baseline", SHAPES, [("scene.shapes.3.geometry", {"type": "obj", "path": "nope.obj"})], 2,
