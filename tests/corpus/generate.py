@@ -323,9 +323,11 @@ case("mesh_index_negative", "baseline", SHAPES, [("scene.shapes.3.geometry.indic
      "scene.shapes[3].geometry.indices")
 # A triangle whose corners differ in f64 but not in f32 (10⁸ + 1 rounds to 10⁸): its f64
 # normal is fine, its f32 cross product, which the hit test uses, is 0. Refused.
-case("mesh_degenerate_in_f32", "f32", SHAPES, [("scene.shapes.3.geometry", {"type": "mesh",
-     "vertices": [[1e8, 0, 2], [100000001, 0, 2], [1e8, 1, 2]], "indices": [[0, 1, 2]]})], 2,
-     "scene.shapes[3].geometry.indices[0]", "degenerate")
+for name, corners in [("mesh_degenerate_in_f32", [[1e8, 0, 2], [100000001, 0, 2], [1e8, 1, 2]]),
+                      ("mesh_degenerate_in_f32_third_corner", [[1e8, 0, 2], [1e8, 1, 2], [100000001, 0, 2]])]:
+    case(name, "f32", SHAPES, [("scene.shapes.3.geometry", {"type": "mesh", "vertices": corners,
+                                                             "indices": [[0, 1, 2]]})], 2,
+         "scene.shapes[3].geometry.indices[0]", "degenerate")
 # And one exactly collinear in f64 (the second edge is 11 times the first, every product
 # exact) whose f32 rounding is not (its f32 cross product is 3·10⁻⁵): zero area, refused
 # by its f64 normal.
