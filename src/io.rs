@@ -372,11 +372,30 @@ fn write_via_temporary(
     std::fs::create_dir_all(dir)?;
     remove_stale_temporaries(dir, name);
     let tmp = dir.join(format!(".{name}.tmp{}{suffix}", std::process::id()));
+    // One write at a time, under the lock an interrupt takes before the process exits
+    // ([`hold_writes`]): it never ends one half-way, with its temporary left behind.
+    let _writing = writes();
     let written = write(&tmp).and_then(|()| std::fs::rename(&tmp, path));
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     written
+}
+
+/// The lock every [`write_via_temporary`] holds.
+fn writes() -> std::sync::MutexGuard<'static, ()> {
+    static WRITES: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    WRITES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Wait for the write under way, if any, to end (renamed into place, or failed and its
+/// temporary removed) and hold off the next: for an interrupt (Ctrl-C, SIGTERM, SIGHUP),
+/// which then ends the process holding it. Every target is then its old version or its
+/// new one, whole, with no `.NAME.tmpPID` beside it (a Ctrl-C once left one, removed
+/// only by a later write to the same target). A kill that cannot be caught (SIGKILL)
+/// still can, and the next write to its target removes it.
+pub fn hold_writes() -> std::sync::MutexGuard<'static, ()> {
+    writes()
 }
 
 /// Remove `.NAME.tmpPID` (or `.NAME.tmpPID.exr`) files in `dir` whose process is gone (Linux: no `/proc/PID`).

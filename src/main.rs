@@ -484,7 +484,23 @@ fn check_isa_variable() -> Result<(), ExitCode> {
     })
 }
 
+/// Ctrl-C, SIGTERM or SIGHUP: let the file write under way end (renamed into place,
+/// whole) and start no other, then exit 130, so no `.NAME.tmpPID` is left behind
+/// (`lightproof::io::hold_writes`).
+fn end_cleanly_on_interrupt() {
+    // Where no handler can be set (another one is already), the default stays.
+    let _ = ctrlc::set_handler(|| {
+        let _writes = lightproof::io::hold_writes();
+        let _ = std::io::Write::write_all(
+            &mut std::io::stderr(),
+            b"interrupted: every file written is whole\n",
+        );
+        std::process::exit(130);
+    });
+}
+
 fn main() -> ExitCode {
+    end_cleanly_on_interrupt();
     quiet_on_broken_pipe();
     empty_seed_is_unset();
     if let Err(code) = check_isa_variable() {

@@ -1669,3 +1669,60 @@ fn every_wo_refusal_names_the_command_line() {
         );
     }
 }
+
+/// Ctrl-C (SIGINT) during a `report`, at several moments while it writes its reports: it
+/// exits 130 and leaves every report whole (each parses) and no `.NAME.tmpPID` beside
+/// them. A temporary once stayed behind an interrupted write, removed only by a later
+/// write to the same target.
+#[cfg(unix)]
+#[test]
+fn an_interrupt_leaves_no_temporary_and_every_file_whole() {
+    let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("analytic/cases");
+    let dir = std::env::temp_dir().join(format!("lightproof-cli-sigint-{}", std::process::id()));
+    for (k, after) in [0u64, 300, 700].into_iter().enumerate() {
+        let out = dir.join(format!("r{k}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let mut child = bin()
+            .args(["report", "--max-samples", "1048576", "--out"])
+            .arg(&out)
+            .arg(cases.join("furnace"))
+            .arg(cases.join("irradiance"))
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Once the first report is written, then `after` ms later.
+        let t0 = std::time::Instant::now();
+        while std::fs::read_dir(&out).map_or(0, |d| d.count()) == 0 && t0.elapsed().as_secs() < 60 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(after));
+        // SAFETY: a plain kill(2) of the child this test spawned.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+        let o = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(130), "after {after} ms: {err}");
+        assert!(
+            err.contains("interrupted: every file written is whole"),
+            "{err}"
+        );
+        let names: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(!names.is_empty());
+        assert!(
+            names.iter().all(|n| !n.contains(".tmp")),
+            "after {after} ms: {names:?}"
+        );
+        for n in names.iter().filter(|n| n.ends_with(".json")) {
+            let text = std::fs::read_to_string(out.join(n)).unwrap();
+            assert!(
+                serde_json::from_str::<serde_json::Value>(&text).is_ok(),
+                "{n} is not whole"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
