@@ -1682,7 +1682,7 @@ fn an_interrupt_leaves_no_temporary_and_every_file_whole() {
     for (k, after) in [0u64, 300, 700].into_iter().enumerate() {
         let out = dir.join(format!("r{k}"));
         let _ = std::fs::remove_dir_all(&out);
-        let mut child = bin()
+        let child = bin()
             .args(["report", "--max-samples", "1048576", "--out"])
             .arg(&out)
             .arg(cases.join("furnace"))
