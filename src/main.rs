@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use lightproof::bsdf::contract::direction;
 use lightproof::bsdf::{Bsdf, BsdfModel};
-use lightproof::case::{Case, collect_cases, seed_for};
+use lightproof::case::{Case, collect_cases, count_in, seed_for};
 use lightproof::error::{Error, InputError, IoError};
 use lightproof::sampling::SamplerKind;
 use lightproof::stats::{VerdictClass, sidak_alpha};
@@ -203,8 +203,6 @@ enum Command {
         json: bool,
     },
 }
-
-use lightproof::case::count_in;
 
 fn parse_samples(s: &str) -> Result<u64, String> {
     count_in(
