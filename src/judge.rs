@@ -78,8 +78,44 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
     }
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|e| bad(format!("not a readable EXR: {e}")))?;
-    let Some(header) = meta.headers.first() else {
+    if meta.headers.is_empty() {
         return Err(bad("the EXR has no layer".into()));
+    }
+    // The part the reader takes: the first with R, G and B channels (a Z-only part
+    // before it was once blamed for the file's "no R channel").
+    let names = |h: &exr::meta::header::Header| -> Vec<String> {
+        h.channels.list.iter().map(|c| c.name.to_string()).collect()
+    };
+    let rgb = |h: &&exr::meta::header::Header| {
+        let n = names(h);
+        ["R", "G", "B"].iter().all(|c| n.iter().any(|x| x == c))
+    };
+    let Some(header) = meta.headers.iter().find(rgb) else {
+        let parts: Vec<String> = meta
+            .headers
+            .iter()
+            .map(|h| names(h).join(", "))
+            .map(|n| {
+                if meta.headers.len() > 1 {
+                    format!("{{{n}}}")
+                } else {
+                    n
+                }
+            })
+            .collect();
+        let missing = ["R", "G", "B"]
+            .into_iter()
+            .find(|c| !meta.headers.iter().any(|h| names(h).iter().any(|n| n == c)));
+        return Err(bad(match missing {
+            Some(m) => format!(
+                "the EXR has no {m} channel (channels: {}); a render needs R, G and B",
+                parts.join("; ")
+            ),
+            None => format!(
+                "no part of the EXR has R, G and B together (its parts' channels: {}); a render needs them in one part",
+                parts.join("; ")
+            ),
+        }));
     };
     let (w, h) = (header.layer_size.width(), header.layer_size.height());
     let max = crate::scene::load::MAX_ENVMAP_PIXELS;
@@ -92,21 +128,6 @@ pub fn read_render(path: &Path) -> Result<Render, InputError> {
     if table > len {
         return Err(bad(format!(
             "the EXR is truncated: its header claims {w} × {h} pixels, the file is {len} bytes"
-        )));
-    }
-    let names: Vec<String> = header
-        .channels
-        .list
-        .iter()
-        .map(|c| c.name.to_string())
-        .collect();
-    if let Some(missing) = ["R", "G", "B"]
-        .into_iter()
-        .find(|c| !names.iter().any(|n| n == c))
-    {
-        return Err(bad(format!(
-            "the EXR has no {missing} channel (channels: {}); a render needs R, G and B",
-            names.join(", ")
         )));
     }
     // Every pixel starts unwritten (NaN, and `written` false): the reader, not pedantic,
@@ -1066,6 +1087,60 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
+    }
+
+    /// A file of two parts, the first holding only depth (Z) and the second R, G and B:
+    /// the reader takes the second, and so does the check of its channels (it once
+    /// blamed the file for "no R channel (channels: Z)"). With no part holding all three,
+    /// the message lists each part's channels.
+    #[test]
+    fn the_part_with_r_g_and_b_is_the_render() {
+        use exr::prelude::*;
+        let size = Vec2(4, 2);
+        let depth = Layer::new(
+            size,
+            LayerAttributes::named("depth"),
+            Encoding::UNCOMPRESSED,
+            AnyChannels::sort(SmallVec::from_vec(vec![AnyChannel::new(
+                "Z",
+                FlatSamples::F32(vec![1.0; 8]),
+            )])),
+        );
+        let colour = |name: &str, rgb: &[&str]| {
+            Layer::new(
+                size,
+                LayerAttributes::named(name),
+                Encoding::UNCOMPRESSED,
+                AnyChannels::sort(
+                    rgb.iter()
+                        .map(|c| AnyChannel::new(*c, FlatSamples::F32(vec![0.5; 8])))
+                        .collect(),
+                ),
+            )
+        };
+        let write = |name: &str, rgb: &[&str]| {
+            let path = scratch("parts").join(name);
+            Image::from_layers(
+                ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+                vec![depth.clone(), colour("beauty", rgb)],
+            )
+            .write()
+            .to_file(&path)
+            .unwrap();
+            path
+        };
+        let both = write("parts.exr", &["R", "G", "B"]);
+        let r = read_render(&both).unwrap();
+        assert_eq!((r.width, r.height), (4, 2));
+        assert!(r.pixels.iter().all(|&v| v == 0.5), "{:?}", r.pixels);
+        let Err(e) = read_render(&write("parts_no_b.exr", &["R", "G"])) else {
+            panic!("a file without B read as a render")
+        };
+        assert!(
+            e.reason.contains("no B channel (channels: {Z}; {G, R})"),
+            "{e}"
+        );
+        let _ = std::fs::remove_file(both);
     }
 
     /// An EXR whose block of line 1 claims line 0 (the reader, not pedantic, takes it)
