@@ -783,17 +783,7 @@ fn verify(
         .collect::<Result<_, _>>()?;
     // Nor on a file a case's scene reads (an OBJ mesh, an EXR map), nor both outputs on
     // one file (the page would replace the JSON).
-    let assets: Vec<PathBuf> = cases
-        .iter()
-        .flat_map(|c| {
-            let base = c.file.parent().unwrap_or(Path::new("."));
-            c.desc
-                .scene
-                .external_files()
-                .into_iter()
-                .map(|f| base.join(f))
-        })
-        .collect();
+    let assets: Vec<PathBuf> = cases.iter().flat_map(Case::external_paths).collect();
     for (flag, out) in [("--json", &json), ("--html", &html)] {
         if let Some(out) = out {
             lightproof::io::refuse_output_on_input(flag, out, &assets, &[])?;

@@ -195,6 +195,14 @@ impl Case {
         })
     }
 
+    /// The files its scene reads (OBJ meshes, EXR maps), resolved against the case file's
+    /// folder as the loader resolves them.
+    pub fn external_paths(&self) -> Vec<PathBuf> {
+        let base = self.file.parent().unwrap_or(Path::new("."));
+        let files = self.desc.scene.external_files();
+        files.into_iter().map(|f| base.join(f)).collect()
+    }
+
     /// Samplers to run.
     pub fn samplers(&self) -> Vec<SamplerKind> {
         self.desc
