@@ -2358,7 +2358,8 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
-        /// Random scenes of 9–60 spheres, triangles and rectangles at a random scale and
+        /// Random scenes of 2–79 spheres, triangles and rectangles, in a form drawn among
+        /// the plain loop, the boxes, a tree and the one they call for, at a random scale and
         /// offset; rays from near a random primitive's surface (10⁻⁷–10⁻¹ of the scale,
         /// either side) or from anywhere, any direction, tmin 0 or a small positive value,
         /// tmax ∞ or finite: the BVH agrees with brute force.

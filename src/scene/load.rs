@@ -316,6 +316,16 @@ fn v3(a: [f64; 3]) -> DVec3 {
 }
 
 /// A point after its shape's transform: still within ±[`MAX_COORDINATE`].
+/// Whether a triangle placed at `pd` (`f64`), and at `p` once rounded to `f32`, has zero
+/// area: the `f64` cross product's length is not positive, or the `f32` cross product
+/// vanishes. Only the vector must not vanish in `f32`, not its length: its square
+/// underflows for edges below ~10⁻¹⁰, which the hit test handles (README "Planar shapes
+/// at every accepted scale"). The rule of a lone `triangle` and of a mesh's triangles.
+fn zero_area(pd: &[DVec3; 3], p: &[Vec3; 3]) -> bool {
+    !((pd[1] - pd[0]).cross(pd[2] - pd[0]).length() > 0.0)
+        || (p[1] - p[0]).cross(p[2] - p[0]) == Vec3::ZERO
+}
+
 fn placed(file: &str, field: &str, p: DVec3) -> Result<DVec3, InputError> {
     match p
         .to_array()
@@ -851,14 +861,13 @@ impl Builder<'_> {
                 Ok(ShapeKind::Planar)
             }
             GeometryDesc::Triangle { vertices } => {
-                let mut p = [Vec3::ZERO; 3];
+                let mut pd = [DVec3::ZERO; 3];
                 for (k, v) in vertices.iter().enumerate() {
                     let field = format!("{gf}.vertices[{k}]");
-                    p[k] = self
-                        .place(&field, &pl, check_point(file, &field, *v)?)?
-                        .as_vec3();
+                    pd[k] = self.place(&field, &pl, check_point(file, &field, *v)?)?;
                 }
-                if !((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0) {
+                let p = pd.map(DVec3::as_vec3);
+                if zero_area(&pd, &p) {
                     return Err(InputError::new(
                         file,
                         gf,
@@ -978,13 +987,10 @@ impl Builder<'_> {
                 pd[j] = *v;
                 p[j] = v.as_vec3();
             }
-            let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]);
-            // The f32 cross product must not vanish (its length may: its square
-            // underflows for edges below ~10⁻¹⁰, which the hit test handles).
-            if !(n.length() > 0.0) || (p[1] - p[0]).cross(p[2] - p[0]) == Vec3::ZERO {
+            if zero_area(&pd, &p) {
                 return Err(bad(Some(k), "is a degenerate triangle (zero area)".into()));
             }
-            let n = n.normalize();
+            let n = (pd[1] - pd[0]).cross(pd[2] - pd[0]).normalize();
             match normal {
                 None => normal = Some(n),
                 Some(m) => {

@@ -284,6 +284,16 @@ case("sphere_radius_tiny_valid", "f32", SHAPES, [("scene.shapes.0.geometry.radiu
 case("mesh_vertices_tiny_valid", "f32", SHAPES,
      [("scene.shapes.3.geometry.vertices", [[-3e-15, 0, 2e-15], [-2e-15, 0, 2e-15], [-2e-15, 1e-15, 2e-15], [-3e-15, 1e-15, 2e-15]])],
      "valid")
+# The lone `triangle` shape was called degenerate where the mesh's same triangle was not:
+# its check took the f32 length of the cross product, whose square underflows for edges
+# below ~1e-11. Both now ask only that the f32 cross product be nonzero (and the f64 one's
+# length positive): edges of 1e-15 are valid, edges of 1e-25 (cross product 1e-50, zero
+# in f32) are refused.
+case("triangle_vertices_tiny_valid", "f32", SHAPES,
+     [("scene.shapes.2.geometry.vertices", [[2e-15, 0, 2e-15], [3e-15, 0, 2e-15], [2e-15, 1e-15, 2e-15]])], "valid")
+case("triangle_vertices_f32_zero_area", "f32", SHAPES,
+     [("scene.shapes.2.geometry.vertices", [[2e-25, 0, 2e-25], [3e-25, 0, 2e-25], [2e-25, 1e-25, 2e-25]])], 2,
+     "scene.shapes[2].geometry", "zero area")
 case("triangle_vertices_huge_valid", "f32", SHAPES,
      [("scene.shapes.2.geometry.vertices", [[2e14, 0, 2e14], [3e14, 0, 2e14], [2e14, 1e14, 2e14]])], "valid")
 sweep("sphere_center", SHAPES, "scene.shapes.0.geometry.center", "scene.shapes[0].geometry.center", COORD, vec=(0, [0, 0, 3]))

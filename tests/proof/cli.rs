@@ -1025,8 +1025,8 @@ fn verify_is_the_same_whatever_the_c_librarys_cpu_path() {
 
 /// The BVH's queries give the same bits in the x86-64 baseline (`LIGHTPROOF_ISA=baseline`)
 /// as in the x86-64-v3 code a newer CPU runs (the box test eight children wide, FMA and
-/// bit counts as instructions): `verify` of the catalog cases whose scenes go through a
-/// BVH (more than 8 primitives) gives the same JSON, and `estimate` of the Cornell-like
+/// bit counts as instructions): `verify` of catalog cases whose scenes go through boxes
+/// (more than three primitives: eight boxes at a time without a tree) gives the same JSON, and `estimate` of the Cornell-like
 /// box the same line. On a CPU below x86-64-v3 both runs take the baseline and this proves
 /// determinism only (`accel::tests::both_instruction_sets_give_the_same_bits` says which).
 #[test]
