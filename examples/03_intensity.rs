@@ -3,7 +3,9 @@
 //! Intensity is power per unit solid angle in a direction: I(ω) = dΦ/dω, in W/sr. It
 //! describes sources seen from far away, whose size no longer matters.
 //!
-//! - An isotropic point light has the same I in every direction, so Φ = ∫ I dω = 4π I.
+//! - An isotropic point light has the same I in every direction, so Φ = ∫ I dω = 4π I:
+//!   the power that crosses any closed surface around it, Φ = ∮ E dA (Gauss's law for
+//!   light), checked on a sphere that does not centre on the light.
 //! - A flat Lambertian emitter of radiance L and area A has I(θ) = L A cos θ (Lambert's
 //!   cosine law): seen at an angle θ from its normal its projected area is A cos θ. Its
 //!   power, one-sided, is Φ = ∫ I dω = π L A.
@@ -45,31 +47,30 @@ fn main() {
     print_rule(&format!("{n} samples per estimate"));
     let mut ok = true;
 
-    // An isotropic point light of intensity 2 W/sr: its intensity and power.
-    println!("Isotropic point light, I = 2 W/sr (a delta light: every sample is exact):");
-    let point = |measure: serde_json::Value, est: &str| {
-        load(json!({
-            "name": "point light", "teaches": "an isotropic point light: Φ = 4π I",
-            "scene": { "emitters": [ { "type": "point", "position": [0, 0, 0], "intensity": 2 } ] },
-            "measure": measure, "estimators": [est]
-        }))
-    };
-    let c = point(
-        json!({ "intensity": { "emitter": 0, "direction": [0.3, -0.2, 0.9] } }),
-        "area",
+    // An isotropic point light of intensity 2 W/sr. Its intensity is the given number
+    // (I = dΦ/dω, the same every way), so reading it back would check nothing; its power
+    // Φ = ∫ I dω = 4π I is checked through the power that crosses a closed surface
+    // around it, whatever the surface: a sphere whose centre is not the light's, so the
+    // irradiance E = I cos θ / d² varies over it and Φ = ∮ E dA is a true integral
+    // (Gauss's law for light; the engine samples points on the sphere by area and
+    // estimates E at each from the light).
+    println!(
+        "Isotropic point light, I = 2 W/sr, at (0.3, −0.2, 0.1) inside a sphere of radius 1 centred at the origin:"
     );
+    println!("  the intensity is the given I = dΦ/dω; every direction carries the same 2 W/sr");
+    let c = load(json!({
+        "name": "point light power through an enclosing sphere",
+        "teaches": "the power crossing any closed surface around a point light is Φ = 4π I",
+        "scene": { "emitters": [ { "type": "point", "position": [0.3, -0.2, 0.1], "intensity": 2 } ],
+                   "shapes": [ { "geometry": { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                                 "flip_normals": true } ] },
+        "measure": { "flux": { "shape": 0 } },
+        "estimators": ["light"]
+    }));
     ok &= check(
-        "intensity I towards (0.3, −0.2, 0.9)",
+        "power Φ = ∮ E dA over the sphere  vs  4π I",
         &c,
-        Estimator::Area,
-        n,
-        2.0,
-    );
-    let c = point(json!({ "power": { "emitter": 0 } }), "uniform");
-    ok &= check(
-        "power Φ = ∫ I dω  vs  4π I",
-        &c,
-        Estimator::Uniform,
+        Estimator::Light,
         n,
         isotropic_point_power(2.0),
     );

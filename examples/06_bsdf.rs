@@ -242,9 +242,20 @@ fn main() {
                     &format!("albedo a(θo = {theta}°) = {short} [{}]", est.name()),
                     &v,
                 );
+                if v.std_error == 0.0 {
+                    // Every BSDF-sampled weight f cos θi / p was the same number: the
+                    // sampling is this model's exact importance sampling (cosine
+                    // sampling for the Lambertian, whose weight is ρ by construction),
+                    // so the row checks the sample's weight, not f itself; the
+                    // [uniform] rows check f against the albedo.
+                    println!(
+                        "      (every sample's weight f cos θi / p was the same: a zero-variance sampler checks its weight, the [uniform] rows check f)"
+                    );
+                }
                 // The law itself, one-sided: fail only if significantly above 1 (for
-                // every model: the Lambertian's exact ρ is its own given parameter, so
-                // only the bound checks it against physics).
+                // every model; the Lambertian's albedo ρ ≤ 1 is also refused at load
+                // above 1, so its rows check that what `eval` and `sample` make of ρ
+                // keeps the bound).
                 let v = judge_bound(&e.batches.total, 1.0);
                 ok &= report_bound(&format!("albedo a(θo = {theta}°) ≤ 1 [{}]", est.name()), &v);
             }

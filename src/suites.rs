@@ -1,6 +1,6 @@
 //! The chi-square suites `lightproof verify` runs besides the case catalog: every warp
 //! of [`crate::sampling`] against its density (the same configurations the test suite
-//! proves in `tests/sampling_chi2.rs`).
+//! proves in `tests/proof/sampling_chi2.rs`).
 
 use crate::sampling::cone::Cone;
 use crate::sampling::disk::{concentric_disk, concentric_disk_pdf};

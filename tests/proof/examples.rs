@@ -5,7 +5,7 @@
 //! run one after another: cargo holds a lock on the build directory, and each example
 //! already uses every core. Under `cargo test` they are
 //! already built (cargo builds examples with the tests), so this takes a few seconds;
-//! under `cargo test --test examples` they are first built in one parallel step.
+//! under `cargo test --test proof examples::` they are first built in one parallel step.
 
 use std::process::Command;
 
