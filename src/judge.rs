@@ -1092,7 +1092,7 @@ mod tests {
     /// A file of two parts, the first holding only depth (Z) and the second R, G and B:
     /// the reader takes the second, and so does the check of its channels (it once
     /// blamed the file for "no R channel (channels: Z)"). With no part holding all three,
-    /// the message lists each part's channels.
+    /// the message lists each part's channels (in braces where the file has several parts).
     #[test]
     fn the_part_with_r_g_and_b_is_the_render() {
         use exr::prelude::*;
@@ -1140,7 +1140,21 @@ mod tests {
             e.reason.contains("no B channel (channels: {Z}; {G, R})"),
             "{e}"
         );
+        // One part: its channels listed without braces.
+        let path = scratch("parts").join("one_part_no_b.exr");
+        Image::from_layers(
+            ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+            vec![colour("beauty", &["R", "G"])],
+        )
+        .write()
+        .to_file(&path)
+        .unwrap();
+        let Err(e) = read_render(&path) else {
+            panic!("a one-part file without B read as a render")
+        };
+        assert!(e.reason.contains("no B channel (channels: G, R);"), "{e}");
         let _ = std::fs::remove_file(both);
+        let _ = std::fs::remove_file(path);
     }
 
     /// An EXR whose block of line 1 claims line 0 (the reader, not pedantic, takes it)

@@ -64,9 +64,8 @@ pub fn input_files(path: &Path) -> Result<Vec<std::path::PathBuf>, InputError> {
     let text = crate::io::read_input(path, crate::io::MAX_JSON_BYTES)
         .map_err(|e| InputError::new(&file, "-", e))?;
     let desc: CaseDesc = parse_json(&file, &text)?;
-    let base = path.parent().unwrap_or(Path::new("."));
     let mut files = vec![path.to_path_buf()];
-    files.extend(desc.scene.external_files().iter().map(|f| base.join(f)));
+    files.extend(desc.scene.external_paths(path));
     Ok(files)
 }
 
@@ -151,7 +150,7 @@ pub fn render_file(
     let scene = desc.scene.build(
         &file,
         "scene",
-        path.parent().unwrap_or(Path::new(".")),
+        crate::scene::load::folder_of(path),
         eye,
         crate::case::build::epoch(&desc),
     )?;

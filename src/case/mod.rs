@@ -149,7 +149,7 @@ impl Case {
         let scene = match scene {
             Some(s) => Arc::clone(s),
             None => {
-                let base = path.parent().unwrap_or(Path::new("."));
+                let base = crate::scene::load::folder_of(path);
                 Arc::new(
                     desc.scene
                         .build(f, "scene", base, origin, build::epoch(&desc))?,
@@ -198,9 +198,7 @@ impl Case {
     /// The files its scene reads (OBJ meshes, EXR maps), resolved against the case file's
     /// folder as the loader resolves them.
     pub fn external_paths(&self) -> Vec<PathBuf> {
-        let base = self.file.parent().unwrap_or(Path::new("."));
-        let files = self.desc.scene.external_files();
-        files.into_iter().map(|f| base.join(f)).collect()
+        self.desc.scene.external_paths(&self.file)
     }
 
     /// Samplers to run.

@@ -212,12 +212,16 @@ pub fn run_point(
 /// map changes the digest and no earlier point is resumed.
 fn case_digest(case: &Case) -> String {
     let mut bytes = serde_json::to_vec(&case.desc).unwrap_or_default();
-    let base = case.file.parent().unwrap_or(Path::new("."));
-    for path in case.desc.scene.external_files() {
+    let scene = &case.desc.scene;
+    for (path, full) in scene
+        .external_files()
+        .into_iter()
+        .zip(scene.external_paths(&case.file))
+    {
         bytes.push(0);
         bytes.extend_from_slice(path.as_bytes());
         bytes.push(0);
-        match std::fs::read(base.join(path)) {
+        match std::fs::read(full) {
             Ok(data) => {
                 bytes.extend_from_slice(&(data.len() as u64).to_le_bytes());
                 bytes.extend_from_slice(&data);

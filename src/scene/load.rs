@@ -434,7 +434,23 @@ impl Builder<'_> {
     }
 }
 
+/// The folder a scene file's relative paths are resolved against: the file's own
+/// (the current folder for a bare file name).
+pub fn folder_of(scene_file: &Path) -> &Path {
+    scene_file.parent().unwrap_or(Path::new("."))
+}
+
 impl SceneDesc {
+    /// [`SceneDesc::external_files`] resolved as [`SceneDesc::build`] resolves them for
+    /// the scene of `scene_file` (against [`folder_of`] it).
+    pub fn external_paths(&self, scene_file: &Path) -> Vec<PathBuf> {
+        let base = folder_of(scene_file);
+        self.external_files()
+            .into_iter()
+            .map(|f| base.join(f))
+            .collect()
+    }
+
     /// The external files the scene reads, as written (relative to the scene file's
     /// folder, where [`SceneDesc::build`] resolves them): each OBJ shape's and each
     /// environment map's `path`, in the order of the description.
