@@ -954,6 +954,12 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "isotropic_point_power",
+        ["intensity"],
+        "power (W) of an isotropic point light of intensity I (W/sr): 4π I, the power crossing any closed surface around it",
+        |p| { Ok(radiometry::isotropic_point_power(p.non_negative("intensity")?)) }
+    ),
+    entry!(
         "lambertian_intensity",
         ["radiance", "area", "theta"],
         "intensity (W/sr) of a flat Lambertian emitter at angle theta (rad) from its normal: L A cos θ",
@@ -1779,6 +1785,7 @@ mod tests {
             "fresnel_dielectric_average": {"eta": 1.5},
             "fresnel_dielectric_average_inside": {"eta": 1.5},
             "lambertian_power": {"radiance": 1, "area": 2},
+            "isotropic_point_power": {"intensity": 2},
             "lambertian_intensity": {"radiance": 1, "area": 2, "theta": 0.5},
             "photon_energy": {"wavelength": 5.5e-7},
             "radiance_across_interface": {"radiance": 1, "n1": 1, "n2": 1.5},
