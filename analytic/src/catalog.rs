@@ -957,7 +957,11 @@ static ENTRIES: &[Entry] = &[
         "isotropic_point_power",
         ["intensity"],
         "power (W) of an isotropic point light of intensity I (W/sr): 4π I, the power crossing any closed surface around it",
-        |p| { Ok(radiometry::isotropic_point_power(p.non_negative("intensity")?)) }
+        |p| {
+            Ok(radiometry::isotropic_point_power(
+                p.non_negative("intensity")?,
+            ))
+        }
     ),
     entry!(
         "lambertian_intensity",

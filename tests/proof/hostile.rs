@@ -4,7 +4,7 @@
 //! stderr naming the field (and nothing the entry marks `absent`, such as a `?` standing
 //! for a field), and an unwritable output 3 likewise naming the path; a
 //! render whose pixels are negative or not finite fails its verdict (exit 1, saying
-//! why); a valid extreme must run (exit 0 or 1) and, for `estimate`, print a finite,
+//! why, and printing nothing the entry marks `absent` on either stream); a valid extreme must run (exit 0 or 1) and, for `estimate`, print a finite,
 //! non-negative estimate with no non-finite sample, and for `merge`, write case reports
 //! whose every point has a finite estimate and time. Nothing may panic, hang or leave temporary files behind.
 //!
@@ -205,6 +205,13 @@ fn check(entry: &Value, fx: &Fixture, bin: &Path) -> Result<f64, String> {
             {
                 return Err(format!("expected `{want}` in the output: {}", show()));
             }
+            // Nor anywhere in it what the entry marks absent (once never looked at for
+            // these entries: a single render judged "(exact)" passed the corpus).
+            if let Some(unwanted) = entry["absent"].as_str()
+                && (r.stdout.contains(unwanted) || r.stderr.contains(unwanted))
+            {
+                return Err(format!("`{unwanted}` in the output: {}", show()));
+            }
         }
         Value::Number(n) if matches!(n.as_i64(), Some(2 | 3)) => {
             let code = n.as_i64().map(|c| c as i32);
@@ -232,6 +239,11 @@ fn check(entry: &Value, fx: &Fixture, bin: &Path) -> Result<f64, String> {
             }
         }
         Value::String(s) if s == "valid" => {
+            if entry.get("absent").is_some() {
+                return Err(
+                    "`absent` is checked only for entries that expect exit 1, 2 or 3".into(),
+                );
+            }
             if !matches!(r.code, Some(0 | 1)) {
                 return Err(format!("expected a run (exit 0 or 1): {}", show()));
             }
