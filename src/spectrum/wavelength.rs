@@ -345,6 +345,35 @@ mod tests {
         );
         assert!(seen.pdf(at) > 50.0 * blind.pdf(at));
     }
+    /// The table reads each cell at its two edges and its centre, weighted by its width:
+    /// a peak narrower than a cell at a cell's centre, or just below a cell's upper edge,
+    /// gets its cell's share (not only the defensive one), and a constant target over a
+    /// log-spaced band (cells of unequal width) gives the uniform density.
+    #[test]
+    fn the_table_reads_each_cells_centre_and_edges_by_its_width() {
+        let band = Band::new(400.0, 500.0);
+        let cell = 100.0 / CELLS as f32;
+        let uniform = 1.0 / 100.0;
+        // A triangle 0.4 cells wide at the centre of cell 300 (none of its edges sees it).
+        let centre = 400.0 + 300.5 * cell;
+        let tent = |c: f32| move |l: f32| (1.0 - (l - c).abs() / (0.2 * cell)).max(0.0);
+        let s = WavelengthSampler::importance(band, tent(centre));
+        assert!(s.pdf(centre) > 100.0 * uniform, "{}", s.pdf(centre));
+        // The same just below the upper edge of cell 300 (the lower edge of cell 301): the
+        // part inside cell 300 keeps its density through that edge.
+        let edge = 400.0 + 301.0 * cell;
+        let s = WavelengthSampler::importance(band, tent(edge));
+        let below = edge - 0.1 * cell;
+        assert!(s.pdf(below) > 100.0 * uniform, "{}", s.pdf(below));
+        // A constant target over a log-spaced band: the density is 1/(b − a) everywhere.
+        let wide = Band::new(100.0, 10_000.0);
+        let s = WavelengthSampler::importance(wide, |_| 1.0);
+        for l in [100.5f32, 150.0, 1000.0, 5000.0, 9999.0] {
+            let rel = s.pdf(l) as f64 * 9900.0 - 1.0;
+            assert!(rel.abs() < 1e-4, "p({l}) is {rel:e} off uniform");
+        }
+    }
+
     use crate::spectrum::{Spectrum, VISIBLE};
 
     #[test]
