@@ -4,8 +4,8 @@
 //! stderr naming the field (and nothing the entry marks `absent`, such as a `?` standing
 //! for a field), and an unwritable output 3 likewise naming the path; a
 //! render whose pixels are negative or not finite fails its verdict (exit 1, saying
-//! why, and printing nothing the entry marks `absent` on either stream); a valid extreme must run (exit 0 or 1) and, for `estimate`, print a finite,
-//! non-negative estimate with no non-finite sample, and for `merge`, write case reports
+//! why, and printing nothing the entry marks `absent` on either stream); a valid extreme
+//! must run (exit 0 or 1) and, for `estimate`, print a finite, non-negative estimate with no non-finite sample, and for `merge`, write case reports
 //! whose every point has a finite estimate and time. Nothing may panic, hang or leave temporary files behind.
 //!
 //! `LIGHTPROOF_HOSTILE_BIN=/path/to/lightproof` runs the corpus against another build
