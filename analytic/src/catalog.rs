@@ -673,6 +673,17 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "dielectric_furnace_irradiance",
+        ["radiance", "index_at_receiver"],
+        "irradiance (W/m²) beside or inside a lossless smooth dielectric sphere under a constant environment of radiance L: π n² L, n the index at the receiver (1 beside the sphere; η inside, within R/η of its centre)",
+        |p| {
+            Ok(furnace::dielectric_furnace_irradiance(
+                p.non_negative("radiance")?,
+                p.positive("index_at_receiver")?,
+            ))
+        }
+    ),
+    entry!(
         "furnace_integrating_sphere",
         ["emitted_radiance", "albedo", "port_fraction"],
         "wall radiance (W/(m²·sr)) of an emitting integrating sphere with a black port: Le/(1−ρ(1−f))",
@@ -1776,6 +1787,7 @@ mod tests {
             "view_factor_sphere_wall_to_cap": {"theta_max_degrees": 120},
             "furnace_closed_enclosure": {"emitted_radiance": 1, "albedo": 0.5},
             "furnace_convex_object": {"albedo": 0.5, "radiance": 1},
+            "dielectric_furnace_irradiance": {"radiance": 1, "index_at_receiver": 1.5},
             "furnace_integrating_sphere": {"emitted_radiance": 1, "albedo": 0.9, "port_fraction": 0.05},
             "furnace_closed_enclosure_bounces": {"emitted_radiance": 1, "albedo": 0.8, "bounces": 2},
             "furnace_integrating_sphere_cap": {"emitted_radiance": 1, "albedo": 0.9, "wall_theta_max_degrees": 170},

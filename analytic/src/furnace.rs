@@ -44,6 +44,35 @@ pub fn integrating_sphere(emitted_radiance: f64, albedo: f64, port_fraction: f64
     emitted_radiance / ((1.0 - albedo) + albedo * port_fraction)
 }
 
+/// Irradiance on a receiver beside or inside a lossless smooth dielectric sphere (index
+/// η, in vacuum) under a constant environment of radiance L: the dielectric furnace.
+///
+/// **Formula.** E = π n² L, with n the index of the medium the receiver is in: 1 beside
+/// the sphere, η inside it at a distance d < R/η from its centre.
+///
+/// **Derivation.** At a smooth lossless interface the basic radiance L/n² of a ray is the
+/// Fresnel mix of the basic radiances of the two rays it comes from, L/n² = R L_r/n_r² +
+/// T L_t/n_t² with R + T = 1 (reflection keeps the medium; transmission scales radiance
+/// by (n₂/n₁)², [`crate::radiometry::radiance_across_interface`]). Followed backwards from
+/// the receiver, a ray branches at every surface it meets, and the weights of the
+/// branches, products of R and T, sum to 1 over those that reach the environment, if no
+/// weight stays trapped. Each of those carries basic radiance L/1², so the ray's basic
+/// radiance is L and its radiance n² L, whatever its direction: E = ∫ n² L cos θ dω =
+/// π n² L. Nothing is trapped: both ends of a chord of a sphere meet the surface at the
+/// same angle to the normal, so a ray that entered from vacuum (below the critical angle)
+/// is never totally reflected and leaves with T > 0 at each meeting; a ray from a point
+/// inside at distance d from the centre meets the surface at sin θ ≤ d/R < 1/η, below
+/// the critical angle too. Beyond d = R/η the rays with sin θ > 1/η are trapped by total
+/// internal reflection (whispering-gallery rays): no light reaches the receiver along
+/// them and E is smaller (`tests::dielectric_furnace_by_quadrature_of_the_fresnel_series`).
+///
+/// **Source.** Nicodemus, "Radiance", Am. J. Phys. 31, 1963 (basic radiance L/n²);
+/// Veach, PhD thesis, Stanford 1997, §5.2 (radiance scaled by η² at refraction);
+/// Born & Wolf, *Principles of Optics*, §1.5.3 (R + T = 1).
+pub fn dielectric_furnace_irradiance(radiance: f64, index_at_receiver: f64) -> f64 {
+    std::f64::consts::PI * index_at_receiver * index_at_receiver * radiance
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -111,4 +140,54 @@ mod tests {
         }
         assert!((integrating_sphere(le, rho, share) - l).abs() < 1e-12 * l);
     }
+
+    /// The dielectric furnace's irradiance as a quadrature over the receiver's hemisphere
+    /// of n² L times the weight that reaches the environment. A receiver at distance d
+    /// from the centre of the unit sphere, its normal along the line to the centre, sees
+    /// each direction at angle α from that line along a ray whose line passes at
+    /// b = d sin α from the centre; every meeting with the sphere is then at sin θ = b
+    /// from inside (both ends of a chord alike), or sin θ = b/η for a receiver beside it
+    /// (refracted), and a weight R(θ)^k is still inside after k of them (k = 10⁹ here).
+    /// Within d < R/η of the centre (and beside the sphere) it is π n² L; beyond, the
+    /// rays with sin θ > 1/η are trapped and E = π n² L sin²α*, with d sin α* = 1/η.
+    #[test]
+    fn dielectric_furnace_by_quadrature_of_the_fresnel_series() {
+        use crate::quadrature::adaptive;
+        let (eta, l) = (1.5, 1.0);
+        let irradiance = |d: f64, n: f64| {
+            let inside = d < 1.0;
+            let share = adaptive(
+                |a| {
+                    let b = d * a.sin();
+                    let trapped = if inside || b < 1.0 {
+                        let sin_inside = if inside { b } else { b / eta };
+                        // A negative cosine: the meeting is from the inside.
+                        let cos_inside = (1.0 - sin_inside * sin_inside).sqrt();
+                        crate::fresnel::dielectric(-cos_inside, eta).powi(1_000_000_000)
+                    } else {
+                        0.0
+                    };
+                    2.0 * PI * (1.0 - trapped) * a.cos() * a.sin()
+                },
+                0.0,
+                PI / 2.0,
+                1e-13,
+            );
+            n * n * l * share
+        };
+        // Beside (at the catalog's distance, |(0.3, 0, 1.5)|), and inside at the
+        // catalog's 0.6 and nearer the centre.
+        for (d, n) in [(0.3f64.hypot(1.5), 1.0), (0.6, eta), (0.245, eta)] {
+            let e = dielectric_furnace_irradiance(l, n);
+            let q = irradiance(d, n);
+            assert!((q - e).abs() < 1e-10 * e, "d = {d}: {q} vs {e}");
+        }
+        // Beyond R/η = 2/3 the trapped rays take their share.
+        let d = 0.9;
+        let sin_a = 1.0 / (eta * d);
+        let e = dielectric_furnace_irradiance(l, eta) * sin_a * sin_a;
+        let q = irradiance(d, eta);
+        assert!((q - e).abs() < 1e-8 * e, "{q} vs {e}");
+    }
+
 }
