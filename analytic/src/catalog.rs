@@ -552,6 +552,42 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "spot_light_irradiance",
+        [
+            "point",
+            "normal",
+            "light",
+            "axis",
+            "intensity",
+            "cone_angle_degrees",
+            "falloff_start_degrees"
+        ],
+        "irradiance (W/m²) from a spot light of intensity I (W/sr) on its axis with pbrt-v4's smoothstep falloff from falloff_start to cone_angle: I s(θ) cos θr / r²",
+        |p| {
+            let (x, n, s, a, i) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.point("light")?,
+                p.direction("axis")?,
+                p.non_negative("intensity")?,
+            );
+            let total = p.range("cone_angle_degrees", 0.0, 180.0, false)?;
+            let start = p.range("falloff_start_degrees", 0.0, total, false)?;
+            if s == x {
+                return Err(p.domain("the light coincides with the receiver"));
+            }
+            Ok(irradiance::spot(
+                x,
+                n,
+                s,
+                a,
+                i,
+                total.to_radians(),
+                start.to_radians(),
+            ))
+        }
+    ),
+    entry!(
         "constant_environment_irradiance",
         ["radiance"],
         "irradiance (W/m²) from a constant environment of radiance L: π L",
@@ -1777,6 +1813,7 @@ mod tests {
             "disk_irradiance": {"point": [0, 0, 0], "normal": [1, 0, 0.2], "center": [0, 0, 1], "axis": [0, 0, 1], "radius": 1, "radiance": 1},
             "sphere_irradiance": {"point": [0, 0, 0], "normal": [0, 1, 0], "center": [0, 0, 3], "radius": 1, "radiance": 1},
             "point_light_irradiance": {"point": [0, 0, 0], "normal": [0, 0, 1], "light": [0, 0, 2], "intensity": 4},
+            "spot_light_irradiance": {"point": [0.5, 0, 0], "normal": [0, 0, 1], "light": [0, 0, 2], "axis": [0, 0, -1], "intensity": 4, "cone_angle_degrees": 30, "falloff_start_degrees": 10},
             "constant_environment_irradiance": {"radiance": 1},
             "view_factor_element_to_coaxial_disk": {"radius": 1, "height": 1},
             "view_factor_disk_to_coaxial_disk": {"radius1": 1, "radius2": 1, "height": 1},

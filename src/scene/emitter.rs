@@ -166,14 +166,10 @@ pub enum EmitterKind {
     Spot {
         /// Position.
         position: Vec3,
-        /// Frame with +z along the spot's axis.
-        frame: Frame,
         /// Intensity on the axis.
         intensity: f32,
-        /// cos of the total half-angle.
-        cos_total: f32,
-        /// cos of the half-angle where the falloff starts.
-        cos_falloff_start: f32,
+        /// Its axis and falloff.
+        cone: SpotCone,
     },
     /// Distant light travelling along `direction`, irradiance E on a perpendicular plane.
     Directional {
@@ -232,13 +228,54 @@ pub struct EmitterProps {
     pub velocity: Vec3,
 }
 
-/// Smooth falloff of a spot light (pbrt-v4 §12.1.2): smoothstep in cos θ.
-pub fn spot_falloff(cos_theta: f32, cos_total: f32, cos_start: f32) -> f32 {
-    if cos_start <= cos_total {
-        return if cos_theta >= cos_total { 1.0 } else { 0.0 };
+/// A spot light's cone: its axis and pbrt-v4's smooth falloff (§12.1.2), smoothstep in
+/// cos θ from the total half-angle θt, where it reaches 0, to θs, where it starts.
+///
+/// **Precision.** The falloff is formed in `f64`, from 1 − cos θ = |ω − a|²/2 of the
+/// `f64` unit vectors (exact for small angles, where 1 − cos θ in `f32` keeps nothing:
+/// `f32` steps by 6·10⁻⁸ near 1, so a cone of 0.01° (1 − cos θt = 1.5·10⁻⁸) had cos θt
+/// rounded to 1 and read 1.0 for 0.76, and a falloff band of 10⁻⁴° at 60° read 13% high
+/// when the cosines were `f32`), with the direction taken in `f64` from the light to the
+/// `f32` point it lights, so its answer is the smoothstep at the engine's own geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    /// Unit axis.
+    pub axis: DVec3,
+    /// 1 − cos θt = 2 sin²(θt/2).
+    pub omc_total: f64,
+    /// 1 − cos θs = 2 sin²(θs/2).
+    pub omc_start: f64,
+}
+
+impl SpotCone {
+    /// The cone about the unit `axis` with half-angles `total` and `start` ≤ `total`
+    /// (radians).
+    pub fn new(axis: DVec3, total: f64, start: f64) -> Self {
+        let omc = |a: f64| 2.0 * (0.5 * a).sin().powi(2);
+        SpotCone {
+            axis,
+            omc_total: omc(total),
+            omc_start: omc(start),
+        }
     }
-    let t = ((cos_theta - cos_total) / (cos_start - cos_total)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+
+    /// The falloff towards `w` (from the light, any length > 0): 1 within θs, smoothstep
+    /// in cos θ down to 0 at θt, a hard edge where θs = θt.
+    pub fn falloff(&self, w: DVec3) -> f32 {
+        let u = w / w.length();
+        let omc = 0.5 * (u - self.axis).length_squared();
+        if self.omc_start >= self.omc_total {
+            return if omc <= self.omc_total { 1.0 } else { 0.0 };
+        }
+        // (cos θ − cos θt)/(cos θs − cos θt), in 1 − cos.
+        let t = ((self.omc_total - omc) / (self.omc_total - self.omc_start)).clamp(0.0, 1.0);
+        (t * t * (3.0 - 2.0 * t)) as f32
+    }
+
+    /// ∫ falloff dω / 2π = (1 − cos θs) + (cos θs − cos θt)/2 (pbrt-v4 eq. 12.3).
+    pub fn solid_angle_share(&self) -> f64 {
+        self.omc_start + (self.omc_total - self.omc_start) / 2.0
+    }
 }
 
 /// How light sampling treats one primitive of an area emitter from a point.
@@ -1197,10 +1234,8 @@ impl EmitterKind {
             }
             EmitterKind::Spot {
                 position,
-                frame,
                 intensity,
-                cos_total,
-                cos_falloff_start,
+                cone,
             } => {
                 let d = *position - p;
                 let r2 = d.length_squared();
@@ -1208,8 +1243,7 @@ impl EmitterKind {
                     return None;
                 }
                 let (wi, inv_r2) = toward(d, r2);
-                let cos = (-wi).dot(frame.n);
-                let li = inv_r2(intensity * spot_falloff(cos, *cos_total, *cos_falloff_start));
+                let li = inv_r2(intensity * cone.falloff(p.as_dvec3() - position.as_dvec3()));
                 Some(LightSample {
                     wi,
                     li,
@@ -1243,7 +1277,8 @@ impl EmitterKind {
 
     /// Total emitted power where it is finite and known: π L A per emitting side for area
     /// lights (given the shape's area), 4π I for a point light, and for a spot light
-    /// 2π I [(1 − cos θs) + (cos θs − cos θt)/2] (pbrt-v4 eq. 12.3).
+    /// 2π I [(1 − cos θs) + (cos θs − cos θt)/2] (pbrt-v4 eq. 12.3,
+    /// [`SpotCone::solid_angle_share`]).
     pub fn power(&self, shape_area: f32) -> Option<f64> {
         match self {
             EmitterKind::Area {
@@ -1260,16 +1295,8 @@ impl EmitterKind {
                 Some(4.0 * std::f64::consts::PI * *intensity as f64)
             }
             EmitterKind::Spot {
-                intensity,
-                cos_total,
-                cos_falloff_start,
-                ..
-            } => Some(
-                2.0 * std::f64::consts::PI
-                    * *intensity as f64
-                    * ((1.0 - *cos_falloff_start as f64)
-                        + (*cos_falloff_start as f64 - *cos_total as f64) / 2.0),
-            ),
+                intensity, cone, ..
+            } => Some(2.0 * std::f64::consts::PI * *intensity as f64 * cone.solid_angle_share()),
             // Emitters at infinity deliver unbounded power to an unbounded scene.
             EmitterKind::Directional { .. }
             | EmitterKind::Constant { .. }
@@ -1540,14 +1567,6 @@ mod tests {
         assert_eq!(sliver_ratio(&tiny), f32::INFINITY);
     }
 
-    #[test]
-    fn spot_falloff_is_smooth_and_bounded() {
-        assert_eq!(spot_falloff(1.0, 0.8, 0.9), 1.0);
-        assert_eq!(spot_falloff(0.7, 0.8, 0.9), 0.0);
-        let mid = spot_falloff(0.85, 0.8, 0.9);
-        assert!((mid - 0.5).abs() < 1e-5);
-    }
-
     /// The `f32` shortcut of [`sphere_side`] (a viewer with |p − c|² within (1 ± 8ε) r²
     /// answers `Band` without the `f64` test) gives the `f64` test's answer: viewers on
     /// rays through the centre at |p − c|/r from 0 to 1.5, stepped finely (1.7u) around
@@ -1812,7 +1831,6 @@ mod tests {
     /// to 2ε and I/r² is the `f64` value rounded (10³⁷ for I = 10⁻³ at 10⁻²⁰).
     #[test]
     fn lights_a_subnormal_square_away_keep_unit_directions() {
-        let frame = Frame::from_z(Vec3::X);
         for d in [1e-20f32, 3e-20, 1e-19] {
             let p = Vec3::new(d, 0.0, 0.0);
             for light in [
@@ -1822,10 +1840,8 @@ mod tests {
                 },
                 EmitterKind::Spot {
                     position: Vec3::ZERO,
-                    frame,
                     intensity: 1e-3,
-                    cos_total: 0.5,
-                    cos_falloff_start: 0.9,
+                    cone: SpotCone::new(DVec3::X, 0.5f64.acos(), 0.9f64.acos()),
                 },
             ] {
                 let s = light.sample_non_area(p, Vec2::ZERO).unwrap();
@@ -2145,10 +2161,8 @@ mod tests {
         // axis the full intensity, at cos θ = 0.85 half of it (smoothstep at ½).
         let spot = EmitterKind::Spot {
             position: Vec3::new(0.0, 0.0, 2.0),
-            frame: Frame::from_z(-Vec3::Z),
             intensity: 4.0,
-            cos_total: 0.8,
-            cos_falloff_start: 0.9,
+            cone: SpotCone::new(-DVec3::Z, 0.8f64.acos(), 0.9f64.acos()),
         };
         let s = spot.sample_non_area(Vec3::ZERO, u).unwrap();
         assert!(
@@ -2244,15 +2258,12 @@ mod tests {
         assert!((point.power(0.0).unwrap() - 10.0 * pi).abs() <= 1e-15 * 10.0 * pi);
         // A spot's power ∫ I f(cos θ) dω = 2π I ∫₋₁¹ f(c) dc, with pbrt's smoothstep f, by
         // the midpoint rule in f64 (its error ~1e-11 here).
-        for (ct, cs) in [(0.8f32, 0.9f32), (0.1, 0.7), (-0.5, 0.2), (0.5, 0.5)] {
+        for (ct, cs) in [(0.8f64, 0.9f64), (0.1, 0.7), (-0.5, 0.2), (0.5, 0.5)] {
             let spot = EmitterKind::Spot {
                 position: Vec3::ZERO,
-                frame: Frame::from_z(Vec3::Z),
                 intensity: 3.0,
-                cos_total: ct,
-                cos_falloff_start: cs,
+                cone: SpotCone::new(DVec3::Z, ct.acos(), cs.acos()),
             };
-            let (ct, cs) = (ct as f64, cs as f64);
             let f = |c: f64| {
                 if cs <= ct {
                     return if c >= ct { 1.0 } else { 0.0 };
@@ -2283,21 +2294,71 @@ mod tests {
         }
     }
 
+    /// pbrt-v4's smoothstep in cos θ between cos θt and cos θs, in `f64` from the angle
+    /// (`cos` of the angle itself, not of a vector), at directions θ from the axis: for
+    /// ordinary cones, for cones of 0.01° and 0.1° and for a falloff band of 10⁻⁴° at
+    /// 60°. With the cosines in `f32` (before session 52) the 0.01° cone read 1.0 for
+    /// 0.758 at 0.007°, the 0.1° cone 0.784 for 0.758 at 0.07°, and the band at 60°
+    /// 0.0662 for 0.0586 at its middle (of a spot of intensity 1 at height 1).
     #[test]
     fn spot_falloff_follows_smoothstep() {
-        // pbrt-v4's smoothstep in cos θ between cos_total and cos_start, in f64.
-        let (ct, cs) = (0.3f32, 0.7f32);
-        for i in 0..=100 {
-            let c = -1.0 + 2.0 * i as f32 / 100.0;
-            let t = ((c as f64 - 0.3f32 as f64) / (0.7f32 as f64 - 0.3f32 as f64)).clamp(0.0, 1.0);
-            let want = t * t * (3.0 - 2.0 * t);
-            let got = spot_falloff(c, ct, cs) as f64;
-            assert!((got - want).abs() <= 1e-6, "cos {c}: {got} vs {want}");
+        let smooth = |c: f64, ct: f64, cs: f64| {
+            if cs <= ct {
+                return if c >= ct { 1.0 } else { 0.0 };
+            }
+            let t = ((c - ct) / (cs - ct)).clamp(0.0, 1.0);
+            t * t * (3.0 - 2.0 * t)
+        };
+        // The axis along a skew unit vector, directions θ from it in a skew plane.
+        let axis = DVec3::new(0.3, -0.5, 0.8).normalize();
+        let side = axis.cross(DVec3::X).normalize();
+        let at = |theta: f64| axis * theta.cos() + side * theta.sin();
+        let deg = |d: f64| d.to_radians();
+        for (total, start, thetas) in [
+            (
+                deg(40.0),
+                deg(20.0),
+                (0..=90).map(|i| deg(i as f64 * 0.5)).collect::<Vec<_>>(),
+            ),
+            (
+                deg(0.01),
+                deg(0.005),
+                (0..=24).map(|i| deg(i as f64 * 0.0005)).collect(),
+            ),
+            (
+                deg(0.1),
+                deg(0.05),
+                (0..=24).map(|i| deg(i as f64 * 0.005)).collect(),
+            ),
+            (
+                deg(60.0),
+                deg(60.0 - 1e-4),
+                (0..=20)
+                    .map(|i| deg(60.0 - 1.2e-4 + i as f64 * 1e-5))
+                    .collect(),
+            ),
+        ] {
+            let cone = SpotCone::new(axis, total, start);
+            for theta in thetas {
+                let want = smooth(theta.cos(), total.cos(), start.cos());
+                // The band of 10⁻⁴° spans 1.5·10⁻⁶ in cos θ: the angle's own `f64` rounding
+                // (~10⁻¹⁶) moves t by ~10⁻¹⁰.
+                let got = cone.falloff(at(theta) * 3.0) as f64;
+                assert!(
+                    (got - want).abs() <= 1e-6,
+                    "θt {total:e}, θ {theta:e}: {got} vs {want}"
+                );
+            }
         }
         // A hard edge where the falloff has no width.
-        assert_eq!(spot_falloff(0.5, 0.5, 0.5), 1.0);
-        assert_eq!(spot_falloff(0.49, 0.5, 0.5), 0.0);
-        assert_eq!(spot_falloff(0.6, 0.5, 0.4), 1.0);
+        let hard = SpotCone::new(DVec3::Z, deg(60.0), deg(60.0));
+        assert_eq!(hard.falloff(at_z(deg(59.99))), 1.0);
+        assert_eq!(hard.falloff(at_z(deg(60.01))), 0.0);
+        assert_eq!(hard.falloff(DVec3::Z), 1.0);
+    }
+
+    fn at_z(theta: f64) -> DVec3 {
+        DVec3::new(theta.sin(), 0.0, theta.cos())
     }
 
     #[test]

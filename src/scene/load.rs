@@ -22,14 +22,13 @@
 //! (`scale`, then `rotate` {axis, degrees}, then `translate`). Unknown fields are errors.
 
 use super::dispersion::SpectralIor;
-use super::emitter::{Emitter, EmitterKind, EmitterProps, EnvMap, area_distribution};
+use super::emitter::{Emitter, EmitterKind, EmitterProps, EnvMap, SpotCone, area_distribution};
 use super::shape::Primitive;
 use super::{Material, Scene, Shape, ShapeKind};
 use crate::bsdf::Bsdf;
 use crate::error::{
     InputError, MAX_COORDINATE, check_derived, check_direction, check_number, check_point,
 };
-use crate::math::Frame;
 use crate::spectrum::Spectrum;
 use glam::{DQuat, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -1182,10 +1181,8 @@ impl Builder<'_> {
                             &format!("{f}.position"),
                             *position,
                         )?),
-                        frame: Frame::from_z(d.as_vec3()),
                         intensity,
-                        cos_total: cone_angle.to_radians().cos() as f32,
-                        cos_falloff_start: falloff_start.to_radians().cos() as f32,
+                        cone: SpotCone::new(d, cone_angle.to_radians(), falloff_start.to_radians()),
                     },
                     p,
                 )

@@ -23,7 +23,7 @@ use crate::sampling::SampleStream;
 use crate::sampling::hemisphere::{cosine_hemisphere, uniform_hemisphere};
 use crate::sampling::sphere::uniform_sphere;
 use crate::scene::Scene;
-use crate::scene::emitter::{EmitterKind, spot_falloff};
+use crate::scene::emitter::EmitterKind;
 use crate::transport::microfacet_integral::{self, MicrofacetIntegral};
 use crate::transport::path::{Config, Prev, next_event, trace};
 use crate::transport::phase::{Dimensions, Grey, Lanes, Phase, finish};
@@ -455,14 +455,10 @@ fn power_sample(scene: &Scene, emitter: usize, s: &mut SampleStream) -> f32 {
             4.0 * PI * intensity
         }
         EmitterKind::Spot {
-            frame,
-            intensity,
-            cos_total,
-            cos_falloff_start,
-            ..
+            intensity, cone, ..
         } => {
             let w = uniform_sphere(s.next_2d());
-            4.0 * PI * intensity * spot_falloff(w.dot(frame.n), *cos_total, *cos_falloff_start)
+            4.0 * PI * intensity * cone.falloff(w.as_dvec3())
         }
         // Refused at load: power is not defined for emitters at infinity.
         EmitterKind::Directional { .. } | EmitterKind::Constant { .. } | EmitterKind::Map(_) => {
@@ -485,12 +481,8 @@ fn intensity_sample(scene: &Scene, emitter: usize, dir: Vec3, s: &mut SampleStre
         }
         EmitterKind::Point { intensity, .. } => *intensity,
         EmitterKind::Spot {
-            frame,
-            intensity,
-            cos_total,
-            cos_falloff_start,
-            ..
-        } => intensity * spot_falloff(dir.dot(frame.n), *cos_total, *cos_falloff_start),
+            intensity, cone, ..
+        } => intensity * cone.falloff(dir.as_dvec3()),
         // Refused at load: intensity is not defined for emitters at infinity.
         EmitterKind::Directional { .. } | EmitterKind::Constant { .. } | EmitterKind::Map(_) => {
             f32::NAN
