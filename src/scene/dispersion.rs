@@ -65,7 +65,14 @@ impl SpectralIor {
             }
             // A rough dielectric's index stays MIN_ETA_GAP from 1 at every wavelength.
             let gap = crate::bsdf::rough_dielectric::MIN_ETA_GAP;
-            if matches!(bsdf, Bsdf::RoughDielectric(_)) && lo < 1.0 + gap && hi > 1.0 - gap {
+            let nearest = if lo <= 1.0 && hi >= 1.0 {
+                0.0
+            } else {
+                (lo - 1.0).abs().min((hi - 1.0).abs())
+            };
+            if matches!(bsdf, Bsdf::RoughDielectric(_))
+                && !crate::bsdf::rough_dielectric::resolves(nearest.into())
+            {
                 return Err(format!(
                     "eta: the index spans [{lo}, {hi}] over [{}, {}] nm, within {gap:e} of 1 somewhere: a rough dielectric does not resolve an interface that weak (see its `eta`)",
                     band.min, band.max

@@ -54,7 +54,7 @@ fn log_range(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
 fn arb_eta() -> impl Strategy<Value = f32> {
     prop_oneof![
         3 => log_range(0.01, 100.0),
-        1 => prop::sample::select(vec![1.0f32, 1.0001, 0.9999, 1.0 + 1e-6, 1.33, 1.5, 2.4, 1.0 / 1.5]),
+        1 => prop::sample::select(vec![1.0f32, 1.0001, 0.9999, 1.001, 0.999, 1.0 + 1e-6, 1.33, 1.5, 2.4, 1.0 / 1.5]),
     ]
 }
 
@@ -336,8 +336,8 @@ fn degenerate_models(kind: &Bsdf) -> Vec<Bsdf> {
         Bsdf::RoughDielectric(_) => {
             for alpha in alphas {
                 for dist in dists {
-                    // 1.0001 and 0.9999: the least |η − 1| it accepts (MIN_ETA_GAP).
-                    for eta in [1.0001, 0.9999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
+                    // 1.001 and 0.999: the least |η − 1| it accepts (MIN_ETA_GAP).
+                    for eta in [1.001, 0.999, 1.5, 1.0 / 1.5, 100.0, 0.01] {
                         models.push(Bsdf::RoughDielectric(RoughDielectric {
                             alpha,
                             eta,
