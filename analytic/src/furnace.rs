@@ -189,5 +189,4 @@ mod tests {
         let q = irradiance(d, eta);
         assert!((q - e).abs() < 1e-8 * e, "{q} vs {e}");
     }
-
 }
