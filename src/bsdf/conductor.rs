@@ -82,10 +82,12 @@ impl BsdfModel for Conductor {
     }
 }
 
-/// Reflects only; never black. F > 0 for every index the model accepts but the matched
-/// one, η = 1 and k = 0, where the true F is 0 and the `f32` formula leaves rounding (about
-/// 4·10⁻⁸, and 1 within 0.006° of grazing, where 1 − cos² rounds to 1); not black there
-/// either, which costs the pruning some work and no expected value.
+/// Reflects only; never called black. F > 0 for every index the model accepts but the
+/// matched one, η = 1 and k = 0, where [`fr_conductor`] gives F = 0 exactly at every angle
+/// (`fresnel::tests::conductor_reflects_nothing_at_the_matched_index`); not called black
+/// there either: dispersion may move the index away from 1 at other wavelengths, and a
+/// black claim would let the effects analysis prune light that scatters (this costs the
+/// pruning some work and no expected value).
 impl ModelFacts for Conductor {
     fn eta_inside(&self) -> f32 {
         1.0

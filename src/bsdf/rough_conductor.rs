@@ -233,9 +233,9 @@ impl BsdfModel for RoughConductor {
     }
 }
 
-/// Reflects only; never black (F > 0, but at the matched index η = 1, k = 0 only by
-/// `f32` rounding, as for [`super::Conductor`]); with `fresnel: none` it has no index to
-/// vary.
+/// Reflects only; never called black (F > 0, but F = 0 exactly at the matched index
+/// η = 1, k = 0, which is not called black for the reason given at
+/// [`super::Conductor`]); with `fresnel: none` it has no index to vary.
 impl ModelFacts for RoughConductor {
     fn eta_inside(&self) -> f32 {
         1.0
