@@ -465,7 +465,10 @@ mod tests {
         let rs = div(d, mul(s, s));
         let n2 = mul(n, n);
         let p = mul(n, add(mul(n, ci), cos_t));
-        let rp = div(mul(d, add(mul(add(n2, (1.0, 0.0)), c2), (-1.0, 0.0))), mul(p, p));
+        let rp = div(
+            mul(d, add(mul(add(n2, (1.0, 0.0)), c2), (-1.0, 0.0))),
+            mul(p, p),
+        );
         0.5 * (norm2(rs) + norm2(rp))
     }
 
@@ -551,9 +554,29 @@ mod tests {
     /// (η = 1 with k down to 10⁻³⁰, subnormal and zero cosines) and for NaN arguments.
     #[test]
     fn conductor_is_bounded() {
-        for eta in [1e-3f32, 0.5, 0.9999999, 1.0, 1.0000001, 1.5, 100.0, f32::NAN] {
+        for eta in [
+            1e-3f32,
+            0.5,
+            0.9999999,
+            1.0,
+            1.0000001,
+            1.5,
+            100.0,
+            f32::NAN,
+        ] {
             for k in [0.0f32, 1e-30, 1e-19, 1e-10, 1e-4, 1.0, 100.0, f32::NAN] {
-                for c in [0.0f32, 1e-45, 1e-30, 1e-20, 1e-10, 1e-5, 0.5, 0.9999999, 1.0, f32::NAN] {
+                for c in [
+                    0.0f32,
+                    1e-45,
+                    1e-30,
+                    1e-20,
+                    1e-10,
+                    1e-5,
+                    0.5,
+                    0.9999999,
+                    1.0,
+                    f32::NAN,
+                ] {
                     let f = fr_conductor(c, eta, k);
                     assert!((0.0..=1.0).contains(&f), "F({c:e}, {eta} + {k}i) = {f}");
                 }
