@@ -1076,8 +1076,8 @@ impl Builder<'_> {
         let mut props = EmitterProps::default();
         let mut scale = 1.0;
         if let Some(s) = spectrum {
-            s.validate()
-                .map_err(|r| InputError::new(file, format!("{f}.spectrum"), r))?;
+            s.validate_at()
+                .map_err(|(at, r)| InputError::new(file, format!("{f}.spectrum{at}"), r))?;
             match s {
                 Spectrum::Constant(c) => scale = *c as f64,
                 s => props.spectrum = Some(s.clone()),

@@ -96,6 +96,31 @@ impl Spectrum {
     /// increasing wavelengths and finite non-negative values; a blackbody needs a
     /// positive finite temperature and a finite non-negative scale.
     pub fn validate(&self) -> Result<(), String> {
+        self.validate_at().map_err(|(_, r)| r)
+    }
+
+    /// [`Spectrum::validate`], with the path inside the spectrum's JSON that a reason
+    /// points at: `.sampled.wavelengths` or `.sampled.values` for a table's list, else
+    /// `""` (the spectrum as a whole).
+    pub fn validate_at(&self) -> Result<(), (&'static str, String)> {
+        match self {
+            Spectrum::Sampled {
+                wavelengths,
+                values,
+            } => table::validate_at(wavelengths, values, false).map_err(|(at, r)| {
+                let at = match at {
+                    "wavelengths" => ".sampled.wavelengths",
+                    "values" => ".sampled.values",
+                    _ => ".sampled",
+                };
+                (at, r)
+            }),
+            s => s.validate_params().map_err(|r| ("", r)),
+        }
+    }
+
+    /// The checks of a constant and of a blackbody (a table's are in `table`).
+    fn validate_params(&self) -> Result<(), String> {
         match self {
             Spectrum::Constant(c) => {
                 if c.is_finite() && *c >= 0.0 {
@@ -104,10 +129,7 @@ impl Spectrum {
                     Err(format!("must be a non-negative finite number, got {c}"))
                 }
             }
-            Spectrum::Sampled {
-                wavelengths,
-                values,
-            } => table::validate(wavelengths, values, false),
+            Spectrum::Sampled { .. } => Ok(()),
             Spectrum::Blackbody { temperature, scale } => {
                 if !(temperature.is_finite() && *temperature > 0.0) {
                     return Err(format!(

@@ -5,6 +5,7 @@
 //! Every function here tolerates malformed tables (unequal lengths, unsorted or NaN
 //! wavelengths) without panicking; `validate` is what rejects them.
 
+use crate::case::build::MIN_RELATIVE_BANDWIDTH;
 use serde::{Deserialize, Serialize};
 
 /// What a table is worth outside [λ₀, λₙ₋₁].
@@ -96,40 +97,64 @@ pub(crate) fn max_in(w: &[f32], v: &[f32], a: f32, b: f32) -> f32 {
 /// At least two entries, equal lengths, positive finite strictly increasing
 /// wavelengths, finite values that are non-negative (or positive with `positive`).
 pub(crate) fn validate(w: &[f32], v: &[f32], positive: bool) -> Result<(), String> {
+    validate_at(w, v, positive).map_err(|(_, r)| r)
+}
+
+/// [`validate`], with the list a reason points at (`"wavelengths"`, `"values"`, or `""`
+/// for the table as a whole). Each piece [λᵢ₋₁, λᵢ] is at least
+/// [`MIN_RELATIVE_BANDWIDTH`]·λᵢ wide, as a band is: f32 wavelengths (a step of
+/// 2⁻²³·λ to 2⁻²⁴·λ) resolve it into ~10³ values, so its rounded ends move its width by
+/// at most 0.12 %. A spike [499.9995, 500, 500.0005] nm of peak 10⁶ integrated to 488.6
+/// (the rounded table's 488.28) for 500, and one ten times narrower to 53.3 for 50.
+pub(crate) fn validate_at(
+    w: &[f32],
+    v: &[f32],
+    positive: bool,
+) -> Result<(), (&'static str, String)> {
+    let whole = |r: String| ("", r);
+    let wl = |r: String| ("wavelengths", r);
     if w.len() != v.len() {
-        return Err(format!(
+        return Err(whole(format!(
             "wavelengths and values must have the same length, got {} and {}",
             w.len(),
             v.len()
-        ));
+        )));
     }
     if w.len() < 2 {
-        return Err(format!(
+        return Err(whole(format!(
             "a table needs at least 2 wavelengths, got {}",
             w.len()
-        ));
+        )));
     }
     for (i, &l) in w.iter().enumerate() {
         if !(l.is_finite() && l > 0.0) {
-            return Err(format!(
+            return Err(wl(format!(
                 "wavelengths[{i}] must be a positive finite wavelength in nm, got {l}"
-            ));
+            )));
         }
         if i > 0 && !(l > w[i - 1]) {
-            return Err(format!(
+            return Err(wl(format!(
                 "wavelengths must increase strictly: wavelengths[{i}] = {l} does not exceed wavelengths[{}] = {}",
                 i - 1,
                 w[i - 1]
-            ));
+            )));
+        }
+        if i > 0 && !(l as f64 - w[i - 1] as f64 >= MIN_RELATIVE_BANDWIDTH * l as f64) {
+            return Err(wl(format!(
+                "the piece [wavelengths[{}], wavelengths[{i}]] = [{}, {l}] nm is too narrow for f32 wavelengths: λᵢ − λᵢ₋₁ must be at least {MIN_RELATIVE_BANDWIDTH}·λᵢ ({:.3e} nm here), as for a band",
+                i - 1,
+                w[i - 1],
+                MIN_RELATIVE_BANDWIDTH * l as f64
+            )));
         }
     }
     for (i, &x) in v.iter().enumerate() {
         let ok = x.is_finite() && if positive { x > 0.0 } else { x >= 0.0 };
         if !ok {
-            return Err(format!(
+            return Err(("values", format!(
                 "values[{i}] must be {} and finite, got {x}",
                 if positive { "positive" } else { "non-negative" }
-            ));
+            )));
         }
     }
     Ok(())
@@ -214,5 +239,26 @@ mod tests {
                 .unwrap_err()
                 .contains("wavelengths[0]")
         );
+    }
+
+    /// A piece narrower than 10⁻⁴·λ is refused, as a band is, pointing at `wavelengths`:
+    /// the audit's spikes [499.9995, 500, 500.0005] (integrated to 488.6 for 500) and ten
+    /// times narrower (53.3 for 50); 0.06 nm at 500 nm passes, 0.049 does not.
+    #[test]
+    fn pieces_narrower_than_the_band_rule_are_refused() {
+        for w in [[499.9995f32, 500.0, 500.0005], [499.99995, 500.0, 500.00005]] {
+            let (at, e) = validate_at(&w, &[0.0, 1e6, 0.0], false).unwrap_err();
+            assert_eq!(at, "wavelengths", "{e}");
+            assert!(e.contains("too narrow for f32 wavelengths"), "{e}");
+            assert!(e.contains("[wavelengths[0], wavelengths[1]]"), "{e}");
+        }
+        assert!(validate(&[499.94, 500.0, 500.06], &[0.0, 1.0, 0.0], false).is_ok());
+        let e = validate(&[400.0, 499.951, 500.0], &[0.0, 1.0, 0.0], true).unwrap_err();
+        assert!(e.contains("[wavelengths[1], wavelengths[2]]"), "{e}");
+        // At 10⁷ nm the rule asks for 1000 nm.
+        assert!(validate(&[9.9995e6, 1e7], &[1.0, 1.0], false).is_err());
+        assert!(validate(&[9.999e6, 1e7], &[1.0, 1.0], false).is_ok());
+        assert_eq!(validate_at(&W, &V, true).unwrap_err().0, "values");
+        assert_eq!(validate_at(&W, &V[..3], false).unwrap_err().0, "");
     }
 }

@@ -468,17 +468,34 @@ case("spectrum_times_band_overflows", "wrong", SPECTRAL, [("spectral.band", [400
 # over 100 nm gave non-finite samples (exit 1) past a bound that assumed a uniform draw.
 # Each cell now takes the spectrum's exact maximum over it: 3e36 runs, finite; 3e37 is
 # refused by the bound, which allows the table's least density, 0.9 of the target's.
-SPIKE = {"sampled": {"wavelengths": [400, 400.5, 401, 401.5, 450.01, 450.02, 450.03],
-                     "values": [0, 1e30, 1e30, 0, 0, 3e36, 0]}}
-for name, sampling, peak, outcome in [("spectrum_spike_emitter_sampling", "emitter", 3e36, "valid"),
-                                      ("spectrum_spike_uniform_sampling", "uniform", 3e36, "valid"),
-                                      ("spectrum_spike_emitter_sampling_overflows", "emitter", 3e37, 2)]:
+# The spike was 0.02 nm wide over [400, 500] nm; table pieces now obey the band rule
+# (at least 1e-4·λ), so it is 0.1 nm wide over [400, 800] nm (cells 0.39 nm, looked at
+# 0.195 nm apart: still between the points), its peak a quarter of the old one.
+SPIKE = {"sampled": {"wavelengths": [400, 400.5, 401, 401.5, 450.05, 450.1, 450.15],
+                     "values": [0, 1e30, 1e30, 0, 0, 7.5e35, 0]}}
+for name, sampling, peak, outcome in [("spectrum_spike_emitter_sampling", "emitter", 7.5e35, "valid"),
+                                      ("spectrum_spike_uniform_sampling", "uniform", 7.5e35, "valid"),
+                                      ("spectrum_spike_emitter_sampling_overflows", "emitter", 7.5e36, 2)]:
     spike = copy.deepcopy(SPIKE)
     spike["sampled"]["values"][5] = peak
     case(name, "wrong", SPECTRAL,
-         [("spectral", {"band": [400, 500], "sampling": sampling, "hero": False}),
+         [("spectral", {"band": [400, 800], "sampling": sampling, "hero": False}),
           ("scene.shapes.0.emission.spectrum", spike)],
          outcome, "spectral" if outcome == 2 else None, "emitter` sampling over n emitters" if outcome == 2 else None)
+# A table's piece narrower than f32 wavelengths resolve: a spike [499.9995, 500, 500.0005]
+# of peak 1e6 integrated to 488.6 (the f32 table's 488.28) for 500. Each piece is now at
+# least 1e-4·λ wide, as a band is; 0.06 nm at 500 nm runs.
+for name, w, outcome in [("spectrum_piece_too_narrow", [499.9995, 500, 500.0005], 2),
+                         ("spectrum_piece_narrower_still", [499.99995, 500, 500.00005], 2),
+                         ("spectrum_piece_at_the_band_rule", [499.94, 500, 500.06], "valid")]:
+    case(name, "wrong", SPECTRAL,
+         [("spectral", {"band": [400, 600], "sampling": "emitter"}),
+          ("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": w, "values": [0, 1e6, 0]}})],
+         outcome, "scene.shapes[0].emission.spectrum.sampled.wavelengths" if outcome == 2 else None,
+         "too narrow for f32 wavelengths" if outcome == 2 else None)
+case("response_piece_too_narrow", "wrong", SPECTRAL,
+     [("spectral.response", {"sampled": {"wavelengths": [380, 550, 550.01, 780], "values": [1, 1, 2, 2]}})],
+     2, "spectral.response.sampled.wavelengths", "too narrow for f32 wavelengths")
 # A rough dielectric with η at or near 1: every sample was lost at η = 1 (a delta
 # transmission) and, within 1e-5, albedos read up to 33% low or 0. Refused, naming `eta`.
 for name, eta in [("rough_dielectric_eta_1", 1), ("rough_dielectric_eta_near_1", 1.00001)]:

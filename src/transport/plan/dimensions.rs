@@ -133,8 +133,8 @@ fn wavelength(
         ));
     }
     if let Response::Sampled(s) = &sd.response {
-        s.validate()
-            .map_err(|r| err("spectral.response", r.to_string()))?;
+        s.validate_at()
+            .map_err(|(at, r)| err(&format!("spectral.response{at}"), r))?;
     }
     let varies = spectral_scene.then(|| varies.join(" and "));
     check_sample_scale(f, scene, sd)?;
