@@ -1036,6 +1036,43 @@ mod tests {
         }
     }
 
+    /// A pulse's arrivals are binned by the f32 path length ℓ (a step of 2⁻²³·ℓ, 0.4 fs
+    /// of light at 1 m): a bin narrower than 10⁻⁴ of the time since the pulse is refused
+    /// naming `time.bin` (`time.bins` for a histogram). The audit's 10 fs bins after the
+    /// first arrival at 1 m read z = +9 … +13 and −9; 10⁻⁴·3.34 ns = 0.33 ps passes.
+    #[test]
+    fn a_time_bin_too_narrow_for_f32_path_lengths_is_refused() {
+        let h = 1.0 / crate::spectrum::SPEED_OF_LIGHT;
+        let pulsed = |time: serde_json::Value, pulse_at: f64| {
+            let mut d = two_disks(
+                json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+                json!([]),
+            );
+            let mut v = serde_json::to_value(&d.scene).unwrap();
+            v["shapes"][0]["emission"]["pulse_at"] = json!(pulse_at);
+            d.scene = serde_json::from_value(v).unwrap();
+            d.time = Some(serde_json::from_value(time).unwrap());
+            crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
+        };
+        let err = pulsed(json!({"bin": [h, h + 1e-14]}), 0.0).err().unwrap();
+        assert_eq!(err.field, "time.bin", "{err}");
+        assert!(err.reason.contains("too narrow for f32 path lengths"), "{err}");
+        let edges: Vec<f64> = (0..4).map(|k| h + k as f64 * 1e-14).collect();
+        let err = pulsed(json!({ "bins": edges }), 0.0).err().unwrap();
+        assert_eq!(err.field, "time.bins", "{err}");
+        assert!(pulsed(json!({"bin": [h, h + 3.4e-13]}), 0.0).is_ok());
+        // Measured from the pulse: the same bin 10⁶ s after t = 0 passes for a pulse at
+        // 10⁶ s, and is refused for one at 0 (a path 10⁶ light-seconds long).
+        let far = [1e6 + h, 1e6 + h + 1e-9];
+        assert!(pulsed(json!({ "bin": far }), 1e6).is_ok());
+        assert_eq!(pulsed(json!({ "bin": far }), 0.0).err().unwrap().field, "time.bin");
+        // A pulse after the bin sends nothing into it, and a steady emitter none of ℓ.
+        assert!(pulsed(json!({"bin": [h, h + 1e-14]}), 1.0).is_ok());
+        let mut d = two_disks(json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}), json!([]));
+        d.time = Some(serde_json::from_value(json!({"bin": [h, h + 1e-14]})).unwrap());
+        assert!(crate::case::Case::from_desc(d, std::path::Path::new("c.json")).is_ok());
+    }
+
     /// The measurement as the case builds it (origin, scene, then the measure step).
     fn built(d: &CaseDesc) -> Result<Measure, InputError> {
         let origin = origin("c.json", d)?;

@@ -367,7 +367,10 @@ for name, outcome, contains in [
     case(name, "crash" if name == "obj_mtllib_dev_zero" else "unclear", SHAPES,
          [("scene.shapes.3.geometry", {"type": "obj", "path": "../assets/%s.obj" % name})], outcome,
          "scene.shapes[3].geometry.path" if outcome == 2 else None, contains)
-sweep("pulse_at", PULSE, "scene.shapes.0.emission.pulse_at", "scene.shapes[0].emission.pulse_at", SIGNED)
+# A pulse at -1 s puts the bin 1 s after it, where its 0.67 ns is too narrow for f32 path
+# lengths (1e-4 of the time since the pulse): refused naming `time.bin`.
+sweep("pulse_at", PULSE, "scene.shapes.0.emission.pulse_at", "scene.shapes[0].emission.pulse_at",
+      outcomes(2, zero="valid"), fields={"m1": "time.bin"}, contains={"m1": "too narrow for f32 path lengths"})
 case("material_unknown", "baseline", SHAPES, [("scene.shapes.0.material", "nope")], 2, "scene.shapes[0].material")
 
 # ---------------------------------------------------------------- scene.emitters
@@ -519,6 +522,15 @@ case("shutter_length_overflow", "f32", MOVING, [("time.shutter", [-3e38, 3e38]),
 case("pulse_while_moving", "wrong", MOVING, [("scene.emitters.0.pulse_at", 0)], 2, "time.shutter",
      "a pulse and motion together")
 sweep("bin", PULSE, "time.bin", "time.bin", SIGNED, vec=(0, PULSE["time"]["bin"]))
+# Arrivals are binned by the f32 path length ℓ (a step of 2^-23·ℓ, 0.4 fs at 1 m): 10 fs
+# bins after the first arrival at 1 m read z = +9..+13 and -9. A bin is now at least 1e-4
+# of the time since the pulse; 0.34 ps bins there run.
+H = 3.3356409519815204e-09
+case("bins_10fs_at_1m", "wrong", PULSE, [("time.bin", DELETE), ("scene.shapes.0.geometry.radius", 0.006928244799370184),
+     ("time.bins", [H + k * 1.0006922885856e-14 for k in range(9)])], 2, "time.bins", "too narrow for f32 path lengths")
+case("bin_10fs_at_1m", "wrong", PULSE, [("time.bin", [H, H + 1e-14])], 2, "time.bin", "too narrow for f32 path lengths")
+case("bins_at_the_f32_length_rule", "wrong", PULSE, [("time.bin", DELETE), ("scene.shapes.0.geometry.radius", 0.05),
+     ("time.bins", [H + k * 3.4e-13 for k in range(9)])], "valid")
 sweep("bins", PULSE, "time.bins", "time.bins", SIGNED, vec=(0, [0, 4e-9, 5e-9]), edits=[("time.bin", DELETE)])
 
 # ---------------------------------------------------------------- measure

@@ -403,6 +403,10 @@ fn band(
     }
 }
 
+/// Narrowest time bin, relative to the time since a pulse: (t₂ − t₁) ≥ 10⁻⁴·(t₂ − t₀),
+/// so that `f32` path lengths resolve it into ~10³ steps or more (the band rule's bound).
+pub const MIN_RELATIVE_BIN: f64 = crate::case::build::MIN_RELATIVE_BANDWIDTH;
+
 fn time_dims(
     f: &str,
     scene: &Scene,
@@ -457,6 +461,25 @@ fn time_dims(
                 f32::MAX
             ),
         ));
+    }
+    // A pulse's arrivals are binned by the path length ℓ, an f32 (`phase.rs`): it steps by
+    // up to 2⁻²³·ℓ (0.4 fs of light at 1 m), so a bin narrower than 10⁻⁴ of the time
+    // since the pulse, t₂ − t₀ (1.2·10³ such steps), is refused, as a band is: 10 fs bins
+    // at 1 m read z = +13 and −9 (paths one step over an edge counted in the next bin).
+    if let Some((a, b)) = bin {
+        for (i, t0) in scene.emitters.iter().enumerate().filter_map(|(i, e)| Some((i, e.props.pulse?))) {
+            let since = b - t0;
+            if since > 0.0 && !(b - a >= MIN_RELATIVE_BIN * since) {
+                return Err(InputError::new(
+                    f,
+                    "time.bin",
+                    format!(
+                        "[{a:e}, {b:e}] s is too narrow for f32 path lengths after emitter {i}'s pulse at {t0:e} s: t₂ − t₁ must be at least {MIN_RELATIVE_BIN}·(t₂ − t₀) ({:.3e} s here)",
+                        MIN_RELATIVE_BIN * since
+                    ),
+                ));
+            }
+        }
     }
     if bin.is_some() {
         if measure.origin().is_none()
