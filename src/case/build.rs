@@ -537,6 +537,18 @@ pub fn check_samples(f: &str, desc: &CaseDesc) -> Result<(), InputError> {
     Ok(())
 }
 
+/// The wavelengths a case measures (nm), after [`check_spectral_and_time`]: its
+/// `spectral.band`, [λ, λ + 1] for one `spectral.wavelength` (as that check reads it),
+/// else the visible range. A dispersive index is checked over this band only.
+pub fn measured_band(desc: &CaseDesc) -> crate::spectrum::Band {
+    use crate::spectrum::Band;
+    match desc.spectral.as_ref().map(|s| (s.band, s.wavelength)) {
+        Some((Some([a, b]), None)) => Band::new(a as f32, b as f32),
+        Some((None, Some(l))) => Band::new(l as f32, l as f32 + 1.0),
+        _ => crate::spectrum::VISIBLE,
+    }
+}
+
 /// The `spectral` and `time` sections as `f32` sees them: wavelengths in
 /// (0, [`MAX_WAVELENGTH_NM`]], a band at least [`MIN_RELATIVE_BANDWIDTH`] wide, every
 /// dispersive index valid over the band actually measured (a Sellmeier pole inside it is
@@ -1453,5 +1465,40 @@ mod tests {
         let e = at(499.5).unwrap_err();
         assert_eq!(e.field, "scene.dispersion.glass");
         assert!(e.reason.contains("pole"), "{e}");
+    }
+
+    /// A Sellmeier pole is checked against the wavelengths the case measures, through
+    /// the whole build (the scene's own check once used [360, 830] nm whatever the
+    /// case's band: a pole at 600 nm refused [400, 500] nm and λ = 500 nm). A pole inside
+    /// the measured band is still refused, naming the dispersion entry.
+    #[test]
+    fn a_sellmeier_pole_is_checked_over_the_band_measured() {
+        let case = |spectral: serde_json::Value| {
+            let d = desc(json!({
+                "scene": {
+                    "materials": {"glass": {"type": "dielectric", "eta": 1.5}},
+                    "dispersion": {"glass": {"eta": {"sellmeier": {
+                        "b": [0.1, 0.0, 0.0], "c": [0.36, 0.0, 0.0]}}}},
+                    "shapes": [
+                        {"geometry": {"type": "disk", "center": [0, 0, 1], "normal": [0, 0, -1],
+                                      "radius": 1}, "emission": {"radiance": 1}},
+                        {"geometry": {"type": "disk", "center": [0, 0, 3], "normal": [0, 0, -1],
+                                      "radius": 1}, "material": "glass"}
+                    ]
+                },
+                "measure": {"radiance": {"at": [0, 0, 0], "direction": [0, 0, 1]}},
+                "estimators": ["mis"],
+                "spectral": spectral
+            }));
+            crate::case::Case::from_desc(d, std::path::Path::new("c.json"))
+        };
+        assert!(case(json!({"band": [400, 500]})).is_ok());
+        assert!(case(json!({"wavelength": 500})).is_ok());
+        assert!(case(json!({"band": [650, 800]})).is_ok());
+        for spectral in [json!({"band": [500, 700]}), json!({"wavelength": 599.5}), json!({"band": [360, 830]})] {
+            let e = case(spectral.clone()).err().unwrap();
+            assert_eq!(e.field, "scene.dispersion.glass", "{spectral}: {e}");
+            assert!(e.reason.contains("pole"), "{spectral}: {e}");
+        }
     }
 }

@@ -151,8 +151,14 @@ impl Case {
             None => {
                 let base = crate::scene::load::folder_of(path);
                 Arc::new(
-                    desc.scene
-                        .build(f, "scene", base, origin, build::epoch(&desc))?,
+                    desc.scene.build_over(
+                        f,
+                        "scene",
+                        base,
+                        origin,
+                        build::epoch(&desc),
+                        build::measured_band(&desc),
+                    )?,
                 )
             }
         };

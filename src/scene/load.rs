@@ -502,6 +502,22 @@ impl SceneDesc {
         origin: DVec3,
         epoch: f64,
     ) -> Result<Scene, InputError> {
+        self.build_over(file, field, base, origin, epoch, crate::spectrum::VISIBLE)
+    }
+
+    /// [`SceneDesc::build`] with every dispersive index checked over `band` (nm), the
+    /// wavelengths the scene is measured at: a case's `spectral` band (or its one
+    /// wavelength), the visible range for an image. A Sellmeier pole at 600 nm was once
+    /// refused as inside [360, 830] nm when the case measured [400, 500] nm.
+    pub fn build_over(
+        &self,
+        file: &str,
+        field: &str,
+        base: &Path,
+        origin: DVec3,
+        epoch: f64,
+        band: crate::spectrum::Band,
+    ) -> Result<Scene, InputError> {
         let b = Builder {
             file,
             base: base.to_path_buf(),
@@ -531,7 +547,7 @@ impl SceneDesc {
                 )
             })?;
             let material = &mut materials[m];
-            d.validate(&material.bsdf, crate::spectrum::VISIBLE)
+            d.validate(&material.bsdf, band)
                 .map_err(|r| InputError::new(file, &f, r))?;
             if d.is_dispersive() {
                 material.ior = Some(d.clone());

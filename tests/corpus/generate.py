@@ -447,6 +447,13 @@ sweep("cauchy_c", BK7, "scene.dispersion.glass.eta.cauchy.c", SD, NONNEG, edits=
 case("sellmeier_pole_in_band", "wrong", BK7, [("spectral.band", [400, 20000])], 2, "scene.dispersion.glass", "pole")
 case("sellmeier_wavelength_at_pole", "wrong", BK7, [("spectral", {"wavelength": 10176.5})], 2,
      "scene.dispersion.glass", "pole")
+# The scene's own check used [360, 830] nm whatever the case measured: a pole at 600 nm
+# refused [400, 500] nm and λ = 500 nm. Checked over the measured band; inside it, refused.
+POLE600 = [("scene.dispersion.glass.eta", {"sellmeier": {"b": [0.1, 0, 0], "c": [0.36, 0, 0]}})]
+case("sellmeier_pole_beyond_band", "wrong", BK7, POLE600 + [("spectral.band", [400, 500])], "valid")
+case("sellmeier_pole_beyond_wavelength", "wrong", BK7, POLE600 + [("spectral", {"wavelength": 500})], "valid")
+case("sellmeier_pole_600_in_band", "wrong", BK7, POLE600 + [("spectral.band", [500, 700])], 2,
+     "scene.dispersion.glass", "pole")
 case("conductor_k_via_dispersion", "wrong", METAL, [("scene.dispersion.metal.k", 1000)], 2, "scene.dispersion.metal", "100")
 sweep("conductor_k_via_dispersion", METAL, "scene.dispersion.metal.k", "scene.dispersion.metal", NONNEG)
 case("conductor_k_via_dispersion_ok", "baseline", METAL, [], "valid")
