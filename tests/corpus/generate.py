@@ -417,6 +417,21 @@ sweep("spectrum_constant", DISK, "scene.shapes.0.emission.spectrum", ES, NONNEG)
 sweep("blackbody_temperature", SPECTRAL, "scene.shapes.0.emission.spectrum.blackbody.temperature", ES, ALL2)
 sweep("blackbody_scale", SPECTRAL, "scene.shapes.0.emission.spectrum.blackbody.scale", ES, NONNEG,
       edits=[("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 3000, "scale": 1}})])
+# A blackbody too faint for f32 (S(λ) is rounded to f32 before anything multiplies it):
+# 300 K photons over [380, 400] nm read -50%, 150 K over the visible band 0 for 1.05e-47
+# (1.05e-17 at a radiance of 1e30). Refused naming `spectral` below a mean of 2^24 times
+# f32's smallest normal number; the blackbody's `scale` brings it back.
+FAINT = "too faint for f32"
+case("blackbody_300K_photons_380_400", "wrong", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum.blackbody.temperature", 300),
+      ("spectral", {"band": [380, 400], "sampling": "emitter", "photons": True})], 2, "spectral", FAINT)
+case("blackbody_150K_visible", "wrong", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum.blackbody.temperature", 150)], 2, "spectral", FAINT)
+case("blackbody_150K_visible_radiance_1e30", "wrong", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum.blackbody.temperature", 150),
+      ("scene.shapes.0.emission.radiance", 1e30)], 2, "spectral", FAINT)
+case("blackbody_150K_visible_scaled", "wrong", SPECTRAL,
+     [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 150, "scale": 1e30}})], "valid")
 case("blackbody_scale_1e37", "f32", SPECTRAL, [("scene.shapes.0.emission.spectrum", {"blackbody": {"temperature": 3000, "scale": 1e37}})],
      2, "scene.shapes[0].emission")
 SAMPLED = [("scene.shapes.0.emission.spectrum", {"sampled": {"wavelengths": [380, 780], "values": [1, 1]}})]

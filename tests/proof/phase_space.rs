@@ -387,7 +387,7 @@ fn time_of_flight_bins() {
     assert_eq!(late.batches.total.mean, near.batches.total.mean);
 }
 
-/// Hard spectral inputs: η → 1 (the slab vanishes), a 1 K and a 1e6 K blackbody, a band
+/// Hard spectral inputs: η → 1 (the slab vanishes), a 300 K and a 1e6 K blackbody, a band
 /// 0.06 nm wide. Nothing non-finite, nothing negative: every single sample is checked
 /// (through the case's own integrand, wrapped), not only the mean.
 #[test]
@@ -415,8 +415,15 @@ fn hard_spectral_inputs_stay_finite() {
         bad == 0 && min >= 0.0,
         "η → 1 slab: minimum sample {min}, {bad} non-finite"
     );
+    // A 1 K blackbody is 0 over [400, 700] nm even in f64: too faint for f32, refused
+    // naming `spectral` (`dimensions::check_blackbody_range`); 300 K over the visible
+    // band (a mean of 2.7·10⁻²³) runs.
+    let e = try_case(&blackbody_case_json(1.0, r#"{ "band": [400, 700] }"#))
+        .err()
+        .unwrap_or_default();
+    assert!(e.contains("spectral: ") && e.contains("too faint"), "{e}");
     for (t, band) in [
-        (1.0, "[400, 700]"),
+        (300.0, "[380, 780]"),
         (1e6, "[10, 1000]"),
         (5000.0, "[550, 550.06]"),
     ] {

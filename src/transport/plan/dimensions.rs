@@ -138,6 +138,7 @@ fn wavelength(
     }
     let varies = spectral_scene.then(|| varies.join(" and "));
     check_sample_scale(f, scene, sd)?;
+    check_blackbody_range(f, scene, sd)?;
     match (sd.band, sd.wavelength) {
         (Some(_), Some(_)) | (None, None) => Err(err(
             "spectral",
@@ -218,6 +219,60 @@ fn check_sample_scale(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), I
         )
     };
     crate::error::check_derived(f, field, weight * peak.max(1.0), what)
+}
+
+/// Smallest mean of a blackbody's s·B_λ over the band (and of strength × it):
+/// 2²⁴·f32::MIN_POSITIVE ≈ 2·10⁻³¹. S(λ) is rounded to `f32` before the strength and
+/// the sample's weight multiply it; where it falls below f32's normal range (1.2·10⁻³⁸)
+/// it loses precision or vanishes, and that part of the band holds at most
+/// width × 1.2·10⁻³⁸ of the integral: at most 2⁻²⁴ of it above this mean.
+pub const MIN_BLACKBODY_MEAN: f64 = 16_777_216.0 * f32::MIN_POSITIVE as f64;
+
+/// A blackbody (of positive scale) whose values over the band, or times its emitter's
+/// strength, fall below f32's normal range is refused naming `spectral`: 300 K counted in
+/// photons over [380, 400] nm read 3.356·10⁻²⁷ for 6.732·10⁻²⁷ (its B_λ ~10⁻⁴⁶, subnormal),
+/// and 150 K over the visible band read exactly 0 for 1.05·10⁻⁴⁷ (below even f32's
+/// subnormals), with a radiance of 10³⁰ still 0 for 1.05·10⁻¹⁷. Refused rather than
+/// evaluated in `f64`: the spectrum is an `f32` factor of every sample (phase.rs), and the
+/// blackbody's `scale` (in `f64` with Planck's law) brings it into range.
+fn check_blackbody_range(f: &str, scene: &Scene, sd: &SpectralDesc) -> Result<(), InputError> {
+    let band = match (sd.band, sd.wavelength) {
+        (Some([a, b]), None) => Band::new(a as f32, b as f32),
+        (None, Some(l)) => Band::new(l as f32, l as f32),
+        _ => return Ok(()),
+    };
+    for (i, e) in scene.emitters.iter().enumerate() {
+        let Some(s @ crate::spectrum::Spectrum::Blackbody { scale, .. }) = &e.props.spectrum else {
+            continue;
+        };
+        if !(*scale > 0.0) {
+            continue;
+        }
+        let mean = if band.max > band.min {
+            s.integral(band) / (band.max as f64 - band.min as f64)
+        } else {
+            s.eval(band.min) as f64
+        };
+        let strength = e.kind.peak_strength() as f64;
+        let low = if mean < MIN_BLACKBODY_MEAN {
+            Some(("its spectrum", mean))
+        } else if strength > 0.0 && strength * mean < MIN_BLACKBODY_MEAN {
+            Some(("its strength × spectrum", strength * mean))
+        } else {
+            None
+        };
+        if let Some((what, v)) = low {
+            return Err(InputError::new(
+                f,
+                "spectral",
+                format!(
+                    "emitter {i}'s blackbody is too faint for f32 over [{}, {}] nm: {what} averages {v:.3e}, below {MIN_BLACKBODY_MEAN:.1e} (2²⁴ × f32's smallest normal number), where f32 loses it; raise its `scale` (and divide the result)",
+                    band.min, band.max
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// 1, or 1/(hc/λ) when counting photons.
@@ -618,6 +673,41 @@ mod tests {
 
     fn spectral(v: serde_json::Value) -> SpectralDesc {
         serde_json::from_value(v).unwrap()
+    }
+
+    /// A blackbody whose values over the band fall below f32's normal range is refused
+    /// naming `spectral` (the audit's 300 K photons over [380, 400] nm read −50%, 150 K
+    /// over the visible band 0 for 1.05·10⁻⁴⁷ even at a radiance of 10³⁰); its `scale`
+    /// brings it back, and 300 K over the visible band (mean 2.7·10⁻²³) runs.
+    #[test]
+    fn a_blackbody_too_faint_for_f32_is_refused() {
+        let bb = |t: f64, scale: f64, radiance: f64| {
+            scene(json!({ "type": "point", "position": [0, 0, 1], "intensity": radiance,
+                          "spectrum": { "blackbody": { "temperature": t, "scale": scale } } }))
+        };
+        let check = |s: &Scene, v: serde_json::Value| check_blackbody_range("c.json", s, &spectral(v));
+        for (t, band, radiance) in [
+            (300.0, [380.0, 400.0], 1.0),
+            (160.0, [380.0, 780.0], 1.0),
+            (150.0, [380.0, 780.0], 1.0),
+            (150.0, [380.0, 780.0], 1e30),
+        ] {
+            for photons in [false, true] {
+                let e = check(&bb(t, 1.0, radiance), json!({ "band": band, "photons": photons }))
+                    .unwrap_err();
+                assert_eq!(e.field, "spectral", "{t} K: {e}");
+                assert!(e.reason.contains("too faint for f32"), "{t} K: {e}");
+            }
+        }
+        assert!(check(&bb(300.0, 1.0, 1.0), json!({ "wavelength": 390 })).is_err());
+        assert!(check(&bb(300.0, 1.0, 1.0), json!({ "band": [380, 780] })).is_ok());
+        assert!(check(&bb(300.0, 1e30, 1.0), json!({ "band": [380, 400] })).is_ok());
+        assert!(check(&bb(150.0, 3e38, 1.0), json!({ "band": [380, 780] })).is_ok());
+        // A faint strength over a bright spectrum: their product is what is rounded.
+        let e = check(&bb(3000.0, 1.0, 1e-35), json!({ "band": [380, 780] })).unwrap_err();
+        assert!(e.reason.contains("strength × spectrum"), "{e}");
+        // A scale of 0 is a legitimate dark emitter.
+        assert!(check(&bb(150.0, 0.0, 1.0), json!({ "band": [380, 780] })).is_ok());
     }
 
     /// The sample-scale bound: strength × response × [λ₂/(hc)] × band width against
