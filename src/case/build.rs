@@ -1068,7 +1068,10 @@ mod tests {
         };
         let err = pulsed(json!({"bin": [h, h + 1e-14]}), 0.0).err().unwrap();
         assert_eq!(err.field, "time.bin", "{err}");
-        assert!(err.reason.contains("too narrow for f32 path lengths"), "{err}");
+        assert!(
+            err.reason.contains("too narrow for f32 path lengths"),
+            "{err}"
+        );
         let edges: Vec<f64> = (0..4).map(|k| h + k as f64 * 1e-14).collect();
         let err = pulsed(json!({ "bins": edges }), 0.0).err().unwrap();
         assert_eq!(err.field, "time.bins", "{err}");
@@ -1077,10 +1080,16 @@ mod tests {
         // 10⁶ s, and is refused for one at 0 (a path 10⁶ light-seconds long).
         let far = [1e6 + h, 1e6 + h + 1e-9];
         assert!(pulsed(json!({ "bin": far }), 1e6).is_ok());
-        assert_eq!(pulsed(json!({ "bin": far }), 0.0).err().unwrap().field, "time.bin");
+        assert_eq!(
+            pulsed(json!({ "bin": far }), 0.0).err().unwrap().field,
+            "time.bin"
+        );
         // A pulse after the bin sends nothing into it, and a steady emitter none of ℓ.
         assert!(pulsed(json!({"bin": [h, h + 1e-14]}), 1.0).is_ok());
-        let mut d = two_disks(json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}), json!([]));
+        let mut d = two_disks(
+            json!({"irradiance": {"at": [0, 0, 0], "normal": [0, 0, 1]}}),
+            json!([]),
+        );
         d.time = Some(serde_json::from_value(json!({"bin": [h, h + 1e-14]})).unwrap());
         assert!(crate::case::Case::from_desc(d, std::path::Path::new("c.json")).is_ok());
     }
@@ -1495,7 +1504,11 @@ mod tests {
         assert!(case(json!({"band": [400, 500]})).is_ok());
         assert!(case(json!({"wavelength": 500})).is_ok());
         assert!(case(json!({"band": [650, 800]})).is_ok());
-        for spectral in [json!({"band": [500, 700]}), json!({"wavelength": 599.5}), json!({"band": [360, 830]})] {
+        for spectral in [
+            json!({"band": [500, 700]}),
+            json!({"wavelength": 599.5}),
+            json!({"band": [360, 830]}),
+        ] {
             let e = case(spectral.clone()).err().unwrap();
             assert_eq!(e.field, "scene.dispersion.glass", "{spectral}: {e}");
             assert!(e.reason.contains("pole"), "{spectral}: {e}");

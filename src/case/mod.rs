@@ -150,16 +150,14 @@ impl Case {
             Some(s) => Arc::clone(s),
             None => {
                 let base = crate::scene::load::folder_of(path);
-                Arc::new(
-                    desc.scene.build_over(
-                        f,
-                        "scene",
-                        base,
-                        origin,
-                        build::epoch(&desc),
-                        build::measured_band(&desc),
-                    )?,
-                )
+                Arc::new(desc.scene.build_over(
+                    f,
+                    "scene",
+                    base,
+                    origin,
+                    build::epoch(&desc),
+                    build::measured_band(&desc),
+                )?)
             }
         };
         let measure = build::measure(f, &desc.measure, &scene, origin)?;

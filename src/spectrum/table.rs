@@ -151,10 +151,13 @@ pub(crate) fn validate_at(
     for (i, &x) in v.iter().enumerate() {
         let ok = x.is_finite() && if positive { x > 0.0 } else { x >= 0.0 };
         if !ok {
-            return Err(("values", format!(
-                "values[{i}] must be {} and finite, got {x}",
-                if positive { "positive" } else { "non-negative" }
-            )));
+            return Err((
+                "values",
+                format!(
+                    "values[{i}] must be {} and finite, got {x}",
+                    if positive { "positive" } else { "non-negative" }
+                ),
+            ));
         }
     }
     Ok(())
@@ -246,7 +249,10 @@ mod tests {
     /// times narrower (53.3 for 50); 0.06 nm at 500 nm passes, 0.049 does not.
     #[test]
     fn pieces_narrower_than_the_band_rule_are_refused() {
-        for w in [[499.9995f32, 500.0, 500.0005], [499.99995, 500.0, 500.00005]] {
+        for w in [
+            [499.9995f32, 500.0, 500.0005],
+            [499.99995, 500.0, 500.00005],
+        ] {
             let (at, e) = validate_at(&w, &[0.0, 1e6, 0.0], false).unwrap_err();
             assert_eq!(at, "wavelengths", "{e}");
             assert!(e.contains("too narrow for f32 wavelengths"), "{e}");

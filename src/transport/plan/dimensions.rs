@@ -522,7 +522,12 @@ fn time_dims(
     // since the pulse, t₂ − t₀ (1.2·10³ such steps), is refused, as a band is: 10 fs bins
     // at 1 m read z = +13 and −9 (paths one step over an edge counted in the next bin).
     if let Some((a, b)) = bin {
-        for (i, t0) in scene.emitters.iter().enumerate().filter_map(|(i, e)| Some((i, e.props.pulse?))) {
+        for (i, t0) in scene
+            .emitters
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| Some((i, e.props.pulse?)))
+        {
             let since = b - t0;
             if since > 0.0 && !(b - a >= MIN_RELATIVE_BIN * since) {
                 return Err(InputError::new(
@@ -682,10 +687,13 @@ mod tests {
     #[test]
     fn a_blackbody_too_faint_for_f32_is_refused() {
         let bb = |t: f64, scale: f64, radiance: f64| {
-            scene(json!({ "type": "point", "position": [0, 0, 1], "intensity": radiance,
-                          "spectrum": { "blackbody": { "temperature": t, "scale": scale } } }))
+            scene(
+                json!({ "type": "point", "position": [0, 0, 1], "intensity": radiance,
+                          "spectrum": { "blackbody": { "temperature": t, "scale": scale } } }),
+            )
         };
-        let check = |s: &Scene, v: serde_json::Value| check_blackbody_range("c.json", s, &spectral(v));
+        let check =
+            |s: &Scene, v: serde_json::Value| check_blackbody_range("c.json", s, &spectral(v));
         for (t, band, radiance) in [
             (300.0, [380.0, 400.0], 1.0),
             (160.0, [380.0, 780.0], 1.0),
@@ -693,8 +701,11 @@ mod tests {
             (150.0, [380.0, 780.0], 1e30),
         ] {
             for photons in [false, true] {
-                let e = check(&bb(t, 1.0, radiance), json!({ "band": band, "photons": photons }))
-                    .unwrap_err();
+                let e = check(
+                    &bb(t, 1.0, radiance),
+                    json!({ "band": band, "photons": photons }),
+                )
+                .unwrap_err();
                 assert_eq!(e.field, "spectral", "{t} K: {e}");
                 assert!(e.reason.contains("too faint for f32"), "{t} K: {e}");
             }
