@@ -17,9 +17,7 @@ use glam::DVec3;
 /// infrared, and λ + 1 nm is still a different `f32`.
 pub const MAX_WAVELENGTH_NM: f64 = 1e7;
 
-/// Narrowest band, relative to its longer end: (λ₂ − λ₁) ≥ 10⁻⁴·λ₂ (0.05 nm at
-/// 500 nm), so that `f32` wavelengths resolve the band into ~10³ values or more.
-pub const MIN_RELATIVE_BANDWIDTH: f64 = 1e-4;
+pub use crate::spectrum::MIN_RELATIVE_BANDWIDTH;
 
 /// The point the scene is rebased on (in f64, before it becomes f32): the measurement's
 /// viewpoint where it has one, so precision is best where it is measured.

@@ -51,6 +51,12 @@ pub use response::{LUMINOUS_EFFICACY, Response, photopic};
 pub use spectrum::Spectrum;
 pub use wavelength::{DEFENSIVE, WavelengthSampler};
 
+/// Narrowest interval of wavelengths, relative to its longer end: (λ₂ − λ₁) ≥ 10⁻⁴·λ₂
+/// (0.05 nm at 500 nm), so that `f32` wavelengths resolve it into ~10³ values or more:
+/// a case's band (`case::build`), a table's piece, and (as 10⁻⁴ of the time since a
+/// pulse) a time bin.
+pub const MIN_RELATIVE_BANDWIDTH: f64 = 1e-4;
+
 /// A non-negative finite `f32` from an `f64`: NaN and negatives give 0, overflow gives
 /// `f32::MAX`.
 #[inline]

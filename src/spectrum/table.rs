@@ -5,7 +5,7 @@
 //! Every function here tolerates malformed tables (unequal lengths, unsorted or NaN
 //! wavelengths) without panicking; `validate` is what rejects them.
 
-use crate::case::build::MIN_RELATIVE_BANDWIDTH;
+use super::MIN_RELATIVE_BANDWIDTH;
 use serde::{Deserialize, Serialize};
 
 /// What a table is worth outside [λ₀, λₙ₋₁].

@@ -460,7 +460,7 @@ fn band(
 
 /// Narrowest time bin, relative to the time since a pulse: (t₂ − t₁) ≥ 10⁻⁴·(t₂ − t₀),
 /// so that `f32` path lengths resolve it into ~10³ steps or more (the band rule's bound).
-pub const MIN_RELATIVE_BIN: f64 = crate::case::build::MIN_RELATIVE_BANDWIDTH;
+pub const MIN_RELATIVE_BIN: f64 = crate::spectrum::MIN_RELATIVE_BANDWIDTH;
 
 fn time_dims(
     f: &str,
