@@ -329,6 +329,26 @@ mod tests {
         serde_json::from_str(s).map_err(|e| e.to_string())
     }
 
+    /// A table's error points into it: `.sampled.values` for a bad value,
+    /// `.sampled.wavelengths` for a bad wavelength or piece (a cargo-mutants survivor of
+    /// session 52: the hostile corpus checks the spectrum's path, a prefix of both).
+    #[test]
+    fn a_tables_error_names_the_list_it_is_in() {
+        let at = |t: &str| parse(t).unwrap().validate_at().unwrap_err().0;
+        assert_eq!(
+            at(r#"{"sampled": {"wavelengths": [400, 500], "values": [1, -1]}}"#),
+            ".sampled.values"
+        );
+        assert_eq!(
+            at(r#"{"sampled": {"wavelengths": [500, 400], "values": [1, 1]}}"#),
+            ".sampled.wavelengths"
+        );
+        assert_eq!(
+            at(r#"{"sampled": {"wavelengths": [500, 500.001], "values": [1, 1]}}"#),
+            ".sampled.wavelengths"
+        );
+    }
+
     #[test]
     fn json_forms_round_trip() {
         assert_eq!(parse("2").unwrap(), Spectrum::Constant(2.0));
