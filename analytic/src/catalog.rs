@@ -1011,6 +1011,21 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "spot_light_power",
+        ["intensity", "cone_angle_degrees", "falloff_start_degrees"],
+        "power (W) of a spot light of intensity I (W/sr) on its axis with pbrt-v4's smoothstep falloff: 2π I [(1 − cos θs) + (cos θs − cos θt)/2]",
+        |p| {
+            let i = p.non_negative("intensity")?;
+            let total = p.range("cone_angle_degrees", 0.0, 180.0, false)?;
+            let start = p.range("falloff_start_degrees", 0.0, total, false)?;
+            Ok(radiometry::spot_light_power(
+                i,
+                total.to_radians(),
+                start.to_radians(),
+            ))
+        }
+    ),
+    entry!(
         "lambertian_intensity",
         ["radiance", "area", "theta"],
         "intensity (W/sr) of a flat Lambertian emitter at angle theta (rad) from its normal: L A cos θ",
@@ -1839,6 +1854,7 @@ mod tests {
             "fresnel_dielectric_average_inside": {"eta": 1.5},
             "lambertian_power": {"radiance": 1, "area": 2},
             "isotropic_point_power": {"intensity": 2},
+            "spot_light_power": {"intensity": 2, "cone_angle_degrees": 40, "falloff_start_degrees": 25},
             "lambertian_intensity": {"radiance": 1, "area": 2, "theta": 0.5},
             "photon_energy": {"wavelength": 5.5e-7},
             "radiance_across_interface": {"radiance": 1, "n1": 1, "n2": 1.5},

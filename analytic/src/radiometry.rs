@@ -35,6 +35,24 @@ pub fn isotropic_point_power(intensity: f64) -> f64 {
     4.0 * PI * intensity
 }
 
+/// Power of a spot light of intensity I (W/sr) on its axis, full within the half-angle
+/// θs and falling to 0 at θt by pbrt-v4's smoothstep in cos θ.
+///
+/// **Formula.** Φ = 2π I [(1 − cos θs) + (cos θs − cos θt)/2].
+///
+/// **Derivation.** Φ = ∫ I s(θ) dω = 2π I ∫₋₁¹ s(c) dc: 1 over [cos θs, 1], and over
+/// [cos θt, cos θs] the smoothstep t²(3 − 2t) in t = (c − cos θt)/(cos θs − cos θt),
+/// whose integral over t ∈ [0, 1] is ½. 1 − cos θ is formed as 2 sin²(θ/2).
+/// `irradiance::tests::spot_light_by_its_definition_and_its_power` checks it against
+/// the flux of [`crate::irradiance::spot`] through a sphere, by quadrature.
+///
+/// **Source.** pbrt 4th ed. §12.1.2 (`SpotLight::Phi`).
+pub fn spot_light_power(intensity: f64, cone_angle: f64, falloff_start: f64) -> f64 {
+    let omc = |a: f64| 2.0 * (0.5 * a).sin().powi(2);
+    let (ot, os) = (omc(cone_angle), omc(falloff_start));
+    2.0 * PI * intensity * (os + (ot - os) / 2.0)
+}
+
 /// Intensity of a uniform Lambertian sphere of radiance L and radius R, the same in
 /// every direction.
 ///
