@@ -156,6 +156,14 @@ impl Params<'_> {
         }
     }
 
+    /// A spot light's half-angles, in radians: `cone_angle_degrees` in [0, 180] and
+    /// `falloff_start_degrees` in [0, cone_angle_degrees].
+    fn spot_angles(&self) -> Result<(f64, f64)> {
+        let total = self.range("cone_angle_degrees", 0.0, 180.0, false)?;
+        let start = self.range("falloff_start_degrees", 0.0, total, false)?;
+        Ok((total.to_radians(), start.to_radians()))
+    }
+
     /// A number in [lo, hi] (or [lo, hi) when `open_hi`).
     fn range(&self, name: &'static str, lo: f64, hi: f64, open_hi: bool) -> Result<f64> {
         let x = self.num(name)?;
@@ -571,8 +579,7 @@ static ENTRIES: &[Entry] = &[
                 p.direction("axis")?,
                 p.non_negative("intensity")?,
             );
-            let total = p.range("cone_angle_degrees", 0.0, 180.0, false)?;
-            let start = p.range("falloff_start_degrees", 0.0, total, false)?;
+            let (total, start) = p.spot_angles()?;
             if s == x {
                 return Err(p.domain("the light coincides with the receiver"));
             }

@@ -285,7 +285,7 @@ pub fn spot(
 ) -> f64 {
     let w = p - light;
     let theta = axis.angle_between(w);
-    let omc = |a: f64| 2.0 * (0.5 * a).sin().powi(2);
+    let omc = crate::radiometry::one_minus_cos;
     let (o, ot, os) = (omc(theta), omc(cone_angle), omc(falloff_start));
     let s = if os >= ot {
         if o <= ot { 1.0 } else { 0.0 }

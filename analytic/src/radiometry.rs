@@ -48,9 +48,13 @@ pub fn isotropic_point_power(intensity: f64) -> f64 {
 ///
 /// **Source.** pbrt 4th ed. §12.1.2 (`SpotLight::Phi`).
 pub fn spot_light_power(intensity: f64, cone_angle: f64, falloff_start: f64) -> f64 {
-    let omc = |a: f64| 2.0 * (0.5 * a).sin().powi(2);
-    let (ot, os) = (omc(cone_angle), omc(falloff_start));
+    let (ot, os) = (one_minus_cos(cone_angle), one_minus_cos(falloff_start));
     2.0 * PI * intensity * (os + (ot - os) / 2.0)
+}
+
+/// 1 − cos a, as 2 sin²(a/2): without cancellation for small angles.
+pub fn one_minus_cos(a: f64) -> f64 {
+    2.0 * (0.5 * a).sin().powi(2)
 }
 
 /// Intensity of a uniform Lambertian sphere of radiance L and radius R, the same in
