@@ -583,15 +583,7 @@ static ENTRIES: &[Entry] = &[
             if s == x {
                 return Err(p.domain("the light coincides with the receiver"));
             }
-            Ok(irradiance::spot(
-                x,
-                n,
-                s,
-                a,
-                i,
-                total.to_radians(),
-                start.to_radians(),
-            ))
+            Ok(irradiance::spot(x, n, s, a, i, total, start))
         }
     ),
     entry!(
@@ -1023,13 +1015,8 @@ static ENTRIES: &[Entry] = &[
         "power (W) of a spot light of intensity I (W/sr) on its axis with pbrt-v4's smoothstep falloff: 2π I [(1 − cos θs) + (cos θs − cos θt)/2]",
         |p| {
             let i = p.non_negative("intensity")?;
-            let total = p.range("cone_angle_degrees", 0.0, 180.0, false)?;
-            let start = p.range("falloff_start_degrees", 0.0, total, false)?;
-            Ok(radiometry::spot_light_power(
-                i,
-                total.to_radians(),
-                start.to_radians(),
-            ))
+            let (total, start) = p.spot_angles()?;
+            Ok(radiometry::spot_light_power(i, total, start))
         }
     ),
     entry!(
