@@ -71,27 +71,6 @@ pub fn sample_cap(
     }
 }
 
-/// Hit on the annulus: the disk of radius `radius` less the disk of radius `inner`.
-#[allow(clippy::too_many_arguments)]
-pub fn intersect_annulus(
-    center: Vec3,
-    normal: Vec3,
-    inner: f32,
-    radius: f32,
-    o: Vec3,
-    d: Vec3,
-    tmin: f32,
-    tmax: f32,
-) -> Option<Hit> {
-    let disk = Primitive::Disk {
-        center,
-        normal,
-        radius,
-    };
-    let h = disk.intersect(o, d, tmin, tmax)?;
-    ((h.p - center).length_squared() >= inner * inner).then_some(h)
-}
-
 /// Area of an annulus, π (R − r)(R + r).
 pub fn annulus_area(inner: f32, radius: f32) -> f32 {
     std::f32::consts::PI * (radius - inner) * (radius + inner)
