@@ -891,9 +891,9 @@ fn triangle_distance_wide(f: &WideFrame) -> Option<f64> {
 }
 
 /// The rectangle's hit: the plane's point ([`plane_hit`]) and its edge-basis coordinates
-/// ([`edge_coordinates`]) in `f64`, the point rounded once, within the `f32` bound γ₆ (|c|
-/// + |a u| + |b v|). `f64` also keeps the products finite and normal for any `f32` edges
-/// (|u × v|² beyond 2^±100 overflowed or underflowed in `f32`).
+/// ([`edge_coordinates`]) in `f64`, the point rounded once, within the `f32` bound
+/// γ₆ (|c| + |a u| + |b v|). `f64` also keeps the products finite and normal for any
+/// `f32` edges (|u × v|² beyond 2^±100 overflowed or underflowed in `f32`).
 fn intersect_rectangle(
     corner: Vec3,
     u: Vec3,
