@@ -8,7 +8,7 @@
 //! albedo is exactly F(cos θo) (tested against an independent `f64` complex-number
 //! Fresnel in `tests/proof/bsdf_contract.rs`).
 
-use super::fresnel::fr_conductor;
+use super::fresnel::{fr_conductor, fr_conductor_cs};
 use super::{BsdfModel, BsdfSample, LobeFlags, ParamError, check_range};
 use super::{Index, ModelFacts};
 use glam::Vec3;
@@ -63,7 +63,11 @@ impl BsdfModel for Conductor {
             return None;
         }
         let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-        let weight = fr_conductor(wo.z, self.eta, self.k);
+        // sin²θo from the tangent components: 1 − cos² of an `f32` cosine near 1 keeps
+        // only its absolute error (~10⁻⁷), which the reflectance of η = 0.001, climbing
+        // to 1 by sin θ = η, reads (`RoughConductor::fresnel_cs`).
+        let s2 = wo.x * wo.x + wo.y * wo.y;
+        let weight = fr_conductor_cs(wo.z.abs().min(1.0), s2, self.eta, self.k);
         Some(BsdfSample {
             wi,
             weight,

@@ -238,7 +238,7 @@ fn refract_from_denser(w: Vec3, n: Vec3, cos_i: f32, eta: f32) -> Option<Vec3> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// Refraction out of a much denser side keeps unit length: for η = 0.01 … 0.2 and
@@ -442,7 +442,7 @@ mod tests {
     /// cos θt = √((d + cos²θ)/n̂²), r⊥ = −d/(cos θ + n̂ cos θt)²,
     /// r∥ = d((n̂² + 1) cos²θ − 1)/(n̂ (n̂ cos θ + cos θt))², F = ½(|r⊥|² + |r∥|²): an
     /// identity valid at every index, and free of cancellation but at a critical angle.
-    fn conductor_f64(c: f64, eta: f64, k: f64) -> f64 {
+    pub(crate) fn conductor_f64(c: f64, eta: f64, k: f64) -> f64 {
         type C = (f64, f64);
         let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
         let add = |a: C, b: C| (a.0 + b.0, a.1 + b.1);
