@@ -19,32 +19,58 @@ pub fn cap_area(radius: f32, one_minus_cos: f32) -> f32 {
     TWO_PI * radius * radius * one_minus_cos
 }
 
-/// Whether the sphere point at `rel` (relative to the centre) lies on the cap: its
-/// height along `axis` is at least R cos θmax.
-fn on_cap(rel: Vec3, axis: Vec3, radius: f32, cos_max: f32) -> bool {
-    cos_max <= -1.0 || rel.dot(axis) >= radius * cos_max
+/// Whether the sphere's hit at distance `t` along o + t d lies on the cap: the polar angle
+/// of rel = o − c + t d about the axis â has 1 − cos θ = (|rel| − ⟨rel, â⟩)/|rel| at most
+/// 1 − cos θmax. The angle, not the height ⟨rel, â⟩: the sphere's root t is off by a few
+/// 10⁻⁸ R for an origin near the surface, mostly along the ray, which moves the height
+/// but hardly the angle.
+///
+/// Decided in `f64` from the ray (o − c + t d, the `f32` products exact, with the axis
+/// normalised in `f64`), not from the hit's `f32` point: that point lies on `f32`'s grid,
+/// about 6·10⁻⁸ R apart near the rim, and a comparison on the grid moves the rim to the
+/// grid point beside it the same way for every ray from a receiver beside it (as for the
+/// disk's rim, `shape::intersect_ring`). `one_minus_cos` is the cap's own parameter, as
+/// its sampling and area read it: cos θmax in `f32` rounds a cap of θmax = 10⁻⁴ to a
+/// point (`cap_rims_admit_no_band_beyond_them`).
+#[allow(clippy::too_many_arguments)]
+fn on_cap(
+    o: Vec3,
+    d: Vec3,
+    t: f32,
+    center: Vec3,
+    axis: Vec3,
+    cos_max: f32,
+    one_minus_cos: f32,
+) -> bool {
+    if cos_max <= -1.0 {
+        return true;
+    }
+    let rel = o.as_dvec3() - center.as_dvec3() + d.as_dvec3() * f64::from(t);
+    let r = rel.length();
+    r - rel.dot(axis.as_dvec3().normalize()) <= r * f64::from(one_minus_cos)
 }
 
 /// Closest hit on the cap with t in (tmin, tmax): the near sphere root if it lies on the
-/// cap, else the far root.
+/// cap ([`on_cap`]), else the far root.
 #[allow(clippy::too_many_arguments)]
 pub fn intersect_cap(
     center: Vec3,
     radius: f32,
     axis: Vec3,
-    cos_max: f32,
+    (cos_max, one_minus_cos): (f32, f32),
     o: Vec3,
     d: Vec3,
     tmin: f32,
     tmax: f32,
 ) -> Option<Hit> {
     let sphere = Primitive::Sphere { center, radius };
+    let on = |t| on_cap(o, d, t, center, axis, cos_max, one_minus_cos);
     let near = sphere.intersect(o, d, tmin, tmax)?;
-    if on_cap(near.p - center, axis, radius, cos_max) {
+    if on(near.t) {
         return Some(near);
     }
     let far = sphere.intersect(o, d, near.t, tmax)?;
-    on_cap(far.p - center, axis, radius, cos_max).then_some(far)
+    on(far.t).then_some(far)
 }
 
 /// A point uniformly distributed by area on the cap.
@@ -96,6 +122,67 @@ pub fn sample_annulus(center: Vec3, normal: Vec3, inner: f32, radius: f32, u: Ve
 mod tests {
     use super::*;
     use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+    /// A cap's rim seen from 10⁻⁵ outside its sphere (beyond the sphere's band), beside the rim: every ray aimed at
+    /// a point of the sphere 10⁻⁸ R inside the rim hits there, and every one aimed 10⁻⁸ R
+    /// beyond it passes (into the sphere, to the cap's far side if anywhere). Decided from
+    /// the hit's `f32` point, the rim moved to the grid point beside it (up to 3·10⁻⁸ R at
+    /// a rim height of R/2), the same way for every ray. Axis-aligned at θmax = 60° and
+    /// tilted at 37°, receivers over the cap and over the hole.
+    #[test]
+    fn cap_rims_admit_no_band_beyond_them() {
+        use glam::DVec3;
+        for (axis, deg) in [
+            (Vec3::Z, 60.0f64),
+            (Vec3::new(0.3, -0.5, 0.8).normalize(), 37.0),
+        ] {
+            let center = Vec3::new(0.25, 0.5, -0.75);
+            let t = deg.to_radians();
+            let prim = Primitive::SphericalCap {
+                center,
+                radius: 1.0,
+                axis,
+                cos_max: t.cos() as f32,
+                one_minus_cos: (2.0 * (0.5 * t).sin().powi(2)) as f32,
+            };
+            let Primitive::SphericalCap { one_minus_cos, .. } = prim else {
+                unreachable!()
+            };
+            // The rim the cap's own parameters put there, in f64.
+            let rim = (1.0 - f64::from(one_minus_cos)).acos();
+            let a = axis.as_dvec3().normalize();
+            let s = a
+                .cross(if a.x.abs() < 0.9 { DVec3::X } else { DVec3::Y })
+                .normalize();
+            let u = a.cross(s);
+            let at = |theta: f64, phi: f64, r: f64| {
+                center.as_dvec3()
+                    + (a * theta.cos() + (s * phi.cos() + u * phi.sin()) * theta.sin()) * r
+            };
+            for beside in [-1e-6, 1e-6] {
+                let o = at(rim + beside, 0.0, 1.0 + 1e-5).as_vec3();
+                let mut wrong = Vec::new();
+                for k in -8..=8 {
+                    let phi = k as f64 * 5e-7;
+                    for side in [-1.0, 1.0] {
+                        let target = at(rim + side * 1e-8, phi, 1.0);
+                        let dist = (target - o.as_dvec3()).length();
+                        let d = ((target - o.as_dvec3()) / dist).as_vec3();
+                        let there = prim
+                            .intersect(o, d, 0.0, f32::INFINITY)
+                            .is_some_and(|h| (f64::from(h.t) - dist).abs() < 0.1 * dist);
+                        if there != (side < 0.0) {
+                            wrong.push(format!("φ {phi:e}, side {side}: hit there {there}"));
+                        }
+                    }
+                }
+                assert!(
+                    wrong.is_empty(),
+                    "θmax {deg}°, receiver {beside:e} beside: {wrong:#?}"
+                );
+            }
+        }
+    }
 
     fn cap(theta_max_deg: f64) -> Primitive {
         let t = theta_max_deg.to_radians();

@@ -221,8 +221,17 @@ impl Primitive {
                 radius,
                 axis,
                 cos_max,
-                ..
-            } => super::partial::intersect_cap(center, radius, axis, cos_max, o, d, tmin, tmax),
+                one_minus_cos,
+            } => super::partial::intersect_cap(
+                center,
+                radius,
+                axis,
+                (cos_max, one_minus_cos),
+                o,
+                d,
+                tmin,
+                tmax,
+            ),
             Primitive::Annulus {
                 center,
                 normal,
