@@ -332,12 +332,13 @@ fn edge_coordinates(rel: DVec3, u: DVec3, v: DVec3, n: DVec3) -> Option<(f32, f3
 /// Closest hit on a disk (`inner` = 0) or annulus of unit `normal`: the ray's point on
 /// its plane, projected into the plane (rel), is kept where r² ≤ |rel|² ≤ R².
 ///
-/// The two comparisons are made in `f64`, where the squares of the `f32` coordinates are
-/// exact and their sum rounds at 2⁻⁵³: in `f32` the sum rounds to R² from up to half an
-/// ulp above it, an outward band of about 2⁻²⁵ R all along the rim (and an inward one at
-/// the hole's), through which a receiver 2·10⁻⁶ from a unit disk's rim read every
-/// estimator 3% high, an annulus's inner rim 1.5% (session 52's audit;
-/// `rims_admit_no_band_beyond_them`).
+/// The point ([`plane_hit`]) and the two comparisons are in `f64`. In `f32` the point
+/// fell on `f32`'s grid and the sum of squares rounded to R² from up to half an ulp above
+/// it: an outward band of a few 10⁻⁸ R all along the rim (and an inward one at the
+/// hole's), through which a receiver 2·10⁻⁶ from a unit disk's rim read every estimator
+/// 3% high, an annulus's inner rim 1.5% (session 52's audit;
+/// `rims_admit_no_band_beyond_them`). The comparisons alone in `f64` turned +3% into
+/// −1.4%: the grid point at the rim was then refused with the part of its cell inside.
 #[allow(clippy::too_many_arguments)]
 fn intersect_ring(
     center: Vec3,
