@@ -352,6 +352,9 @@ fn intersect_ring(
 ) -> Option<Hit> {
     let n = normal.as_dvec3();
     let (t, rel) = plane_hit(center, n, o, d, tmin, tmax)?;
+    // Into the plane: rel is off it by f64's rounding (10⁻¹⁷ of a unit disk), which in a
+    // coordinate the plane holds at 0 is beyond γ₆ |rel| of that coordinate
+    // (`ring_hits_bound_their_point`).
     let rel = rel - n * rel.dot(n);
     let rr = rel.length_squared();
     let (r, big_r) = (f64::from(inner), f64::from(radius));
@@ -1010,6 +1013,64 @@ mod tests {
                     let o = (s * (f64::from(rim) + out) + normal.as_dvec3() * up).as_vec3();
                     let wrong = hits_towards(&prim, o, &targets);
                     assert!(wrong.is_empty(), "{prim:?} from {o:?}: {wrong:#?}");
+                }
+            }
+        }
+    }
+
+    /// A disk's and an annulus's hits over their faces, tilted and about centres at and off
+    /// the origin, from 10⁻⁶ to 10⁶ across: the point lies within its bound of the plane
+    /// (what ray offsetting projects on the normal), and the bound is never negative and
+    /// within γ₇ (|c| + R) per axis.
+    #[test]
+    fn ring_hits_bound_their_point() {
+        for k in [-6, 0, 6] {
+            let s = 10f32.powi(k);
+            for center in [
+                Vec3::ZERO,
+                Vec3::new(0.0, 0.5, -0.25) * s,
+                Vec3::new(3.0, -2.0, 1.0) * s,
+            ] {
+                for normal in [Vec3::new(0.3, -0.2, 0.9).normalize(), Vec3::Y] {
+                    let (axis_s, axis_t) = plane_axes(normal);
+                    for (inner, radius) in [(0.0, s), (0.25 * s, s)] {
+                        let prim = if inner > 0.0 {
+                            Primitive::Annulus {
+                                center,
+                                normal,
+                                inner,
+                                radius,
+                            }
+                        } else {
+                            Primitive::Disk {
+                                center,
+                                normal,
+                                radius,
+                            }
+                        };
+                        for i in 0..64 {
+                            let (rho, phi) = (0.3 + 0.01 * i as f64, 0.7 * i as f64);
+                            let target = center.as_dvec3()
+                                + (axis_s * phi.cos() + axis_t * phi.sin()) * (rho * f64::from(s));
+                            let o = (target + DVec3::new(0.2, 0.1, 0.5) * f64::from(s)).as_vec3();
+                            let d = (target - o.as_dvec3()).normalize().as_vec3();
+                            let h = prim
+                                .intersect(o, d, 0.0, f32::INFINITY)
+                                .unwrap_or_else(|| panic!("{prim:?} missed from {o:?}"));
+                            let m = normal.as_dvec3().normalize();
+                            let off = (h.p.as_dvec3() - center.as_dvec3()).dot(m).abs();
+                            assert!(h.p_error.cmpge(Vec3::ZERO).all(), "{prim:?}: {h:?}");
+                            assert!(
+                                off <= m.abs().dot(h.p_error.as_dvec3()),
+                                "{prim:?}: {h:?} is {off:e} off its plane"
+                            );
+                            let tight = gamma(7) * (center.abs() + Vec3::splat(radius));
+                            assert!(
+                                h.p_error.cmple(tight).all(),
+                                "{prim:?}: {h:?} against {tight:?}"
+                            );
+                        }
+                    }
                 }
             }
         }
