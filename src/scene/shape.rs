@@ -955,6 +955,24 @@ mod tests {
         (s, n.cross(s))
     }
 
+    /// A disk (`inner` = 0) or an annulus.
+    fn ring(center: Vec3, normal: Vec3, inner: f32, radius: f32) -> Primitive {
+        if inner > 0.0 {
+            Primitive::Annulus {
+                center,
+                normal,
+                inner,
+                radius,
+            }
+        } else {
+            Primitive::Disk {
+                center,
+                normal,
+                radius,
+            }
+        }
+    }
+
     /// Targets 10⁻⁸ on either side of a boundary, a quarter of the old band: ⟨centre + ρ
     /// (cos φ s + sin φ t)⟩ for ρ = R(1 ± 10⁻⁸) over a few 10⁻⁶ of arc about φ = 0, inside
     /// when ρ < R (the other way for a hole's rim, `hole`).
@@ -991,20 +1009,7 @@ mod tests {
             let center = Vec3::new(0.0, 0.0, 0.0);
             let s = plane_axes(normal).0;
             for (inner, radius, rim, hole) in [(0.0, 1.0, 1.0, false), (1.0, 2.0, 1.0, true)] {
-                let prim = if inner > 0.0 {
-                    Primitive::Annulus {
-                        center,
-                        normal,
-                        inner,
-                        radius,
-                    }
-                } else {
-                    Primitive::Disk {
-                        center,
-                        normal,
-                        radius,
-                    }
-                };
+                let prim = ring(center, normal, inner, radius);
                 let targets = ring_targets(center, normal, rim, hole);
                 for (out, up) in [
                     (2f64.powi(-19), 2f64.powi(-19)),
@@ -1034,20 +1039,7 @@ mod tests {
                 for normal in [Vec3::new(0.3, -0.2, 0.9).normalize(), Vec3::Y] {
                     let (axis_s, axis_t) = plane_axes(normal);
                     for (inner, radius) in [(0.0, s), (0.25 * s, s)] {
-                        let prim = if inner > 0.0 {
-                            Primitive::Annulus {
-                                center,
-                                normal,
-                                inner,
-                                radius,
-                            }
-                        } else {
-                            Primitive::Disk {
-                                center,
-                                normal,
-                                radius,
-                            }
-                        };
+                        let prim = ring(center, normal, inner, radius);
                         for i in 0..64 {
                             let (rho, phi) = (0.3 + 0.01 * i as f64, 0.7 * i as f64);
                             let target = center.as_dvec3()
