@@ -111,8 +111,7 @@ mod tests {
 
     /// The mirror's weight F(θo) for ωo from 0.02° to 0.2° off the normal, against the
     /// `f64` Fresnel equations at the `f32` direction's exact angle, for η = 2⁻⁹, k = 0
-    /// (total reflection beyond sin θ = η, where F climbs steeply; the catalog's
-    /// `bsdf_albedo/conductor_near_total_reflection_0_1`) and a gold-like index: within
+    /// (total reflection beyond sin θ = η, where F climbs steeply) and a gold-like index: within
     /// 10⁻⁶ relative. With sin²θ = 1 − cos²θ of the `f32` cosine it was off by 7·10⁻⁴.
     #[test]
     fn the_mirror_takes_sin_squared_from_the_direction() {
