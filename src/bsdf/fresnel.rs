@@ -63,7 +63,8 @@ pub fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
         return 1.0;
     };
     let (a, b) = (eta * cos_i + cos_t, cos_i + eta * cos_t);
-    let r_perp = -d / (b * b);
+    // r⊥ = −d/b²; only its square enters R.
+    let r_perp = d / (b * b);
     let ea = eta * a;
     let r_parl = d * ((eta * eta + 1.0) * (cos_i * cos_i) - 1.0) / (ea * ea);
     let r = 0.5 * (r_parl * r_parl + r_perp * r_perp);
