@@ -29,9 +29,9 @@ pub fn cap_area(radius: f32, one_minus_cos: f32) -> f32 {
 /// normalised in `f64`), not from the hit's `f32` point: that point lies on `f32`'s grid,
 /// about 6·10⁻⁸ R apart near the rim, and a comparison on the grid moves the rim to the
 /// grid point beside it the same way for every ray from a receiver beside it (as for the
-/// disk's rim, `shape::intersect_ring`). `one_minus_cos` is the cap's own parameter, as
-/// its sampling and area read it: cos θmax in `f32` rounds a cap of θmax = 10⁻⁴ to a
-/// point (`cap_rims_admit_no_band_beyond_them`).
+/// disk's rim, `shape::intersect_ring`; `cap_rims_admit_no_band_beyond_them`).
+/// `one_minus_cos` is the cap's own parameter, as its sampling and area read it (cos θmax
+/// in `f32` is 1 for any cap narrower than about 3·10⁻⁴ rad).
 #[allow(clippy::too_many_arguments)]
 fn on_cap(
     o: Vec3,
