@@ -260,7 +260,9 @@ impl Scene {
             // The ray along `wi` is clear unless the first thing it meets before the point
             // is another shape: the sphere is convex and the point on the cap the viewer
             // sees (or, from inside, where the ray leaves it), so the sphere itself cannot
-            // stand in front of it (a hit on it is the point, within rounding).
+            // stand in front of it (a hit on it is the point, within rounding). A mixture's
+            // direction sample (a cap, disk or annulus from close by) is the first point
+            // of its primitive along the ray, and such a shape is that one primitive.
             let own = self.emitters.get(ls.emitter).and_then(|e| e.kind.shape());
             return self
                 .intersect_at(o, ls.wi, dist * (1.0 - SHADOW_EPSILON), t)
