@@ -457,9 +457,10 @@ fn intersect_sphere(
     // near 0 is noise: from a floor 10⁻⁸ … 2.5·10⁻¹⁰ below a sphere light of radius 0.5
     // the computed c was ≤ 0, and every BSDF-sampled ray went on to the sphere's far side
     // (BSDF sampling read 0, MIS 0.20, for 0.5). There the `f64` roots decide
-    // ([`intersect_sphere_near_surface`]); every other hit (grazing ones aside, above)
-    // keeps its bits.
-    if within_sphere_band(ff, rr, c) || near_root_ahead(ff, c, b) {
+    // ([`intersect_sphere_near_surface`]), and so they do where the root near 0 is met
+    // from a little farther ([`near_root_inexact`]); every other hit (grazing ones aside,
+    // above) keeps its bits.
+    if within_sphere_band(ff, rr, c) {
         return intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax);
     }
     let (mut t0, mut t1) = (c / q, q);
@@ -467,10 +468,14 @@ fn intersect_sphere(
         t0 = 0.0;
         t1 = 0.0;
     }
+    let near = t0;
     if t0 > t1 {
         std::mem::swap(&mut t0, &mut t1);
     }
     let t = nearest_root_within(t0, t1, tmin, tmax)?;
+    if t == near && near_root_inexact(ff, c) {
+        return intersect_sphere_near_surface(center, radius, o, d, f, tmin, tmax);
+    }
     sphere_hit(center, radius, o, d, f, t, tmin, tmax)
 }
 
@@ -486,24 +491,24 @@ fn within_sphere_band(ff: f32, rr: f32, c: f32) -> bool {
     c.abs() <= gamma(6) * ff + gamma(2) * (rr + c.abs())
 }
 
-/// Whether the root near 0, c/q, lies ahead of the origin (c and b = −f·d agree in sign:
-/// outside and approaching, or inside and leaving) and c is below [`NEAR_ROOT`] |f|²
-/// (an origin within about 3% of r of the surface). That root inherits c's relative
-/// error, up to (γ₆|f|² + γ₂(r² + |c|))/|c| beyond the band ([`within_sphere_band`]),
-/// the same for every ray from one origin: from 3.8·10⁻⁶ r outside a 60° cap beside its
-/// rim, every near root was ~1% long, and the rim decided on it admitted a band of
-/// ~10⁻⁸ r beyond the rim (+0.12% of the irradiance there, for every estimator).
-/// There the `f64` roots decide ([`intersect_sphere_near_surface`]), exact to the
-/// `f32` rounding of t; farther out, c/q keeps within 3·10⁻⁶ of it
-/// (`roots_ahead_of_near_origins_are_exact`). A root behind the origin, or the far root
-/// q (what an origin on a sphere's inside meets: a furnace's bounces), is not affected.
+/// Whether the root near 0, c/q, where the ray meets it (ahead of the origin: outside
+/// and approaching, or inside and leaving), is to come from the `f64` roots: c below
+/// [`NEAR_ROOT`] |f|² (an origin within about 3% of r of the surface). That root inherits
+/// c's relative error, up to (γ₆|f|² + γ₂(r² + |c|))/|c| beyond the band
+/// ([`within_sphere_band`]), the same for every ray from one origin: from 3.8·10⁻⁶ r
+/// outside a 60° cap beside its rim, every near root was ~1% long, and the rim decided
+/// on it admitted a band of ~10⁻⁸ r beyond the rim (+0.12% of the irradiance there, for
+/// every estimator). The `f64` roots are exact to the `f32` rounding of t; farther out,
+/// c/q keeps within about 43u of it (`roots_ahead_of_near_origins_are_exact`). The far
+/// root q (what an origin on a sphere's inside meets: a furnace's bounces) is not
+/// affected, and pays one comparison.
 #[inline]
-fn near_root_ahead(ff: f32, c: f32, b: f32) -> bool {
-    c.abs() < NEAR_ROOT * ff && (c > 0.0) == (b > 0.0)
+fn near_root_inexact(ff: f32, c: f32) -> bool {
+    c.abs() < NEAR_ROOT * ff
 }
 
-/// The fraction of |f|² below which [`near_root_ahead`] sends an origin to the `f64`
-/// roots: 2⁻⁴, where c's relative error bound is about 16 γ₆ ≈ 6·10⁻⁶.
+/// The fraction of |f|² below which [`near_root_inexact`] sends a root near 0 to the
+/// `f64` roots: 2⁻⁴, where c's relative error bound is about 16(γ₆ + γ₂) ≈ 128u.
 const NEAR_ROOT: f32 = 1.0 / 16.0;
 
 /// The hit at distance `t` along the ray of [`intersect_sphere`] (f = o − centre in
@@ -539,7 +544,7 @@ fn sphere_hit(
 /// [`intersect_sphere`] for an origin within the error bound of c = |o − centre|² − r²
 /// of the surface, where the sign of the `f32` root c/q near 0 is not known, for that
 /// root ahead of an origin near the surface, where it carries c's relative error
-/// ([`near_root_ahead`]), and for a grazing ray from anywhere ([`GRAZING`]), whose `f32`
+/// ([`near_root_inexact`]), and for a grazing ray from anywhere ([`GRAZING`]), whose `f32`
 /// discriminant is noise: the roots
 /// in `f64`, where f = o − centre and its square are exact to ~10⁻¹⁶ r². The root near
 /// 0 is c/q, in front of the origin where c and q agree in sign (outside and
