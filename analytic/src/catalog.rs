@@ -543,6 +543,37 @@ static ENTRIES: &[Entry] = &[
         }
     ),
     entry!(
+        "spherical_cap_irradiance",
+        [
+            "point",
+            "normal",
+            "center",
+            "axis",
+            "radius",
+            "theta_max_degrees",
+            "radiance"
+        ],
+        "irradiance (W/m²) at point/normal (any tilt, horizon clipping included), outside the sphere, from the outer side of a uniform Lambertian spherical cap: the part of the sphere (center, radius) within θmax (degrees, (0, 180]) of axis; contour integral",
+        |p| {
+            let (x, n, c, m) = (
+                p.point("point")?,
+                p.direction("normal")?,
+                p.point("center")?,
+                p.direction("axis")?,
+            );
+            let r = p.positive("radius")?;
+            let t = cap_angle(p, "theta_max_degrees", true)?;
+            let l = p.non_negative("radiance")?;
+            if (x - c).length() <= r * (1.0 + 1e-12) {
+                return Err(p.domain(
+                    "the point must lie strictly outside the sphere (|point − center| > radius·(1 + 1e-12)); \
+                     on it the cap's irradiance jumps, inside it the outer side is out of sight",
+                ));
+            }
+            Ok(irradiance::spherical_cap(x, n, c, m, r, t, l))
+        }
+    ),
+    entry!(
         "point_light_irradiance",
         ["point", "normal", "light", "intensity"],
         "irradiance (W/m²) from an isotropic point light of intensity (W/sr): I cos θ / r²",
@@ -1436,6 +1467,72 @@ mod tests {
         assert_eq!(v, 0.5);
     }
 
+    /// The spherical cap's irradiance: the oracle's value through the catalog (degrees to
+    /// radians, the axis and normal normalised), the whole sphere at 180° (Snyder), and
+    /// its refusals: a point on or inside the sphere, or within 10⁻¹² R of it, is a
+    /// domain error; θmax outside (0, 180] degrees names the parameter.
+    #[test]
+    fn spherical_cap_irradiance_through_the_catalog() {
+        let cap = |point: Value, theta: Value| {
+            evaluate(
+                "spherical_cap_irradiance",
+                &obj(
+                    json!({"point": point, "normal": [0, 0.6, -2], "center": [1, 2, 3],
+                    "axis": [0, 0, 3], "radius": 2, "theta_max_degrees": theta, "radiance": 1.5}),
+                ),
+            )
+        };
+        let v = cap(json!([1.4, 2, 7]), json!(60)).unwrap();
+        let n = Vec3::new(0.0, 0.6, -2.0).normalized().unwrap();
+        let want = irradiance::spherical_cap(
+            Vec3::new(1.4, 2.0, 7.0),
+            n,
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            2.0,
+            60f64.to_radians(),
+            1.5,
+        );
+        assert!(v > 0.0 && v == want, "{v} vs {want}");
+        let whole = cap(json!([1.4, 2, 7]), json!(180)).unwrap();
+        let sphere = evaluate(
+            "sphere_irradiance",
+            &obj(
+                json!({"point": [1.4, 2, 7], "normal": [0, 0.6, -2], "center": [1, 2, 3],
+                "radius": 2, "radiance": 1.5}),
+            ),
+        )
+        .unwrap();
+        assert!(
+            (whole - sphere).abs() <= 1e-12 * sphere,
+            "{whole} vs {sphere}"
+        );
+        for point in [
+            json!([1, 2, 5]),
+            json!([1, 2, 4]),
+            json!([1, 2, 3]),
+            json!([1, 2, 5.000000000001]),
+        ] {
+            let e = cap(point.clone(), json!(60)).unwrap_err();
+            assert!(matches!(e, CatalogError::Domain { .. }), "{point}: {e}");
+            assert!(e.to_string().contains("outside the sphere"), "{e}");
+        }
+        assert!(cap(json!([1, 2, 5.00001]), json!(60)).unwrap() > 0.0);
+        for theta in [json!(0), json!(-10), json!(180.5), json!(360)] {
+            let e = cap(json!([1.4, 2, 7]), theta.clone()).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    CatalogError::InvalidParameter {
+                        param: "theta_max_degrees",
+                        ..
+                    }
+                ),
+                "{theta}: {e}"
+            );
+        }
+    }
+
     /// A point in the emitter's plane: refused inside and on the boundary for all three
     /// polygon forms (they gave 0 and 2π), evaluated (0) outside; the sphere seen from
     /// 10²⁰⁰ away with R = 10¹⁹⁹ subtends 2π(1 − √0.99) ≈ 0.0315 (was 0); the
@@ -1821,6 +1918,7 @@ mod tests {
             "disk_irradiance_parallel_offset": {"radius": 1, "height": 2, "offset": 0.5, "radiance": 1},
             "disk_irradiance": {"point": [0, 0, 0], "normal": [1, 0, 0.2], "center": [0, 0, 1], "axis": [0, 0, 1], "radius": 1, "radiance": 1},
             "sphere_irradiance": {"point": [0, 0, 0], "normal": [0, 1, 0], "center": [0, 0, 3], "radius": 1, "radiance": 1},
+            "spherical_cap_irradiance": {"point": [0.2, 0, 2], "normal": [0, 0.3, -1], "center": [0, 0, 0], "axis": [0, 0, 1], "radius": 1, "theta_max_degrees": 60, "radiance": 1},
             "point_light_irradiance": {"point": [0, 0, 0], "normal": [0, 0, 1], "light": [0, 0, 2], "intensity": 4},
             "spot_light_irradiance": {"point": [0.5, 0, 0], "normal": [0, 0, 1], "light": [0, 0, 2], "axis": [0, 0, -1], "intensity": 4, "cone_angle_degrees": 30, "falloff_start_degrees": 10},
             "constant_environment_irradiance": {"radiance": 1},

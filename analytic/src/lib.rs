@@ -15,7 +15,7 @@
 //! |---|---|
 //! | [`catalog`] | the dispatcher case files use: [`catalog::evaluate`] by name, [`catalog::names`] |
 //! | [`solid_angle`] | cap, sphere, triangle (Van Oosterom–Strackee), polygon, rectangle |
-//! | [`irradiance`] | polygon (Lambert, horizon-clipped), disk on/off axis and tilted, sphere (Snyder), point, constant environment; projected solid angle |
+//! | [`irradiance`] | polygon (Lambert, horizon-clipped), disk on/off axis and tilted, sphere (Snyder), spherical cap seen from outside (contour integral), point, constant environment; projected solid angle |
 //! | [`view_factor`] | element→disk, disk→disk, parallel and perpendicular rectangles, element→sphere |
 //! | [`furnace`] | closed enclosure, convex object, integrating sphere |
 //! | [`partial_shapes`] | annulus (on-axis irradiance, power), spherical cap (area, power, irradiance at the centre), furnace partial sums (closed enclosure, integrating sphere with a port) |

@@ -191,6 +191,31 @@ fn check_case(ck: &mut Check<'_>, c: &Value) {
             ck.num("radius", f(r, "radius"), f(g, "radius"), TOL);
             ck.num("radiance", f(r, "radiance"), radiance(s), TOL);
         }
+        "spherical_cap_irradiance" => {
+            let s = emitters(scene)[0];
+            let g = &s["geometry"];
+            let i = irr.unwrap();
+            ck.receiver(r, i);
+            ck.vec("center", v3(&r["center"]), v3(&g["center"]), TOL);
+            let axis = g.get("axis").map_or([0.0, 0.0, 1.0], v3);
+            ck.vec("axis", unit(v3(&r["axis"])), unit(axis), TOL);
+            ck.num("radius", f(r, "radius"), f(g, "radius"), TOL);
+            ck.num(
+                "theta_max_degrees",
+                f(r, "theta_max_degrees"),
+                f(g, "theta_max"),
+                TOL,
+            );
+            ck.num("radiance", f(r, "radiance"), radiance(s), TOL);
+            // The form's cap emits from its outer side only, untransformed.
+            if s.get("flip_normals").is_some()
+                || s.get("transform").is_some()
+                || s["emission"].get("two_sided").is_some_and(|t| t != false)
+            {
+                ck.wrong
+                    .push(format!("{}: not an outward one-sided cap", ck.case));
+            }
+        }
         "polygon_irradiance"
         | "polygon_projected_solid_angle"
         | "solid_angle_triangle"
@@ -567,6 +592,10 @@ fn a_reference_off_its_scene_is_caught() {
         ("view_factor/coaxial_disks_c41.json", "radius2"),
         ("bsdf_albedo/rough_conductor_ggx_alpha0_3_60.json", "alpha"),
         ("irradiance/disk_translated_1e17.json", "height"),
+        (
+            "partial_shapes/emissive_cap_beside_rim_beyond_1e-6.json",
+            "theta_max_degrees",
+        ),
     ] {
         let text = std::fs::read_to_string(root.join(case)).unwrap();
         let mut c: Value = serde_json::from_str(&text).unwrap();

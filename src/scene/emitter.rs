@@ -3210,9 +3210,12 @@ mod tests {
                 _ => panic!("{prim:?}: not a mixture"),
             };
             let mut rays = 0;
-            for i in 0..64u32 {
+            // A grid, and u.x = α itself: the first direction sample (α is a power of two,
+            // so that u.x/α is exact, and the area term takes u.x < α).
+            let xs = (0..64u32).map(|i| (i as f32 + 0.5) / 64.0).chain([alpha]);
+            for x in xs {
                 for j in 0..64u32 {
-                    let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                    let u = Vec2::new(x, (j as f32 + 0.5) / 64.0);
                     if u.x < alpha {
                         continue;
                     }
