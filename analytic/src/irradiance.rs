@@ -283,9 +283,9 @@ pub fn cap_projected_solid_angle(cos_theta: f64, sin2_sigma: f64) -> f64 {
 ///
 /// The crossings of circles i and j solve A cos t + B sin t = C on circle i, with
 /// √(A² + B²) = rᵢ √(1 − g²), C = bⱼ − bᵢ g, g = aᵢ·aⱼ: t = atan2(B, A) ± atan2(√D, C),
-/// D = rᵢ² rⱼ² − (g − bᵢ bⱼ)², solved on each of the two circles (where the two
-/// solutions disagree beyond rounding, for circles crossing at a grazing angle, the
-/// second circle's angle is read from the first's point, so that the contour closes).
+/// D = rᵢ² rⱼ² − (g − bᵢ bⱼ)², solved on the first of the two circles (the silhouette,
+/// else the rim); the second circle's angle is read from that point, so that the
+/// contour closes (also for circles crossing at a grazing angle).
 /// Near the sphere every term is formed without cancellation: |P|² − 1 by error-free
 /// products; for the silhouette g − bᵢ bⱼ = (P·aⱼ − bⱼ)/|P| (exactly 0 against the
 /// receiver's plane, which crosses it wherever it cuts the sphere); the rim's angle
@@ -579,19 +579,16 @@ impl SphereCircle {
     }
 
     /// For a crossing with `other` (not the silhouette): g − b b′ (g = a·a′), and C of
-    /// A cos t + B sin t = C on the silhouette and on `other`, without the cancellations
-    /// of the generic forms when P is near the sphere.
-    fn silhouette_terms(other: &Self, v: &CapView) -> (f64, f64, f64) {
+    /// A cos t + B sin t = C on the silhouette, without the cancellations of the generic
+    /// forms when P is near the sphere.
+    fn silhouette_terms(other: &Self, v: &CapView) -> (f64, f64) {
         let pa = v.p.dot(other.a);
-        let g_minus = (pa - other.b) / v.dist;
         match other.kind {
-            // b′ = P·n: C = n·P (1 − 1/|P|²) on the silhouette, (1 − (n·P)²)/|P| on n.
-            CapCircle::ReceiverPlane => (0.0, other.b * v.excess / v.dist2, other.r2 / v.dist),
-            CapCircle::Rim | CapCircle::Silhouette => (
-                g_minus,
-                other.b - pa / v.dist2,
-                (1.0 - other.b * pa) / v.dist,
-            ),
+            // b′ = P·n: C = n·P (1 − 1/|P|²).
+            CapCircle::ReceiverPlane => (0.0, other.b * v.excess / v.dist2),
+            CapCircle::Rim | CapCircle::Silhouette => {
+                ((pa - other.b) / v.dist, other.b - pa / v.dist2)
+            }
         }
     }
 
@@ -642,34 +639,28 @@ impl SphereCircle {
     }
 }
 
-/// The crossings of two circles: (angle on `ci`, angle on `cj`, offset from P) of each.
+/// The crossings of two circles, `ci` the earlier in the order silhouette, rim,
+/// receiver's plane: (angle on `ci`, angle on `cj`, offset from P) of each.
 ///
 /// On circle i, aⱼ·y(t) = bⱼ reads A cos t + B sin t = C with √(A² + B²) = rᵢ √(1 − g²),
-/// C = bⱼ − bᵢ g, so t = atan2(B, A) ± atan2(√D, C), D = rᵢ² rⱼ² − (g − bᵢ bⱼ)²; the point
-/// at +atan2(√D, C) on i (towards aᵢ × aⱼ) is the one at −atan2(√D, C′) on j. Each
-/// circle's angle is solved on that circle, to its own precision; where the two disagree
-/// by more than rounding (circles crossing at a grazing angle), the second is read from
-/// the first's point instead, so the contour still closes. The offset is taken from the
-/// silhouette or the rim, whose offsets keep their digits near P.
+/// C = bⱼ − bᵢ g, so t = atan2(B, A) ± atan2(√D, C), D = rᵢ² rⱼ² − (g − bᵢ bⱼ)². The
+/// angle is solved on `ci` (the silhouette, else the rim), whose offsets keep their
+/// digits near P and give the offset; the angle on `cj` is read from that point, so the
+/// contour closes even where the circles cross at a grazing angle.
 fn crossings(ci: &SphereCircle, cj: &SphereCircle, v: &CapView) -> Vec<(f64, f64, Vec3)> {
-    let (g_minus, c_i, c_j) = match (ci.kind, cj.kind) {
-        (CapCircle::Silhouette, _) => SphereCircle::silhouette_terms(cj, v),
-        (_, CapCircle::Silhouette) => {
-            let (g, on_sil, on_other) = SphereCircle::silhouette_terms(ci, v);
-            (g, on_other, on_sil)
-        }
-        (CapCircle::Rim | CapCircle::ReceiverPlane, _) => {
+    let (g_minus, c_i) = match ci.kind {
+        CapCircle::Silhouette => SphereCircle::silhouette_terms(cj, v),
+        CapCircle::Rim | CapCircle::ReceiverPlane => {
             let g = ci.a.dot(cj.a);
-            (g - ci.b * cj.b, cj.b - ci.b * g, ci.b - cj.b * g)
+            (g - ci.b * cj.b, cj.b - ci.b * g)
         }
     };
     let d = ci.r2 * cj.r2 - g_minus * g_minus;
-    let phi_i = cj.a.dot(ci.w).atan2(cj.a.dot(ci.u));
-    let phi_j = ci.a.dot(cj.w).atan2(ci.a.dot(cj.u));
     if d.is_nan() || d <= 0.0 {
         return Vec::new();
     }
-    let (gi, gj) = (d.sqrt().atan2(c_i), d.sqrt().atan2(c_j));
+    let phi = cj.a.dot(ci.w).atan2(cj.a.dot(ci.u));
+    let half = d.sqrt().atan2(c_i);
     let wrap = |t: f64| {
         if t > PI {
             t - 2.0 * PI
@@ -679,31 +670,11 @@ fn crossings(ci: &SphereCircle, cj: &SphereCircle, v: &CapView) -> Vec<(f64, f64
             t
         }
     };
-    // The silhouette, else the rim, gives the offset; the other circle's angle falls
-    // back on that circle's point.
-    let first_is_primary = match (ci.kind, cj.kind) {
-        (CapCircle::Silhouette, _) => true,
-        (_, CapCircle::Silhouette) => false,
-        (CapCircle::Rim, _) => true,
-        (CapCircle::ReceiverPlane, _) => false,
-    };
     [1.0, -1.0]
         .into_iter()
         .map(|sign| {
-            let (mut ti, mut tj) = (wrap(phi_i + sign * gi), wrap(phi_j - sign * gj));
-            if (ci.at(ti) - cj.at(tj)).length() > 1e-14 {
-                if first_is_primary {
-                    tj = cj.angle_of(ci.at(ti));
-                } else {
-                    ti = ci.angle_of(cj.at(tj));
-                }
-            }
-            let x = if first_is_primary {
-                ci.offset(ti)
-            } else {
-                cj.offset(tj)
-            };
-            (ti, tj, x)
+            let ti = wrap(phi + sign * half);
+            (ti, cj.angle_of(ci.at(ti)), ci.offset(ti))
         })
         .collect()
 }
@@ -1403,6 +1374,53 @@ mod tests {
         assert!(rel(spherical_cap(pg + off, n, c + off, axis, r, t, 1.0), e) < 1e-9);
         let e_scaled = spherical_cap(c + (pg - c) * 1e3, n, c, axis, r * 1e3, t, 1.0);
         assert!(rel(e_scaled, e) < 1e-13, "{e_scaled} vs {e}");
+    }
+
+    /// The ends of its domain. θmax ≤ 0 or NaN is no cap (0, where θmax = 1 lights the
+    /// receiver), a point exactly on the sphere or not a number sees no outer side (0).
+    /// θmax = π exactly is the whole sphere ([`sphere`]) whatever the axis, even pointing
+    /// straight away from a receiver 10⁻¹³ R off the surface, where a rim, if there were
+    /// one, would be the silhouette's own circle bounding the opposite cap. A receiver in
+    /// the tangent plane at −n, facing the sphere (n·P = −1 exactly: its plane touches
+    /// the sphere at one point and bounds nothing), sees the whole sphere too, ½ R from
+    /// the tangent point and 5·10⁻¹³ R from it, where that point is the silhouette's
+    /// opposite again.
+    #[test]
+    fn spherical_cap_at_the_ends_of_its_domain() {
+        // Dyadic centre and a 3-4-5 offset: |p − c|² − R² is exactly 0.
+        let c = Vec3::new(0.5, -0.25, 1.0);
+        let r = 5.0;
+        let axis = Vec3::new(0.2, -0.4, 1.0).normalized().unwrap();
+        let p = c + Vec3::new(-1.0, 3.0, 9.0);
+        let n = Vec3::new(0.3, -0.5, -1.0).normalized().unwrap();
+        assert!(spherical_cap(p, n, c, axis, r, 1.0, 1.0) > 0.1);
+        for t in [0.0, -1e-300, -1.0, -PI, f64::NAN, f64::NEG_INFINITY] {
+            assert_eq!(spherical_cap(p, n, c, axis, r, t, 1.0), 0.0, "θmax {t}");
+        }
+        let on = c + Vec3::new(3.0, 4.0, 0.0);
+        let inward = Vec3::new(-0.6, -0.8, 0.0);
+        for t in [1.0, PI] {
+            assert_eq!(spherical_cap(on, inward, c, -inward, r, t, 1.0), 0.0);
+            let nan = Vec3::new(f64::NAN, 0.0, 0.0);
+            assert_eq!(spherical_cap(nan, inward, c, axis, r, t, 1.0), 0.0);
+        }
+        let out = Vec3::new(0.6, 0.0, 0.8);
+        for d in [1.0 + 1e-13, 1.5] {
+            let p = c + out * (r * d);
+            let want = sphere(p, -out, c, r, 1.0);
+            for a in [-out, out, axis] {
+                let got = spherical_cap(p, -out, c, a, r, PI, 1.0);
+                assert!(rel(got, want) < 1e-12, "d={d} axis {a:?}: {got} vs {want}");
+            }
+        }
+        let up = Vec3::new(0.0, 0.0, 1.0);
+        for off in [5e-13, 0.5] {
+            let p = Vec3::new(off, 0.0, -1.0);
+            let want = sphere(p, up, Vec3::default(), 1.0, 1.0);
+            assert!(want > 2.0, "{want}");
+            let got = spherical_cap(p, up, Vec3::default(), axis, 1.0, PI, 1.0);
+            assert!(rel(got, want) < 1e-12, "{off}: {got} vs {want}");
+        }
     }
 }
 
