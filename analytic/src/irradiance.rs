@@ -347,6 +347,8 @@ pub fn spherical_cap_projected_solid_angle(
         // The receiver's plane leaves the sphere behind it.
         return 0.0;
     }
+    // In this order (silhouette, rim, receiver's plane): `crossings` solves each crossing
+    // on the earlier of its two circles.
     let mut circles = vec![SphereCircle::silhouette(p_hat, &view)];
     if theta_max < PI {
         circles.push(SphereCircle::rim(axis, theta_max, big_p));
