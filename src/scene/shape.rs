@@ -497,8 +497,8 @@ fn within_sphere_band(ff: f32, rr: f32, c: f32) -> bool {
 /// c's relative error, up to (γ₆|f|² + γ₂(r² + |c|))/|c| beyond the band
 /// ([`within_sphere_band`]), the same for every ray from one origin: from 3.8·10⁻⁶ r
 /// outside a 60° cap beside its rim, every near root was ~1% long, and the rim decided
-/// on it admitted a band of ~10⁻⁸ r beyond the rim (+0.12% of the irradiance there, for
-/// every estimator). The `f64` roots are exact to the `f32` rounding of t; farther out,
+/// on it admitted a sliver a few 10⁻⁹ r beyond the rim (+0.12% of the irradiance there,
+/// for every estimator). The `f64` roots are exact to the `f32` rounding of t; farther out,
 /// c/q keeps within about 43u of it (`roots_ahead_of_near_origins_are_exact`). The far
 /// root q (what an origin on a sphere's inside meets: a furnace's bounces) is not
 /// affected, and pays one comparison.
@@ -545,12 +545,11 @@ fn sphere_hit(
 /// of the surface, where the sign of the `f32` root c/q near 0 is not known, for that
 /// root ahead of an origin near the surface, where it carries c's relative error
 /// ([`near_root_inexact`]), and for a grazing ray from anywhere ([`GRAZING`]), whose `f32`
-/// discriminant is noise: the roots
-/// in `f64`, where f = o − centre and its square are exact to ~10⁻¹⁶ r². The root near
-/// 0 is c/q, in front of the origin where c and q agree in sign (outside and
-/// approaching, or inside and leaving); it is dropped where |c| is within its own
-/// `f64` bound (an origin on the surface to ~10⁻¹⁶ r: it cannot be told from a point
-/// of the sphere, which does not see itself). A ray spawned from the sphere's own
+/// discriminant is noise: the roots in `f64`, where f = o − centre and its square are
+/// exact to ~10⁻¹⁶ r². The root near 0 is c/q, in front of the origin where c and q
+/// agree in sign (outside and approaching, or inside and leaving); it is dropped where
+/// |c| is within its own `f64` bound (an origin on the surface to ~10⁻¹⁶ r: it cannot be
+/// told from a point of the sphere, which does not see itself). A ray spawned from the sphere's own
 /// point is offset past that point's error bound, ≥ γ₅r ≈ 3·10⁻⁷ r, to the side it leaves
 /// ([`crate::math::offset_ray_origin`]), so its `f64` c has the sign of that side and
 /// its root near 0 lies behind it. The other root, q, is the `f64` one too: for a ray
