@@ -59,6 +59,11 @@ impl Vec3 {
         (l > 0.0 && l.is_finite()).then(|| self * (1.0 / l))
     }
 
+    /// True when any component is NaN.
+    pub fn has_nan(self) -> bool {
+        self.x.is_nan() || self.y.is_nan() || self.z.is_nan()
+    }
+
     /// True when every component is finite.
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite()

@@ -314,7 +314,8 @@ pub fn spherical_cap(
 
 /// Projected solid angle ∫ max(0, n·ω) dω of the outer side of a spherical cap seen from
 /// `p` ([`spherical_cap`] with L = 1). 0 for a point on or inside the sphere (which sees
-/// only the inner side) and for θmax ≤ 0.
+/// only the inner side) and for θmax ≤ 0; NaN where any input is NaN (never masked as a
+/// dark receiver).
 pub fn spherical_cap_projected_solid_angle(
     p: Vec3,
     n: Vec3,
@@ -323,7 +324,11 @@ pub fn spherical_cap_projected_solid_angle(
     radius: f64,
     theta_max: f64,
 ) -> f64 {
-    if theta_max.is_nan() || theta_max <= 0.0 {
+    let scalars = [radius, theta_max];
+    if [p, n, center, axis].iter().any(|v| v.has_nan()) || scalars.iter().any(|s| s.is_nan()) {
+        return f64::NAN;
+    }
+    if theta_max <= 0.0 {
         return 0.0;
     }
     let w = p - center;
@@ -1488,8 +1493,9 @@ mod tests {
         }
     }
 
-    /// The ends of its domain. θmax ≤ 0 or NaN is no cap (0, where θmax = 1 lights the
-    /// receiver), a point exactly on the sphere or not a number sees no outer side (0).
+    /// The ends of its domain. θmax ≤ 0 is no cap (0, where θmax = 1 lights the
+    /// receiver), a point exactly on the sphere sees no outer side (0); a NaN anywhere
+    /// (point, normal, centre, axis, radius, θmax, radiance) gives NaN, never 0.
     /// θmax = π exactly is the whole sphere ([`sphere`]) whatever the axis, even pointing
     /// straight away from a receiver 10⁻¹³ R off the surface, where a rim, if there were
     /// one, would be the silhouette's own circle bounding the opposite cap. A receiver in
@@ -1506,16 +1512,42 @@ mod tests {
         let p = c + Vec3::new(-1.0, 3.0, 9.0);
         let n = Vec3::new(0.3, -0.5, -1.0).normalized().unwrap();
         assert!(spherical_cap(p, n, c, axis, r, 1.0, 1.0) > 0.1);
-        for t in [0.0, -1e-300, -1.0, -PI, f64::NAN, f64::NEG_INFINITY] {
+        for t in [0.0, -1e-300, -1.0, -PI, f64::NEG_INFINITY] {
             assert_eq!(spherical_cap(p, n, c, axis, r, t, 1.0), 0.0, "θmax {t}");
         }
         let on = c + Vec3::new(3.0, 4.0, 0.0);
         let inward = Vec3::new(-0.6, -0.8, 0.0);
         for t in [1.0, PI] {
             assert_eq!(spherical_cap(on, inward, c, -inward, r, t, 1.0), 0.0);
-            let nan = Vec3::new(f64::NAN, 0.0, 0.0);
-            assert_eq!(spherical_cap(nan, inward, c, axis, r, t, 1.0), 0.0);
         }
+        // NaN in any one input, in each of a vector's components, also where the
+        // receiver would be dark (θmax ≤ 0, on the sphere) and where it is lit.
+        let nan = f64::NAN;
+        for t in [1.0, 0.0] {
+            assert!(
+                spherical_cap(p, n, c, axis, r, t, nan).is_nan(),
+                "radiance, θmax {t}"
+            );
+            assert!(
+                spherical_cap(p, n, c, axis, nan, t, 1.0).is_nan(),
+                "radius, θmax {t}"
+            );
+            for k in 0..3 {
+                let mut v = [0.0; 3];
+                v[k] = nan;
+                let bad = Vec3::new(v[0], v[1], v[2]);
+                for (what, got) in [
+                    ("point", spherical_cap(p + bad, n, c, axis, r, t, 1.0)),
+                    ("on", spherical_cap(on + bad, inward, c, axis, r, t, 1.0)),
+                    ("normal", spherical_cap(p, n + bad, c, axis, r, t, 1.0)),
+                    ("centre", spherical_cap(p, n, c + bad, axis, r, t, 1.0)),
+                    ("axis", spherical_cap(p, n, c, axis + bad, r, t, 1.0)),
+                ] {
+                    assert!(got.is_nan(), "{what}[{k}], θmax {t}: {got}");
+                }
+            }
+        }
+        assert!(spherical_cap(p, n, c, axis, r, nan, 1.0).is_nan());
         let out = Vec3::new(0.6, 0.0, 0.8);
         for d in [1.0 + 1e-13, 1.5] {
             let p = c + out * (r * d);
