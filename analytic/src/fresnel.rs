@@ -27,6 +27,8 @@
 /// against 50-digit references at η = 1 + 10⁻⁷.
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.2; pbrt 4th ed. §9.3.
+///
+/// A NaN `cos_theta` or `eta` gives NaN.
 pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
     let Some(Incidence {
         d,
@@ -64,6 +66,8 @@ pub fn dielectric(cos_theta: f64, eta: f64) -> f64 {
 /// **Derivation.** (x + y)² − (x − y)² = 4xy applied to [`dielectric`]'s r_s and r_p.
 ///
 /// **Source.** Born & Wolf, *Principles of Optics*, §1.5.3 (the transmissivity).
+///
+/// A NaN `cos_theta` or `eta` gives NaN.
 pub fn dielectric_transmittance(cos_theta: f64, eta: f64) -> f64 {
     let Some(Incidence { d, cos_i, eta, .. }) = Incidence::refracted(cos_theta, eta) else {
         return 0.0;
@@ -94,7 +98,8 @@ impl Incidence {
         } else {
             (cos_theta, eta)
         };
-        let cos_i = cos_i.min(1.0);
+        // Not `min(1.0)`, which made a NaN cosine 1 (normal incidence: F = 0.04 at η = 1.5).
+        let cos_i = if cos_i > 1.0 { 1.0 } else { cos_i };
         let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
         // `>=`: a NaN passes on to the formulas (never masked as total reflection).
         if sin2_t >= 1.0 {
@@ -383,6 +388,31 @@ mod tests {
             }
         }
         total
+    }
+
+    /// A NaN cosine or index gives NaN, never a reflectance: the cosine was capped at 1
+    /// by `min`, which made NaN normal incidence (F = 0.04, T = 0.96 at η = 1.5), also
+    /// where a finite cosine is totally reflected or grazing.
+    #[test]
+    fn nan_cosine_or_index_gives_nan() {
+        let nan = f64::NAN;
+        for (c, eta) in [
+            (0.5, 1.5),
+            (-0.5, 1.5),
+            (-0.1, 1.5),
+            (0.5, 1.000_000_1),
+            (1.0, 1.5),
+            (0.0, 1.5),
+            (2.0, 1.5),
+        ] {
+            for (what, c, eta) in [("cos θ", nan, eta), ("η", c, nan)] {
+                let (f, t) = (dielectric(c, eta), dielectric_transmittance(c, eta));
+                assert!(
+                    f.is_nan() && t.is_nan(),
+                    "{what} NaN, η {eta}: F {f}, T {t}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -89,6 +89,37 @@ impl Vec3 {
     }
 }
 
+/// True when any of `vectors` or `scalars` is or holds a NaN: the oracle's functions then
+/// return NaN, never a finite value that would pass for a reference.
+pub(crate) fn any_nan(vectors: &[Vec3], scalars: &[f64]) -> bool {
+    vectors.iter().any(|v| v.has_nan()) || scalars.iter().any(|s| s.is_nan())
+}
+
+/// Test support: `f` of the flat inputs `base` (a vector's components in a row) is not
+/// NaN at each base point, and is NaN with each input in turn made NaN.
+#[cfg(test)]
+pub(crate) fn assert_nan_in_each(what: &str, bases: &[&[f64]], f: impl Fn(&[f64]) -> f64) {
+    for (i, base) in bases.iter().enumerate() {
+        let at_base = f(base);
+        assert!(!at_base.is_nan(), "{what}, base {i} is NaN itself");
+        for k in 0..base.len() {
+            let mut x = base.to_vec();
+            x[k] = f64::NAN;
+            let got = f(&x);
+            assert!(
+                got.is_nan(),
+                "{what}, base {i} ({at_base}), input {k} NaN: {got}"
+            );
+        }
+    }
+}
+
+/// Test support: the vector of the flat inputs `x[i..i + 3]`.
+#[cfg(test)]
+pub(crate) fn vec_at(x: &[f64], i: usize) -> Vec3 {
+    Vec3::new(x[i], x[i + 1], x[i + 2])
+}
+
 impl Add for Vec3 {
     type Output = Self;
     fn add(self, o: Self) -> Self {

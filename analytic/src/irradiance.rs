@@ -6,7 +6,7 @@
 //! hemisphere around the receiver normal `n` counts, so every function clips the emitter
 //! to that half-space.
 
-use crate::geom::Vec3;
+use crate::geom::{Vec3, any_nan};
 use crate::quadrature::adaptive;
 use std::f64::consts::PI;
 
@@ -26,13 +26,19 @@ use std::f64::consts::PI;
 /// **Source.** J. H. Lambert, *Photometria* (1760); J. Arvo, "Applications of irradiance
 /// tensors to the simulation of non-Lambertian phenomena", SIGGRAPH 1995, eq. (7);
 /// Siegel & Howell, contour-integral configuration factors.
+///
+/// A NaN in any input gives NaN.
 pub fn polygon(p: Vec3, n: Vec3, vertices: &[Vec3], radiance: f64) -> f64 {
     radiance * polygon_projected_solid_angle(p, n, vertices)
 }
 
 /// Projected solid angle ∫ max(0, n·ω) dω of a polygon seen from `p` with normal `n`
-/// ([`polygon`] with L = 1).
+/// ([`polygon`] with L = 1); NaN where any input holds a NaN (the clipping dropped a
+/// NaN vertex as below the horizon, and a NaN point or normal dropped them all: 0).
 pub fn polygon_projected_solid_angle(p: Vec3, n: Vec3, vertices: &[Vec3]) -> f64 {
+    if any_nan(&[p, n], &[]) || any_nan(vertices, &[]) {
+        return f64::NAN;
+    }
     let rel: Vec<Vec3> = vertices.iter().map(|&v| v - p).collect();
     let clipped = clip_to_half_space(&rel, n);
     let m = clipped.len();
@@ -145,7 +151,13 @@ fn disk_vector_components(r: f64, h: f64, a: f64) -> (f64, f64) {
 /// relative.
 ///
 /// **Source.** Howell's catalog (section B, disk cases); Arvo 1995 (contour form).
+///
+/// A NaN in any input gives NaN (a NaN radiance came out 0 through the clamp to ≥ 0 and
+/// the early return of a disk below the horizon).
 pub fn disk(p: Vec3, n: Vec3, center: Vec3, axis: Vec3, radius: f64, radiance: f64) -> f64 {
+    if any_nan(&[p, n, center, axis], &[radius, radiance]) {
+        return f64::NAN;
+    }
     let m = axis;
     let w = center - p; // from receiver to disk centre
     let k = n.dot(w);
@@ -217,6 +229,8 @@ pub fn disk(p: Vec3, n: Vec3, center: Vec3, axis: Vec3, radius: f64, radiance: f
 /// **Source.** J. Snyder, "Area light sources for real-time graphics", Microsoft
 /// Research MSR-TR-96-11, 1996; in this form S. Lagarde & C. de Rousiers, "Moving
 /// Frostbite to physically based rendering", SIGGRAPH 2014 course, eq. (19)–(20).
+///
+/// A NaN in any input gives NaN ([`cap_projected_solid_angle`]).
 pub fn sphere(p: Vec3, n: Vec3, center: Vec3, radius: f64, radiance: f64) -> f64 {
     let w = center - p;
     let d = w.length();
@@ -226,8 +240,12 @@ pub fn sphere(p: Vec3, n: Vec3, center: Vec3, radius: f64, radiance: f64) -> f64
 }
 
 /// Projected solid angle of a cap of angular radius σ (given sin²σ) whose axis makes
-/// angle θ (given cos θ) with the receiver normal; see [`sphere`].
+/// angle θ (given cos θ) with the receiver normal; see [`sphere`]. NaN for a NaN input
+/// (the comparisons below fail for NaN, and the final clamp to ≥ 0 made it 0).
 pub fn cap_projected_solid_angle(cos_theta: f64, sin2_sigma: f64) -> f64 {
+    if cos_theta.is_nan() || sin2_sigma.is_nan() {
+        return f64::NAN;
+    }
     let sin_sigma = sin2_sigma.sqrt();
     if cos_theta >= sin_sigma {
         return PI * sin2_sigma * cos_theta;
@@ -324,8 +342,7 @@ pub fn spherical_cap_projected_solid_angle(
     radius: f64,
     theta_max: f64,
 ) -> f64 {
-    let scalars = [radius, theta_max];
-    if [p, n, center, axis].iter().any(|v| v.has_nan()) || scalars.iter().any(|s| s.is_nan()) {
+    if any_nan(&[p, n, center, axis], &[radius, theta_max]) {
         return f64::NAN;
     }
     if theta_max <= 0.0 {
@@ -693,7 +710,12 @@ fn crossings(ci: &SphereCircle, cj: &SphereCircle, v: &CapView) -> Vec<(f64, f64
 /// flux I dω spreads over dA.
 ///
 /// **Source.** pbrt 4th ed. §4.1.3 / §12.1; Born & Wolf §4.8 (photometry).
+///
+/// A NaN in any input gives NaN (a NaN normal came out 0 through max(0, cos θ)).
 pub fn point(p: Vec3, n: Vec3, light: Vec3, intensity: f64) -> f64 {
+    if any_nan(&[p, n, light], &[intensity]) {
+        return f64::NAN;
+    }
     let w = light - p;
     let r2 = w.length_squared();
     intensity * (n.dot(w) / r2.sqrt()).max(0.0) / r2
@@ -715,6 +737,9 @@ pub fn point(p: Vec3, n: Vec3, light: Vec3, intensity: f64) -> f64 {
 ///
 /// **Source.** Pharr, Jakob & Humphreys, pbrt 4th ed. §12.1.2 (`SpotLight`, its
 /// `SmoothStep` falloff); Nicodemus 1963 for I cos θ/r².
+///
+/// A NaN in any input gives NaN (with a hard edge a NaN angle to the axis fell outside
+/// the cone: 0).
 pub fn spot(
     p: Vec3,
     n: Vec3,
@@ -724,6 +749,12 @@ pub fn spot(
     cone_angle: f64,
     falloff_start: f64,
 ) -> f64 {
+    if any_nan(
+        &[p, n, light, axis],
+        &[intensity, cone_angle, falloff_start],
+    ) {
+        return f64::NAN;
+    }
     let w = p - light;
     let theta = axis.angle_between(w);
     let omc = crate::radiometry::one_minus_cos;
@@ -748,6 +779,7 @@ pub fn constant_environment(radiance: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::{assert_nan_in_each, vec_at};
     use crate::quadrature::adaptive_2d;
 
     fn rel(a: f64, b: f64) -> f64 {
@@ -961,6 +993,105 @@ mod tests {
                 assert!((far - got).abs() <= 1e-9 * got.abs() + 1e-300);
             }
         }
+    }
+
+    /// A NaN in any input (each vector component in turn) gives NaN, also where the
+    /// polygon is below the horizon (0): the clipping dropped a NaN vertex as below it,
+    /// and a NaN point or normal dropped them all.
+    #[test]
+    fn polygon_propagates_nan() {
+        let (o, up) = ([0.0; 3], [0.0, 0.0, 1.0]);
+        let square = |z: f64| [-1.0, -1.0, z, 1.0, -1.0, z, 1.0, 1.0, z, -1.0, 1.0, z];
+        let across = [
+            1.0, -1.0, -1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0,
+        ];
+        let bases: Vec<Vec<f64>> = [square(1.0), square(-1.0), across]
+            .iter()
+            .map(|verts| [&o[..], &up, verts, &[1.0]].concat())
+            .collect();
+        let bases: Vec<&[f64]> = bases.iter().map(|b| &b[..]).collect();
+        let verts = |x: &[f64]| (0..4).map(|k| vec_at(x, 6 + 3 * k)).collect::<Vec<_>>();
+        assert_nan_in_each("polygon", &bases, |x| {
+            polygon(vec_at(x, 0), vec_at(x, 3), &verts(x), x[18])
+        });
+        let bases: Vec<&[f64]> = bases.iter().map(|b| &b[..18]).collect();
+        assert_nan_in_each("polygon_projected_solid_angle", &bases, |x| {
+            polygon_projected_solid_angle(vec_at(x, 0), vec_at(x, 3), &verts(x))
+        });
+    }
+
+    /// A NaN in any input gives NaN: a NaN radiance came out 0 where the whole disk is
+    /// visible (the clamp to ≥ 0) and where it is below the horizon (the early return).
+    #[test]
+    fn disk_propagates_nan() {
+        let t = Vec3::new(0.3, 0.0, 0.95).normalized().unwrap();
+        let bases: [&[f64]; 4] = [
+            // Whole disk visible, to a facing and to a tilted receiver.
+            &[0., 0., 0., 0., 0., 1., 0., 0., 2., 0., 0., -1., 1., 1.],
+            &[0., 0., 0., t.x, t.y, t.z, 0.5, 0., 2., 0., 0., -1., 1., 1.],
+            // Below the horizon, and straddling it.
+            &[0., 0., 0., 0., 0., 1., 0., 0., -2., 0., 0., 1., 1., 1.],
+            &[0., 0., 0., 0., 0., 1., 2., 0., 0., 1., 0., 0., 1., 1.],
+        ];
+        assert_nan_in_each("disk", &bases, |x| {
+            let v = |i| vec_at(x, i);
+            disk(v(0), v(3), v(6), v(9), x[12], x[13])
+        });
+    }
+
+    /// A NaN in any input gives NaN, above, below and across the horizon and from inside
+    /// the sphere: the cap's comparisons fail for NaN and its clamp to ≥ 0 made it 0.
+    #[test]
+    fn sphere_propagates_nan() {
+        let bases: [&[f64]; 4] = [
+            &[0., 0., 0., 0., 0., 1., 0., 0., 3., 1., 1.],
+            &[0., 0., 0., 0., 0., 1., 0., 0., -3., 1., 1.],
+            &[0., 0., 0., 0., 0., 1., 3., 0., 0., 1., 1.],
+            &[0., 0., 0., 0., 0., 1., 0.5, 0., 0., 1., 1.],
+        ];
+        assert_nan_in_each("sphere", &bases, |x| {
+            sphere(vec_at(x, 0), vec_at(x, 3), vec_at(x, 6), x[9], x[10])
+        });
+        let bases: [&[f64]; 4] = [&[1.0, 0.1], &[-1.0, 0.1], &[0.0, 0.1], &[0.5, 0.0]];
+        assert_nan_in_each("cap_projected_solid_angle", &bases, |x| {
+            cap_projected_solid_angle(x[0], x[1])
+        });
+    }
+
+    /// A NaN in any input gives NaN, lit or not: a NaN normal came out 0 through
+    /// max(0, cos θ), and so did a NaN spot axis at a hard edge (outside the cone).
+    #[test]
+    fn point_and_spot_propagate_nan() {
+        let bases: [&[f64]; 3] = [
+            &[0., 0., 0., 0., 0., 1., 0., 0., 2., 1.],
+            &[0., 0., 0., 0., 0., 1., 0., 0., -2., 1.],
+            &[0., 0., 0., 0., 0., 1., 2., 0., 0., 1.],
+        ];
+        assert_nan_in_each("point", &bases, |x| {
+            point(vec_at(x, 0), vec_at(x, 3), vec_at(x, 6), x[9])
+        });
+        // Inside and outside a smooth and a hard-edged cone, and facing away.
+        let bases: [&[f64]; 5] = [
+            &[
+                0., 0., 0., 0., 0., 1., 0., 0., 2., 0., 0., -1., 1., 0.5, 0.3,
+            ],
+            &[
+                5., 0., 0., 0., 0., 1., 0., 0., 2., 0., 0., -1., 1., 0.5, 0.3,
+            ],
+            &[
+                0., 0., 0., 0., 0., 1., 0., 0., 2., 0., 0., -1., 1., 0.5, 0.5,
+            ],
+            &[
+                5., 0., 0., 0., 0., 1., 0., 0., 2., 0., 0., -1., 1., 0.5, 0.5,
+            ],
+            &[
+                0., 0., 0., 0., 0., -1., 0., 0., 2., 0., 0., -1., 1., 0.5, 0.3,
+            ],
+        ];
+        assert_nan_in_each("spot", &bases, |x| {
+            let v = |i| vec_at(x, i);
+            spot(v(0), v(3), v(6), v(9), x[12], x[13], x[14])
+        });
     }
 
     #[test]

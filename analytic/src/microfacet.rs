@@ -109,8 +109,13 @@ fn erfc_tail(x: f64) -> f64 {
     t
 }
 
-/// Smith's Λ for a direction of polar cosine `cos_theta` (> 0); +∞ at grazing.
+/// Smith's Λ for a direction of polar cosine `cos_theta` (> 0); +∞ at grazing; NaN for a
+/// NaN `alpha` or `cos_theta` (`min(1.0)` made a NaN cosine 1, Λ = 0, and a NaN α at
+/// grazing was +∞).
 pub fn lambda(dist: Distribution, alpha: f64, cos_theta: f64) -> f64 {
+    if alpha.is_nan() || cos_theta.is_nan() {
+        return f64::NAN;
+    }
     let c = cos_theta.min(1.0);
     if c <= 0.0 {
         return f64::INFINITY;
@@ -192,8 +197,12 @@ fn slope_cdf(dist: Distribution, alpha: f64, theta_m: f64) -> f64 {
     }
 }
 
-/// D(m) for a unit normal with z > 0, from its formula (Walter et al. 2007, eqs. 25 and 33).
+/// D(m) for a unit normal with z > 0, from its formula (Walter et al. 2007, eqs. 25 and 33);
+/// 0 at and below the horizon, NaN where `alpha` or a component of `m` is NaN (also there).
 pub fn d(dist: Distribution, alpha: f64, m: [f64; 3]) -> f64 {
+    if alpha.is_nan() || m.iter().any(|x| x.is_nan()) {
+        return f64::NAN;
+    }
     let c = m[2];
     if c <= 0.0 {
         return 0.0;
@@ -227,7 +236,8 @@ fn g2_of(masking: Masking, lo: f64, li: f64) -> f64 {
 /// 9.4·10⁶ (height-correlated) and 1.4·10⁷ (uncorrelated, α = 10⁻⁴) at
 /// cos θo = 10⁻¹²; that is, from about a millisecond to under a second (0.42 s for GGX
 /// α = 1 at cos θo = 10⁻¹², up to 0.8 s on a loaded machine). The tests bound the
-/// grazing GGX and Beckmann cases at 1.6·10⁷ and 10⁶ evaluations.
+/// grazing GGX and Beckmann cases at 1.6·10⁷ and 10⁶ evaluations. A NaN `alpha` or
+/// `cos_theta` gives NaN.
 pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta: f64) -> f64 {
     albedo_with_fresnel(dist, masking, alpha, cos_theta, |_| 1.0)
 }
@@ -255,6 +265,9 @@ pub fn white_albedo(dist: Distribution, masking: Masking, alpha: f64, cos_theta:
 ///
 /// **Source.** Walter, Marschner, Li & Torrance 2007, "Microfacet Models for Refraction
 /// through Rough Surfaces", EGSR, eqs. 14 and 20; Heitz 2014 for Λ and G2 (module doc).
+///
+/// A NaN `alpha` or `cos_theta` gives NaN (a NaN α made every microfacet normal the
+/// horizon's, whose mirror direction is below the surface: 0).
 pub fn albedo_with_fresnel(
     dist: Distribution,
     masking: Masking,
@@ -276,7 +289,7 @@ pub fn albedo_with_fresnel(
 /// The split is exact for any κ (cuts and a change of variable of the same integrand);
 /// from κ = 0.1 the factor is smooth on the quadrature's scale and the split would only
 /// cost evaluations (2.6× for gold, η = 0.2, κ = 3.9, with the same value to 10⁻¹²), so it
-/// is made below that.
+/// is made below that. A NaN in any input gives NaN.
 pub fn conductor_albedo(
     dist: Distribution,
     masking: Masking,
@@ -311,6 +324,10 @@ fn mirror_albedo(
     fresnel: impl Fn(f64) -> f64,
     kink: Option<f64>,
 ) -> f64 {
+    // `normal` takes a NaN α for the horizon (an albedo of 0).
+    if alpha.is_nan() || cos_theta.is_nan() {
+        return f64::NAN;
+    }
     let co = cos_theta.clamp(1e-300, 1.0);
     let so = (1.0 - co * co).sqrt();
     let lo = lambda(dist, alpha, co);
@@ -444,7 +461,8 @@ fn fresnel_kink(etap: f64) -> Option<f64> {
 
 /// The reflected part of [`dielectric_albedo`]: [`albedo_with_fresnel`] with the
 /// dielectric Fresnel F(⟨ωo, h⟩; η′), η′ from the side of ωo (`cos_theta` signed,
-/// negative from inside, where F = 1 beyond the critical angle); 0 at `eta` = 1.
+/// negative from inside, where F = 1 beyond the critical angle); 0 at `eta` = 1; NaN
+/// where any input is NaN (also at `eta` = 1).
 pub fn dielectric_reflection_albedo(
     dist: Distribution,
     masking: Masking,
@@ -452,6 +470,9 @@ pub fn dielectric_reflection_albedo(
     cos_theta: f64,
     eta: f64,
 ) -> f64 {
+    if alpha.is_nan() || cos_theta.is_nan() || eta.is_nan() {
+        return f64::NAN;
+    }
     if eta == 1.0 {
         // A matched index reflects nothing: F ≡ 0 exactly, where the quadrature would
         // chase the rounding noise of F (~1e-32) to its evaluation cap.
@@ -472,7 +493,8 @@ pub fn dielectric_reflection_albedo(
 /// The transmitted part of [`dielectric_albedo`], ρ_t(ωo) = ∫ f_t |cos θi| dωi over the
 /// far hemisphere, radiance convention (1/η′² included), to a relative accuracy of
 /// about 1e-8 or an absolute one of 1e-14 ([`ABS_TOL`]), whichever is larger;
-/// `cos_theta` signed (negative from inside), `eta` = η_inside/η_outside.
+/// `cos_theta` signed (negative from inside), `eta` = η_inside/η_outside. A NaN in any
+/// input gives NaN (a NaN α made every microfacet normal the horizon's: 0).
 ///
 /// **Formula.** In the frame where ωo is above the surface, with η′ = η_far/η_near,
 /// ρ_t = (1/η′²) ∫ (1 − F(⟨ωo, h⟩; η′)) D(h) cos θh · ⟨ωo, h⟩ G2(ωo, ωi(h))/(cos θo cos θh) dh,
@@ -516,6 +538,9 @@ pub fn dielectric_transmission_albedo(
     cos_theta: f64,
     eta: f64,
 ) -> f64 {
+    if alpha.is_nan() || cos_theta.is_nan() || eta.is_nan() {
+        return f64::NAN;
+    }
     let etap = relative_index(cos_theta, eta);
     let co = cos_theta.abs().clamp(1e-300, 1.0);
     let so = (1.0 - co * co).sqrt();
@@ -585,6 +610,8 @@ pub fn dielectric_transmission_albedo(
 ///
 /// **Source.** Walter, Marschner, Li & Torrance 2007, EGSR, eqs. 14, 17, 20, 21;
 /// Heitz 2014 for Λ and G2; Born & Wolf §1.5.2 for F.
+///
+/// A NaN in any input gives NaN.
 pub fn dielectric_albedo(
     dist: Distribution,
     masking: Masking,
@@ -623,8 +650,12 @@ pub fn normalisation_by_quadrature(dist: Distribution, alpha: f64) -> f64 {
 }
 
 /// ∫ ⟨ωo, m⟩⁺ D(m) dm by quadrature of D's formula over θm (tangent variable) and φm:
-/// the tests check it against [`projected_area`], whose Λ it never uses.
+/// the tests check it against [`projected_area`], whose Λ it never uses. NaN for a NaN
+/// `alpha` or `cos_theta` (`max(0.0)` made a NaN ⟨ωo, m⟩ 0).
 pub fn projected_area_by_quadrature(dist: Distribution, alpha: f64, cos_theta: f64) -> f64 {
+    if alpha.is_nan() || cos_theta.is_nan() {
+        return f64::NAN;
+    }
     let co = cos_theta;
     let so = (1.0 - co * co).max(0.0).sqrt();
     let th_of = |u: f64| (alpha * u.tan()).atan();
@@ -657,6 +688,7 @@ pub fn projected_area_by_quadrature(dist: Distribution, alpha: f64, cos_theta: f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::assert_nan_in_each;
 
     const DISTS: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
     const MASKS: [Masking; 2] = [Masking::HeightCorrelated, Masking::Uncorrelated];
@@ -669,6 +701,74 @@ mod tests {
             let e = erfc(x);
             assert!((e - q).abs() <= 1e-12 * q, "x = {x}: {e} vs {q}");
         }
+    }
+
+    /// A NaN α, cosine or normal component gives NaN, also where the answer is a limit:
+    /// Λ took a NaN cosine as 1 (Λ = 0) and a NaN α at grazing as +∞, D a NaN α or
+    /// normal at or below the horizon as 0, and the quadrature of the projected area a
+    /// NaN cosine as 0 (max(0, ⟨ωo, m⟩)).
+    #[test]
+    fn lambda_d_and_projected_area_propagate_nan() {
+        for dist in DISTS {
+            let bases: [&[f64]; 5] = [
+                &[0.5, 0.5],
+                &[0.5, 1.0],
+                &[0.5, 0.0],
+                &[0.5, 2.0],
+                &[0.0, 0.5],
+            ];
+            assert_nan_in_each("Λ", &bases, |x| lambda(dist, x[0], x[1]));
+            assert_nan_in_each("projected area", &bases, |x| {
+                projected_area(dist, x[0], x[1])
+            });
+            let bases: [&[f64]; 3] = [&[0.5, 0.5], &[0.5, 1.0], &[0.5, 0.0]];
+            assert_nan_in_each("projected area by quadrature", &bases, |x| {
+                projected_area_by_quadrature(dist, x[0], x[1])
+            });
+            // Above, below and on the horizon.
+            let bases: [&[f64]; 3] = [
+                &[0.5, 0.1, 0.2, 0.97],
+                &[0.5, 0.0, 0.0, -1.0],
+                &[0.5, 1.0, 0.0, 0.0],
+            ];
+            assert_nan_in_each("D", &bases, |x| d(dist, x[0], [x[1], x[2], x[3]]));
+        }
+    }
+
+    /// A NaN in any input of the albedo quadratures gives NaN: a NaN α made every
+    /// microfacet normal the horizon's, whose mirror direction lies below the surface
+    /// (an albedo of 0), and a matched index returned its 0 before reading α or cos θo.
+    /// (One distribution and masking: the checks precede both.)
+    #[test]
+    fn albedos_propagate_nan() {
+        let (dist, masking) = (Distribution::Ggx, Masking::HeightCorrelated);
+        let bases: [&[f64]; 2] = [&[0.5, 0.5], &[0.3, 1.0]];
+        assert_nan_in_each("white albedo", &bases, |x| {
+            white_albedo(dist, masking, x[0], x[1])
+        });
+        assert_nan_in_each("albedo with Fresnel", &bases, |x| {
+            albedo_with_fresnel(dist, masking, x[0], x[1], |_| 0.5)
+        });
+        // Gold, and a kinked (split) and a smooth dielectric-like conductor.
+        let bases: [&[f64]; 3] = [
+            &[0.5, 0.5, 0.2, 3.0],
+            &[0.5, 0.5, 0.5, 0.0],
+            &[0.5, 0.5, 1.5, 0.0],
+        ];
+        assert_nan_in_each("conductor albedo", &bases, |x| {
+            conductor_albedo(dist, masking, x[0], x[1], x[2], x[3])
+        });
+        // From outside, from inside, and at a matched index.
+        let bases: [&[f64]; 3] = [&[0.5, 0.5, 1.5], &[0.5, -0.5, 1.5], &[0.5, 0.5, 1.0]];
+        assert_nan_in_each("dielectric reflection albedo", &bases, |x| {
+            dielectric_reflection_albedo(dist, masking, x[0], x[1], x[2])
+        });
+        assert_nan_in_each("dielectric transmission albedo", &bases, |x| {
+            dielectric_transmission_albedo(dist, masking, x[0], x[1], x[2])
+        });
+        assert_nan_in_each("dielectric albedo", &bases, |x| {
+            dielectric_albedo(dist, masking, x[0], x[1], x[2])
+        });
     }
 
     #[test]

@@ -71,7 +71,12 @@ pub fn spherical_cap_power(radius: f64, theta_max: f64, radiance: f64) -> f64 {
 ///
 /// **Source.** Siegel & Howell App. C (element to a coaxial cap = element to the disk of
 /// its rim: the factor sin²θ).
+///
+/// A NaN θmax gives NaN (`min` took it for π/2: π L).
 pub fn spherical_cap_irradiance_at_centre(theta_max: f64, radiance: f64) -> f64 {
+    if theta_max.is_nan() {
+        return f64::NAN;
+    }
     let t = theta_max.min(0.5 * PI);
     PI * radiance * t.sin() * t.sin()
 }
@@ -142,6 +147,7 @@ pub fn port_fraction_of_cap_degrees(theta_max_degrees: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::furnace::integrating_sphere;
+    use crate::geom::assert_nan_in_each;
     use crate::quadrature::{adaptive, adaptive_2d};
 
     fn rel(a: f64, b: f64) -> f64 {
@@ -193,6 +199,16 @@ mod tests {
             assert!(rel(spherical_cap_area(r, t), a) < 1e-12, "{r} {t}");
             assert!(rel(spherical_cap_power(r, t, 2.0), 2.0 * PI * a) < 1e-12);
         }
+    }
+
+    /// A NaN θmax or radiance gives NaN, below and beyond π/2 and at 0: `min` took a NaN
+    /// θmax for π/2 (π L).
+    #[test]
+    fn cap_irradiance_at_centre_propagates_nan() {
+        let bases: [&[f64]; 3] = [&[0.5, 1.0], &[2.0, 1.0], &[0.0, 1.0]];
+        assert_nan_in_each("cap irradiance at the centre", &bases, |x| {
+            spherical_cap_irradiance_at_centre(x[0], x[1])
+        });
     }
 
     #[test]

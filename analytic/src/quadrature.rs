@@ -121,7 +121,7 @@ const MAX_DEPTH: u32 = 48;
 /// returned unrefined) cannot converge: its value is returned as soon as it shows, so that the
 /// caller's finiteness check reports it, instead of bisecting to the evaluation cap,
 /// which a nested rule ([`adaptive_2d`]) multiplies into hours (a rough-conductor albedo
-/// with η = 10³⁰⁸ took over ten minutes before it failed).
+/// with η = 10³⁰⁸ took over ten minutes before it failed). A NaN `rel_tol` gives NaN.
 pub fn adaptive(f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> f64 {
     adaptive_abs(f, a, b, rel_tol, 0.0)
 }
@@ -130,6 +130,9 @@ pub fn adaptive(f: impl FnMut(f64) -> f64, a: f64, b: f64, rel_tol: f64) -> f64 
 /// tolerance `abs_tol`: for a part of a larger sum known to be small beside it, whose own
 /// relative accuracy matters little and may be unattainable (a tiny integrand whose
 /// rounding noise is a large fraction of it). `abs_tol` = 0 is [`adaptive`] exactly.
+///
+/// A NaN tolerance gives NaN: `max` took it for the other or the 1e-300 floor, and a
+/// finite integral came back.
 pub fn adaptive_abs(
     mut f: impl FnMut(f64) -> f64,
     a: f64,
@@ -137,6 +140,9 @@ pub fn adaptive_abs(
     rel_tol: f64,
     abs_tol: f64,
 ) -> f64 {
+    if rel_tol.is_nan() || abs_tol.is_nan() {
+        return f64::NAN;
+    }
     if a == b {
         return 0.0;
     }
@@ -215,7 +221,7 @@ fn recurse(
 }
 
 /// ∫_a^b ∫_{lo(x)}^{hi(x)} f(x, y) dy dx, nested [`adaptive`] with relative tolerance
-/// `rel_tol` on both levels.
+/// `rel_tol` on both levels. A NaN `rel_tol` gives NaN.
 pub fn adaptive_2d(
     f: impl FnMut(f64, f64) -> f64,
     a: f64,
@@ -230,6 +236,7 @@ pub fn adaptive_2d(
 /// [`adaptive_2d`] with an absolute floor `abs_tol` on the whole integral
 /// ([`adaptive_abs`]); each inner integral gets 0.1·`abs_tol`/|b − a|, so that the inner
 /// errors integrate to at most a tenth of it. `abs_tol` = 0 is [`adaptive_2d`] exactly.
+/// A NaN tolerance gives NaN ([`adaptive_abs`]).
 pub fn adaptive_2d_abs(
     mut f: impl FnMut(f64, f64) -> f64,
     a: f64,
@@ -331,6 +338,28 @@ mod tests {
             "{} evaluations against a cap of {cap}",
             n.get()
         );
+    }
+
+    /// A NaN tolerance gives NaN, also over an empty range: `max` took it for the other
+    /// tolerance or the 1e-300 floor, and a finite integral came back.
+    #[test]
+    fn a_nan_tolerance_gives_nan() {
+        let nan = f64::NAN;
+        for (a, b) in [(0.0, 1.0), (1.0, 1.0)] {
+            for (rel, abs) in [(nan, 0.0), (1e-12, nan), (nan, 1e-14)] {
+                let sq = |x: f64| x * x;
+                let v = [
+                    adaptive_abs(sq, a, b, rel, abs),
+                    adaptive_2d_abs(|x, y| x * y, a, b, |_| 0.0, |_| 1.0, rel, abs),
+                ];
+                assert!(
+                    v.iter().all(|v| v.is_nan()),
+                    "[{a}, {b}], {rel}, {abs}: {v:?}"
+                );
+            }
+            assert!(adaptive(|x| x, a, b, nan).is_nan());
+            assert!(adaptive_2d(|x, y| x * y, a, b, |_| 0.0, |_| 1.0, nan).is_nan());
+        }
     }
 
     #[test]

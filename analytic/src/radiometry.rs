@@ -22,8 +22,11 @@ pub fn lambertian_power(radiance: f64, area: f64) -> f64 {
 ///
 /// **Formula.** I(θ) = L A cos θ (Lambert's cosine law), zero behind the emitter.
 /// **Derivation.** I = dΦ/dω = ∫_A L cos θ dA. **Source.** Lambert, *Photometria*;
-/// Born & Wolf §4.8.
+/// Born & Wolf §4.8. A NaN θ gives NaN (`max(0.0)` took cos θ = NaN for 0, behind).
 pub fn lambertian_intensity(radiance: f64, area: f64, theta: f64) -> f64 {
+    if theta.is_nan() {
+        return f64::NAN;
+    }
     radiance * area * theta.cos().max(0.0)
 }
 
@@ -114,6 +117,7 @@ pub fn radiance_at_dielectric_sphere_centre(radiance: f64, eta: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::assert_nan_in_each;
     use crate::quadrature::{adaptive, adaptive_2d};
 
     #[test]
@@ -131,6 +135,16 @@ mod tests {
             );
         }
         assert_eq!(radiance_at_dielectric_sphere_centre(3.0, 1.0), 3.0);
+    }
+
+    /// A NaN in any input of the Lambertian intensity gives NaN, in front of the emitter
+    /// and behind it: `max(0.0)` took cos θ = NaN for 0.
+    #[test]
+    fn lambertian_intensity_propagates_nan() {
+        let bases: [&[f64]; 3] = [&[1.0, 2.0, 0.5], &[1.0, 2.0, 2.0], &[0.0, 2.0, 0.5]];
+        assert_nan_in_each("Lambertian intensity", &bases, |x| {
+            lambertian_intensity(x[0], x[1], x[2])
+        });
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! Every function takes absolute positions and subtracts first, so geometry far from the
 //! origin stays as accurate as its input coordinates.
 
-use crate::geom::Vec3;
+use crate::geom::{Vec3, any_nan};
 use std::f64::consts::PI;
 
 /// Solid angle of a spherical cap (a cone of directions) of half-angle `half_angle` ∈ [0, π].
@@ -90,7 +90,12 @@ pub fn triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f64 {
 /// polygon (the same inclusion–exclusion as the shoelace area formula).
 ///
 /// **Source.** Van Oosterom & Strackee 1983 (per triangle).
+///
+/// A NaN in `p` or a vertex gives NaN, also for fewer than 3 vertices (otherwise 0).
 pub fn polygon(p: Vec3, vertices: &[Vec3]) -> f64 {
+    if any_nan(&[p], &[]) || any_nan(vertices, &[]) {
+        return f64::NAN;
+    }
     if vertices.len() < 3 {
         return 0.0;
     }
@@ -118,7 +123,13 @@ pub fn polygon(p: Vec3, vertices: &[Vec3]) -> f64 {
 /// **Source.** The corner-rectangle decomposition is the configuration-factor algebra of
 /// J. R. Howell, *A Catalog of Radiation Heat Transfer Configuration Factors*; the corner
 /// solid angle itself is e.g. R. J. Mathar, "Solid angle of a rectangular plate", 2015.
+///
+/// A NaN in any input gives NaN (a NaN edge does not normalise, which returned the
+/// degenerate rectangle's 0).
 pub fn rectangle(p: Vec3, corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> f64 {
+    if any_nan(&[p, corner, edge_u, edge_v], &[]) {
+        return f64::NAN;
+    }
     let (a, b) = (edge_u.length(), edge_v.length());
     let (Some(u), Some(v)) = (edge_u.normalized(), edge_v.normalized()) else {
         return 0.0;
@@ -134,6 +145,7 @@ pub fn rectangle(p: Vec3, corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> f64 {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::geom::{assert_nan_in_each, vec_at};
     use crate::quadrature::{adaptive, adaptive_2d};
 
     fn rel(a: f64, b: f64) -> f64 {
@@ -298,6 +310,33 @@ pub(crate) mod tests {
         let (p, c) = (Vec3::new(0.0, 3.0, 0.5), Vec3::new(0.2, 0.1, -0.3));
         let quad = [c, c + u, c + u + v, c + v];
         assert!(rel(rectangle(p, c, u, v), polygon(p, &quad)) < 1e-12);
+    }
+
+    /// A NaN in any input (each vector component in turn) gives NaN: a polygon of fewer
+    /// than 3 vertices returned 0, and so did a rectangle with a NaN edge (which does not
+    /// normalise: taken as degenerate), or a degenerate one with a NaN point or corner.
+    #[test]
+    fn polygon_and_rectangle_propagate_nan() {
+        let bases: [&[f64]; 3] = [
+            &[
+                0., 0., 0., -1., -1., 1., 1., -1., 1., 1., 1., 1., -1., 1., 1.,
+            ],
+            &[0., 0., 0., -1., -1., 1., 1., -1., 1.],
+            &[0., 0., 0., -1., -1., 1.],
+        ];
+        assert_nan_in_each("polygon", &bases, |x| {
+            let vertices: Vec<Vec3> = (3..x.len()).step_by(3).map(|i| vec_at(x, i)).collect();
+            polygon(vec_at(x, 0), &vertices)
+        });
+        // Above the rectangle, in its plane, and a degenerate one (a zero edge).
+        let bases: [&[f64]; 3] = [
+            &[0., 0., 1., -1., -1., 0., 2., 0., 0., 0., 2., 0.],
+            &[0., 0., 0., -1., -1., 0., 2., 0., 0., 0., 2., 0.],
+            &[0., 0., 1., -1., -1., 0., 0., 0., 0., 0., 2., 0.],
+        ];
+        assert_nan_in_each("rectangle", &bases, |x| {
+            rectangle(vec_at(x, 0), vec_at(x, 3), vec_at(x, 6), vec_at(x, 9))
+        });
     }
 
     #[test]

@@ -19,6 +19,8 @@ use std::f64::consts::PI;
 ///
 /// **Source.** Derived here; cf. Jarabo et al., "A framework for transient rendering",
 /// SIGGRAPH Asia 2014 (time-resolved radiometry).
+///
+/// A NaN in any input gives NaN (a NaN radius or height, the clamp's bounds, panicked).
 pub fn pulsed_disk_on_axis(
     radius: f64,
     height: f64,
@@ -27,6 +29,12 @@ pub fn pulsed_disk_on_axis(
     t2: f64,
     speed: f64,
 ) -> f64 {
+    if [radius, height, radiance, t1, t2, speed]
+        .iter()
+        .any(|x| x.is_nan())
+    {
+        return f64::NAN;
+    }
     let rmax = height.hypot(radius);
     let r1 = (speed * t1).clamp(height, rmax);
     let r2 = (speed * t2).clamp(height, rmax);
@@ -107,6 +115,8 @@ pub fn moving_point_light_average(
 ///
 /// **Source.** Derived here from the static sphere irradiance (Snyder 1996; pbrt 4th ed.
 /// §12.2) and the definition of a shutter average.
+///
+/// A NaN in any input gives NaN ([`crate::irradiance::sphere`]).
 pub fn moving_sphere_light_average(
     radius: f64,
     radiance: f64,
@@ -135,7 +145,31 @@ pub fn moving_sphere_light_average(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::assert_nan_in_each;
     use crate::quadrature::{adaptive, adaptive_2d};
+
+    /// A NaN in any input gives NaN, with light in the time bin and without: a NaN
+    /// radius or height (the clamp's bounds) panicked in the pulsed disk, and the moving
+    /// sphere's irradiance took a NaN radius, height, start or speed for 0, over a shutter
+    /// and at an instant (t₁ = t₀).
+    #[test]
+    fn nan_inputs_give_nan() {
+        let bases: [&[f64]; 3] = [
+            &[1.0, 2.0, 1.0, 0.0, 1e-8, C],
+            &[1.0, 2.0, 1.0, 1.0, 2.0, C],
+            &[1.0, 2.0, 1.0, 0.0, 1e-10, C],
+        ];
+        assert_nan_in_each("pulsed disk", &bases, |x| {
+            pulsed_disk_on_axis(x[0], x[1], x[2], x[3], x[4], x[5])
+        });
+        let bases: [&[f64]; 2] = [
+            &[1.0, 1.0, 3.0, 0.0, 1.0, -1.0, 1.0],
+            &[1.0, 1.0, 3.0, 0.0, 1.0, 1.0, 1.0],
+        ];
+        assert_nan_in_each("moving sphere", &bases, |x| {
+            moving_sphere_light_average(x[0], x[1], x[2], x[3], x[4], x[5], x[6])
+        });
+    }
 
     #[test]
     fn moving_sphere_average_by_midpoint_rule() {

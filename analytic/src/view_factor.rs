@@ -101,7 +101,12 @@ fn atan_over(x: f64) -> f64 {
 /// a, b, c ∈ 10⁻³⁰⁰..10³⁰⁰ in every combination, 4000 log-uniform random points and all
 /// combinations of subnormal, ordinary and near-f64::MAX lengths, the worst error was
 /// 4.8·10⁻¹⁵ relative (1.7·10⁻¹⁵ of 2.2·10⁻³⁰⁸ absolute where F is subnormal).
+///
+/// A NaN length gives NaN (the final `min(1.0)` made it 1).
 pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
+    if a.is_nan() || b.is_nan() || c.is_nan() {
+        return f64::NAN;
+    }
     let (x, y) = (a / c, b / c);
     let (x, y) = if x <= y { (x, y) } else { (y, x) };
     if x.is_infinite() {
@@ -193,7 +198,12 @@ pub fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
 /// 10⁻³⁰⁰..10³⁰⁰ in every combination, 4000 log-uniform random points and all
 /// combinations of subnormal, ordinary and near-f64::MAX lengths, the worst error was
 /// 5.2·10⁻¹⁵ relative (1.9·10⁻¹⁵ of 2.2·10⁻³⁰⁸ absolute where F₁₂ is subnormal).
+///
+/// A NaN length gives NaN (`min` and `max` took a NaN w or h for the other: w = h).
 pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> f64 {
+    if l.is_nan() || w.is_nan() || h.is_nan() {
+        return f64::NAN;
+    }
     let (p_len, q_len) = (w.min(h), w.max(h));
     let rho = p_len / q_len;
     let (p, q) = (p_len / l, q_len / l);
@@ -274,7 +284,8 @@ pub fn element_to_sphere(distance: f64, radius: f64) -> f64 {
 /// cos tilt ≥ R/d, zero once cos tilt ≤ −R/d, and the clipped expression between.
 ///
 /// **Source.** Howell's catalog, section B (element to sphere, tilted; element plane
-/// intersecting the sphere); Snyder 1996.
+/// intersecting the sphere); Snyder 1996. A NaN input gives NaN
+/// ([`crate::irradiance::cap_projected_solid_angle`]).
 pub fn element_to_sphere_tilted(distance: f64, radius: f64, tilt: f64) -> f64 {
     let s = radius / distance;
     cap_projected_solid_angle(tilt.cos(), s * s) / PI
@@ -300,7 +311,7 @@ pub fn sphere_wall_to_cap(theta: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Vec3;
+    use crate::geom::{Vec3, assert_nan_in_each};
     use crate::irradiance::{disk_parallel_offset, polygon_projected_solid_angle, sphere};
     use crate::quadrature::{adaptive, adaptive_2d};
 
@@ -491,6 +502,38 @@ mod tests {
             );
             assert!(rel(w * f12, h * f21) < 1e-14, "{l} {w} {h}");
         }
+    }
+
+    /// A NaN length or tilt gives NaN, also at the limits (a zero or infinite side, the
+    /// asymptotic form, a sphere below the horizon): the parallel plates' final `min(1.0)`
+    /// made NaN 1, the perpendicular ones' `min`/`max` of w and h took a NaN for the
+    /// other, and the tilted sphere's cap made NaN 0.
+    #[test]
+    fn rectangles_and_tilted_sphere_propagate_nan() {
+        let inf = f64::INFINITY;
+        let bases: [&[f64]; 5] = [
+            &[1.0, 2.0, 1.0],
+            &[0.0, 1.0, 1.0],
+            &[1.0, inf, 1.0],
+            &[1e-9, 1.0, 1.0],
+            &[1.0, 1.0, 1e-20],
+        ];
+        assert_nan_in_each("parallel rectangles", &bases, |x| {
+            parallel_rectangles(x[0], x[1], x[2])
+        });
+        let bases: [&[f64]; 4] = [
+            &[1.0, 2.0, 3.0],
+            &[1.0, 3.0, 2.0],
+            &[1.0, 1e9, 1e10],
+            &[1.0, 0.0, 1.0],
+        ];
+        assert_nan_in_each("perpendicular rectangles", &bases, |x| {
+            perpendicular_rectangles(x[0], x[1], x[2])
+        });
+        let bases: [&[f64]; 3] = [&[3.0, 1.0, 0.3], &[3.0, 1.0, 3.0], &[3.0, 1.0, 1.5]];
+        assert_nan_in_each("tilted element to sphere", &bases, |x| {
+            element_to_sphere_tilted(x[0], x[1], x[2])
+        });
     }
 
     #[test]
