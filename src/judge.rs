@@ -314,6 +314,10 @@ pub struct Judgement {
     /// The case's reference (the estimate's units).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
+    /// How far the reference moves when its inputs round to `f32`, as a renderer in
+    /// `f32` reads them ([`crate::verdict::Outcome::reference_rounding`]). Absent when 0.
+    #[serde(default, skip_serializing_if = "crate::stats::hypothesis::is_zero")]
+    pub reference_rounding: f64,
     /// z score.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub z: Option<f64>,
@@ -351,6 +355,7 @@ impl Judgement {
             std_error: bar.std_error,
             dof: bar.dof,
             reference: case.reference,
+            reference_rounding: case.reference_rounding,
             z: None,
             verdict: None,
             sample,
@@ -394,6 +399,7 @@ impl Judgement {
                 estimate,
                 &bar,
                 r,
+                self.reference_rounding,
                 self.sample.non_finite,
                 self.sample.replicates.len() as u64,
                 alpha,

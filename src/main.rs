@@ -875,8 +875,20 @@ fn verify(
         0 => String::new(),
         n => format!(", {n} without a reference: estimated, not judged"),
     };
+    // Verdicts whose reference moves when its inputs round to f32 take that in too.
+    let moved = match outcomes
+        .iter()
+        .filter(|o| o.verdict.is_some() && o.reference_rounding > 0.0)
+        .count()
+    {
+        0 => String::new(),
+        n => format!(
+            " (+ the reference's change at the engine's f32 inputs, in {n} verdict{})",
+            if n == 1 { "" } else { "s" }
+        ),
+    };
     outln!(
-        "\n{} passed ({statistical} statistical, {exact} exact{unjudged}), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|; seed {seed}, {:.1}s)",
+        "\n{} passed ({statistical} statistical, {exact} exact{unjudged}), {failed} failed  ({} cases, {total} verdicts; statistical ones Šidák-corrected over k = {k} at family α = {ALPHA}; exact ones within the f32 error bound {:.2e}·|reference|{moved}; seed {seed}, {:.1}s)",
         total - failed,
         cases.len(),
         lightproof::stats::exact_relative_tolerance(),

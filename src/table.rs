@@ -202,6 +202,7 @@ mod tests {
             seconds: 0.25,
             effects: crate::transport::effects::Effects::everything(),
             reference: None,
+            reference_rounding: 0.0,
             z: None,
             verdict: None,
             bin: None,

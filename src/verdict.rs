@@ -82,17 +82,21 @@ impl ErrorBar {
 }
 
 /// Judge an estimate's parts within a family of `tests` statistical tests at level
-/// `alpha` (an exact estimate is judged exactly, outside the family).
+/// `alpha` (an exact estimate is judged exactly, outside the family), against a reference
+/// that moves by `input_rounding` when its inputs round to `f32`
+/// ([`MeanTest::with_input_rounding`]).
+#[allow(clippy::too_many_arguments)]
 pub fn judge_parts(
     estimate: f64,
     bar: &ErrorBar,
     reference: f64,
+    input_rounding: f64,
     non_finite: u64,
     count: u64,
     alpha: f64,
     tests: usize,
 ) -> Verdict {
-    let t = MeanTest::new(alpha, tests);
+    let t = MeanTest::new(alpha, tests).with_input_rounding(input_rounding);
     match bar.std_error {
         None => t.judge_exact(estimate, reference, non_finite, count),
         Some(se) => t.judge_parts(estimate, se, reference, bar.dof, non_finite, count),
@@ -112,6 +116,7 @@ pub fn judge(
         total.mean,
         &ErrorBar::of(est, sampler),
         reference,
+        0.0,
         total.non_finite,
         total.count,
         alpha,
@@ -141,14 +146,40 @@ impl Verdict {
     /// [`Verdict::weak`]. This holds for any case file at its own count, a user's too: its
     /// `samples` is the count its author vouches for. A zero reference has no relative
     /// bias to see (`detectable_relative_bias` is then the absolute one, in the case's
-    /// units), so such a pass is only marked weak. Exact verdicts (their tolerance is the
-    /// f32 bound) and failures are left as they are.
+    /// units), so such a pass is only marked weak. Failures are left as they are, and so
+    /// are exact verdicts (their tolerance is the f32 bound) unless the reference's input
+    /// rounding ([`Verdict::input_rounding`]) widens their allowance past the bound: such
+    /// a verdict fails wherever it is (more samples change nothing; weak for a zero
+    /// reference), and a statistical one that cannot see the bound says how much of it
+    /// is input rounding.
     pub fn require_power(&mut self, inside: bool) {
         let sees = self.detectable_relative_bias <= DETECTABLE_BOUND;
-        if self.class != crate::stats::VerdictClass::Statistical || !self.passed || sees {
+        if !self.passed || sees {
             return;
         }
-        if inside && self.reference != 0.0 {
+        let rounding = |v: &Verdict| {
+            format!(
+                "its reference moves by {:.3}% when its inputs round to the engine's f32 values",
+                100.0 * v.input_rounding / v.reference.abs()
+            )
+        };
+        let exact = match self.class {
+            crate::stats::VerdictClass::Exact => true,
+            crate::stats::VerdictClass::Statistical => false,
+        };
+        if exact && self.input_rounding == 0.0 {
+            return;
+        }
+        if exact && self.reference != 0.0 {
+            self.passed = false;
+            self.reason = Some(format!(
+                "{}, more than the {}% every verdict must see, so no estimate within it could fail: {INPUT_ROUNDING_REMEDY}",
+                rounding(self),
+                100.0 * DETECTABLE_BOUND
+            ));
+        } else if exact {
+            self.weak = true;
+        } else if inside && self.reference != 0.0 {
             self.passed = false;
             // The detectable bias falls as 1/√N: the samples that would reach the bound.
             let rel = self.detectable_relative_bias;
@@ -168,8 +199,13 @@ impl Verdict {
             } else {
                 ("has no finite detectable bias".to_string(), String::new())
             };
+            let rounds = if self.input_rounding > 0.0 {
+                format!(" ({}: {INPUT_ROUNDING_REMEDY})", rounding(self))
+            } else {
+                String::new()
+            };
             self.reason = Some(format!(
-                "{sees}, where a verdict at its case's own sample count must see {}%, or its pass proves nothing: raise the case's `samples`{more} or find why the estimator's variance is this high",
+                "{sees}{rounds}, where a verdict at its case's own sample count must see {}%, or its pass proves nothing: raise the case's `samples`{more} or find why the estimator's variance is this high",
                 100.0 * DETECTABLE_BOUND
             ));
         } else {
@@ -177,6 +213,9 @@ impl Verdict {
         }
     }
 }
+
+/// What a case whose reference is too sensitive to its inputs' `f32` rounding can do.
+const INPUT_ROUNDING_REMEDY: &str = "write the case's numbers as f32 values, or choose inputs where its closed form is less sensitive to them";
 
 /// The outcome of one estimator × sampler of a case.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -223,6 +262,11 @@ pub struct Outcome {
     /// Closed-form reference.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
+    /// How far the reference moves when its inputs round to the `f32` values the
+    /// engine's scene holds ([`crate::case::build::reference_rounding`]); part of the
+    /// verdict's allowance ([`MeanTest::with_input_rounding`]). Absent when 0.
+    #[serde(default, skip_serializing_if = "crate::stats::hypothesis::is_zero")]
+    pub reference_rounding: f64,
     /// z score.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub z: Option<f64>,
@@ -272,6 +316,7 @@ impl Outcome {
             seconds: e.seconds,
             effects: plan.effects.clone(),
             reference,
+            reference_rounding: 0.0,
             z: None,
             verdict: None,
             bin: None,
@@ -378,7 +423,8 @@ impl Outcome {
     }
 
     /// The verdict of this outcome against `reference` (which need not be the case's),
-    /// in a family of `tests` statistical tests at level `alpha`.
+    /// in a family of `tests` statistical tests at level `alpha`, with this outcome's
+    /// [`Outcome::reference_rounding`] in the allowance.
     pub fn verdict_against(&self, reference: f64, alpha: f64, tests: usize) -> Verdict {
         let bar = ErrorBar {
             std_error: self.std_error,
@@ -389,6 +435,7 @@ impl Outcome {
             self.estimate,
             &bar,
             reference,
+            self.reference_rounding,
             self.non_finite,
             count,
             alpha,
@@ -706,6 +753,7 @@ mod tests {
             seconds: 0.0,
             effects: Effects::everything(),
             reference,
+            reference_rounding: 0.0,
             z: None,
             verdict: None,
             bin: None,
@@ -779,6 +827,44 @@ mod tests {
         exact.verdict.as_mut().unwrap().detectable_relative_bias = 1.0;
         exact.require_power(true);
         assert!(exact.passed() && !exact.verdict.unwrap().weak);
+        // … unless the reference's input rounding widened it past the bound: it fails
+        // inside the proof and out, saying why (weak for a zero reference); within the
+        // bound it stays a pass.
+        for (rho, reference, inside) in [
+            (0.006, 1.0, true),
+            (0.006, 1.0, false),
+            (0.004, 1.0, true),
+            (0.006, 0.0, true),
+        ] {
+            let mut o = outcome(reference, None, Some(reference), 64, 0);
+            o.reference_rounding = rho;
+            o.judge(1e-4, 1);
+            o.require_power(inside);
+            let v = o.verdict.unwrap();
+            assert_eq!(v.input_rounding, rho);
+            let (fails, weak) = (rho > DETECTABLE_BOUND && reference != 0.0, reference == 0.0);
+            assert!(
+                v.passed != fails && v.weak == weak,
+                "{rho} {reference}: {v:?}"
+            );
+            if fails {
+                let why = v.reason.unwrap();
+                assert!(
+                    why.contains("moves by 0.600%") && why.contains("f32 values"),
+                    "{why}"
+                );
+            }
+        }
+        // A statistical verdict that cannot see the bound names the input rounding.
+        let mut o = outcome(1.0, Some(1e-4), Some(1.0), 1 << 16, 0);
+        o.reference_rounding = 0.006;
+        o.judge(1e-4, 1);
+        o.require_power(true);
+        let why = o.verdict.unwrap().reason.unwrap();
+        assert!(
+            why.contains("moves by 0.600%") && why.contains("raise"),
+            "{why}"
+        );
         // A zero reference: the detectable bias is absolute, no relative power to require.
         let mut zero = outcome(1e-3, Some(1e-3), Some(0.0), 1 << 16, 0);
         zero.judge(1e-4, 1);

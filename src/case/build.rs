@@ -690,6 +690,65 @@ pub fn reference(f: &str, desc: &CaseDesc) -> Result<Option<f64>, InputError> {
 /// The field of a closed form's refusal: `reference.PARAM` for a parameter that is
 /// missing, unknown or invalid, `reference.closed_form` for an unknown name, `reference`
 /// for parameters that are valid one by one but not together.
+/// How far the reference `value` moves when the closed form is evaluated on the numbers
+/// the engine's `f32` scene holds ([`as_engine_sees`]) rather than the case's own:
+/// ρ = |μ(f32 inputs) − μ|, scaled as the reference is. Every verdict's allowance takes
+/// it in ([`crate::stats::MeanTest::with_input_rounding`]): an index η = 1.0001, which
+/// `f32` holds as 1.00010001659, moves a conductor's ((η − 1)/(η + 1))² by 3.3·10⁻⁴
+/// relative, where a correct engine's exact verdict would otherwise fail by 40 times its
+/// f32 bound. 0 where the rounded numbers leave the closed form's domain or give a
+/// non-finite value (the strict test: the allowance never grows without a measured ρ).
+pub fn reference_rounding(desc: &CaseDesc, origin: DVec3, value: f64) -> f64 {
+    let Some(map) = &desc.reference else {
+        return 0.0;
+    };
+    let Some(name) = map.get("closed_form").and_then(|v| v.as_str()) else {
+        return 0.0;
+    };
+    let scale = map.get("scale").and_then(|v| v.as_f64()).unwrap_or(1.0);
+    let mut params = map.clone();
+    params.remove("closed_form");
+    params.remove("scale");
+    for (key, v) in params.iter_mut() {
+        as_engine_sees(v, key, origin.to_array());
+    }
+    match lightproof_analytic::catalog::evaluate(name, &params) {
+        Ok(r) if (r * scale).is_finite() => (r * scale - value).abs(),
+        Ok(_) | Err(_) => 0.0,
+    }
+}
+
+/// What the engine's scene holds of the numbers of a reference's parameter `key`:
+/// points (`center`, `corner`, `light`, `point`, `vertices`) as `o + f32(p − o)` about
+/// the case's origin `o` (the loader rebases the scene there, [`origin`]), every other
+/// number with a fractional part as its nearest `f32`, integers (counts) as they are.
+/// The quantities the engine keeps in `f64` are left as they are: times (`t0`, `t1`,
+/// `t2`), wavelengths (`wavelength…`), `temperature` and `speed`. A model of the loader,
+/// not the loader: a length between two points is rounded as a number.
+pub fn as_engine_sees(v: &mut serde_json::Value, key: &str, o: [f64; 3]) {
+    if matches!(key, "t0" | "t1" | "t2" | "temperature" | "speed") || key.starts_with("wavelength")
+    {
+        return;
+    }
+    let point = matches!(key, "center" | "corner" | "light" | "point" | "vertices");
+    match v {
+        serde_json::Value::Array(a) if point && a.len() == 3 && a.iter().all(|x| x.is_number()) => {
+            for (i, x) in a.iter_mut().enumerate() {
+                let p = x.as_f64().unwrap_or(f64::NAN);
+                *x = serde_json::json!(o[i] + f64::from((p - o[i]) as f32));
+            }
+        }
+        serde_json::Value::Number(n) => {
+            if let Some(x) = n.as_f64().filter(|x| x.fract() != 0.0) {
+                *v = serde_json::json!(f64::from(x as f32));
+            }
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(|x| as_engine_sees(x, key, o)),
+        serde_json::Value::Object(m) => m.iter_mut().for_each(|(k, x)| as_engine_sees(x, k, o)),
+        serde_json::Value::Null | serde_json::Value::Bool(_) | serde_json::Value::String(_) => {}
+    }
+}
+
 fn reference_field(e: &lightproof_analytic::catalog::CatalogError) -> String {
     use lightproof_analytic::catalog::CatalogError;
     match e {
@@ -1511,5 +1570,110 @@ mod tests {
             assert_eq!(e.field, "scene.dispersion.glass", "{spectral}: {e}");
             assert!(e.reason.contains("pole"), "{spectral}: {e}");
         }
+    }
+
+    /// A conductor at η = 1.0001 (which `f32` holds as 1.00010001659): the reference
+    /// F = ((η − 1)/(η + 1))² moves by ρ = 3.3·10⁻⁴ relative at the engine's inputs, and
+    /// the engine's exact estimate, which is F at its own η, is off from the case's F by
+    /// about ρ: it passes with ρ in its allowance (it failed by 40 times the f32 bound
+    /// without), and a reference at η = 1.0002 still fails. An index `f32` holds exactly
+    /// moves nothing.
+    #[test]
+    fn references_move_with_the_engines_f32_inputs() {
+        let case = |bsdf_eta: f64, ref_eta: f64| {
+            let d: CaseDesc = serde_json::from_value(json!({
+                "name": "near one", "teaches": "t", "exact": "every sample is F",
+                "measure": {"albedo": {"bsdf": {"type": "conductor", "eta": bsdf_eta, "k": 0},
+                                       "theta_degrees": 0}},
+                "reference": {"closed_form": "fresnel_conductor", "cos_theta": 1,
+                              "eta": ref_eta, "k": 0},
+                "estimators": ["bsdf"]
+            }))
+            .unwrap();
+            crate::case::Case::from_desc(d, std::path::Path::new("c.json")).unwrap()
+        };
+        let fresnel = |eta: f64| ((eta - 1.0) / (eta + 1.0)).powi(2);
+        let c = case(1.0001, 1.0001);
+        let (r, rho) = (c.reference.unwrap(), c.reference_rounding);
+        assert!((r - fresnel(1.0001)).abs() <= 1e-12 * r, "{r}");
+        let want = (fresnel(f64::from(1.0001f32)) - fresnel(1.0001)).abs();
+        assert!(
+            (rho - want).abs() <= 1e-6 * want && rho > 3e-4 * r,
+            "{rho} vs {want}"
+        );
+        let run = |c: &crate::case::Case| {
+            let mut o = c.run(
+                crate::transport::Estimator::Bsdf,
+                crate::sampling::SamplerKind::Independent,
+                1024,
+                1,
+            );
+            o.judge(1e-4, 1);
+            o
+        };
+        let o = run(&c);
+        assert!(o.exact && o.reference_rounding == rho, "{o:?}");
+        assert!(o.passed(), "{:?}", o.verdict);
+        let strict = o.verdict_against(r, 1e-4, 1);
+        let mut bare = o.clone();
+        bare.reference_rounding = 0.0;
+        assert!(!bare.verdict_against(r, 1e-4, 1).passed && strict.passed);
+        let wrong = run(&case(1.0001, 1.0002));
+        let why = wrong.verdict.as_ref().unwrap().reason.clone().unwrap();
+        assert!(
+            !wrong.passed() && why.contains("inputs round to f32"),
+            "{why}"
+        );
+        assert_eq!(case(1.5, 1.5).reference_rounding, 0.0);
+    }
+
+    /// The model of the loader: points rebased about the origin and rounded there, other
+    /// fractional numbers rounded, integers and the quantities the engine keeps in `f64`
+    /// (times, wavelengths, temperature, speed) kept, nested arrays and objects walked;
+    /// a reference whose rounded inputs leave its domain moves by 0, not NaN.
+    #[test]
+    fn the_engines_view_of_a_reference() {
+        let o = [1e6, 0.0, 0.0];
+        let mut v = json!({"point": [1e6 + 0.1, 0.1, 3], "radius": 0.1, "bounces": 3,
+                           "t0": 0.1, "t1": 0.3, "t2": 0.7, "wavelength_um": 0.55,
+                           "wavelength": 486.1, "temperature": 5777.7, "speed": 0.1,
+                           "vertices": [[0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]],
+                           "light": {"center": [0.1, 0.2, 0.3], "name": "x", "on": true}});
+        for (k, x) in v.as_object_mut().unwrap().iter_mut() {
+            as_engine_sees(x, k, o);
+        }
+        let r = |x: f64| f64::from(x as f32);
+        assert_eq!(v["point"], json!([1e6 + r(1e6 + 0.1 - 1e6), r(0.1), 3.0]));
+        assert_eq!(v["radius"], json!(r(0.1)));
+        assert_eq!(v["bounces"], json!(3));
+        for k in [
+            "t0",
+            "t1",
+            "t2",
+            "wavelength_um",
+            "wavelength",
+            "temperature",
+            "speed",
+        ] {
+            assert_ne!(v[k], json!(r(v[k].as_f64().unwrap())), "{k} rounded");
+        }
+        assert_eq!(v["vertices"][1], json!([1e6 - 1e6, r(0.1), 0.0]));
+        assert_eq!(
+            v["light"]["center"],
+            json!([1e6 + r(0.1 - 1e6), r(0.2), r(0.3)])
+        );
+        assert_eq!(v["light"]["name"], json!("x"));
+        // cos θ = 1 − 10⁻⁹ rounds to 1; a domain error or non-finite value moves nothing.
+        let d: CaseDesc = serde_json::from_value(json!({
+            "name": "n", "teaches": "t",
+            "measure": {"albedo": {"bsdf": {"type": "lambertian", "albedo": 0.5},
+                                   "theta_degrees": 0}},
+            "reference": {"closed_form": "fresnel_conductor", "cos_theta": 0.5,
+                          "eta": 1.5, "k": 1e-300},
+            "estimators": ["bsdf"]
+        }))
+        .unwrap();
+        let rho = reference_rounding(&d, DVec3::ZERO, 0.1);
+        assert!(rho.is_finite(), "{rho}");
     }
 }

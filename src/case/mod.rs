@@ -99,6 +99,10 @@ pub struct Case {
     pub measure: Measure,
     /// The reference value, if any.
     pub reference: Option<f64>,
+    /// How far the reference moves when its inputs take the `f32` values the engine's
+    /// scene holds ([`build::reference_rounding`]; 0 without a reference): part of every
+    /// verdict's allowance.
+    pub reference_rounding: f64,
     /// What its estimates simulate: the pruned plan.
     pub plan: Plan,
     /// Every effect and dimension on, for the soundness proof.
@@ -171,6 +175,8 @@ impl Case {
         build::check_estimators(f, &desc, &measure)?;
         build::check_samples(f, &desc)?;
         let reference = build::reference(f, &desc)?;
+        let reference_rounding =
+            reference.map_or(0.0, |r| build::reference_rounding(&desc, origin, r));
         let max_bounces = build::max_bounces(f, &desc, &measure)?;
         let Plans {
             mut pruned,
@@ -193,6 +199,7 @@ impl Case {
             scene,
             measure,
             reference,
+            reference_rounding,
             plan: pruned,
             full,
             bins: vec![],
@@ -246,7 +253,7 @@ impl Case {
             seed,
         };
         let e = self.estimate(est, &spec);
-        Outcome::new(
+        let mut o = Outcome::new(
             &self.desc.name,
             &self.file,
             &self.measure,
@@ -256,7 +263,9 @@ impl Case {
             sampler,
             seed,
             &e,
-        )
+        );
+        o.reference_rounding = self.reference_rounding;
+        o
     }
 
     /// Samples of one estimate: `samples`, else the case's own, else [`DEFAULT_SAMPLES`],

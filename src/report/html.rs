@@ -715,6 +715,7 @@ mod tests {
             seconds: 0.1,
             effects: crate::transport::effects::Effects::everything(),
             reference,
+            reference_rounding: 0.0,
             z: None,
             verdict: None,
             bin: None,

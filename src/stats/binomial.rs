@@ -195,6 +195,7 @@ impl MeanTest {
             passed: reason.is_none(),
             reason,
             weak: false,
+            input_rounding: self.input_rounding,
         }
     }
 }

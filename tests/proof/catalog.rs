@@ -221,78 +221,45 @@ fn oracle_and_engine_share_no_code() {
     );
 }
 
-/// What the engine's scene holds of the numbers of a reference block: points (`center`,
-/// `corner`, `light`, `point`, `vertices`) as `o + f32(p − o)` about the case's origin `o`
-/// (the loader rebases the scene there, see `case::build::origin`), every other number
-/// with a fractional part as its nearest `f32`; integers (counts) as they are. A model of
-/// the loader, not the loader: a length between two points is rounded as a number, and
-/// quantities the engine keeps in `f64` (wavelengths, bin edges) are rounded too, which
-/// only makes the check stricter.
-fn as_engine_sees(v: &mut serde_json::Value, key: &str, o: [f64; 3]) {
-    let point = matches!(key, "center" | "corner" | "light" | "point" | "vertices");
-    match v {
-        serde_json::Value::Array(a) if point && a.len() == 3 && a.iter().all(|x| x.is_number()) => {
-            for (i, x) in a.iter_mut().enumerate() {
-                let p = x.as_f64().unwrap();
-                *x = serde_json::json!(o[i] + f64::from((p - o[i]) as f32));
-            }
-        }
-        serde_json::Value::Number(n) => {
-            if let Some(x) = n.as_f64().filter(|x| x.fract() != 0.0) {
-                *v = serde_json::json!(f64::from(x as f32));
-            }
-        }
-        serde_json::Value::Array(a) => a.iter_mut().for_each(|x| as_engine_sees(x, key, o)),
-        serde_json::Value::Object(m) => m.iter_mut().for_each(|(k, x)| as_engine_sees(x, k, o)),
-        _ => {}
-    }
-}
-
-/// The oracle answers the question the engine is asked: every case's reference, evaluated
-/// on its own numbers and on the numbers the engine's `f32` scene holds
-/// ([`as_engine_sees`]), agrees to the exact class's f32 allowance γ₁₂₈ ≈ 7.6·10⁻⁶
-/// relative. A case whose closed form is that sensitive to its inputs (a sliver triangle
-/// whose 10⁻⁴ edge `0.4001` rounds by 3·10⁻⁸) writes its coordinates as exact `f32` values,
-/// as the near-touching sphere lights do; otherwise a sampler with the power to see 10⁻⁴
-/// (Sobol points on a smooth integrand) fails a correct engine, as stratified and Sobol
-/// sampling of the sliver triangle did (z = −650), where the catalog's independent sampler
-/// (3·10⁻⁴ standard error) could not see it.
+/// The oracle answers the question the engine is asked: every case's reference moves by at
+/// most the exact class's f32 allowance γ₁₂₈ ≈ 7.6·10⁻⁶ relative when the closed form is
+/// evaluated on the numbers the engine's `f32` scene holds (`Case::reference_rounding`,
+/// the harness's model of the loader, `lightproof::case::build::as_engine_sees`). The
+/// harness adds that movement ρ to every verdict's allowance, so a correct engine is not
+/// failed for digits its inputs cannot hold; this test keeps ρ from costing the catalog
+/// power. A case whose closed form is that sensitive to its inputs (a sliver triangle
+/// whose 10⁻⁴ edge `0.4001` rounds by 3·10⁻⁸) writes its coordinates as exact `f32`
+/// values, as the near-touching sphere lights do; before ρ entered the allowance, a
+/// sampler with the power to see 10⁻⁴ (Sobol points on a smooth integrand) failed a
+/// correct engine there (z = −650), where the catalog's independent sampler (3·10⁻⁴
+/// standard error) could not see it.
 #[test]
 fn references_hold_for_the_engines_f32_inputs() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("analytic/cases");
     let tol = lightproof::stats::exact_relative_tolerance();
     let mut bad = Vec::new();
     let mut checked = 0;
+    let mut moved = 0;
     for f in collect_cases(&[root]).unwrap() {
         let case = Case::load(&f).unwrap();
         let Some(r) = case.reference else {
             continue;
         };
-        let mut doc: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&f).unwrap()).unwrap();
-        let name = f.display().to_string();
-        let o = lightproof::case::build::origin(&name, &case.desc)
-            .unwrap()
-            .to_array();
-        as_engine_sees(&mut doc["reference"], "reference", o);
-        let desc = serde_json::from_value(doc).unwrap();
-        let r32 = Case::from_desc(desc, &f)
-            .unwrap_or_else(|e| panic!("{name}: {e}"))
-            .reference
-            .unwrap();
         checked += 1;
-        let rel = if r == 0.0 {
-            r32.abs()
-        } else {
-            ((r32 - r) / r).abs()
-        };
+        let rho = case.reference_rounding;
+        moved += usize::from(rho > 0.0);
+        let rel = if r == 0.0 { rho } else { rho / r.abs() };
         if rel.is_nan() || rel > tol {
             bad.push(format!(
-                "{name}: {r} from its own numbers, {r32} from the engine's ({rel:.1e} relative)"
+                "{}: {r} moves by {rho:e} ({rel:.1e} relative) at the engine's f32 inputs",
+                f.display()
             ));
         }
     }
-    assert!(checked > 100, "{checked}");
+    assert!(
+        checked > 100 && moved > 10,
+        "{checked} checked, {moved} moved"
+    );
     assert!(
         bad.is_empty(),
         "references that the engine's f32 inputs change:\n{}",
