@@ -596,8 +596,9 @@ pub fn check_spectral_and_time(f: &str, desc: &CaseDesc) -> Result<(), InputErro
     if let Some(band) = band {
         for (name, d) in &desc.scene.dispersion {
             if let Some(m) = desc.scene.materials.get(name) {
-                d.validate(m, band)
-                    .map_err(|r| InputError::new(f, format!("scene.dispersion.{name}"), r))?;
+                d.validate(m, band).map_err(|(path, r)| {
+                    InputError::new(f, format!("scene.dispersion.{name}{path}"), r)
+                })?;
             }
         }
     }
@@ -1529,7 +1530,7 @@ mod tests {
         };
         assert!(at(501.0).is_ok());
         let e = at(499.5).unwrap_err();
-        assert_eq!(e.field, "scene.dispersion.glass");
+        assert_eq!(e.field, "scene.dispersion.glass.eta.sellmeier.c");
         assert!(e.reason.contains("pole"), "{e}");
     }
 
@@ -1567,7 +1568,10 @@ mod tests {
             json!({"band": [360, 830]}),
         ] {
             let e = case(spectral.clone()).err().unwrap();
-            assert_eq!(e.field, "scene.dispersion.glass", "{spectral}: {e}");
+            assert_eq!(
+                e.field, "scene.dispersion.glass.eta.sellmeier.c",
+                "{spectral}: {e}"
+            );
             assert!(e.reason.contains("pole"), "{spectral}: {e}");
         }
     }

@@ -28,26 +28,33 @@ pub struct SpectralIor {
 
 impl SpectralIor {
     /// Check the index over `band` against the material it modifies: only dielectrics
-    /// take `eta`, only conductors take `k`.
-    pub fn validate(&self, bsdf: &Bsdf, band: Band) -> Result<(), String> {
+    /// take `eta`, only conductors take `k`. An error comes with the path inside this
+    /// entry's JSON that it points at (`.eta`, `.eta.sellmeier.c`, `.k.sampled.values`,
+    /// …), or `""` for the entry as a whole.
+    pub fn validate(&self, bsdf: &Bsdf, band: Band) -> Result<(), (String, String)> {
+        let at = |path: &str, r: String| (path.to_string(), r);
         let (takes_eta, takes_k) = match bsdf.clone().index() {
             Index::Dielectric(_) => (true, false),
             Index::Conductor(..) => (true, true),
             Index::Fixed => {
-                return Err(format!(
-                    "a `{}` material has no refractive index to vary (use dielectric, rough_dielectric, conductor or rough_conductor)",
-                    bsdf.name()
+                return Err(at(
+                    "",
+                    format!(
+                        "a `{}` material has no refractive index to vary (use dielectric, rough_dielectric, conductor or rough_conductor)",
+                        bsdf.name()
+                    ),
                 ));
             }
         };
         if self.eta.is_none() && self.k.is_none() {
-            return Err("give `eta`, `k` or both".into());
+            return Err(at("", "give `eta`, `k` or both".into()));
         }
         if let Some(eta) = &self.eta {
             if !takes_eta {
-                return Err("this material takes no `eta`".into());
+                return Err(at(".eta", "this material takes no `eta`".into()));
             }
-            eta.validate(band).map_err(|r| format!("eta: {r}"))?;
+            eta.validate(band)
+                .map_err(|(path, r)| at(&format!(".eta{path}"), format!("eta: {r}")))?;
             // The BSDF's own bounds on η hold at every wavelength of the band.
             let (lo, hi) = eta.range_in(band);
             let (min, max) = if takes_k {
@@ -56,11 +63,14 @@ impl SpectralIor {
                 (0.01, 100.0)
             };
             if !(lo >= min && hi <= max) {
-                return Err(format!(
-                    "eta: the index spans [{lo}, {hi}] over [{}, {}] nm; a `{}` needs it within [{min}, {max}]",
-                    band.min,
-                    band.max,
-                    bsdf.name()
+                return Err(at(
+                    ".eta",
+                    format!(
+                        "eta: the index spans [{lo}, {hi}] over [{}, {}] nm; a `{}` needs it within [{min}, {max}]",
+                        band.min,
+                        band.max,
+                        bsdf.name()
+                    ),
                 ));
             }
             // A rough dielectric's index stays MIN_ETA_GAP from 1 at every wavelength.
@@ -73,28 +83,38 @@ impl SpectralIor {
             if matches!(bsdf, Bsdf::RoughDielectric(_))
                 && !crate::bsdf::rough_dielectric::resolves(nearest.into())
             {
-                return Err(format!(
-                    "eta: the index spans [{lo}, {hi}] over [{}, {}] nm, within {gap:e} of 1 somewhere: a rough dielectric does not resolve an interface that weak (see its `eta`)",
-                    band.min, band.max
+                return Err(at(
+                    ".eta",
+                    format!(
+                        "eta: the index spans [{lo}, {hi}] over [{}, {}] nm, within {gap:e} of 1 somewhere: a rough dielectric does not resolve an interface that weak (see its `eta`)",
+                        band.min, band.max
+                    ),
                 ));
             }
         }
         if let Some(k) = &self.k {
             if !takes_k {
-                return Err(format!(
-                    "`k` (extinction) applies to conductors, not to a `{}`",
-                    bsdf.name()
+                return Err(at(
+                    ".k",
+                    format!(
+                        "`k` (extinction) applies to conductors, not to a `{}`",
+                        bsdf.name()
+                    ),
                 ));
             }
-            k.validate().map_err(|r| format!("k: {r}"))?;
+            k.validate_at()
+                .map_err(|(path, r)| at(&format!(".k{path}"), format!("k: {r}")))?;
             // The conductor's own bound on k (as in `materials`) holds over the band.
             let kmax = k.max_in(band);
             if !(kmax <= MAX_K) {
-                return Err(format!(
-                    "k: the extinction coefficient reaches {kmax} over [{}, {}] nm; a `{}` needs it within [0, {MAX_K}]",
-                    band.min,
-                    band.max,
-                    bsdf.name()
+                return Err(at(
+                    ".k",
+                    format!(
+                        "k: the extinction coefficient reaches {kmax} over [{}, {}] nm; a `{}` needs it within [0, {MAX_K}]",
+                        band.min,
+                        band.max,
+                        bsdf.name()
+                    ),
                 ));
             }
         }
@@ -121,5 +141,56 @@ impl SpectralIor {
             Index::Fixed => {}
         }
         b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::{Conductor, Dielectric, Lambertian};
+
+    /// Each refusal names the path inside the entry that it points at, so the loader's
+    /// field reads e.g. `scene.dispersion.glass.eta.sellmeier.c`, not just the entry.
+    #[test]
+    fn refusals_name_the_part_of_the_entry() {
+        let glass = Bsdf::Dielectric(Dielectric::new(1.5));
+        let metal = Bsdf::Conductor(Conductor::new(0.2, 3.9));
+        let band = crate::spectrum::VISIBLE;
+        let at = |d: serde_json::Value, b: &Bsdf| {
+            let d: SpectralIor = serde_json::from_value(d).unwrap();
+            d.validate(b, band).unwrap_err().0
+        };
+        use serde_json::json;
+        let table = |v: f64| json!({"sampled": {"wavelengths": [400, 700], "values": [1.5, v]}});
+        for (d, b, want) in [
+            (
+                json!({"eta": 1.5}),
+                &Bsdf::Lambertian(Lambertian::new(0.5)),
+                "",
+            ),
+            (json!({}), &glass, ""),
+            (
+                json!({"eta": {"sellmeier": {"b": [1, 0, 0], "c": [0.25, 0, 0]}}}),
+                &glass,
+                ".eta.sellmeier.c",
+            ),
+            (
+                json!({"eta": {"cauchy": {"a": -1, "b": 0}}}),
+                &glass,
+                ".eta.cauchy",
+            ),
+            (json!({"eta": 150}), &glass, ".eta"),
+            (json!({"eta": table(-1.0)}), &glass, ".eta.sampled.values"),
+            (
+                json!({"eta": {"sampled": {"wavelengths": [700, 400], "values": [1.5, 1.5]}}}),
+                &glass,
+                ".eta.sampled.wavelengths",
+            ),
+            (json!({"k": 1.0}), &glass, ".k"),
+            (json!({"k": 1000}), &metal, ".k"),
+            (json!({"k": table(-1.0)}), &metal, ".k.sampled.values"),
+        ] {
+            assert_eq!(at(d.clone(), b), want, "{d}");
+        }
     }
 }

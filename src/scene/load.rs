@@ -548,7 +548,7 @@ impl SceneDesc {
             })?;
             let material = &mut materials[m];
             d.validate(&material.bsdf, band)
-                .map_err(|r| InputError::new(file, &f, r))?;
+                .map_err(|(path, r)| InputError::new(file, format!("{f}{path}"), r))?;
             if d.is_dispersive() {
                 material.ior = Some(d.clone());
             } else {

@@ -151,20 +151,28 @@ impl Ior {
     /// Check the index over `band` (nm): finite coefficients; n > 0 and finite over the
     /// whole band; Sellmeier poles λ = √cᵢ (for bᵢ ≠ 0, cᵢ > 0) outside it; a table with
     /// positive values. Cauchy's minimum over the band is found exactly (a quadratic in
-    /// 1/λ²); the other kinds are also checked on a 1024-interval grid.
-    pub fn validate(&self, band: Band) -> Result<(), String> {
-        band.validate().map_err(|r| format!("the band {r}"))?;
+    /// 1/λ²); the other kinds are also checked on a 1024-interval grid. An error comes
+    /// with the path inside the index's JSON that it points at (`.cauchy.a`,
+    /// `.sellmeier.c`, `.sampled.values`, …), or `""` for the index as a whole.
+    pub fn validate(&self, band: Band) -> Result<(), (&'static str, String)> {
+        let whole = |r: String| ("", r);
+        band.validate()
+            .map_err(|r| whole(format!("the band {r}")))?;
         let (lo, hi) = (band.min, band.max);
         match self {
             Ior::Constant(n) => {
                 if physical(*n as f64).is_none() {
-                    return Err(format!("must be a positive finite index, got {n}"));
+                    return Err(whole(format!("must be a positive finite index, got {n}")));
                 }
             }
             Ior::Cauchy { a, b, c } => {
-                for (name, v) in [("a", a), ("b", b), ("c", c)] {
+                for (at, name, v) in [
+                    (".cauchy.a", "a", a),
+                    (".cauchy.b", "b", b),
+                    (".cauchy.c", "c", c),
+                ] {
                     if !v.is_finite() {
-                        return Err(format!("cauchy.{name} must be finite, got {v}"));
+                        return Err((at, format!("cauchy.{name} must be finite, got {v}")));
                     }
                 }
                 // n = a + b s + c s², s = 1/λ² (µm⁻²) over [1/hi², 1/lo²].
@@ -180,26 +188,32 @@ impl Ior {
                 for s in candidates {
                     let n = *a as f64 + *b as f64 * s + *c as f64 * s * s;
                     if physical(n).is_none() {
-                        return Err(format!(
-                            "the Cauchy index a + b/λ² + c/λ⁴ must be positive and finite over [{lo}, {hi}] nm; at {:.1} nm it is {n}",
-                            1e3 / s.sqrt()
+                        return Err((
+                            ".cauchy",
+                            format!(
+                                "the Cauchy index a + b/λ² + c/λ⁴ must be positive and finite over [{lo}, {hi}] nm; at {:.1} nm it is {n}",
+                                1e3 / s.sqrt()
+                            ),
                         ));
                     }
                 }
             }
             Ior::Sellmeier { b, c } => {
-                for (name, v) in [("b", b), ("c", c)] {
+                for (at, name, v) in [(".sellmeier.b", "b", b), (".sellmeier.c", "c", c)] {
                     if let Some((i, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-                        return Err(format!("sellmeier.{name}[{i}] must be finite, got {x}"));
+                        return Err((at, format!("sellmeier.{name}[{i}] must be finite, got {x}")));
                     }
                 }
                 for i in 0..3 {
                     if b[i] != 0.0 && c[i] > 0.0 {
                         let pole = (c[i] as f64).sqrt() * 1e3;
                         if pole >= lo as f64 && pole <= hi as f64 {
-                            return Err(format!(
-                                "the Sellmeier pole λ = √c[{i}] = {pole:.1} nm (c[{i}] = {} µm²) lies inside the band [{lo}, {hi}] nm",
-                                c[i]
+                            return Err((
+                                ".sellmeier.c",
+                                format!(
+                                    "the Sellmeier pole λ = √c[{i}] = {pole:.1} nm (c[{i}] = {} µm²) lies inside the band [{lo}, {hi}] nm",
+                                    c[i]
+                                ),
                             ));
                         }
                     }
@@ -209,15 +223,23 @@ impl Ior {
                 wavelengths,
                 values,
             } => {
-                table::validate(wavelengths, values, true)?;
+                table::validate_at(wavelengths, values, true).map_err(|(at, r)| {
+                    let at = match at {
+                        "wavelengths" => ".sampled.wavelengths",
+                        "values" => ".sampled.values",
+                        _ => ".sampled",
+                    };
+                    (at, r)
+                })?;
                 // Interpolation stays between neighbouring entries: checking them suffices.
                 if let Some((i, v)) = values
                     .iter()
                     .enumerate()
                     .find(|(_, v)| physical(**v as f64).is_none())
                 {
-                    return Err(format!(
-                        "values[{i}] must be a positive finite index, got {v}"
+                    return Err((
+                        ".sampled.values",
+                        format!("values[{i}] must be a positive finite index, got {v}"),
                     ));
                 }
             }
@@ -230,9 +252,9 @@ impl Ior {
             };
             let n = self.raw(l);
             if physical(n).is_none() {
-                return Err(format!(
+                return Err(whole(format!(
                     "the index must be positive and finite over [{lo}, {hi}] nm; at {l} nm it is {n}"
-                ));
+                )));
             }
         }
         Ok(())
@@ -379,10 +401,10 @@ mod tests {
             b: [1.0, 0.0, 0.0],
             c: [0.25, 0.0, 0.0],
         };
-        let e = pole.validate(VISIBLE).unwrap_err();
+        let (at, e) = pole.validate(VISIBLE).unwrap_err();
         assert!(
-            e.contains("500.0 nm") && e.contains("inside the band"),
-            "{e}"
+            at == ".sellmeier.c" && e.contains("500.0 nm") && e.contains("inside the band"),
+            "{at}: {e}"
         );
         for l in [500.0, 0.0, -1.0, f32::NAN, f32::INFINITY] {
             let n = pole.eval(l);
@@ -394,8 +416,8 @@ mod tests {
             b: -2.0,
             c: 0.9,
         };
-        let e = dip.validate(VISIBLE).unwrap_err();
-        assert!(e.contains("Cauchy"), "{e}");
+        let (at, e) = dip.validate(VISIBLE).unwrap_err();
+        assert!(at == ".cauchy" && e.contains("Cauchy"), "{at}: {e}");
         assert!(Ior::Constant(0.0).validate(VISIBLE).is_err());
         assert!(
             Ior::Constant(1.5)

@@ -452,25 +452,27 @@ SD = "scene.dispersion.glass"
 BK7_B = [1.03961212, 0.231792344, 1.01046945]
 BK7_C = [0.00600069867, 0.0200179144, 103.560653]
 # A coefficient of -1 or 0 still gives an index within the dielectric's bounds over the band.
-sweep("sellmeier_b", BK7, "scene.dispersion.glass.eta.sellmeier.b", SD, SIGNED, vec=(0, BK7_B))
-sweep("sellmeier_c", BK7, "scene.dispersion.glass.eta.sellmeier.c", SD, SIGNED, vec=(2, BK7_C))
-sweep("dispersion_eta", BK7, "scene.dispersion.glass.eta", SD, ALL2)
+sweep("sellmeier_b", BK7, "scene.dispersion.glass.eta.sellmeier.b", SD + ".eta.sellmeier.b", SIGNED, vec=(0, BK7_B))
+sweep("sellmeier_c", BK7, "scene.dispersion.glass.eta.sellmeier.c", SD + ".eta.sellmeier.c", SIGNED, vec=(2, BK7_C))
+sweep("dispersion_eta", BK7, "scene.dispersion.glass.eta", SD + ".eta", ALL2)
 CAUCHY = [("scene.dispersion.glass.eta", {"cauchy": {"a": 1.5046, "b": 0.0042, "c": 0}})]
-sweep("cauchy_a", BK7, "scene.dispersion.glass.eta.cauchy.a", SD, ALL2, edits=CAUCHY)
-sweep("cauchy_b", BK7, "scene.dispersion.glass.eta.cauchy.b", SD, NONNEG, edits=CAUCHY)
-sweep("cauchy_c", BK7, "scene.dispersion.glass.eta.cauchy.c", SD, NONNEG, edits=CAUCHY)
-case("sellmeier_pole_in_band", "wrong", BK7, [("spectral.band", [400, 20000])], 2, "scene.dispersion.glass", "pole")
+# A Cauchy index that leaves the dielectric's range names `eta`; one that is not positive
+# over the band names `eta.cauchy`; a number that is no f32 names its coefficient.
+sweep("cauchy_a", BK7, "scene.dispersion.glass.eta.cauchy.a", SD + ".eta", ALL2, edits=CAUCHY)
+sweep("cauchy_b", BK7, "scene.dispersion.glass.eta.cauchy.b", SD + ".eta.cauchy", NONNEG, edits=CAUCHY)
+sweep("cauchy_c", BK7, "scene.dispersion.glass.eta.cauchy.c", SD + ".eta.cauchy", NONNEG, edits=CAUCHY)
+case("sellmeier_pole_in_band", "wrong", BK7, [("spectral.band", [400, 20000])], 2, SD + ".eta.sellmeier.c", "pole")
 case("sellmeier_wavelength_at_pole", "wrong", BK7, [("spectral", {"wavelength": 10176.5})], 2,
-     "scene.dispersion.glass", "pole")
+     SD + ".eta", "over [10176.5, 10177.5] nm")
 # The scene's own check used [360, 830] nm whatever the case measured: a pole at 600 nm
 # refused [400, 500] nm and λ = 500 nm. Checked over the measured band; inside it, refused.
 POLE600 = [("scene.dispersion.glass.eta", {"sellmeier": {"b": [0.1, 0, 0], "c": [0.36, 0, 0]}})]
 case("sellmeier_pole_beyond_band", "wrong", BK7, POLE600 + [("spectral.band", [400, 500])], "valid")
 case("sellmeier_pole_beyond_wavelength", "wrong", BK7, POLE600 + [("spectral", {"wavelength": 500})], "valid")
 case("sellmeier_pole_600_in_band", "wrong", BK7, POLE600 + [("spectral.band", [500, 700])], 2,
-     "scene.dispersion.glass", "pole")
-case("conductor_k_via_dispersion", "wrong", METAL, [("scene.dispersion.metal.k", 1000)], 2, "scene.dispersion.metal", "100")
-sweep("conductor_k_via_dispersion", METAL, "scene.dispersion.metal.k", "scene.dispersion.metal", NONNEG)
+     SD + ".eta.sellmeier.c", "pole")
+case("conductor_k_via_dispersion", "wrong", METAL, [("scene.dispersion.metal.k", 1000)], 2, "scene.dispersion.metal.k", "100")
+sweep("conductor_k_via_dispersion", METAL, "scene.dispersion.metal.k", "scene.dispersion.metal.k", NONNEG)
 case("conductor_k_via_dispersion_ok", "baseline", METAL, [], "valid")
 
 # ---------------------------------------------------------------- spectral and time sections
