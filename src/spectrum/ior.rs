@@ -223,14 +223,7 @@ impl Ior {
                 wavelengths,
                 values,
             } => {
-                table::validate_at(wavelengths, values, true).map_err(|(at, r)| {
-                    let at = match at {
-                        "wavelengths" => ".sampled.wavelengths",
-                        "values" => ".sampled.values",
-                        _ => ".sampled",
-                    };
-                    (at, r)
-                })?;
+                table::validate_at(wavelengths, values, true)?;
                 // Interpolation stays between neighbouring entries: checking them suffices.
                 if let Some((i, v)) = values
                     .iter()

@@ -107,14 +107,7 @@ impl Spectrum {
             Spectrum::Sampled {
                 wavelengths,
                 values,
-            } => table::validate_at(wavelengths, values, false).map_err(|(at, r)| {
-                let at = match at {
-                    "wavelengths" => ".sampled.wavelengths",
-                    "values" => ".sampled.values",
-                    _ => ".sampled",
-                };
-                (at, r)
-            }),
+            } => table::validate_at(wavelengths, values, false),
             s => s.validate_params().map_err(|r| ("", r)),
         }
     }

@@ -3,7 +3,7 @@
 //! [`super::Ior`] (end values held outside) and [`super::Response`].
 //!
 //! Every function here tolerates malformed tables (unequal lengths, unsorted or NaN
-//! wavelengths) without panicking; `validate` is what rejects them.
+//! wavelengths) without panicking; `validate_at` is what rejects them.
 
 use super::MIN_RELATIVE_BANDWIDTH;
 use serde::{Deserialize, Serialize};
@@ -95,13 +95,10 @@ pub(crate) fn max_in(w: &[f32], v: &[f32], a: f32, b: f32) -> f32 {
 }
 
 /// At least two entries, equal lengths, positive finite strictly increasing
-/// wavelengths, finite values that are non-negative (or positive with `positive`).
-pub(crate) fn validate(w: &[f32], v: &[f32], positive: bool) -> Result<(), String> {
-    validate_at(w, v, positive).map_err(|(_, r)| r)
-}
-
-/// [`validate`], with the list a reason points at (`"wavelengths"`, `"values"`, or `""`
-/// for the table as a whole). Each piece [λᵢ₋₁, λᵢ] is at least
+/// wavelengths, finite values that are non-negative (or positive with `positive`). An
+/// error comes with the path inside the table's JSON, `{"sampled": {...}}`, that it points
+/// at: `.sampled.wavelengths`, `.sampled.values`, or `.sampled` for the table as a whole.
+/// Each piece [λᵢ₋₁, λᵢ] is at least
 /// [`MIN_RELATIVE_BANDWIDTH`]·λᵢ wide, as a band is: f32 wavelengths (a step of
 /// 2⁻²³·λ to 2⁻²⁴·λ) resolve it into ~10³ values, so its rounded ends move its width by
 /// at most 0.12 %. A spike [499.9995, 500, 500.0005] nm of peak 10⁶ integrated to 488.6
@@ -111,8 +108,8 @@ pub(crate) fn validate_at(
     v: &[f32],
     positive: bool,
 ) -> Result<(), (&'static str, String)> {
-    let whole = |r: String| ("", r);
-    let wl = |r: String| ("wavelengths", r);
+    let whole = |r: String| (".sampled", r);
+    let wl = |r: String| (".sampled.wavelengths", r);
     if w.len() != v.len() {
         return Err(whole(format!(
             "wavelengths and values must have the same length, got {} and {}",
@@ -152,7 +149,7 @@ pub(crate) fn validate_at(
         let ok = x.is_finite() && if positive { x > 0.0 } else { x >= 0.0 };
         if !ok {
             return Err((
-                "values",
+                ".sampled.values",
                 format!(
                     "values[{i}] must be {} and finite, got {x}",
                     if positive { "positive" } else { "non-negative" }
@@ -217,29 +214,36 @@ mod tests {
 
     #[test]
     fn validation_messages() {
-        assert!(validate(&W, &V, false).is_ok());
+        assert!(validate_at(&W, &V, false).is_ok());
         assert!(
-            validate(&W, &V, true)
+            validate_at(&W, &V, true)
                 .unwrap_err()
+                .1
                 .contains("values[0] must be positive")
         );
-        let e = validate(&[400.0, 400.0], &[1.0, 1.0], false).unwrap_err();
+        let e = validate_at(&[400.0, 400.0], &[1.0, 1.0], false)
+            .unwrap_err()
+            .1;
         assert!(e.contains("wavelengths[1] = 400 does not exceed"), "{e}");
-        let e = validate(&W, &[1.0, 2.0, 3.0, -1.0], false).unwrap_err();
-        assert_eq!(e, "values[3] must be non-negative and finite, got -1");
+        let e = validate_at(&W, &[1.0, 2.0, 3.0, -1.0], false).unwrap_err();
+        assert_eq!(e.0, ".sampled.values");
+        assert_eq!(e.1, "values[3] must be non-negative and finite, got -1");
         assert!(
-            validate(&[500.0], &[1.0], false)
+            validate_at(&[500.0], &[1.0], false)
                 .unwrap_err()
+                .1
                 .contains("at least 2")
         );
         assert!(
-            validate(&W, &V[..3], false)
+            validate_at(&W, &V[..3], false)
                 .unwrap_err()
+                .1
                 .contains("same length")
         );
         assert!(
-            validate(&[f32::NAN, 1.0], &V[..2], false)
+            validate_at(&[f32::NAN, 1.0], &V[..2], false)
                 .unwrap_err()
+                .1
                 .contains("wavelengths[0]")
         );
     }
@@ -254,17 +258,19 @@ mod tests {
             [499.99995, 500.0, 500.00005],
         ] {
             let (at, e) = validate_at(&w, &[0.0, 1e6, 0.0], false).unwrap_err();
-            assert_eq!(at, "wavelengths", "{e}");
+            assert_eq!(at, ".sampled.wavelengths", "{e}");
             assert!(e.contains("too narrow for f32 wavelengths"), "{e}");
             assert!(e.contains("[wavelengths[0], wavelengths[1]]"), "{e}");
         }
-        assert!(validate(&[499.94, 500.0, 500.06], &[0.0, 1.0, 0.0], false).is_ok());
-        let e = validate(&[400.0, 499.951, 500.0], &[0.0, 1.0, 0.0], true).unwrap_err();
+        assert!(validate_at(&[499.94, 500.0, 500.06], &[0.0, 1.0, 0.0], false).is_ok());
+        let e = validate_at(&[400.0, 499.951, 500.0], &[0.0, 1.0, 0.0], true)
+            .unwrap_err()
+            .1;
         assert!(e.contains("[wavelengths[1], wavelengths[2]]"), "{e}");
         // At 10⁷ nm the rule asks for 1000 nm.
-        assert!(validate(&[9.9995e6, 1e7], &[1.0, 1.0], false).is_err());
-        assert!(validate(&[9.999e6, 1e7], &[1.0, 1.0], false).is_ok());
-        assert_eq!(validate_at(&W, &V, true).unwrap_err().0, "values");
-        assert_eq!(validate_at(&W, &V[..3], false).unwrap_err().0, "");
+        assert!(validate_at(&[9.9995e6, 1e7], &[1.0, 1.0], false).is_err());
+        assert!(validate_at(&[9.999e6, 1e7], &[1.0, 1.0], false).is_ok());
+        assert_eq!(validate_at(&W, &V, true).unwrap_err().0, ".sampled.values");
+        assert_eq!(validate_at(&W, &V[..3], false).unwrap_err().0, ".sampled");
     }
 }
