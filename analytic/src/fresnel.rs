@@ -395,6 +395,12 @@ mod tests {
     /// where a finite cosine is totally reflected or grazing.
     #[test]
     fn nan_cosine_or_index_gives_nan() {
+        // A cosine past 1 (rounding) is normal incidence, as the cap that replaced `min`
+        // keeps it.
+        for c in [1.0 + f64::EPSILON, 2.0, f64::INFINITY] {
+            assert_eq!(dielectric(c, 1.5), dielectric(1.0, 1.5), "{c}");
+            assert_eq!(dielectric(-c, 1.5), dielectric(-1.0, 1.5), "{c}");
+        }
         let nan = f64::NAN;
         for (c, eta) in [
             (0.5, 1.5),
