@@ -791,6 +791,64 @@ fn outcomes_without_a_reference_are_not_counted_as_statistical_passes() {
     );
 }
 
+/// A conductor at η = 1.0001, which `f32` holds as 1.00010001659: its reference moves by
+/// 3.3·10⁻⁴ relative at the engine's inputs. `verify` passes it (it failed a correct
+/// engine, z = +43.5), writes the movement as `reference_rounding` and says in its closing
+/// line how many verdicts took it in; a case whose numbers `f32` holds exactly, and one
+/// without a reference, take none.
+#[test]
+fn verify_takes_in_the_references_change_at_f32_inputs() {
+    let near = tmp(
+        "eta_near_one.json",
+        r#"{ "name": "conductor near index 1", "teaches": "F = ((η − 1)/(η + 1))²",
+  "exact": "a mirror: every sample is F",
+  "measure": { "albedo": { "bsdf": { "type": "conductor", "eta": 1.0001, "k": 0 }, "theta_degrees": 0 } },
+  "reference": { "closed_form": "fresnel_conductor", "cos_theta": 1, "eta": 1.0001, "k": 0 },
+  "estimators": ["bsdf"], "samples": 4096 }"#,
+    );
+    let good = tmp("rounding_good.json", GOOD);
+    let free = tmp(
+        "rounding_free.json",
+        &GOOD.replace("disk on axis", "no reference").replace(
+            r#""reference": { "closed_form": "disk_irradiance_on_axis", "radius": 1, "height": 2, "radiance": 1 },"#,
+            "",
+        ),
+    );
+    let json = near.with_extension("out.json");
+    let out = succeeds(
+        bin()
+            .args(["verify", "--json"])
+            .arg(&json)
+            .args([&near, &good, &free]),
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("(+ the reference's change at the engine's f32 inputs, in 1 verdict);"),
+        "{stdout}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for o in v["outcomes"].as_array().unwrap() {
+        let rho = o["reference_rounding"].as_f64();
+        if o["case"] == "conductor near index 1" {
+            let (r, rho) = (o["reference"].as_f64().unwrap(), rho.unwrap());
+            assert!(rho > 3e-4 * r && rho < 4e-4 * r, "{o}");
+            assert_eq!(o["verdict"]["input_rounding"].as_f64(), Some(rho));
+        } else {
+            assert!(
+                rho.is_none() && o["verdict"].get("input_rounding").is_none(),
+                "{o}"
+            );
+        }
+    }
+    let out = succeeds(bin().arg("verify").args([&good, &free]));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("7.63e-6·|reference|; seed") && !stdout.contains("engine's f32 inputs"),
+        "{stdout}"
+    );
+}
+
 /// `estimate` runs the case's first sampler unless told (a Sobol-only case runs Sobol:
 /// inside the proof), and a sampler the case does not list is outside it: the sphere
 /// light below the horizon by independent sampling sees only ~2.4 % at the case's own
