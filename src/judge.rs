@@ -314,8 +314,9 @@ pub struct Judgement {
     /// The case's reference (the estimate's units).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
-    /// How far the reference moves when its inputs round to `f32`, as a renderer in
-    /// `f32` reads them ([`crate::verdict::Outcome::reference_rounding`]). Absent when 0.
+    /// ρ = μ(f32 inputs) − μ, the reference's change when its inputs round to `f32`
+    /// ([`crate::verdict::Outcome::reference_rounding`]; a renderer that reads the case's
+    /// numbers into `f32` without the case's rebasing rounds points more). Absent when 0.
     #[serde(default, skip_serializing_if = "crate::stats::hypothesis::is_zero")]
     pub reference_rounding: f64,
     /// z score.

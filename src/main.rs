@@ -878,13 +878,14 @@ fn verify(
     // Verdicts whose reference moves when its inputs round to f32 take that in too.
     let moved = match outcomes
         .iter()
-        .filter(|o| o.verdict.is_some() && o.reference_rounding > 0.0)
+        .filter(|o| o.verdict.is_some() && o.reference_rounding != 0.0)
         .count()
     {
         0 => String::new(),
         n => format!(
-            " (+ the reference's change at the engine's f32 inputs, in {n} verdict{})",
-            if n == 1 { "" } else { "s" }
+            "; {n} verdict{} also allow{} the reference's change at the engine's f32 inputs",
+            if n == 1 { "" } else { "s" },
+            if n == 1 { "s" } else { "" }
         ),
     };
     outln!(

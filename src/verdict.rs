@@ -103,7 +103,9 @@ pub fn judge_parts(
     }
 }
 
-/// Judge an estimate against a reference within a family of `tests` statistical tests.
+/// Judge an estimate against a reference within a family of `tests` statistical tests,
+/// without input rounding (a caller's own reference; a case's outcome carries its ρ,
+/// [`Outcome::verdict_against`]).
 pub fn judge(
     est: &Estimate,
     sampler: SamplerKind,
@@ -157,34 +159,42 @@ impl Verdict {
         if !self.passed || sees {
             return;
         }
-        let rounding = |v: &Verdict| {
-            format!(
-                "its reference moves by {:.3}% when its inputs round to the engine's f32 values",
-                100.0 * v.input_rounding / v.reference.abs()
-            )
+        // The part of the detectable bias no sample count removes: the input rounding |ρ|
+        // (relative; the f32 bound's 7.6·10⁻⁶ beside it is left out of the advice).
+        let fixed = if self.reference != 0.0 {
+            self.input_rounding.abs() / self.reference.abs()
+        } else {
+            0.0
         };
+        let rounding = format!(
+            "its reference moves by {:.3}% when its inputs round to the engine's f32 values",
+            100.0 * fixed
+        );
         let exact = match self.class {
             crate::stats::VerdictClass::Exact => true,
             crate::stats::VerdictClass::Statistical => false,
         };
-        if exact && self.input_rounding == 0.0 {
+        if self.reference == 0.0 || (exact && self.input_rounding == 0.0) {
+            // A zero reference has no relative bias to see; an exact verdict's tolerance
+            // is the f32 bound, whatever it is.
+            self.weak |= self.reference == 0.0;
             return;
         }
-        if exact && self.reference != 0.0 {
+        if exact || fixed >= DETECTABLE_BOUND {
+            // More samples change nothing: only the case's numbers can.
             self.passed = false;
             self.reason = Some(format!(
-                "{}, more than the {}% every verdict must see, so no estimate within it could fail: {INPUT_ROUNDING_REMEDY}",
-                rounding(self),
+                "{rounding}, so this verdict cannot see a relative bias below {:.3}%, more than the {}% every verdict must see, whatever its sample count: {INPUT_ROUNDING_REMEDY}",
+                100.0 * self.detectable_relative_bias,
                 100.0 * DETECTABLE_BOUND
             ));
-        } else if exact {
-            self.weak = true;
-        } else if inside && self.reference != 0.0 {
+        } else if inside {
             self.passed = false;
-            // The detectable bias falls as 1/√N: the samples that would reach the bound.
+            // The statistical part of the detectable bias falls as 1/√N: the samples that
+            // would bring the whole to the bound.
             let rel = self.detectable_relative_bias;
             let (sees, more) = if rel.is_finite() {
-                let more = (rel / DETECTABLE_BOUND).powi(2).ceil();
+                let more = ((rel - fixed) / (DETECTABLE_BOUND - fixed)).powi(2).ceil();
                 (
                     format!(
                         "cannot see a relative bias below {:.3}% (99% power)",
@@ -199,8 +209,8 @@ impl Verdict {
             } else {
                 ("has no finite detectable bias".to_string(), String::new())
             };
-            let rounds = if self.input_rounding > 0.0 {
-                format!(" ({}: {INPUT_ROUNDING_REMEDY})", rounding(self))
+            let rounds = if self.input_rounding != 0.0 {
+                format!(" ({rounding}: part of it)")
             } else {
                 String::new()
             };
@@ -262,9 +272,10 @@ pub struct Outcome {
     /// Closed-form reference.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
-    /// How far the reference moves when its inputs round to the `f32` values the
-    /// engine's scene holds ([`crate::case::build::reference_rounding`]); part of the
-    /// verdict's allowance ([`MeanTest::with_input_rounding`]). Absent when 0.
+    /// ρ = μ(f32 inputs) − μ, the reference's change when its inputs round to the `f32`
+    /// values the engine's scene holds ([`crate::case::build::reference_rounding`]): the
+    /// verdict accepts a mean between μ and μ + ρ ([`MeanTest::with_input_rounding`]).
+    /// Absent when 0.
     #[serde(default, skip_serializing_if = "crate::stats::hypothesis::is_zero")]
     pub reference_rounding: f64,
     /// z score.
@@ -832,7 +843,7 @@ mod tests {
         // bound it stays a pass.
         for (rho, reference, inside) in [
             (0.006, 1.0, true),
-            (0.006, 1.0, false),
+            (-0.006, 1.0, false),
             (0.004, 1.0, true),
             (0.006, 0.0, true),
         ] {
@@ -842,7 +853,10 @@ mod tests {
             o.require_power(inside);
             let v = o.verdict.unwrap();
             assert_eq!(v.input_rounding, rho);
-            let (fails, weak) = (rho > DETECTABLE_BOUND && reference != 0.0, reference == 0.0);
+            let (fails, weak) = (
+                rho.abs() > DETECTABLE_BOUND && reference != 0.0,
+                reference == 0.0,
+            );
             assert!(
                 v.passed != fails && v.weak == weak,
                 "{rho} {reference}: {v:?}"
@@ -850,19 +864,31 @@ mod tests {
             if fails {
                 let why = v.reason.unwrap();
                 assert!(
-                    why.contains("moves by 0.600%") && why.contains("f32 values"),
+                    why.contains("moves by 0.600%") && why.contains("whatever its sample count"),
                     "{why}"
                 );
             }
         }
-        // A statistical verdict that cannot see the bound names the input rounding.
-        let mut o = outcome(1.0, Some(1e-4), Some(1.0), 1 << 16, 0);
-        o.reference_rounding = 0.006;
-        o.judge(1e-4, 1);
-        o.require_power(true);
-        let why = o.verdict.unwrap().reason.unwrap();
+        // A statistical verdict whose input rounding alone passes the bound fails the same
+        // way; one where it is only part of the detectable bias is told how many samples
+        // would reach the bound, counting only the part that falls as 1/√N:
+        // ((0.9% − 0.3%)/(0.5% − 0.3%))² = 9.
+        let stat = |rho: f64, det: f64| {
+            let mut o = outcome(1.0, Some(1e-4), Some(1.0), 1 << 16, 0);
+            o.reference_rounding = rho;
+            o.judge(1e-4, 1);
+            o.verdict.as_mut().unwrap().detectable_relative_bias = det;
+            o.require_power(true);
+            o.verdict.unwrap().reason.unwrap()
+        };
+        let why = stat(0.006, 0.0065);
         assert!(
-            why.contains("moves by 0.600%") && why.contains("raise"),
+            why.contains("whatever its sample count") && !why.contains("raise"),
+            "{why}"
+        );
+        let why = stat(-0.003, 0.009);
+        assert!(
+            why.contains("moves by 0.300%") && why.contains("about 9×"),
             "{why}"
         );
         // A zero reference: the detectable bias is absolute, no relative power to require.

@@ -99,9 +99,9 @@ pub struct Case {
     pub measure: Measure,
     /// The reference value, if any.
     pub reference: Option<f64>,
-    /// How far the reference moves when its inputs take the `f32` values the engine's
-    /// scene holds ([`build::reference_rounding`]; 0 without a reference): part of every
-    /// verdict's allowance.
+    /// ρ = μ(f32 inputs) − μ, the reference's change when its inputs take the `f32`
+    /// values the engine's scene holds ([`build::reference_rounding`]; 0 without a
+    /// reference): every verdict accepts a mean between μ and μ + ρ.
     pub reference_rounding: f64,
     /// What its estimates simulate: the pruned plan.
     pub plan: Plan,

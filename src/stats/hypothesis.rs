@@ -15,10 +15,12 @@
 //! **Input rounding.** The engine is asked about its `f32` scene, whose numbers are the
 //! case's rounded to `f32`. Where the closed form is sensitive to that rounding (an index
 //! η = 1.0001, which `f32` holds as 1.00010001659, moves ((η − 1)/(η + 1))² by 3·10⁻⁴
-//! relative), the harness measures how far the reference moves, ρ = |μ(f32 inputs) − μ|
-//! ([`MeanTest::with_input_rounding`]), and the allowance becomes τ = γₙ·|μ| + ρ: a
-//! correct engine is never failed for the digits its inputs cannot hold, and ρ is part of
-//! the detectable bias, so the loss of power is stated.
+//! relative), the harness measures how far the reference moves, ρ = μ(f32 inputs) − μ
+//! ([`MeanTest::with_input_rounding`]), and the null hypothesis becomes "the mean lies
+//! between μ and μ + ρ, each widened by γₙ·|μ|": the test is centred on μ + ρ/2 with the
+//! half-width τ = γₙ·|μ| + |ρ|/2. A correct engine is never failed for the digits its
+//! inputs cannot hold, and the detectable bias, the worst case over where in that range
+//! the engine's own answer lies, grows by |ρ|, so the loss of power is stated.
 //!
 //! **Power.** The smallest bias δ that the two-sided test at level α₁ detects with
 //! probability 1 − β is δ = τ + (q₁₋α₁/₂ + q₁₋β)·s for the z test; with β = 0.01 this is
@@ -130,8 +132,8 @@ pub struct MeanTest {
     /// O(1) Fresnel terms, for example, rounds at γₙ·1, not γₙ·|μ|.
     #[serde(default)]
     pub term_scale: f64,
-    /// How far the reference moves when its inputs round to the engine's `f32` values
-    /// (absolute, ≥ 0; module notes, *Input rounding*): added to the allowance.
+    /// How far the reference moves when its inputs round to the engine's `f32` values,
+    /// ρ = μ(f32 inputs) − μ (module notes, *Input rounding*).
     #[serde(default)]
     pub input_rounding: f64,
 }
@@ -191,9 +193,9 @@ pub struct Verdict {
     /// too wide to prove it right. Inside the conditions such a verdict fails instead.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub weak: bool,
-    /// The reference's change when its inputs round to the engine's `f32` values, part
-    /// of the allowance and of the detectable bias ([`MeanTest::with_input_rounding`]).
-    /// Absent when 0.
+    /// ρ = μ(f32 inputs) − μ, the reference's change when its inputs round to the
+    /// engine's `f32` values: the verdict accepted a mean between μ and μ + ρ, and |ρ| is
+    /// part of the detectable bias ([`MeanTest::with_input_rounding`]). Absent when 0.
     #[serde(default, skip_serializing_if = "crate::stats::hypothesis::is_zero")]
     pub input_rounding: f64,
 }
@@ -354,24 +356,27 @@ impl MeanTest {
         }
     }
 
-    /// The same family, for a reference that moves by `rho` when its inputs round to the
-    /// engine's `f32` values (module notes, *Input rounding*). A ρ that is negative or
-    /// not finite is taken as 0: the strict test, never one that passes everything.
+    /// The same family, for a reference μ that becomes μ + `rho` when its inputs round to
+    /// the engine's `f32` values (module notes, *Input rounding*). A ρ that is not finite
+    /// is taken as 0: the strict test, never one that passes everything.
     pub fn with_input_rounding(self, rho: f64) -> Self {
         MeanTest {
-            input_rounding: if rho.is_finite() && rho > 0.0 {
-                rho
-            } else {
-                0.0
-            },
+            input_rounding: if rho.is_finite() { rho } else { 0.0 },
             ..self
         }
     }
 
-    /// The f32 allowance τ = γₙ·max(|x|, term_scale) + ρ around a value x (ρ the input
+    /// The half-width τ = γₙ·max(|x|, term_scale) + |ρ|/2 of the allowance about a
+    /// reference x shifted to the midpoint x + ρ/2 ([`MeanTest::centre`]; ρ the input
     /// rounding, [`MeanTest::with_input_rounding`]).
     pub fn rounding_allowance(&self, x: f64) -> f64 {
-        exact_relative_tolerance() * x.abs().max(self.term_scale) + self.input_rounding
+        exact_relative_tolerance() * x.abs().max(self.term_scale) + 0.5 * self.input_rounding.abs()
+    }
+
+    /// The middle of the accepted range for a reference x: x + ρ/2, between the reference
+    /// at the case's numbers and at the engine's `f32` inputs.
+    pub fn centre(&self, x: f64) -> f64 {
+        x + 0.5 * self.input_rounding
     }
 
     /// The per-test level.
@@ -428,10 +433,12 @@ impl MeanTest {
         let critical = quantile(1.0 - alpha / 2.0, dof);
         let diff = estimate - reference;
         // The null hypothesis is |bias| ≤ τ, the f32 rounding of the evaluation (see
-        // the module notes): only the excess over τ is tested, so rounding alone never
-        // fails a statistical verdict, and τ is part of the detectable bias.
+        // the module notes), about the midpoint of μ and its value at the engine's f32
+        // inputs: only the excess over τ is tested, so rounding alone never fails a
+        // statistical verdict, and τ (with the other half of |ρ|) is part of the
+        // detectable bias.
         let tau = self.rounding_allowance(reference);
-        let excess = (diff.abs() - tau).max(0.0);
+        let excess = ((estimate - self.centre(reference)).abs() - tau).max(0.0);
         let (z, p_value) = if std_error > 0.0 && std_error.is_finite() {
             (
                 diff / std_error,
@@ -445,7 +452,8 @@ impl MeanTest {
                 if excess == 0.0 { 1.0 } else { 0.0 },
             )
         };
-        let detectable_bias = tau + power_shift(critical, dof) * std_error;
+        let detectable_bias =
+            tau + 0.5 * self.input_rounding.abs() + power_shift(critical, dof) * std_error;
         let detectable_relative_bias = if reference != 0.0 {
             detectable_bias / reference.abs()
         } else {
@@ -487,7 +495,8 @@ impl MeanTest {
     }
 
     /// Exact comparison of an estimate without variance: passes when
-    /// |x̄ − μ| ≤ τ = γₙ·|μ| ([`exact_relative_tolerance`]), every sample was finite and
+    /// |x̄ − μ| ≤ τ = γₙ·|μ| ([`exact_relative_tolerance`]; with input rounding ρ, x̄
+    /// within τ of the range between μ and μ + ρ), every sample was finite and
     /// there was at least one. Not a member of the family: where the estimator truly has no
     /// variance it cannot fail by chance (module notes for where it only seemed to have
     /// none).
@@ -502,7 +511,7 @@ impl MeanTest {
         self.exact_verdict(
             estimate,
             reference,
-            estimate - reference,
+            estimate - self.centre(reference),
             tolerance,
             non_finite,
             count,
@@ -532,16 +541,26 @@ impl MeanTest {
         } else if !reference.is_finite() {
             Some("reference is not finite".into())
         } else if !estimate.is_finite() || !(z.abs() <= 1.0) {
-            let bound = if self.input_rounding > 0.0 {
-                format!(
-                    "γ{EXACT_OPERATIONS} · |μ| + {:.3e}, the reference's change when its inputs round to f32",
-                    self.input_rounding
+            let (off, bound) = if self.input_rounding != 0.0 {
+                let (a, b) = (reference, reference + self.input_rounding);
+                let g = tolerance - 0.5 * self.input_rounding.abs();
+                (
+                    format!(
+                        "outside [{:.6e}, {:.6e}], the reference at the case's numbers and at the engine's f32 inputs ({:+.3e}), each widened by",
+                        a.min(b) - g,
+                        a.max(b) + g,
+                        self.input_rounding
+                    ),
+                    format!("{g:.3e} (γ{EXACT_OPERATIONS} · |μ|)"),
                 )
             } else {
-                format!("γ{EXACT_OPERATIONS} · |μ|")
+                (
+                    format!("off by {excess:.3e}, beyond"),
+                    format!("{tolerance:.3e} (γ{EXACT_OPERATIONS} · |μ|)"),
+                )
             };
             Some(format!(
-                "no variance in {count} samples, yet off by {excess:.3e}, beyond the f32 error bound {tolerance:.3e} ({bound}): \
+                "no variance in {count} samples, yet {off} the f32 error bound {bound}: \
                  the estimator is biased, or its integrand varies only where none of the samples fell \
                  (a region of probability {:.1e} is missed by all of them once in 20 runs): {MORE_SAMPLES}",
                 unseen_mass(count)
@@ -558,11 +577,11 @@ impl MeanTest {
             p_value: if reason.is_none() { 1.0 } else { 0.0 },
             alpha: 0.0,
             critical: 1.0,
-            detectable_bias: tolerance,
+            detectable_bias: tolerance + 0.5 * self.input_rounding.abs(),
             detectable_relative_bias: if reference != 0.0 {
-                tolerance / reference.abs()
+                (tolerance + 0.5 * self.input_rounding.abs()) / reference.abs()
             } else {
-                tolerance
+                tolerance + 0.5 * self.input_rounding.abs()
             },
             dof: None,
             non_finite,
@@ -1051,32 +1070,49 @@ mod tests {
         assert!(t.judge_at_most(&a, 1.0 + 2.5 * g).passed);
     }
 
-    /// The input rounding ρ adds to the allowance of both classes and to the detectable
-    /// bias; the excess beyond it is still tested, and a ρ that is negative, infinite or
-    /// NaN is taken as 0 (the strict test), never as "anything passes".
+    /// With input rounding ρ a mean is accepted between μ and μ + ρ, each widened by
+    /// γ|μ| (both classes), the excess beyond that range is tested, and the detectable
+    /// bias grows by |ρ|; a ρ that is not finite is taken as 0 (the strict test), never
+    /// as "anything passes".
     #[test]
-    fn input_rounding_widens_the_allowance_by_exactly_rho() {
+    fn input_rounding_accepts_the_range_between_the_two_references() {
         let g = exact_relative_tolerance();
-        let (mu, se, rho) = (2.0, 1e-9, 1e-6);
-        let t = MeanTest::default().with_input_rounding(rho);
-        assert_eq!(t.rounding_allowance(mu), g * mu + rho);
-        assert_eq!(t.rounding_allowance(-mu), g * mu + rho);
-        // Exact: within γ|μ| + ρ passes, beyond fails, and the verdict records ρ.
-        let near = mu + g * mu + 0.9 * rho;
-        let ok = t.judge_exact(near, mu, 0, 64);
-        assert!(ok.passed && ok.input_rounding == rho, "{ok:?}");
-        assert!(!MeanTest::default().judge_exact(near, mu, 0, 64).passed);
-        let off = t.judge_exact(mu - g * mu - 1.1 * rho, mu, 0, 64);
-        assert!(!off.passed && off.reason.unwrap().contains("inputs round to f32"));
-        assert_eq!(ok.detectable_bias, g * mu + rho);
-        // Statistical: the excess over γ|μ| + ρ is tested.
-        let inside = t.judge_parts(mu + g * mu + rho + 3.8 * se, se, mu, None, 0, 100);
-        assert!(inside.passed, "{inside:?}");
-        let beyond = t.judge_parts(mu - g * mu - rho - 4.0 * se, se, mu, None, 0, 100);
-        assert!(!beyond.passed, "{beyond:?}");
-        assert!((inside.detectable_bias - (g * mu + rho + 6.2169 * se)).abs() < 1e-3 * se);
-        // Not a number, infinite or negative: the strict test.
-        for bad in [f64::NAN, f64::INFINITY, -1.0, -0.0, 0.0] {
+        let (mu, se): (f64, f64) = (2.0, 1e-9);
+        for rho in [1e-6, -1e-6] {
+            let t = MeanTest::default().with_input_rounding(rho);
+            let (lo, hi) = (mu.min(mu + rho) - g * mu, mu.max(mu + rho) + g * mu);
+            assert_eq!(t.rounding_allowance(mu), g * mu + 5e-7);
+            assert_eq!(t.centre(mu), mu + rho / 2.0);
+            // Exact: inside [lo, hi] passes at both ends, outside fails on both sides.
+            for (x, pass) in [
+                (hi - 1e-9, true),
+                (lo + 1e-9, true),
+                (hi + 1e-9, false),
+                (lo - 1e-9, false),
+            ] {
+                let v = t.judge_exact(x, mu, 0, 64);
+                assert_eq!(v.passed, pass, "ρ {rho}, x {x}: {v:?}");
+                assert_eq!(v.input_rounding, rho);
+                assert!((v.detectable_bias - (g * mu + rho.abs())).abs() < 1e-20);
+                if !pass {
+                    assert!(v.reason.unwrap().contains("engine's f32 inputs"));
+                }
+            }
+            // Without ρ the far end fails.
+            let far = if rho > 0.0 { hi - 1e-9 } else { lo + 1e-9 };
+            assert!(!MeanTest::default().judge_exact(far, mu, 0, 64).passed);
+            // Statistical: the excess beyond the range is tested.
+            let inside = t.judge_parts(hi + 3.8 * se, se, mu, None, 0, 100);
+            assert!(inside.passed, "{inside:?}");
+            assert!(!t.judge_parts(lo - 4.0 * se, se, mu, None, 0, 100).passed);
+            assert!(!t.judge_parts(hi + 4.0 * se, se, mu, None, 0, 100).passed);
+            let want = g * mu + rho.abs() + 6.2169 * se;
+            assert!((inside.detectable_bias - want).abs() < 1e-3 * se);
+            // The reported z stays the plain (x̄ − μ)/s.
+            assert_eq!(inside.z, (hi + 3.8 * se - mu) / se);
+        }
+        // Not a number or infinite: the strict test.
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0] {
             let s = MeanTest::default().with_input_rounding(bad);
             assert_eq!(s.input_rounding, 0.0, "{bad}");
             assert!(
@@ -1087,7 +1123,7 @@ mod tests {
         // A family keeps its other settings.
         let f = MeanTest::new(1e-3, 7)
             .with_term_scale(3.0)
-            .with_input_rounding(rho);
+            .with_input_rounding(1e-6);
         assert_eq!((f.alpha, f.tests, f.term_scale), (1e-3, 7, 3.0));
     }
 

@@ -798,14 +798,18 @@ fn outcomes_without_a_reference_are_not_counted_as_statistical_passes() {
 /// without a reference, take none.
 #[test]
 fn verify_takes_in_the_references_change_at_f32_inputs() {
-    let near = tmp(
-        "eta_near_one.json",
-        r#"{ "name": "conductor near index 1", "teaches": "F = ((η − 1)/(η + 1))²",
+    // η = 1.0001 rounds up in f32 (ρ > 0), η = 1.0004 down (1.00039994716: ρ < 0).
+    let conductor = |eta: &str| {
+        format!(
+            r#"{{ "name": "conductor at {eta}", "teaches": "F = ((η − 1)/(η + 1))²",
   "exact": "a mirror: every sample is F",
-  "measure": { "albedo": { "bsdf": { "type": "conductor", "eta": 1.0001, "k": 0 }, "theta_degrees": 0 } },
-  "reference": { "closed_form": "fresnel_conductor", "cos_theta": 1, "eta": 1.0001, "k": 0 },
-  "estimators": ["bsdf"], "samples": 4096 }"#,
-    );
+  "measure": {{ "albedo": {{ "bsdf": {{ "type": "conductor", "eta": {eta}, "k": 0 }}, "theta_degrees": 0 }} }},
+  "reference": {{ "closed_form": "fresnel_conductor", "cos_theta": 1, "eta": {eta}, "k": 0 }},
+  "estimators": ["bsdf"], "samples": 4096 }}"#
+        )
+    };
+    let up = tmp("eta_up.json", &conductor("1.0001"));
+    let down = tmp("eta_down.json", &conductor("1.0004"));
     let good = tmp("rounding_good.json", GOOD);
     let free = tmp(
         "rounding_free.json",
@@ -814,31 +818,37 @@ fn verify_takes_in_the_references_change_at_f32_inputs() {
             "",
         ),
     );
-    let json = near.with_extension("out.json");
+    let json = up.with_extension("out.json");
     let out = succeeds(
         bin()
             .args(["verify", "--json"])
             .arg(&json)
-            .args([&near, &good, &free]),
+            .args([&up, &down, &good, &free]),
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
-        stdout.contains("(+ the reference's change at the engine's f32 inputs, in 1 verdict);"),
+        stdout.contains(
+            "7.63e-6·|reference|; 2 verdicts also allow the reference's change at the engine's f32 inputs; seed"
+        ),
         "{stdout}"
     );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     for o in v["outcomes"].as_array().unwrap() {
         let rho = o["reference_rounding"].as_f64();
-        if o["case"] == "conductor near index 1" {
-            let (r, rho) = (o["reference"].as_f64().unwrap(), rho.unwrap());
-            assert!(rho > 3e-4 * r && rho < 4e-4 * r, "{o}");
-            assert_eq!(o["verdict"]["input_rounding"].as_f64(), Some(rho));
-        } else {
-            assert!(
-                rho.is_none() && o["verdict"].get("input_rounding").is_none(),
-                "{o}"
-            );
+        let r = o["reference"].as_f64().unwrap_or(0.0);
+        let want = match o["case"].as_str().unwrap() {
+            "conductor at 1.0001" => Some((3e-4, 4e-4)),
+            "conductor at 1.0004" => Some((-3e-4, -2e-4)),
+            _ => None,
+        };
+        match (want, rho) {
+            (Some((lo, hi)), Some(rho)) => {
+                assert!(rho > lo * r && rho < hi * r, "{o}");
+                assert_eq!(o["verdict"]["input_rounding"].as_f64(), Some(rho));
+            }
+            (None, None) => assert!(o["verdict"].get("input_rounding").is_none(), "{o}"),
+            _ => panic!("{o}"),
         }
     }
     let out = succeeds(bin().arg("verify").args([&good, &free]));
