@@ -1732,8 +1732,12 @@ mod tests {
                 .unwrap();
             let mut p = d.reference.clone().unwrap();
             p.remove("closed_form");
-            let value = lightproof_analytic::catalog::evaluate(name, &p).unwrap();
-            (reference_rounding(&d, DVec3::ZERO, value), value)
+            let scale = p.remove("scale").map_or(1.0, |s| s.as_f64().unwrap());
+            let value = lightproof_analytic::catalog::evaluate(name, &p).unwrap() * scale;
+            (
+                reference_rounding(&d, DVec3::ZERO, value.min(f64::MAX)),
+                value,
+            )
         };
         let theta = std::f64::consts::FRAC_PI_2 - 1e-5;
         let (r, _) = rho(
@@ -1773,5 +1777,20 @@ mod tests {
                                 "height": 1, "radiance": 1e39}),
         );
         assert!(r == 0.0 && v.is_finite(), "{r} {v}");
+        // A unit `scale` scales ρ as it scales the reference; one that takes the value at
+        // the engine's inputs past f64's range moves nothing.
+        let disk = |scale: f64| {
+            json!({"closed_form": "disk_irradiance_on_axis", "radius": 0.1, "height": 1,
+                   "radiance": 1, "scale": scale})
+        };
+        let (one, _) = rho(disk(1.0));
+        let (nano, _) = rho(disk(1e-9));
+        assert!(
+            one != 0.0 && (nano - 1e-9 * one).abs() <= 1e-15 * one.abs(),
+            "{one} {nano}"
+        );
+        let huge = json!({"closed_form": "disk_irradiance_on_axis", "radius": 0.1,
+                          "height": 1, "radiance": 1e12, "scale": 1e308});
+        assert_eq!(rho(huge).0, 0.0);
     }
 }
