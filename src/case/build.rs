@@ -723,8 +723,9 @@ pub fn reference_rounding(desc: &CaseDesc, origin: DVec3, value: f64) -> f64 {
 /// of the number the case gives: a point, an edge, a normal, a length, a radiance or a
 /// material constant. Only these are rounded for ρ. A parameter the engine holds in
 /// another form (an angle it turns into a direction or a cone's cosine, `theta`, `tilt`,
-/// `half_angle`, `theta_max_degrees`; a wavelength, temperature or time it keeps in
-/// `f64` or derives; an area it computes from the shape) is left as given: rounding the
+/// `half_angle`, `theta_max_degrees`; a time bin's edges, kept in `f64`; an area it
+/// computes from the shape) is left as given, and so are wavelengths and temperatures,
+/// which some paths keep in `f64` and others round: rounding the
 /// angle θ near 90° moved a Lambertian intensity by 0.3% where the engine's direction
 /// vector moved it by 2.5·10⁻⁸, and a wrong reference passed. Leaving a parameter out
 /// makes ρ smaller, the strict side. A spot light keeps its axis and cone in `f64`.
