@@ -842,9 +842,9 @@ mod tests {
         // inside the proof and out, saying why (weak for a zero reference); within the
         // bound it stays a pass.
         for (rho, reference, inside) in [
-            (0.006, 1.0, true),
-            (-0.006, 1.0, false),
-            (0.004, 1.0, true),
+            (0.012, 2.0, true),
+            (-0.012, 2.0, false),
+            (0.008, 2.0, true),
             (0.006, 0.0, true),
         ] {
             let mut o = outcome(reference, None, Some(reference), 64, 0);
@@ -854,7 +854,7 @@ mod tests {
             let v = o.verdict.unwrap();
             assert_eq!(v.input_rounding, rho);
             let (fails, weak) = (
-                rho.abs() > DETECTABLE_BOUND && reference != 0.0,
+                rho.abs() > DETECTABLE_BOUND * reference && reference != 0.0,
                 reference == 0.0,
             );
             assert!(
@@ -874,19 +874,19 @@ mod tests {
         // would reach the bound, counting only the part that falls as 1/√N:
         // ((0.9% − 0.3%)/(0.5% − 0.3%))² = 9.
         let stat = |rho: f64, det: f64| {
-            let mut o = outcome(1.0, Some(1e-4), Some(1.0), 1 << 16, 0);
+            let mut o = outcome(2.0, Some(1e-4), Some(2.0), 1 << 16, 0);
             o.reference_rounding = rho;
             o.judge(1e-4, 1);
             o.verdict.as_mut().unwrap().detectable_relative_bias = det;
             o.require_power(true);
             o.verdict.unwrap().reason.unwrap()
         };
-        let why = stat(0.006, 0.0065);
+        let why = stat(0.012, 0.0065);
         assert!(
             why.contains("whatever its sample count") && !why.contains("raise"),
             "{why}"
         );
-        let why = stat(-0.003, 0.009);
+        let why = stat(-0.006, 0.009);
         assert!(
             why.contains("moves by 0.300%") && why.contains("about 9×"),
             "{why}"
