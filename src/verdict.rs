@@ -771,6 +771,24 @@ mod tests {
         }
     }
 
+    /// ρ is written to JSON where it is not 0 (the outcome's `reference_rounding`, the
+    /// verdict's `input_rounding`) and left out where it is, and it reads back.
+    #[test]
+    fn input_rounding_is_in_the_json_only_where_it_is_not_zero() {
+        for rho in [0.0, -3e-7] {
+            let mut o = outcome(1.0, Some(0.1), Some(1.0), 1000, 0);
+            o.reference_rounding = rho;
+            o.judge(1e-4, 1);
+            let v = serde_json::to_value(&o).unwrap();
+            let written = rho != 0.0;
+            assert_eq!(v.get("reference_rounding").is_some(), written, "{v}");
+            assert_eq!(v["verdict"].get("input_rounding").is_some(), written, "{v}");
+            let back: Outcome = serde_json::from_value(v).unwrap();
+            assert_eq!(back.reference_rounding, rho);
+            assert_eq!(back.verdict.unwrap().input_rounding, rho);
+        }
+    }
+
     /// A pass that cannot see a 0.5 % bias fails inside the proof's conditions and is
     /// marked weak outside them; a pass that can, an exact verdict, a failure and an
     /// unjudged outcome are left as they are.
