@@ -1095,7 +1095,13 @@ mod tests {
                 assert_eq!(v.input_rounding, rho);
                 assert!((v.detectable_bias - (g * mu + rho.abs())).abs() < 1e-20);
                 if !pass {
-                    assert!(v.reason.unwrap().contains("engine's f32 inputs"));
+                    // The message gives the accepted range itself.
+                    let why = v.reason.unwrap();
+                    let range = format!("outside [{lo:.6e}, {hi:.6e}]");
+                    assert!(
+                        why.contains(&range) && why.contains("engine's f32 inputs"),
+                        "{why}"
+                    );
                 }
             }
             // Without ρ the far end fails.
