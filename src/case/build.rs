@@ -733,44 +733,46 @@ fn engine_holds_as_given(name: &str, key: &str) -> bool {
     if name.starts_with("spot") && key == "axis" {
         return false;
     }
-    matches!(
-        key,
-        "center"
-            | "corner"
-            | "light"
-            | "point"
-            | "vertices"
-            | "edge_u"
-            | "edge_v"
-            | "normal"
-            | "axis"
-            | "radius"
-            | "radius1"
-            | "radius2"
-            | "inner_radius"
-            | "outer_radius"
-            | "height"
-            | "offset"
-            | "distance"
-            | "separation"
-            | "length"
-            | "width"
-            | "common_edge"
-            | "x0"
-            | "radiance"
-            | "emitted_radiance"
-            | "intensity"
-            | "albedo"
-            | "eta"
-            | "k"
-            | "index_at_receiver"
-            | "alpha"
-            | "sigma"
-            | "a"
-            | "b"
-            | "c"
-            | "cos_theta"
-    )
+    is_point(key)
+        || matches!(
+            key,
+            "edge_u"
+                | "edge_v"
+                | "normal"
+                | "axis"
+                | "radius"
+                | "radius1"
+                | "radius2"
+                | "inner_radius"
+                | "outer_radius"
+                | "height"
+                | "offset"
+                | "distance"
+                | "separation"
+                | "length"
+                | "width"
+                | "common_edge"
+                | "x0"
+                | "radiance"
+                | "emitted_radiance"
+                | "intensity"
+                | "albedo"
+                | "eta"
+                | "k"
+                | "index_at_receiver"
+                | "alpha"
+                | "sigma"
+                | "a"
+                | "b"
+                | "c"
+                | "cos_theta"
+        )
+}
+
+/// Whether reference parameter `key` names a point (or a list of points) of the scene,
+/// which the loader rebases about the case's origin.
+fn is_point(key: &str) -> bool {
+    matches!(key, "center" | "corner" | "light" | "point" | "vertices")
 }
 
 /// What the engine's scene holds of the numbers of reference parameter `key`: points
@@ -781,7 +783,7 @@ fn engine_holds_as_given(name: &str, key: &str) -> bool {
 /// points is rounded as a number. [`reference_rounding`] applies it to the parameters
 /// the engine holds as given ([`engine_holds_as_given`]).
 pub fn as_engine_sees(v: &mut serde_json::Value, key: &str, o: [f64; 3]) {
-    let point = matches!(key, "center" | "corner" | "light" | "point" | "vertices");
+    let point = is_point(key);
     match v {
         serde_json::Value::Array(a) if point && a.len() == 3 && a.iter().all(|x| x.is_number()) => {
             for (i, x) in a.iter_mut().enumerate() {
