@@ -136,15 +136,42 @@ pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     if w.dot(n) < 0.0 {
         offset = -offset;
     }
-    let mut po = p + offset;
-    for i in 0..3 {
-        if offset[i] > 0.0 {
-            po[i] = po[i].next_up();
-        } else if offset[i] < 0.0 {
-            po[i] = po[i].next_down();
+    let po = p + offset;
+    Vec3::new(
+        step_towards(po.x, offset.x),
+        step_towards(po.y, offset.y),
+        step_towards(po.z, offset.z),
+    )
+}
+
+/// `x.next_up()` where `s > 0`, `x.next_down()` where `s < 0`, `x` where `s` is ±0 or
+/// NaN: the same bits as the standard library's, without its branches (on the bits,
+/// one step away from zero adds one, towards zero subtracts one).
+#[inline(always)]
+pub fn step_towards(x: f32, s: f32) -> f32 {
+    const SIGN: u32 = 0x8000_0000;
+    let bits = x.to_bits();
+    let abs = bits & !SIGN;
+    // Where x is ±0 the step gives the smallest subnormal with s's sign.
+    let zero_step = (s.to_bits() & SIGN) | 1;
+    // Away from zero where x and s have the same sign; an infinity cannot go further.
+    let away = (bits ^ s.to_bits()) & SIGN == 0;
+    let stepped = if away {
+        if abs == f32::INFINITY.to_bits() {
+            bits
+        } else {
+            bits.wrapping_add(1)
         }
+    } else {
+        bits.wrapping_sub(1)
+    };
+    let out = if abs == 0 { zero_step } else { stepped };
+    // NaN x, or s = ±0 or NaN: unchanged.
+    if x.is_nan() || !(s > 0.0 || s < 0.0) {
+        x
+    } else {
+        f32::from_bits(out)
     }
-    po
 }
 
 /// `(x, y)` of a unit direction's azimuth in [0, 2π).
@@ -233,6 +260,57 @@ mod tests {
         let r = difference_of_products(a, a, 1.0, 1.0);
         let exact = (a as f64) * (a as f64) - 1.0;
         assert!(((r as f64) - exact).abs() <= exact * 1e-6);
+    }
+
+    /// `step_towards` gives the standard library's `next_up`/`next_down` bit for bit:
+    /// at the special values (±0, subnormals, ±MAX, ±∞, NaN, either sign of the
+    /// direction, a zero or NaN direction) and at 2¹⁸ random bit patterns.
+    #[test]
+    fn step_towards_is_next_up_or_next_down() {
+        let std_step = |x: f32, s: f32| {
+            if s > 0.0 {
+                x.next_up()
+            } else if s < 0.0 {
+                x.next_down()
+            } else {
+                x
+            }
+        };
+        let specials = [
+            0.0,
+            -0.0,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        let same = |x: f32, s: f32| {
+            let (a, b) = (step_towards(x, s), std_step(x, s));
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "x = {x:e} ({:#x}), s = {s:e}: {a:e} against {b:e}",
+                x.to_bits()
+            );
+        };
+        for &x in &specials {
+            for &s in &specials {
+                same(x, s);
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..1 << 18 {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let (x, s) = (f32::from_bits((state >> 32) as u32), f32::from_bits(state as u32));
+            same(x, s);
+        }
     }
 
     #[test]
