@@ -111,4 +111,15 @@ fn main() {
         })
         .unwrap_or_else(|| format!("unknown-{}", source_digest(&root)));
     println!("cargo:rustc-env=LIGHTPROOF_GIT_REVISION={revision}");
+    // The cargo profile, which `PROFILE` does not name for a custom one (`fast` reads
+    // `release`): the folder above `build/` in OUT_DIR (target/[TRIPLE/]PROFILE/build/
+    // PKG-HASH/out; `debug` for the `dev` and `test` profiles).
+    let profile = std::env::var_os("OUT_DIR")
+        .map(PathBuf::from)
+        .and_then(|out| {
+            let dir = out.parent()?.parent()?.parent()?;
+            Some(dir.file_name()?.to_string_lossy().into_owned())
+        })
+        .unwrap_or_else(|| "unknown".to_string());
+    println!("cargo:rustc-env=LIGHTPROOF_PROFILE={profile}");
 }

@@ -655,7 +655,7 @@ fn dispatch(command: Command) -> Result<(), Failure> {
             let summary =
                 lightproof::report::shard::merge(&inputs, &out, rayon::current_num_threads())?;
             print_notes(&summary);
-            print_summary(&out, &summary)
+            print_summary(&out, &summary, "merged (computed by the shards)")
         }
         Command::Render {
             scene,
@@ -1098,7 +1098,7 @@ fn report(opts: &lightproof::report::sweep::Options) -> Result<(), Failure> {
         )?;
         return Ok(());
     }
-    print_summary(&opts.out, &summary)
+    print_summary(&opts.out, &summary, "computed")
 }
 
 /// A sweep's or a merge's notes (a report started afresh, a case with no plot), on stderr.
@@ -1108,7 +1108,13 @@ fn print_notes(summary: &lightproof::report::sweep::Summary) {
     }
 }
 
-fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) -> Result<(), Failure> {
+/// The table and closing line of `report` and `merge`; `computed` says what happened to
+/// the points this run did not resume (`merge` computes none: its shards did).
+fn print_summary(
+    out: &Path,
+    summary: &lightproof::report::sweep::Summary,
+    computed: &str,
+) -> Result<(), Failure> {
     use lightproof::report::index::{cells, row};
     outln!(
         "{:<44} {:<24} {:>28} {:>14} {:>10}",
@@ -1124,7 +1130,7 @@ fn print_summary(out: &Path, summary: &lightproof::report::sweep::Summary) -> Re
         outln!("{id:<44} {best:<24} {time:>28} {slope:>14} {ratio:>10}")?;
     }
     outln!(
-        "\nwrote {} case reports to {} (index.md), {} points computed, {} resumed{}",
+        "\nwrote {} case reports to {} (index.md), {} points {computed}, {} resumed{}",
         summary.reports.len(),
         out.display(),
         summary.computed,

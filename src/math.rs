@@ -307,8 +307,13 @@ mod tests {
         }
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for _ in 0..1 << 18 {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            let (x, s) = (f32::from_bits((state >> 32) as u32), f32::from_bits(state as u32));
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let (x, s) = (
+                f32::from_bits((state >> 32) as u32),
+                f32::from_bits(state as u32),
+            );
             same(x, s);
         }
     }

@@ -6,8 +6,8 @@
 //! numbers.
 
 use super::{
-    Best, CaseInfo, CaseReport, Comparison, ErrorMeasure, FORMAT, Fit, HEADLINE, Kind, Point,
-    RunInfo, Series, Settings, Status, TARGETS, TimeTo, finite,
+    BATCHES, Best, CaseInfo, CaseReport, Comparison, ErrorMeasure, FORMAT, Fit, HEADLINE, Kind,
+    Point, RunInfo, Series, Settings, Status, TARGETS, TimeTo, finite,
 };
 use crate::sampling::SamplerKind;
 use crate::stats::{Accumulator, BatchMeans, fit_cost, fit_slope};
@@ -34,6 +34,7 @@ pub fn summarized_series(
         efficiency: None,
         seconds_per_sample: None,
         time_to: vec![],
+        bias_floor: None,
     };
     summarize(&mut out, measure, reference);
     out
@@ -67,6 +68,42 @@ pub fn assemble_case_report(
 /// level (per point, uncorrected; with σ̂ from 128 batch means, an unbiased point crosses
 /// it about 1.6 times in 10⁴, by Student's t with 127 degrees of freedom).
 pub const BIAS_Z: f64 = 3.890_591_886_413_094;
+
+/// The family level of [`bias_floor`]: an unbiased series reports a bias about once in
+/// 10⁴ (the catalog's family level).
+pub const BIAS_FAMILY_ALPHA: f64 = 1e-4;
+
+/// The least relative bias the points of a series establish: the largest
+/// (|x̄ − ref| − z σ̂)/|ref| over its points, z the two-sided quantile of Student's t with
+/// B − 1 degrees of freedom (σ̂ from B batch means) at the Šidák level for
+/// [`BIAS_FAMILY_ALPHA`] over those points. `None` where no point's distance exceeds
+/// what chance explains, or without a reference (or with a zero one).
+///
+/// The engine's biases do not fall with N, so an error never goes below a bias: a
+/// series 0.2% off whose errors fell from 0.3% and flattened still fitted a negative
+/// slope and was given 0.1% at 1.5·10⁵ samples (session 56's audit); [`time_to`] now
+/// gives no time for a target at or below this floor. A zero-variance series off the
+/// reference by its `f32` rounding has a floor of that rounding (10⁻⁷ or so), below
+/// every target.
+pub fn bias_floor(points: &[Point], reference: Option<f64>) -> Option<f64> {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    let scale = reference?.abs();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let judged: Vec<(f64, f64)> = points
+        .iter()
+        .filter_map(|p| Some((p.abs_error?, p.std_error?)))
+        .collect();
+    let alpha = crate::stats::sidak_alpha(BIAS_FAMILY_ALPHA, judged.len());
+    let t = StudentsT::new(0.0, 1.0, (BATCHES - 1) as f64).ok()?;
+    let z = t.inverse_cdf(1.0 - alpha / 2.0);
+    judged
+        .iter()
+        .map(|&(d, se)| (d - z * se) / scale)
+        .filter(|b| *b > 0.0)
+        .max_by(f64::total_cmp)
+}
 
 /// The statistics of one point from its per-batch accumulators, in batch order.
 ///
@@ -151,9 +188,12 @@ pub(crate) fn scale(series: &Series, reference: Option<f64>) -> Option<f64> {
 /// - `fit_samples`: ln e = a + b ln N; `fit_seconds`: ln e = a′ + b′ ln t̂, over the points
 ///   with e > 0 (a zero-variance estimator has no slope).
 /// - `efficiency = 1/(σ̂² t̂)` at the largest point; `seconds_per_sample = c`.
-/// - `time_to[ε]`: along the fits, N* = exp((ln(ε·scale) − a)/b) when b < 0 and
-///   t* = t̂(N*), `extrapolated` when N* lies beyond the largest point; without an error
-///   fit (zero variance), the cheapest point with e/scale ≤ ε.
+/// - `bias_floor`: [`bias_floor`].
+/// - `time_to[ε]`: none where ε ≤ `bias_floor`; else along the fits,
+///   N* = exp((ln(ε·scale) − a)/b) when b is below 0 by more than twice its standard
+///   error and t* = t̂(N*), `extrapolated` when N* lies beyond the largest point; without
+///   such a fit (zero variance, a flat error, two points), the cheapest point with
+///   e/scale ≤ ε.
 pub fn summarize(series: &mut Series, measure: ErrorMeasure, reference: Option<f64>) {
     let ns: Vec<f64> = series.points.iter().map(|p| p.samples as f64).collect();
     let ts: Vec<f64> = series.points.iter().map(|p| p.seconds).collect();
@@ -184,6 +224,7 @@ pub fn summarize(series: &mut Series, measure: ErrorMeasure, reference: Option<f
         Some(c) => Some(c.per_sample),
         None => last.and_then(|p| finite(p.seconds / p.samples as f64)),
     };
+    series.bias_floor = bias_floor(&series.points, reference);
     let scale = scale(series, reference);
     series.time_to = TARGETS
         .iter()
@@ -201,6 +242,10 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
     let Some(scale) = scale else {
         return none;
     };
+    // Below a bias the points establish, no sample count reaches ε.
+    if series.bias_floor.is_some_and(|b| b >= eps) {
+        return none;
+    }
     let largest = series.points.last().map_or(0.0, |p| p.samples as f64);
     let smallest = series.points.first().map_or(0.0, |p| p.samples as f64);
     match (
@@ -241,11 +286,14 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
 }
 
 /// Whether an error fit may be extrapolated: its slope is negative by more than twice its
-/// standard error (a fit of two points, without one, by its sign alone). An error that
-/// does not fall (a bias's floor, or a zero-variance estimator) predicts nothing: a slope
-/// of −2·10⁻⁶ ± 0.4 put 0.1% at 0 samples and 0.01% at none.
+/// standard error. An error that does not fall (a bias's floor, or a zero-variance
+/// estimator) predicts nothing: a slope of −2·10⁻⁶ ± 0.4 put 0.1% at 0 samples and
+/// 0.01% at none. A fit of two points has no standard error, so it is not extrapolated
+/// either (its sign alone, −0.35 from two noisy points, once gave a time to 0.1% ten
+/// times the sweep's largest); such a series takes the cheapest point that reached ε.
 fn decreasing(f: &Fit) -> bool {
-    f.slope < 0.0 && f.slope_std_error.is_none_or(|se| f.slope + 2.0 * se < 0.0)
+    f.slope_std_error
+        .is_some_and(|se| f.slope < 0.0 && f.slope + 2.0 * se < 0.0)
 }
 
 /// Index of [`HEADLINE`] in [`TARGETS`].
@@ -261,7 +309,8 @@ pub fn headline_time(s: &Series) -> Option<&TimeTo> {
 }
 
 /// The most efficient series: the least time to [`HEADLINE`] relative error, else (no
-/// series has one) the highest efficiency; with each other series' ratios.
+/// series has one) the highest efficiency among those whose [`Series::bias_floor`] is
+/// below the headline; with each other series' ratios. None where no series qualifies.
 pub fn best(series: &[Series]) -> Option<Best> {
     let by_time = series
         .iter()
@@ -269,10 +318,13 @@ pub fn best(series: &[Series]) -> Option<Best> {
         .filter_map(|(i, s)| Some((i, headline_time(s)?.seconds?)))
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(i, _)| i);
+    // By efficiency only among series that may reach the headline: a biased one is
+    // efficient at being wrong.
     let by_eff = || {
         series
             .iter()
             .enumerate()
+            .filter(|(_, s)| s.bias_floor.is_none_or(|b| b < HEADLINE))
             .filter_map(|(i, s)| Some((i, s.efficiency?)))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(i, _)| i)
@@ -342,6 +394,7 @@ mod tests {
             efficiency: None,
             seconds_per_sample: None,
             time_to: vec![],
+            bias_floor: None,
         }
     }
 
@@ -446,14 +499,14 @@ mod tests {
         assert!(!s.time_to[0].extrapolated);
         // 0.01% at N = 100 by the fit: 256 as well; the fit's own answers stand beyond.
         assert_eq!(s.time_to[2].samples, Some(256.0));
-        // Without a standard error (two points) the sign decides.
+        // Without a standard error (two points) nothing is extrapolated, whatever the sign.
         let two = Fit {
             slope: -0.5,
             slope_std_error: None,
             intercept: 0.0,
             points: 2,
         };
-        assert!(decreasing(&two) && !decreasing(&Fit { slope: 0.0, ..two }));
+        assert!(!decreasing(&two) && !decreasing(&Fit { slope: 0.0, ..two }));
         assert!(!decreasing(&Fit {
             slope: -0.5,
             slope_std_error: Some(0.3),
@@ -612,5 +665,82 @@ mod tests {
                 .unwrap()
         };
         assert!((at(1.000_001) / at(0.999_999) - 1.0).abs() < 1e-5);
+    }
+
+    /// A series 0.3% off its reference whose error fell from the noise and flattened
+    /// (session 56's audit: its fit, slope −0.24 ± 0.06, gave 0.1% at 1.5·10⁵ samples):
+    /// its points establish a bias of at least |d| − z σ̂ at the largest, so 0.1% and
+    /// 0.01% get no time, 1% keeps the fit's; an unbiased series (|d| = σ̂) has no floor.
+    #[test]
+    fn a_bias_the_points_establish_blocks_the_targets_below_it() {
+        use statrs::distribution::{ContinuousCDF, StudentsT};
+        let point = |k: usize, d: f64, se: f64| Point {
+            samples: 256 << k,
+            seed: 0,
+            estimate: Some(1.0 + d),
+            std_error: Some(se),
+            plain_std_error: Some(se),
+            rms_error: Some((d * d + se * se).sqrt()),
+            abs_error: Some(d),
+            rel_error: Some(d),
+            non_finite: 0,
+            seconds: 1e-6 * (256 << k) as f64,
+            wall_seconds: None,
+        };
+        let se = |k: usize| 0.01 * (2f64).powf(-(k as f64) / 2.0);
+        let mut s = series(&[]);
+        s.points = (0..12).map(|k| point(k, 3e-3, se(k))).collect();
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        let f = s.fit_samples.unwrap();
+        assert!(decreasing(&f), "{f:?}");
+        let t = StudentsT::new(0.0, 1.0, 127.0).unwrap();
+        let z = t.inverse_cdf(1.0 - crate::stats::sidak_alpha(1e-4, 12) / 2.0);
+        let want = 3e-3 - z * se(11);
+        let floor = s.bias_floor.unwrap();
+        assert!((floor / want - 1.0).abs() < 1e-12, "{floor} against {want}");
+        assert!(s.time_to[0].samples.is_some(), "{:?}", s.time_to[0]);
+        assert_eq!((s.time_to[1].samples, s.time_to[1].seconds), (None, None));
+        assert_eq!((s.time_to[2].samples, s.time_to[2].seconds), (None, None));
+        // A target just above the floor keeps its time (the floor blocks at or below it).
+        let just_above = time_to(&s, ErrorMeasure::RmsError, Some(1.0), floor * 1.000_001);
+        assert!(just_above.samples.is_some());
+        assert!(
+            time_to(&s, ErrorMeasure::RmsError, Some(1.0), floor)
+                .samples
+                .is_none()
+        );
+        // The same distances one z σ̂ inside chance at every point: no floor.
+        s.points = (0..12)
+            .map(|k| point(k, 0.999 * z * se(k), se(k)))
+            .collect();
+        summarize(&mut s, ErrorMeasure::RmsError, Some(1.0));
+        assert_eq!(s.bias_floor, None);
+        // Relative to |reference|; none without a reference or with a zero one.
+        assert_eq!(bias_floor(&[point(0, 2.0, 0.0)], Some(-4.0)), Some(0.5));
+        assert_eq!(bias_floor(&[point(0, 2.0, 0.0)], None), None);
+        assert_eq!(bias_floor(&[point(0, 2.0, 0.0)], Some(0.0)), None);
+    }
+
+    /// A biased series is not the best by efficiency: where no series has a time to the
+    /// headline, the most efficient one among those without a floor at or above it is
+    /// chosen, and none where every series has one.
+    #[test]
+    fn a_biased_series_is_never_best_by_efficiency() {
+        let mut good = series(&[(256, 0.3, 1e-5), (512, 0.3, 2e-5), (1024, 0.3, 4e-5)]);
+        summarize(&mut good, ErrorMeasure::RmsError, Some(1.0));
+        let mut bad = good.clone();
+        bad.sampler = SamplerKind::Sobol;
+        bad.efficiency = Some(good.efficiency.unwrap() * 100.0);
+        bad.bias_floor = Some(HEADLINE);
+        assert!(good.time_to[1].seconds.is_none() && good.efficiency.is_some());
+        let b = best(&[bad.clone(), good.clone()]).unwrap();
+        assert_eq!(b.sampler, SamplerKind::Independent);
+        bad.bias_floor = Some(HEADLINE * 0.999);
+        assert_eq!(
+            best(&[bad.clone(), good]).unwrap().sampler,
+            SamplerKind::Sobol
+        );
+        bad.bias_floor = Some(HEADLINE);
+        assert!(best(&[bad]).is_none());
     }
 }

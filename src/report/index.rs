@@ -31,8 +31,10 @@ pub fn row(r: &CaseReport) -> IndexRow {
             zero_variance: s.is_some_and(|s| {
                 !s.points.is_empty() && s.points.iter().all(|p| p.std_error == Some(0.0))
             }),
+            bias_floor: s.and_then(|s| s.bias_floor),
         }
     });
+    let floors: Option<Vec<f64>> = r.series.iter().map(|s| s.bias_floor).collect();
     IndexRow {
         id: r.id.clone(),
         name: r.case.name.clone(),
@@ -41,6 +43,7 @@ pub fn row(r: &CaseReport) -> IndexRow {
         seed: r.settings.seed,
         complete: r.series.iter().all(|s| s.status == Status::Complete),
         best,
+        bias_floor: floors.and_then(|f| f.into_iter().min_by(f64::total_cmp)),
     }
 }
 
@@ -96,8 +99,16 @@ pub fn duration(s: f64) -> String {
 
 /// The cells of one index row: best, time to 0.1%, slope, runner-up ratio.
 pub fn cells(r: &IndexRow) -> [String; 4] {
+    // A lower bound, so rounded down: "≥ 0.30%" for a floor of 0.2995% would overstate it.
+    let percent = |b: f64| format!("{:.2}%", (b * 1e4).floor() / 1e2);
     match &r.best {
-        None => ["—".into(), "—".into(), "—".into(), "—".into()],
+        None => [
+            "—".into(),
+            r.bias_floor
+                .map_or("—".into(), |b| format!("never: biased ≥ {}", percent(b))),
+            "—".into(),
+            "—".into(),
+        ],
         Some(b) => [
             format!("{} / {}", b.estimator.name(), b.sampler.name()),
             match b.seconds {
@@ -106,7 +117,13 @@ pub fn cells(r: &IndexRow) -> [String; 4] {
                 None => "not reached".into(),
             },
             match (b.slope, b.slope_std_error) {
-                _ if b.zero_variance => "σ = 0 (exact)".into(),
+                // Exact only within the f32 rounding an exact verdict allows.
+                _ if b.zero_variance => match b.bias_floor {
+                    Some(off) if off > crate::stats::exact_relative_tolerance() => {
+                        format!("σ = 0, off by {off:.1e}")
+                    }
+                    _ => "σ = 0 (exact)".into(),
+                },
                 (Some(s), Some(e)) => format!("{s:+.2} ± {e:.2}"),
                 (Some(s), None) => format!("{s:+.2}"),
                 _ => "—".into(),
@@ -139,9 +156,11 @@ pub fn markdown(index: &Index) -> String {
         "Times are core-seconds to reach {}% relative error with the most efficient \
          estimator / sampler: the RMS error over |reference| for a case with a reference, \
          the standard error over |estimate| at the largest point for one without; \
-         *extrapolated* times follow the fitted rate past the largest point run. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo; σ = 0: a zero-variance \
-         estimator, exact up to f32 rounding). Runner-up: how many times longer the next best \
-         series takes.",
+         *extrapolated* times follow the fitted rate past the largest point run; *never*: \
+         every series disagrees with the reference by at least the bias shown, which no \
+         sample count removes. Slope: d ln(error) / d ln(N) (−0.5 for Monte Carlo; σ = 0: \
+         a zero-variance estimator, exact up to f32 rounding, or off by the relative error \
+         shown). Runner-up: how many times longer the next best series takes.",
         HEADLINE * 100.0
     ));
     if run.budget_cut {
@@ -163,4 +182,59 @@ pub fn markdown(index: &Index) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::SamplerKind;
+    use crate::transport::Estimator;
+
+    fn row_with(best: Option<IndexBest>, bias_floor: Option<f64>) -> IndexRow {
+        IndexRow {
+            id: "c".into(),
+            name: "c".into(),
+            report: "c.json".into(),
+            plot: None,
+            seed: 1,
+            complete: true,
+            best,
+            bias_floor,
+        }
+    }
+
+    fn zero_variance(bias_floor: Option<f64>) -> IndexBest {
+        IndexBest {
+            estimator: Estimator::Light,
+            sampler: SamplerKind::Independent,
+            seconds: Some(1e-4),
+            extrapolated: false,
+            slope: Some(0.0),
+            slope_std_error: Some(0.0),
+            runner_up_ratio: None,
+            zero_variance: true,
+            bias_floor,
+        }
+    }
+
+    /// A zero-variance series is "exact" only within the f32 rounding an exact verdict
+    /// allows (a point light read 1.6·10⁻⁷ off); one 5·10⁻⁴ off its reference said
+    /// "σ = 0 (exact)" (session 56's audit) and now says how far off it is. A case whose
+    /// every series is biased has no best, and its time says why.
+    #[test]
+    fn cells_say_when_an_estimate_is_off() {
+        let tol = crate::stats::exact_relative_tolerance();
+        for floor in [None, Some(1.6e-7), Some(tol)] {
+            let [_, _, slope, _] = cells(&row_with(Some(zero_variance(floor)), None));
+            assert_eq!(slope, "σ = 0 (exact)", "{floor:?}");
+        }
+        let [_, _, slope, _] = cells(&row_with(Some(zero_variance(Some(5e-4))), None));
+        assert_eq!(slope, "σ = 0, off by 5.0e-4");
+        let [best, time, _, _] = cells(&row_with(None, Some(2.299e-3)));
+        assert_eq!(
+            (best.as_str(), time.as_str()),
+            ("—", "never: biased ≥ 0.22%")
+        );
+        assert_eq!(cells(&row_with(None, None))[1], "—");
+    }
 }

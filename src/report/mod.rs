@@ -10,8 +10,9 @@
 //! point records the estimate, the batch-means standard error, the plain standard error,
 //! the absolute and relative error against the reference, the RMS error against the
 //! reference `√(Σ_b (m_b − ref)²/B)/√B` (B batch means m_b; it equals the standard error
-//! for an unbiased estimator, and a bias β adds β²/B under the root, so a biased
-//! estimator shows a flattening slope), and its cost in **core-seconds**: the sum of the
+//! for an unbiased estimator; the part of the distance |x̄ − ref| beyond what chance
+//! explains is added in full, [`analysis::point_from_batches`], so a biased estimator
+//! shows a flattening slope), and its cost in **core-seconds**: the sum of the
 //! per-batch CPU times of the computing threads ([`clock`]), which is what shards add up
 //! to, which does not depend on the thread count (divide by the threads for the wall
 //! time on an idle machine) and which other processes on a busy machine do not inflate.
@@ -26,11 +27,13 @@
 //! along the fits, N* = exp((ln(ε |ref|) − a)/b) (not below the first point) and
 //! t* = t̂(N*) (N*·c′ without a cost line, c′ the largest point's core-seconds per
 //! sample), marked extrapolated when N* lies past the sweep; a series whose error does
-//! not fall takes the cheapest point with e/|ref| ≤ ε, at its fitted time.
+//! not fall (or whose fit has two points) takes the cheapest point with e/|ref| ≤ ε, at
+//! its fitted time. A bias the points establish ([`analysis::bias_floor`]) is reported,
+//! and no target at or below it gets a time.
 //!
 //! **A case** names its most efficient series: the least time to 0.1% relative error
-//! (for a rate of −½ this is exactly the highest 1/(σ²t)), with the ratios of time and
-//! of efficiency to every other series.
+//! (for a rate of −½ and a negligible fixed cost t₀ this ranks as 1/(σ²t) does), with
+//! the ratios of time and of efficiency to every other series.
 //!
 //! Modules: [`analysis`] (point statistics, fits, time to accuracy, the best series),
 //! [`sweep`] (planning, budget, resume, the run), [`shard`] (shards of the batches,
@@ -160,6 +163,10 @@ pub struct RunInfo {
     pub lightproof_version: String,
     /// Git revision of the build (`unknown` outside a checkout).
     pub git_revision: String,
+    /// The cargo profile of the build ([`machine::PROFILE`]). Absent from reports
+    /// written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<String>,
     /// Worker threads.
     pub threads: usize,
     /// The machine.
@@ -300,6 +307,12 @@ pub struct Series {
     pub seconds_per_sample: Option<f64>,
     /// Cost of each target of [`TARGETS`].
     pub time_to: Vec<TimeTo>,
+    /// The least relative bias the points establish ([`analysis::bias_floor`]): no sample
+    /// count brings the error below it, so no target at or below it has a time. Null
+    /// where no point's distance to the reference exceeds what chance explains, or
+    /// without a reference.
+    #[serde(default)]
+    pub bias_floor: Option<f64>,
 }
 
 /// How another series compares with the best one.
@@ -378,6 +391,10 @@ pub struct IndexRow {
     pub complete: bool,
     /// The best series, if any.
     pub best: Option<IndexBest>,
+    /// Where every series has a [`Series::bias_floor`], the least of them: whatever
+    /// estimator, the points disagree with the reference by at least this much.
+    #[serde(default)]
+    pub bias_floor: Option<f64>,
 }
 
 /// The best series as the index shows it.
@@ -401,6 +418,9 @@ pub struct IndexBest {
     /// Every point has a zero standard error: the estimator is exact up to f32
     /// rounding, and its error does not fall with N.
     pub zero_variance: bool,
+    /// Its [`Series::bias_floor`].
+    #[serde(default)]
+    pub bias_floor: Option<f64>,
 }
 
 /// The index of a report folder.

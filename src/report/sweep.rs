@@ -23,7 +23,7 @@
 //! killed run leaves whole, valid files.
 
 use super::analysis::{assemble_case_report, point_from_batches, summarized_series};
-use super::machine::{GIT_REVISION, VERSION, run_info};
+use super::machine::{GIT_REVISION, PROFILE, VERSION, run_info};
 pub use super::publish::Summary;
 use super::publish::publish;
 use super::shard::{
@@ -254,6 +254,13 @@ fn load_cases(paths: &[PathBuf]) -> Result<Vec<(String, Case)>, InputError> {
                     } else {
                         "shard partials"
                     }
+                )));
+            }
+            // `X.transient.svg` is the transient plot of a time-binned case `X`: a case
+            // whose stem ends so had its plot written over by it, silently.
+            if let Some(x) = stem.strip_suffix(".transient") {
+                return Err(refuse(format!(
+                    "its report id `{id}` would write its plot to `{stem}.svg`, the name of the transient plot of a case `{x}`: rename the case file"
                 )));
             }
             if let Some((other_id, other)) = stems.insert(stem.clone(), (id.clone(), f.clone())) {
@@ -702,9 +709,22 @@ fn flush(
     }
 }
 
-/// Whether a file was written by this build.
+/// Whether a file was written by this build (version, revision and profile).
 fn same_build(run: &RunInfo) -> bool {
-    run.lightproof_version == VERSION && run.git_revision == GIT_REVISION
+    run.lightproof_version == VERSION
+        && run.git_revision == GIT_REVISION
+        && run.profile.as_deref() == Some(PROFILE)
+}
+
+/// Whether a file's points were timed on this machine, with the ray queries in the
+/// instruction set they run in now: points timed elsewhere would join this run's in one
+/// cost fit (a resumed run once fitted 15 points timed in the baseline instruction set
+/// with 3 of its own in x86-64-v3, recording only the latter): the same CPU model,
+/// system and `ray_isa`. The thread count and the logical cores available may differ:
+/// core-seconds do not depend on them.
+fn same_machine(run: &RunInfo) -> bool {
+    let (old, now) = (&run.machine, super::machine::machine());
+    (&old.cpu, &old.os, &old.arch, &old.ray_isa) == (&now.cpu, &now.os, &now.arch, &now.ray_isa)
 }
 
 /// Earlier points a resumed run leaves out of what it writes: those outside a narrower
@@ -753,6 +773,8 @@ fn resume_reports(
             Some("another seed")
         } else if !same_build(&old.run) {
             Some("another build of lightproof")
+        } else if !same_machine(&old.run) {
+            Some("timed on another machine or instruction set")
         } else {
             None
         };
@@ -814,9 +836,13 @@ fn resume_partial(
         max_samples: old.settings.max_samples,
         ..settings.clone()
     };
-    if old.plan != plan_digest(&same_range, cases) || old.shard != shard || !same_build(&old.run) {
+    if old.plan != plan_digest(&same_range, cases)
+        || old.shard != shard
+        || !same_build(&old.run)
+        || !same_machine(&old.run)
+    {
         notes.push(format!(
-            "{}: another sweep or build; run afresh",
+            "{}: another sweep, build or machine; run afresh",
             path.display()
         ));
         return Ok(0);

@@ -1069,10 +1069,14 @@ REPORT_FOLDERS = {
     "report/reserved_index": ["index.json"],
     "report/reserved_shard": ["shard-0-of-1.json"],
     "report/stem_clash": ["a/b.json", "a.b.json"],
+    # `p.transient.svg` is the transient plot of a time-binned case `p`: a case whose id
+    # is `p.transient` had its convergence plot written over by it.
+    "report/transient_clash": ["p.transient.json"],
 }
 for folder, contains in [("report/reserved_index", "a name the report folder keeps for its index"),
                          ("report/reserved_shard", "a name the report folder keeps for its shard partials"),
-                         ("report/stem_clash", "writes `a.b.json`, as")]:
+                         ("report/stem_clash", "writes `a.b.json`, as"),
+                         ("report/transient_clash", "the name of the transient plot of a case `p`")]:
     entry(folder.replace("/", "_"), "wrong", ["report", "{corpus}/" + folder] + REP, 2, ".json", contains)
 entry("report_f32_case", "f32", ["report", "{corpus}/cases/emission_radiance_e39.json"] + REP, 2,
       "scene.shapes[0].emission.radiance")

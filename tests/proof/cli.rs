@@ -1399,6 +1399,13 @@ fn a_seed_variable_that_is_not_text_is_named() {
         "{}",
         String::from_utf8_lossy(&merge.stderr)
     );
+    // A merge computes nothing: its closing line says the shards did (it said "45 points
+    // computed").
+    let said = String::from_utf8_lossy(&merge.stdout);
+    assert!(
+        said.contains(" points merged (computed by the shards), 0 resumed"),
+        "{said}"
+    );
     // Another usage error is told as it is, not blamed on the variable.
     let usage = bin()
         .arg("merge")

@@ -603,14 +603,14 @@ fn a_report_records_the_instruction_set_of_its_ray_queries() {
     }
 }
 
-/// `report` resumes only the points of its own build (README: "same case, seed and build:
-/// version and revision, dirty digest included"). The same run again takes back every
-/// point; after the stored report's `run.git_revision`, or its `run.lightproof_version`,
-/// is changed to another build's, it takes back none, says why, and the report it writes
-/// records this build. Fails if `same_build` accepts any build.
+/// `report` resumes only the points of its own build and machine (README: "same case,
+/// seed, build and machine"). The same run again takes back every point; after the stored
+/// report's revision, version or profile, or its machine's CPU, system, architecture or
+/// `ray_isa`, is changed to another's, it takes back none, says why, and the report it
+/// writes records this build. Fails if `same_build` or `same_machine` accepts any other.
 #[test]
 fn points_of_another_build_are_not_resumed() {
-    use lightproof::report::machine::{GIT_REVISION, VERSION};
+    use lightproof::report::machine::{GIT_REVISION, PROFILE, VERSION};
     let out = tmp("build");
     let file = out.join("disk_on_axis.json");
     let report = || {
@@ -646,31 +646,50 @@ fn points_of_another_build_are_not_resumed() {
     assert_eq!(all, 5, "2^8..2^12, one series");
     // The control: as written, the report is this build's and resumes whole.
     assert_eq!(report().0, all);
-    for (field, other) in [
+    // A build differs in its version, revision or cargo profile (`fast` and `release`
+    // share a revision, not a speed); a machine in its CPU model, system or the
+    // instruction set of its ray queries (session 56's audit: a resumed run fitted 15
+    // points timed in `baseline` on one thread with 3 of its own in x86-64-v3).
+    let build = "another build of lightproof";
+    let machine = "timed on another machine or instruction set";
+    for (field, other, why) in [
         (
-            "git_revision",
+            "/run/git_revision",
             "0123456789abcdef0123456789abcdef01234567-dirty-0123456789abcdef",
+            build,
         ),
-        ("lightproof_version", "0.0.0-another-build"),
+        ("/run/lightproof_version", "0.0.0-another-build", build),
+        ("/run/profile", "another-profile", build),
+        ("/run/machine/cpu", "another CPU", machine),
+        ("/run/machine/os", "another-os", machine),
+        ("/run/machine/arch", "another-arch", machine),
+        ("/run/machine/ray_isa", "another-isa", machine),
     ] {
         let mut v = read(&file);
-        assert!(v["run"][field].is_string(), "no run.{field} in the report");
-        assert_ne!(v["run"][field], other);
-        v["run"][field] = other.into();
+        let at = v
+            .pointer_mut(field)
+            .unwrap_or_else(|| panic!("no {field} in the report"));
+        assert!(at.is_string() && *at != other, "{field}: {at}");
+        *at = other.into();
         std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
         let (resumed, stderr) = report();
         assert_eq!(resumed, 0, "points of another {field} were resumed");
-        assert!(
-            stderr.contains("another build of lightproof"),
-            "{field}: {stderr}"
-        );
+        assert!(stderr.contains(why), "{field}: {stderr}");
         let now = read(&file);
         assert_eq!(now["run"]["git_revision"], GIT_REVISION);
         assert_eq!(now["run"]["lightproof_version"], VERSION);
+        assert_eq!(now["run"]["profile"], PROFILE);
         assert_eq!(now["run"]["points_resumed"], 0);
         assert_eq!(now["run"]["points_computed"], all);
         assert_eq!(points(&now), all);
     }
+    // Another thread count or number of logical cores is the same machine: core-seconds
+    // do not depend on them.
+    let mut v = read(&file);
+    v["run"]["threads"] = 7.into();
+    v["run"]["machine"]["logical_cores"] = 7.into();
+    std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    assert_eq!(report().0, all);
     assert!(validate_dir(&out) >= 2);
     let _ = std::fs::remove_dir_all(out);
 }
@@ -1023,5 +1042,50 @@ fn the_transient_plot_ignores_the_series_filters() {
         std::fs::read(some.join(plot)).unwrap(),
     );
     assert!(a == b, "the transient plot changed with the series filters");
+    let _ = std::fs::remove_dir_all(out);
+}
+
+/// A reference 0.3% off (the disk light's radiance written 1.003): Sobol sampling's
+/// error falls to 10⁻⁵ by 2¹⁶ samples, so every point from a few thousand samples on
+/// establishes the bias. The report gives no time to 0.1% or 0.01% (session 56's audit:
+/// a sweep whose error fell and flattened at 0.2% was given 0.1% at 1.5·10⁵ samples),
+/// records the floor, names no best series, and the index says "never: biased ≥ 0.29%"
+/// (the floor as a percentage rounded down, being a lower bound).
+/// The floor is a lower bound on |bias|/|ref| = 0.003/1.003 by construction (z σ̂ below
+/// it), and with σ̂ ≤ 10⁻⁵ at the largest point it lies within 10⁻⁴ of it.
+#[test]
+fn a_biased_reference_gets_no_time_below_its_bias() {
+    let out = tmp("biased");
+    let text = std::fs::read_to_string(disk_case()).unwrap();
+    let mut v: Value = serde_json::from_str(&text).unwrap();
+    v["reference"]["radiance"] = 1.003.into();
+    let case = out.join("cases/disk_off.json");
+    std::fs::create_dir_all(case.parent().unwrap()).unwrap();
+    std::fs::write(&case, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    let mut opts = options(vec![case], &out.join("r"), 1 << 16);
+    opts.estimators = vec![Estimator::Light];
+    opts.samplers = vec![SamplerKind::Sobol];
+    let s = sweep(&opts);
+    let series = &s.reports[0].series[0];
+    let bias = 0.003 / 1.003;
+    let floor = series
+        .bias_floor
+        .expect("no bias floor for a reference 0.3% off");
+    assert!(
+        floor <= bias && floor > bias - 1e-4,
+        "{floor} against {bias}"
+    );
+    assert!(series.time_to[0].seconds.is_some(), "{:?}", series.time_to);
+    for t in &series.time_to[1..] {
+        assert_eq!((t.samples, t.seconds), (None, None), "{t:?}");
+    }
+    assert!(s.reports[0].best.is_none());
+    let index = read(&out.join("r/index.json"));
+    let f = index["cases"][0]["bias_floor"].as_f64().unwrap();
+    assert_eq!(f, floor);
+    let md = std::fs::read_to_string(out.join("r/index.md")).unwrap();
+    let shown = format!("never: biased ≥ {:.2}%", (floor * 1e4).floor() / 1e2);
+    assert!(md.contains(&shown), "{shown} not in {md}");
+    assert_eq!(validate_dir(&out.join("r")), 2);
     let _ = std::fs::remove_dir_all(out);
 }
