@@ -167,7 +167,8 @@ pub fn step_towards(x: f32, s: f32) -> f32 {
     };
     let out = if abs == 0 { zero_step } else { stepped };
     // NaN x, or s = ±0 or NaN: unchanged.
-    if x.is_nan() || !(s > 0.0 || s < 0.0) {
+    // `!(|s| > 0)` is true for ±0 and NaN alike (`s == 0` would step a NaN direction).
+    if x.is_nan() || !(s.abs() > 0.0) {
         x
     } else {
         f32::from_bits(out)
