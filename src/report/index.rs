@@ -97,15 +97,20 @@ pub fn duration(s: f64) -> String {
     }
 }
 
+/// A relative bias floor as a percentage with two decimals, rounded down: it is a lower
+/// bound, and "≥ 0.30%" for a floor of 0.2995% would overstate it.
+pub fn percent_at_least(b: f64) -> String {
+    format!("{:.2}%", (b * 1e4).floor() / 1e2)
+}
+
 /// The cells of one index row: best, time to 0.1%, slope, runner-up ratio.
 pub fn cells(r: &IndexRow) -> [String; 4] {
-    // A lower bound, so rounded down: "≥ 0.30%" for a floor of 0.2995% would overstate it.
-    let percent = |b: f64| format!("{:.2}%", (b * 1e4).floor() / 1e2);
     match &r.best {
         None => [
             "—".into(),
-            r.bias_floor
-                .map_or("—".into(), |b| format!("never: biased ≥ {}", percent(b))),
+            r.bias_floor.map_or("—".into(), |b| {
+                format!("never: biased ≥ {}", percent_at_least(b))
+            }),
             "—".into(),
             "—".into(),
         ],

@@ -220,6 +220,28 @@ fn error_panel(
             1
         };
         let s = *sampler;
+        // The bias the series' points establish, dotted in its colour: its error cannot
+        // go below it, though a point whose distance chance could still explain plots
+        // lower (its RMS error counts only the part beyond 3.89 σ̂).
+        let floor = r
+            .series
+            .iter()
+            .find(|x| x.estimator == *est && x.sampler == s)
+            .and_then(|x| x.bias_floor)
+            .filter(|b| *b > y0 && *b < y1);
+        if let Some(b) = floor {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(x0, b), (x1, b)],
+                    1,
+                    3,
+                    c.stroke_width(1),
+                ))
+                .map_err(err)?;
+        }
+        let bias = floor.map_or(String::new(), |b| {
+            format!(" (bias ≥ {})", super::index::percent_at_least(b))
+        });
         if axis == Axis::Seconds {
             let faint = c.mix(0.3).filled();
             markers(
@@ -235,7 +257,7 @@ fn error_panel(
                 c.stroke_width(width),
             ))
             .map_err(err)?
-            .label(format!("{} / {}", est.name(), sampler.name()))
+            .label(format!("{} / {}{bias}", est.name(), sampler.name()))
             .legend(move |(x, y)| {
                 EmptyElement::at((x, y))
                     + PathElement::new(vec![(0, 0), (20, 0)], c.stroke_width(width))
@@ -284,8 +306,19 @@ fn ranking_panel(area: &Area, r: &CaseReport) -> DrawResult {
         super::HEADLINE * 100.0
     );
     if bars.is_empty() {
+        let biased = !r.series.is_empty()
+            && r.series
+                .iter()
+                .all(|s| s.bias_floor.is_some_and(|b| b >= super::HEADLINE));
         area.draw(&Text::new(
-            format!("{caption}: no series reaches or extrapolates to it"),
+            format!(
+                "{caption}: no series {}",
+                if biased {
+                    "reaches it: each is biased beyond it (dotted lines above)"
+                } else {
+                    "reaches or extrapolates to it"
+                }
+            ),
             (80, 40),
             ("sans-serif", 14),
         ))
