@@ -105,6 +105,18 @@ pub fn run_info(threads: usize, budget_seconds: Option<f64>) -> RunInfo {
 mod tests {
     use super::*;
 
+    /// The profile is cargo's folder for the build: `debug` for `cargo test` (the `dev`
+    /// and `test` profiles), `release` under `--release`, never `unknown` in cargo.
+    #[test]
+    fn the_profile_is_the_builds_folder() {
+        if cfg!(debug_assertions) {
+            assert_eq!(PROFILE, "debug");
+        } else {
+            assert!(!PROFILE.is_empty() && PROFILE != "unknown" && PROFILE != "debug");
+        }
+        assert_eq!(run_info(1, None).profile.as_deref(), Some(PROFILE));
+    }
+
     #[test]
     fn civil_dates() {
         assert_eq!(iso_utc(0), "1970-01-01T00:00:00Z");

@@ -1090,7 +1090,10 @@ fn a_biased_reference_gets_no_time_below_its_bias() {
     let svg = std::fs::read_to_string(out.join("r/disk_off.svg")).unwrap();
     let label = format!("light / sobol (bias ≥ {:.2}%)", (floor * 1e4).floor() / 1e2);
     assert!(svg.contains(&label), "{label} not in the plot");
-    assert!(svg.contains("each is biased beyond it"), "the ranking panel");
+    assert!(
+        svg.contains("each is biased beyond it"),
+        "the ranking panel"
+    );
     assert_eq!(validate_dir(&out.join("r")), 2);
     let _ = std::fs::remove_dir_all(out);
 }
