@@ -145,8 +145,13 @@ pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
 }
 
 /// `x.next_up()` where `s > 0`, `x.next_down()` where `s < 0`, `x` where `s` is ±0 or
-/// NaN: the same bits as the standard library's, without its branches (on the bits,
-/// one step away from zero adds one, towards zero subtracts one).
+/// NaN: the same bits as the standard library's, on the bits (one step away from zero
+/// adds one, towards zero subtracts one). Compiled, it keeps a branch on whether x and s
+/// share a sign and one on an infinity, and chooses the ±0 or NaN direction by a select:
+/// the standard library's pair branched on the direction's sign, which of an
+/// axis-aligned wall's three offset components are zero changing from hit to hit, and
+/// `offset_ray_origin` ran 5% of the Cornell box's time faster this way (README, issue
+/// 16, session 56).
 #[inline(always)]
 pub fn step_towards(x: f32, s: f32) -> f32 {
     const SIGN: u32 = 0x8000_0000;
@@ -317,6 +322,24 @@ mod tests {
             );
             same(x, s);
         }
+    }
+
+    /// The origin moves along n by the error box's projection, |n|·err, then one ulp
+    /// further: p + offset, not some other combination of the two.
+    #[test]
+    fn offset_is_the_error_bounds_projection_along_the_normal() {
+        let (p, err, n) = (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(1e-3), Vec3::Z);
+        let up = offset_ray_origin(p, err, n, Vec3::Z);
+        assert_eq!(up, Vec3::new(1.0, 2.0, (3.0f32 + 1e-3).next_up()));
+        let down = offset_ray_origin(p, err, n, -Vec3::Z);
+        assert_eq!(down, Vec3::new(1.0, 2.0, (3.0f32 - 1e-3).next_down()));
+        let n = Vec3::new(0.6, 0.0, -0.8);
+        let side = offset_ray_origin(p, err, n, n);
+        let d = 1.4e-3f32;
+        assert_eq!(
+            side,
+            Vec3::new((1.0 + 0.6 * d).next_up(), 2.0, (3.0 - 0.8 * d).next_down())
+        );
     }
 
     #[test]

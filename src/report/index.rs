@@ -98,9 +98,11 @@ pub fn duration(s: f64) -> String {
 }
 
 /// A relative bias floor as a percentage with two decimals, rounded down: it is a lower
-/// bound, and "≥ 0.30%" for a floor of 0.2995% would overstate it.
+/// bound, and "≥ 0.30%" for a floor of 0.2995% would overstate it. The product b·10⁴ is
+/// nudged up by 10⁻¹² of itself first, so that a floor of exactly 0.29% (0.0029 ·
+/// 10⁴ = 28.999999999999996 in binary) reads 0.29%, not 0.28%.
 pub fn percent_at_least(b: f64) -> String {
-    format!("{:.2}%", (b * 1e4).floor() / 1e2)
+    format!("{:.2}%", (b * 1e4 * (1.0 + 1e-12)).floor() / 1e2)
 }
 
 /// The cells of one index row: best, time to 0.1%, slope, runner-up ratio.
@@ -241,5 +243,9 @@ mod tests {
             ("—", "never: biased ≥ 0.22%")
         );
         assert_eq!(cells(&row_with(None, None))[1], "—");
+        // Rounded down, yet exact where the floor is a whole hundredth of a percent.
+        assert_eq!(percent_at_least(0.0029), "0.29%");
+        assert_eq!(percent_at_least(0.002_899_9), "0.28%");
+        assert_eq!(percent_at_least(1.0), "100.00%");
     }
 }

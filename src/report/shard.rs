@@ -651,6 +651,20 @@ fn check_member(
             ),
         ));
     }
+    // One revision built as `fast` and as `release` runs at two speeds: not one cost fit.
+    if p.run.profile != first.run.profile {
+        let name = |x: &Option<String>| x.clone().unwrap_or_else(|| "an unrecorded profile".into());
+        return Err(InputError::new(
+            f,
+            "run.profile",
+            format!(
+                "built in the {} profile, but {} in {}: shards must run the same build",
+                name(&p.run.profile),
+                first_path.display(),
+                name(&first.run.profile)
+            ),
+        ));
+    }
     if p.shard.index >= count {
         return Err(InputError::new(
             f,

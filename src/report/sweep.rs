@@ -722,9 +722,21 @@ fn same_build(run: &RunInfo) -> bool {
 /// with 3 of its own in x86-64-v3, recording only the latter): the same CPU model,
 /// system and `ray_isa`. The thread count and the logical cores available may differ:
 /// core-seconds do not depend on them.
+///
+/// A merged report's points were timed by its shards, so each shard's run must pass
+/// too (a merged folder once resumed shards timed in another profile, CPU and
+/// instruction set as this machine's: session 56's review).
 fn same_machine(run: &RunInfo) -> bool {
-    let (old, now) = (&run.machine, super::machine::machine());
-    (&old.cpu, &old.os, &old.arch, &old.ray_isa) == (&now.cpu, &now.os, &now.arch, &now.ray_isa)
+    let now = super::machine::machine();
+    let here = |r: &RunInfo| {
+        let old = &r.machine;
+        (&old.cpu, &old.os, &old.arch, &old.ray_isa) == (&now.cpu, &now.os, &now.arch, &now.ray_isa)
+    };
+    here(run)
+        && run
+            .shards
+            .iter()
+            .all(|s| here(&s.run) && same_build(&s.run))
 }
 
 /// Earlier points a resumed run leaves out of what it writes: those outside a narrower

@@ -348,6 +348,12 @@ fn a_tampered_shard_set_is_refused_naming_file_and_field() {
             s["seed"] = (s["seed"].as_u64().unwrap() ^ 1).into();
             (1, format!("{at}.seed"), "series seed")
         }),
+        // Shard 1 was built in another cargo profile (`fast` runs 6–14% faster than
+        // `release` from the same revision).
+        Box::new(move |v| {
+            v[1]["run"]["profile"] = "another-profile".into();
+            (1, "run.profile".to_string(), "another-profile profile")
+        }),
     ];
     let mut wrong = vec![];
     for (i, tamper) in tampers.iter().enumerate() {
@@ -682,6 +688,25 @@ fn points_of_another_build_are_not_resumed() {
         assert_eq!(now["run"]["points_resumed"], 0);
         assert_eq!(now["run"]["points_computed"], all);
         assert_eq!(points(&now), all);
+    }
+    // A merged report's points were timed by its shards: one shard timed on another CPU
+    // (or built in another profile) makes the folder another machine's.
+    for (field, other) in [
+        ("/machine/cpu", "another CPU"),
+        ("/profile", "another-profile"),
+    ] {
+        let mut v = read(&file);
+        let mut shard_run = v["run"].clone();
+        *shard_run.pointer_mut(field).unwrap() = other.into();
+        let here = v["run"].clone();
+        v["run"]["shards"] = serde_json::json!([
+            { "index": 0, "count": 2, "run": here },
+            { "index": 1, "count": 2, "run": shard_run },
+        ]);
+        std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+        let (resumed, stderr) = report();
+        assert_eq!(resumed, 0, "a shard's {field} was not checked");
+        assert!(stderr.contains(machine), "{field}: {stderr}");
     }
     // Another thread count or number of logical cores is the same machine: core-seconds
     // do not depend on them.
