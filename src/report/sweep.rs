@@ -891,6 +891,35 @@ fn resume_partial(
 mod tests {
     use super::*;
 
+    /// A case whose id ends in `.transient` is refused, naming the time-binned case whose
+    /// transient plot would write over its plot (`p.transient.svg` once held `p`'s
+    /// transient response in place of `p.transient`'s convergence plot); a stem that
+    /// merely contains the word is a case like any other.
+    #[test]
+    fn a_case_named_like_a_transient_plot_is_refused() {
+        let dir = std::env::temp_dir().join(format!("lightproof-transient-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let disk = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("analytic/cases/irradiance/disk_on_axis.json");
+        let text = std::fs::read_to_string(disk).unwrap();
+        for name in ["p.transient.json", "transient.p.json", "p.transients.json"] {
+            std::fs::write(dir.join(name), &text).unwrap();
+        }
+        let Err(err) = load_cases(&[dir.join("p.transient.json")]) else {
+            panic!("p.transient.json was accepted");
+        };
+        let err = err.to_string();
+        assert!(
+            err.contains("p.transient.json")
+                && err.contains("`p.transient.svg`, the name of the transient plot of a case `p`"),
+            "{err}"
+        );
+        for ok in ["transient.p.json", "p.transients.json"] {
+            assert_eq!(load_cases(&[dir.join(ok)]).unwrap().len(), 1, "{ok}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// Editing a mesh the case reads changes the case's digest (so its points are not
     /// resumed: the resume check compares digests); an unchanged file keeps it, and a
     /// case with no external file digests its description alone, as before. Before the
