@@ -94,11 +94,8 @@ pub const BIAS_FAMILY_ALPHA: f64 = 1e-4;
 /// no time for a target at or below this floor.
 pub fn bias_floor(points: &[Point], reference: Option<f64>) -> Option<f64> {
     use statrs::distribution::{ContinuousCDF, StudentsT};
+    // A zero or non-finite reference gives no floor through the last division.
     let r = reference?;
-    let scale = r.abs();
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
     let gamma = crate::stats::exact_relative_tolerance();
     // (x̄ − ref, σ̂, γ|x̄|, whether the samples agree to f32 rounding).
     let all: Vec<(f64, f64, f64, bool)> = points
@@ -124,16 +121,12 @@ pub fn bias_floor(points: &[Point], reference: Option<f64>) -> Option<f64> {
         lo = lo.max(d - w);
         hi = hi.min(d + w);
     }
-    let least = if lo > hi {
-        return None;
-    } else if lo > 0.0 {
-        lo
-    } else if hi < 0.0 {
-        -hi
-    } else {
-        return None;
-    };
-    crate::report::finite(least / scale)
+    // The admitted β nearest 0: lo above 0, −hi below it; none where [lo, hi] holds 0
+    // or is empty.
+    let least = lo.max(-hi);
+    (lo <= hi && least > 0.0)
+        .then(|| crate::report::finite(least / r.abs()))
+        .flatten()
 }
 
 /// The statistics of one point from its per-batch accumulators, in batch order.
@@ -805,6 +798,15 @@ mod tests {
             pt(65536, 0.99955, 4.4e-4),
         ];
         assert_eq!(bias_floor(&strip, Some(1.0)), None);
+        // Beside points that vary and admit 0 (and 1.3% too), the points that agree do
+        // not decide: counted, they would make a floor of 1.3% alone.
+        let wide = [
+            pt(256, 1.013, 0.0),
+            pt(4096, 1.01, 0.01),
+            pt(16384, 1.0, 0.005),
+        ];
+        assert_eq!(bias_floor(&wide, Some(1.0)), None);
+        assert!(bias_floor(&wide[..1], Some(1.0)).unwrap() > 0.0129);
         // Without the point that admits 0, the varying points admit no common bias.
         assert_eq!(
             bias_floor(&[pt(1024, 1.05, 1e-3), pt(4096, 0.95, 1e-3)], Some(1.0)),
