@@ -316,8 +316,7 @@ fn time_to(series: &Series, measure: ErrorMeasure, scale: Option<f64>, eps: f64)
 /// either (its sign alone, −0.35 from two noisy points, once gave a time to 0.1% ten
 /// times the sweep's largest); such a series takes the cheapest point that reached ε.
 fn decreasing(f: &Fit) -> bool {
-    f.slope_std_error
-        .is_some_and(|se| f.slope < 0.0 && f.slope + 2.0 * se < 0.0)
+    f.slope_std_error.is_some_and(|se| f.slope + 2.0 * se < 0.0)
 }
 
 /// Index of [`HEADLINE`] in [`TARGETS`].
