@@ -237,6 +237,15 @@ mod tests {
         }
         let [_, _, slope, _] = cells(&row_with(Some(zero_variance(Some(5e-4))), None));
         assert_eq!(slope, "σ = 0, off by 5.0e-4");
+        // A series with variance shows its fitted slope, whatever its floor.
+        let varying = IndexBest {
+            zero_variance: false,
+            slope: Some(-0.5),
+            slope_std_error: Some(0.01),
+            ..zero_variance(Some(5e-4))
+        };
+        let [_, time, slope, _] = cells(&row_with(Some(varying), None));
+        assert_eq!((time.as_str(), slope.as_str()), ("100 µs", "-0.50 ± 0.01"));
         let [best, time, _, _] = cells(&row_with(None, Some(2.299e-3)));
         assert_eq!(
             (best.as_str(), time.as_str()),

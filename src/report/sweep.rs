@@ -891,6 +891,72 @@ fn resume_partial(
 mod tests {
     use super::*;
 
+    /// A run's own record is this build and machine; another version, revision or
+    /// profile is another build, another CPU, system, architecture or `ray_isa` another
+    /// machine, and so is a merged report any of whose shards ran elsewhere or in
+    /// another build; the thread count and the logical cores are not the machine.
+    #[test]
+    fn builds_and_machines_are_told_apart() {
+        use crate::report::ShardRun;
+        let here = run_info(2, None);
+        assert!(same_build(&here) && same_machine(&here));
+        let edits: [(&str, fn(&mut RunInfo)); 4] = [
+            ("version", |r| r.lightproof_version.push('x')),
+            ("revision", |r| r.git_revision.push('x')),
+            ("profile", |r| r.profile = Some("other".into())),
+            ("no profile", |r| r.profile = None),
+        ];
+        for (what, edit) in edits {
+            let mut r = here.clone();
+            edit(&mut r);
+            assert!(!same_build(&r), "{what}");
+        }
+        let machines: [(&str, fn(&mut RunInfo)); 4] = [
+            ("cpu", |r| r.machine.cpu.push('x')),
+            ("os", |r| r.machine.os.push('x')),
+            ("arch", |r| r.machine.arch.push('x')),
+            ("ray_isa", |r| r.machine.ray_isa = Some("other".into())),
+        ];
+        for (what, edit) in machines {
+            let mut r = here.clone();
+            edit(&mut r);
+            assert!(!same_machine(&r), "{what}");
+            let mut merged = here.clone();
+            merged.shards = vec![
+                ShardRun {
+                    index: 0,
+                    count: 2,
+                    run: here.clone(),
+                },
+                ShardRun {
+                    index: 1,
+                    count: 2,
+                    run: r,
+                },
+            ];
+            assert!(!same_machine(&merged), "a shard's {what}");
+        }
+        let mut other_build = here.clone();
+        other_build.profile = Some("other".into());
+        let mut merged = here.clone();
+        merged.shards = vec![ShardRun {
+            index: 0,
+            count: 1,
+            run: other_build,
+        }];
+        assert!(!same_machine(&merged), "a shard's build");
+        merged.shards = vec![ShardRun {
+            index: 0,
+            count: 1,
+            run: here.clone(),
+        }];
+        assert!(same_machine(&merged));
+        let mut busy = here.clone();
+        busy.threads = 7;
+        busy.machine.logical_cores += 1;
+        assert!(same_build(&busy) && same_machine(&busy));
+    }
+
     /// A case whose id ends in `.transient` is refused, naming the time-binned case whose
     /// transient plot would write over its plot (`p.transient.svg` once held `p`'s
     /// transient response in place of `p.transient`'s convergence plot); a stem that
