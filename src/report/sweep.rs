@@ -900,7 +900,8 @@ mod tests {
         use crate::report::ShardRun;
         let here = run_info(2, None);
         assert!(same_build(&here) && same_machine(&here));
-        let edits: [(&str, fn(&mut RunInfo)); 4] = [
+        type Edit = (&'static str, fn(&mut RunInfo));
+        let edits: [Edit; 4] = [
             ("version", |r| r.lightproof_version.push('x')),
             ("revision", |r| r.git_revision.push('x')),
             ("profile", |r| r.profile = Some("other".into())),
@@ -911,7 +912,7 @@ mod tests {
             edit(&mut r);
             assert!(!same_build(&r), "{what}");
         }
-        let machines: [(&str, fn(&mut RunInfo)); 4] = [
+        let machines: [Edit; 4] = [
             ("cpu", |r| r.machine.cpu.push('x')),
             ("os", |r| r.machine.os.push('x')),
             ("arch", |r| r.machine.arch.push('x')),
