@@ -416,4 +416,55 @@ mod tests {
         assert_eq!(c[0].2.len(), r.series[1].points.len() - 2);
         assert_eq!(c[0].2[0].0, r.series[1].points[2].samples as f64);
     }
+
+    /// A series' bias floor inside the plotted range is dotted in its colour and named in
+    /// the legend, "bias ≥ X%" rounded down; outside the range (above the largest error
+    /// plotted, or at or below the smallest) it is neither; a series without one is
+    /// named plainly. With no series timed to 0.1%, the ranking panel says whether every
+    /// series is biased beyond it.
+    #[test]
+    fn a_bias_floor_is_dotted_and_named() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reports/examples/disk_on_axis.json");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut r: CaseReport = crate::error::parse_json("r.json", &text).unwrap();
+        let plain = svg(&r).unwrap();
+        let polylines = |s: &str| s.matches("<polyline").count();
+        let label = "light / independent (bias ≥ 0.20%)";
+        assert!(!plain.contains("(bias ≥"));
+        r.series[0].bias_floor = Some(0.002);
+        let dotted = svg(&r).unwrap();
+        assert!(dotted.contains(label), "no legend label");
+        // One series has a floor, named in each of the two error panels' legends.
+        assert_eq!(dotted.matches("(bias ≥").count(), 2);
+        assert!(
+            polylines(&dotted) > polylines(&plain) + 20,
+            "no dotted line"
+        );
+        // Outside the panel's range: neither a line nor a label.
+        let y = |c: &Curve| c.2.iter().map(|p| p.3).collect::<Vec<f64>>();
+        let all: Vec<f64> = curves(&r).iter().flat_map(y).collect();
+        let (lo, hi) = (
+            all.iter().cloned().fold(f64::INFINITY, f64::min),
+            all.iter().cloned().fold(0.0, f64::max),
+        );
+        for outside in [hi * 100.0, lo * 1e-3] {
+            r.series[0].bias_floor = Some(outside);
+            let s = svg(&r).unwrap();
+            assert!(!s.contains("(bias ≥"), "{outside}");
+            assert_eq!(polylines(&s), polylines(&plain), "{outside}");
+        }
+        // The ranking panel without a time to 0.1%.
+        for s in &mut r.series {
+            s.time_to[1].seconds = None;
+            s.bias_floor = Some(crate::report::HEADLINE);
+        }
+        assert!(svg(&r).unwrap().contains("each is biased beyond it"));
+        r.series[1].bias_floor = Some(crate::report::HEADLINE * 0.5);
+        let s = svg(&r).unwrap();
+        assert!(s.contains("no series reaches or extrapolates to it"));
+        assert!(!s.contains("each is biased beyond it"));
+        r.series.clear();
+        assert!(!svg(&r).is_ok_and(|s| s.contains("each is biased beyond it")));
+    }
 }
