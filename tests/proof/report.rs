@@ -437,6 +437,31 @@ fn a_shard_extends_and_a_narrower_rerun_says_what_it_drops() {
         d.len() == 1 && d[0].contains("2 earlier point(s), 0 whole series"),
         "{d:?}"
     );
+    // A partial of another build, machine or shard (its own record, whatever its file
+    // name) runs afresh, saying so; the untouched partial resumes whole.
+    let file = out.join("shard/shard-0-of-2.json");
+    let s = shard(512);
+    assert_eq!((s.computed, s.resumed), (1, 1), "{:?}", s.notes);
+    for (field, other) in [
+        ("/run/git_revision", Value::from("another-revision")),
+        ("/run/profile", Value::from("another-profile")),
+        ("/run/machine/cpu", Value::from("another CPU")),
+        ("/shard/index", Value::from(1)),
+    ] {
+        let mut v = read(&file);
+        *v.pointer_mut(field).unwrap() = other;
+        std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+        let s = shard(512);
+        assert_eq!((s.computed, s.resumed), (2, 0), "{field}: {:?}", s.notes);
+        assert!(
+            s.notes
+                .iter()
+                .any(|n| n.contains("another sweep, build or machine; run afresh")),
+            "{field}: {:?}",
+            s.notes
+        );
+    }
+    assert_eq!(shard(512).resumed, 2);
     // A single run: two samplers to 512, then one sampler to 256 drops the other
     // sampler's series (2 points) and the kept series' point of 512.
     let single = |max: u64, samplers: Vec<SamplerKind>| {
