@@ -371,6 +371,14 @@ mod tests {
     use super::*;
     use crate::report::ErrorMeasure;
 
+    /// The committed example report (`reports/examples/disk_on_axis.json`).
+    fn example() -> CaseReport {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reports/examples/disk_on_axis.json");
+        let text = std::fs::read_to_string(&path).unwrap();
+        crate::error::parse_json("r.json", &text).unwrap()
+    }
+
     /// Every series with positive errors is a curve of all its points, scaled by the
     /// reference; without a reference the scale is the last point's estimate, and a
     /// series whose last point has none (no finite sample) is left out, not drawn at a
@@ -378,10 +386,7 @@ mod tests {
     /// out.
     #[test]
     fn the_curves_are_the_series_scaled() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("reports/examples/disk_on_axis.json");
-        let text = std::fs::read_to_string(&path).unwrap();
-        let mut r: CaseReport = crate::error::parse_json("r.json", &text).unwrap();
+        let mut r = example();
         let reference = r.case.reference.unwrap();
         let c = curves(&r);
         assert_eq!(c.len(), r.series.len());
@@ -424,10 +429,7 @@ mod tests {
     /// series is biased beyond it.
     #[test]
     fn a_bias_floor_is_dotted_and_named() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("reports/examples/disk_on_axis.json");
-        let text = std::fs::read_to_string(&path).unwrap();
-        let mut r: CaseReport = crate::error::parse_json("r.json", &text).unwrap();
+        let mut r = example();
         let plain = svg(&r).unwrap();
         let polylines = |s: &str| s.matches("<polyline").count();
         let label = "light / independent (bias ≥ 0.20%)";
