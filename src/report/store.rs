@@ -51,6 +51,15 @@ pub fn plot_file(id: &str) -> String {
     format!("{}.svg", stem(id))
 }
 
+/// What a time-binned case's transient plot adds to its stem: `ID.transient.svg`, the
+/// plot file of a case whose stem is `ID.transient`, which is therefore refused.
+pub const TRANSIENT_SUFFIX: &str = ".transient";
+
+/// The transient plot file of an id ([`TRANSIENT_SUFFIX`]).
+pub fn transient_plot_file(id: &str) -> String {
+    plot_file(&format!("{}{TRANSIENT_SUFFIX}", stem(id)))
+}
+
 /// Write a value as pretty JSON, atomically.
 pub fn write_json<T: Serialize>(path: &Path, value: &T, pretty: bool) -> Result<(), IoError> {
     let text = if pretty {

@@ -258,7 +258,7 @@ fn load_cases(paths: &[PathBuf]) -> Result<Vec<(String, Case)>, InputError> {
             }
             // `X.transient.svg` is the transient plot of a time-binned case `X`: a case
             // whose stem ends so had its plot written over by it, silently.
-            if let Some(x) = stem.strip_suffix(".transient") {
+            if let Some(x) = stem.strip_suffix(super::store::TRANSIENT_SUFFIX) {
                 return Err(refuse(format!(
                     "its report id `{id}` would write its plot to `{stem}.svg`, the name of the transient plot of a case `{x}`: rename the case file"
                 )));

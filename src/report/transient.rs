@@ -144,7 +144,7 @@ pub fn write_all(
         };
         // Flat, as every report file: the id's `/` become `.` (`time/pulse` once wrote
         // `time/pulse.transient.svg`, a sub-folder).
-        let path = out.join(format!("{}.transient.svg", super::store::stem(id)));
+        let path = out.join(super::store::transient_plot_file(id));
         crate::io::write_atomic(&path, text.as_bytes())
             .map_err(|e| crate::error::IoError::write(&path, e))?;
         written.push(path);
